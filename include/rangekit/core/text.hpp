@@ -1,0 +1,37 @@
+// Strict, allocation-free parsing of the numeric fields both protocols use.
+// Each parser accepts exactly the documented form and nothing else: no
+// whitespace, no exponent, no "inf"; std::nullopt means "not that form".
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+
+namespace rangekit::text {
+
+// Unsigned decimal integer, 1..max_digits digits, value <= max_value.
+std::optional<std::uint64_t> parse_unsigned(std::string_view digits, std::size_t max_digits = 19,
+                                            std::uint64_t max_value = UINT64_MAX) noexcept;
+
+// Hexadecimal, 1..max_digits digits, upper or lower case.
+std::optional<std::uint64_t> parse_hex(std::string_view digits, std::size_t max_digits = 16) noexcept;
+
+// Fixed-point decimal "[-]digits[<sep>digits]" with the given separator ('.' for
+// ULS, ',' for the LS5 identification). At most 15 significant digits.
+std::optional<double> parse_decimal(std::string_view field, char separator = '.') noexcept;
+
+// Splits `text` at `separator` into at most out.size() fields; returns the count,
+// or out.size() + 1 when there are more fields than room.
+std::size_t split(std::string_view text, char separator, std::span<std::string_view> out) noexcept;
+
+// Writes `value` as exactly `width` upper-case hex digits into out (size >= width).
+void write_hex(std::uint64_t value, std::size_t width, char* out) noexcept;
+
+// Upper-case ASCII letters in place of lower-case ones.
+inline char to_upper(char c) noexcept { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }
+
+bool is_digit(char c) noexcept;
+bool is_hex_digit(char c) noexcept;
+
+}  // namespace rangekit::text

@@ -1,0 +1,89 @@
+#include "rangekit/core/text.hpp"
+
+namespace rangekit::text {
+
+bool is_digit(char c) noexcept { return c >= '0' && c <= '9'; }
+
+bool is_hex_digit(char c) noexcept {
+  return is_digit(c) || (c >= 'A' && c <= 'F') || (c >= 'a' && c <= 'f');
+}
+
+namespace {
+int hex_value(char c) noexcept {
+  if (is_digit(c)) return c - '0';
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return c - 'a' + 10;
+}
+}  // namespace
+
+std::optional<std::uint64_t> parse_unsigned(std::string_view digits, std::size_t max_digits,
+                                            std::uint64_t max_value) noexcept {
+  if (digits.empty() || digits.size() > max_digits || digits.size() > 19) return std::nullopt;
+  std::uint64_t value = 0;
+  for (const char c : digits) {
+    if (!is_digit(c)) return std::nullopt;
+    value = value * 10 + static_cast<std::uint64_t>(c - '0');
+  }
+  if (value > max_value) return std::nullopt;
+  return value;
+}
+
+std::optional<std::uint64_t> parse_hex(std::string_view digits, std::size_t max_digits) noexcept {
+  if (digits.empty() || digits.size() > max_digits || digits.size() > 16) return std::nullopt;
+  std::uint64_t value = 0;
+  for (const char c : digits) {
+    if (!is_hex_digit(c)) return std::nullopt;
+    value = (value << 4U) | static_cast<std::uint64_t>(hex_value(c));
+  }
+  return value;
+}
+
+std::optional<double> parse_decimal(std::string_view field, char separator) noexcept {
+  bool negative = false;
+  if (!field.empty() && (field.front() == '-' || field.front() == '+')) {
+    negative = field.front() == '-';
+    field.remove_prefix(1);
+  }
+  if (field.empty()) return std::nullopt;
+  std::uint64_t mantissa = 0;
+  int digits = 0;
+  int fraction_digits = 0;
+  bool seen_separator = false;
+  bool seen_integer_digit = false;
+  for (const char c : field) {
+    if (c == separator && !seen_separator) {
+      seen_separator = true;
+      continue;
+    }
+    if (!is_digit(c)) return std::nullopt;
+    if (!seen_separator) seen_integer_digit = true;
+    if (++digits > 15) return std::nullopt;
+    mantissa = mantissa * 10 + static_cast<std::uint64_t>(c - '0');
+    if (seen_separator) ++fraction_digits;
+  }
+  if (!seen_integer_digit || (seen_separator && fraction_digits == 0)) return std::nullopt;
+  double value = static_cast<double>(mantissa);
+  for (int i = 0; i < fraction_digits; ++i) value /= 10.0;
+  return negative ? -value : value;
+}
+
+std::size_t split(std::string_view text, char separator, std::span<std::string_view> out) noexcept {
+  std::size_t count = 0;
+  while (true) {
+    const std::size_t at = text.find(separator);
+    if (count == out.size()) return out.size() + 1;
+    out[count++] = text.substr(0, at);
+    if (at == std::string_view::npos) return count;
+    text.remove_prefix(at + 1);
+  }
+}
+
+void write_hex(std::uint64_t value, std::size_t width, char* out) noexcept {
+  static constexpr char digits[] = "0123456789ABCDEF";
+  for (std::size_t i = 0; i < width; ++i) {
+    out[width - 1 - i] = digits[value & 0xFU];
+    value >>= 4U;
+  }
+}
+
+}  // namespace rangekit::text

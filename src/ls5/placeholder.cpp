@@ -1,0 +1,2 @@
+// Replaced by the LS5 codec sources.
+namespace rangekit::ls5 {}

@@ -1,0 +1,2 @@
+// Replaced by the ULS codec sources.
+namespace rangekit::uls {}

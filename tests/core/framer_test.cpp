@@ -1,0 +1,5 @@
+#include <gtest/gtest.h>
+
+#include "rangekit/core/framer.hpp"
+
+TEST(Framer, Placeholder) { SUCCEED(); }
