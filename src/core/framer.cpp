@@ -26,16 +26,16 @@ FrameScan scan_line_frame(Bytes buffer, const LineFramerRules& rules) noexcept {
 
   for (std::size_t i = 1; i < buffer.size(); ++i) {
     const std::uint8_t byte = buffer[i];
-    if (byte == rules.terminator) return FrameScan::complete(buffer.first(i), i + 1);
-    if (i > rules.max_length) return FrameScan::invalid(i, "frame longer than the protocol allows");
+    if (byte == rules.terminator) {
+      if (i > rules.max_length) return FrameScan::invalid(i + 1, "frame longer than the protocol allows");
+      return FrameScan::complete(buffer.first(i), i + 1);
+    }
+    if (i >= rules.max_length) return FrameScan::invalid(i, "frame longer than the protocol allows");
     const bool address_slot = rules.allow_high_bytes_at && i == rules.high_byte_position;
     if (address_slot) continue;  // any address byte; its range is checked by the codec
     if (is_start(byte, rules.starts)) return FrameScan::invalid(i, "frame cut short by a new start byte");
     if (byte == '\n') return FrameScan::invalid(i + 1, "line feed inside a frame (frames end with CR)");
     if (byte < 0x20 || byte >= 0x7f) return FrameScan::invalid(i + 1, "control or non-ASCII byte inside a frame");
-  }
-  if (buffer.size() > rules.max_length + 1) {
-    return FrameScan::invalid(buffer.size(), "frame longer than the protocol allows");
   }
   return FrameScan::need_more();
 }
@@ -44,8 +44,7 @@ FrameScan scan_line_frame(Bytes buffer, const LineFramerRules& rules) noexcept {
 
 namespace rangekit {
 
-FrameAssembler::FrameAssembler(ScanFunction scan, std::size_t capacity)
-    : scan_(scan), buffer_(capacity) {}
+FrameAssembler::FrameAssembler(ScanFunction scan, std::size_t capacity) : scan_(scan), buffer_(capacity) {}
 
 std::size_t FrameAssembler::push(Bytes bytes) {
   if (begin_ > 0 && buffer_.size() - end_ < bytes.size()) {

@@ -40,21 +40,20 @@ struct FrameScan {
   }
 };
 
-inline std::string_view as_text(Bytes bytes) {
-  return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
-}
+inline std::string_view as_text(Bytes bytes) { return {reinterpret_cast<const char*>(bytes.data()), bytes.size()}; }
 inline Bytes as_bytes(std::string_view text) {
   return {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()};
 }
 
 // Configuration of a line framer: frames begin with one of `starts` and end with
-// `terminator`; frames longer than `max_length` (terminator excluded) are invalid.
+// `terminator`; frames longer than `max_length` bytes (start byte included,
+// terminator excluded) are invalid.
 struct LineFramerRules {
-  std::string_view starts;        // e.g. "$#" for ULS
+  std::string_view starts;  // e.g. "$#" for ULS
   std::uint8_t terminator = '\r';
   std::size_t max_length = 64;
-  bool allow_high_bytes_at = false;  // see `high_byte_position`
-  std::size_t high_byte_position = 0; // a byte >= 0x80 is allowed only at this offset (ULS address)
+  bool allow_high_bytes_at = false;    // see `high_byte_position`
+  std::size_t high_byte_position = 0;  // a byte >= 0x80 is allowed only at this offset (ULS address)
 };
 
 // Generic start-byte/terminator framer shared by both protocols.
@@ -74,9 +73,9 @@ class FrameAssembler {
  public:
   struct Event {
     enum class Kind { frame, rejected } kind = Kind::frame;
-    Bytes frame{};                 // kind == frame
+    Bytes frame{};                   // kind == frame
     std::size_t rejected_bytes = 0;  // kind == rejected
-    const char* reason = nullptr;  // kind == rejected
+    const char* reason = nullptr;    // kind == rejected
   };
 
   explicit FrameAssembler(ScanFunction scan, std::size_t capacity = 4096);

@@ -11,21 +11,21 @@
 namespace rangekit {
 
 enum class Errc {
-  invalid_frame,     // bytes that are not a frame of the protocol
-  truncated,         // frame ended before a required field
-  overlong,          // frame or field longer than the protocol allows
-  bad_hex,           // a hex field holds a non-hex character
-  bad_number,        // a decimal field does not parse
-  bad_checksum,      // checksum of a packet does not match
-  unknown_command,   // mnemonic not in the command table
-  unknown_parameter, // parameter address not in the parameter table
-  out_of_range,      // value outside the range the document allows
-  wrong_form,        // e.g. a set for a get-only command
-  device_error,      // the device answered with an error number
-  timeout,           // no answer in time
-  io,                // operating-system I/O failure
-  closed,            // the other end went away
-  unsupported,       // feature not available (firmware version, platform)
+  invalid_frame,      // bytes that are not a frame of the protocol
+  truncated,          // frame ended before a required field
+  overlong,           // frame or field longer than the protocol allows
+  bad_hex,            // a hex field holds a non-hex character
+  bad_number,         // a decimal field does not parse
+  bad_checksum,       // checksum of a packet does not match
+  unknown_command,    // mnemonic not in the command table
+  unknown_parameter,  // parameter address not in the parameter table
+  out_of_range,       // value outside the range the document allows
+  wrong_form,         // e.g. a set for a get-only command
+  device_error,       // the device answered with an error number
+  timeout,            // no answer in time
+  io,                 // operating-system I/O failure
+  closed,             // the other end went away
+  unsupported,        // feature not available (firmware version, platform)
 };
 
 const char* errc_name(Errc code) noexcept;
@@ -33,7 +33,7 @@ const char* errc_name(Errc code) noexcept;
 struct Error {
   Errc code;
   std::string message;
-  int device_code = 0; // protocol error number for Errc::device_error
+  int device_code = 0;  // protocol error number for Errc::device_error
 
   [[nodiscard]] std::string describe() const;
 };
@@ -43,8 +43,8 @@ Error make_error(Errc code, std::string message);
 template <class T>
 class [[nodiscard]] Result {
  public:
-  Result(T value) : state_(std::in_place_index<0>, std::move(value)) {}   // NOLINT: implicit by design
-  Result(Error error) : state_(std::in_place_index<1>, std::move(error)) {} // NOLINT: implicit by design
+  Result(T value) : state_(std::in_place_index<0>, std::move(value)) {}      // NOLINT: implicit by design
+  Result(Error error) : state_(std::in_place_index<1>, std::move(error)) {}  // NOLINT: implicit by design
 
   [[nodiscard]] bool ok() const noexcept { return state_.index() == 0; }
   explicit operator bool() const noexcept { return ok(); }

@@ -1,0 +1,56 @@
+# rangekit front door. `make demo` and `make test` install what is missing
+# (Debian packages), configure, build and run; see README.md.
+BUILD ?= build
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+FUZZ_SECONDS ?= 30
+CMAKE_FLAGS ?=
+
+SOURCES := $(shell git ls-files '*.cpp' '*.hpp' 2>/dev/null)
+
+.PHONY: all deps configure build test demo asan fuzz bench lint format format-check tidy clean
+
+all: build
+
+deps:
+	@bash scripts/install-deps.sh
+
+configure: deps
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo $(CMAKE_FLAGS) >/dev/null
+
+build: configure
+	@cmake --build $(BUILD) -j$(JOBS)
+
+test: build
+	@ctest --test-dir $(BUILD) --output-on-failure -j$(JOBS)
+
+demo: build
+	@./$(BUILD)/rangekit demo
+
+# Same tests with AddressSanitizer + UndefinedBehaviorSanitizer (CI runs this too).
+asan: deps
+	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DRANGEKIT_SANITIZE=ON -DRANGEKIT_BENCH=OFF >/dev/null
+	@cmake --build build-asan -j$(JOBS)
+	@ctest --test-dir build-asan --output-on-failure -j$(JOBS)
+
+# libFuzzer targets (clang 14), each run FUZZ_SECONDS on its seed corpus.
+fuzz: deps
+	@cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++-14 -DRANGEKIT_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+	@cmake --build build-fuzz -j$(JOBS)
+	@bash scripts/run-fuzz.sh build-fuzz/fuzzers $(FUZZ_SECONDS)
+
+bench: build
+	@./$(BUILD)/rangekit_bench
+
+lint: format-check tidy
+
+format:
+	@clang-format -i $(SOURCES)
+
+format-check: deps
+	@clang-format --dry-run --Werror $(SOURCES) && echo "clang-format: clean"
+
+tidy: configure
+	@clang-tidy -p $(BUILD) --quiet $(filter src/%.cpp,$(SOURCES)) && echo "clang-tidy: clean"
+
+clean:
+	@rm -rf $(BUILD) build-asan build-fuzz
