@@ -7,13 +7,20 @@
 
 namespace rangekit {
 
-std::string errno_text(const std::string& what, int error_number) { return what + ": " + std::strerror(error_number); }
+std::string errno_text(const std::string& what, int error_number) {
+  char buffer[256] = {};
+  // GNU strerror_r: thread-safe, returns a pointer that may or may not be `buffer`.
+  const char* text = ::strerror_r(error_number, buffer, sizeof buffer);
+  return what + ": " + text;
+}
 
 FdTransport::FdTransport(int fd, std::string name) : fd_(fd), name_(std::move(name)) {}
 
-FdTransport::~FdTransport() { close(); }
+FdTransport::~FdTransport() { close_descriptor(); }
 
-void FdTransport::close() noexcept {
+void FdTransport::close() noexcept { close_descriptor(); }
+
+void FdTransport::close_descriptor() noexcept {
   if (fd_ >= 0) {
     ::close(fd_);
     fd_ = -1;

@@ -25,7 +25,7 @@ class LoopbackEnd final : public Transport {
  public:
   LoopbackEnd(std::shared_ptr<Shared> shared, bool is_a, std::string name)
       : shared_(std::move(shared)), is_a_(is_a), name_(std::move(name)) {}
-  ~LoopbackEnd() override { close(); }
+  ~LoopbackEnd() override { shut(); }
 
   Status write_all(Bytes data) override {
     std::lock_guard lock(shared_->mutex);
@@ -55,16 +55,18 @@ class LoopbackEnd final : public Transport {
     return count;
   }
 
-  void close() noexcept override {
+  void close() noexcept override { shut(); }
+
+  [[nodiscard]] std::string name() const override { return name_; }
+
+ private:
+  void shut() noexcept {
     std::lock_guard lock(shared_->mutex);
     outgoing().writer_closed = true;
     incoming().reader_closed = true;
     shared_->changed.notify_all();
   }
 
-  [[nodiscard]] std::string name() const override { return name_; }
-
- private:
   Pipe& outgoing() { return is_a_ ? shared_->a_to_b : shared_->b_to_a; }
   Pipe& incoming() { return is_a_ ? shared_->b_to_a : shared_->a_to_b; }
 

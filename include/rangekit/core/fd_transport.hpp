@@ -18,6 +18,7 @@ class FdTransport : public Transport {
   [[nodiscard]] int native_handle() const noexcept { return fd_; }
 
  private:
+  void close_descriptor() noexcept;  // non-virtual: also used by the destructor
   int fd_;
   std::string name_;
 };
