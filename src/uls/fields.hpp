@@ -1,0 +1,34 @@
+// Small helpers shared by the ULS sources: field syntax, number writing, and
+// the wording of error messages. Internal (src/), not part of the public API.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace rangekit::uls::detail {
+
+bool equal_ignoring_case(std::string_view a, std::string_view b) noexcept;
+
+// An integer field: optional '-', then decimal digits only. Large magnitudes
+// saturate, so "99999999999999999999" still reads as a (too large) number.
+struct IntegerField {
+  bool is_number = false;
+  bool negative = false;
+  std::uint64_t magnitude = 0;
+  // True when the field is a number in [min, max].
+  [[nodiscard]] bool within(std::int64_t min, std::int64_t max) const noexcept;
+};
+IntegerField read_integer(std::string_view field) noexcept;
+
+// Writes decimal digits of `value` at `out`; returns the count (at most 20).
+std::size_t write_unsigned(std::uint64_t value, char* out) noexcept;
+// Writes `scaled / 10^decimals` with exactly `decimals` digits after '.'.
+std::size_t write_fixed(std::int64_t scaled, int decimals, char* out) noexcept;
+
+// "0x2F": one byte for messages.
+std::string hex_byte(std::uint8_t byte);
+// The field quoted for messages, non-printable bytes as \xNN.
+std::string quoted(std::string_view text);
+
+}  // namespace rangekit::uls::detail

@@ -1,0 +1,275 @@
+// Measurement lines (§8 p.23-24, §9 p.39-41; U8-U13, U27, U34).
+#include "rangekit/uls/measurement.hpp"
+
+#include <string>
+
+#include "rangekit/core/text.hpp"
+#include "rangekit/uls/errors.hpp"
+#include "rangekit/uls/formulas.hpp"
+#include "uls/fields.hpp"
+
+namespace rangekit::uls {
+namespace {
+
+Error line_error(Errc code, const std::string& what) { return make_error(code, "ULS measurement: " + what); }
+
+int decimals_for(Units units) noexcept { return units == Units::metres ? 3 : 2; }
+const char* units_word(Units units) noexcept { return units == Units::metres ? "metres" : "feet"; }
+
+// "[-]digits.ddd" (metres) or "[-]digits.dd" (feet), at most 8 characters (U9, U27).
+Result<Range> read_range(std::string_view field, Units units) {
+  if (field.size() > max_range_chars) {
+    return line_error(Errc::overlong, "range " + detail::quoted(field) + " longer than 8 characters");
+  }
+  const std::size_t point = field.find('.');
+  const std::string_view integer = field.substr(0, point);
+  const std::string_view digits = (!integer.empty() && integer.front() == '-') ? integer.substr(1) : integer;
+  const auto all_digits = [](std::string_view text) {
+    if (text.empty()) return false;
+    for (const char c : text) {
+      if (!text::is_digit(c)) return false;
+    }
+    return true;
+  };
+  if (point == std::string_view::npos) {
+    const bool number = all_digits(digits);
+    return line_error(number ? Errc::wrong_form : Errc::bad_number,
+                      "range " + detail::quoted(field) + (number ? " has no decimal point" : " is not a number"));
+  }
+  const std::string_view fraction = field.substr(point + 1);
+  if (!all_digits(digits) || !all_digits(fraction)) {
+    return line_error(Errc::bad_number, "range " + detail::quoted(field) + " is not a number");
+  }
+  if (static_cast<int>(fraction.size()) != decimals_for(units)) {
+    return line_error(Errc::wrong_form, "range " + detail::quoted(field) + " has " +
+                                            std::to_string(fraction.size()) + " decimals; " + units_word(units) +
+                                            " are written with " + std::to_string(decimals_for(units)));
+  }
+  const std::optional<double> value = text::parse_decimal(field, '.');
+  if (!value) return line_error(Errc::bad_number, "range " + detail::quoted(field) + " is not a number");
+  return make_range(*value, units);
+}
+
+Result<std::uint32_t> read_unsigned(std::string_view field, std::size_t max_digits, std::uint64_t max_value,
+                                    const char* what) {
+  const std::optional<std::uint64_t> value = text::parse_unsigned(field, max_digits, max_value);
+  if (value) return static_cast<std::uint32_t>(*value);
+  for (const char c : field) {
+    if (!text::is_digit(c)) {
+      return line_error(Errc::bad_number, std::string(what) + " " + detail::quoted(field) + " is not a number");
+    }
+  }
+  return line_error(field.size() > max_digits ? Errc::overlong : Errc::out_of_range,
+                    std::string(what) + " " + detail::quoted(field) + " is above " + std::to_string(max_value));
+}
+
+Error wrong_field_count(const char* line, std::size_t got, std::size_t want) {
+  return line_error(got < want ? Errc::truncated : Errc::overlong,
+                    std::string(line) + " has " + std::to_string(got) + " fields, needs " + std::to_string(want));
+}
+
+Result<Reading> decode_averaging(std::span<const std::string_view> fields, const MeasurementContext& context) {
+  AveragingReading reading;
+  switch (context.display) {
+    case DisplayMode::range: {
+      if (fields.size() != 1) return wrong_field_count("averaging line (display range)", fields.size(), 1);
+      auto range = read_range(fields[0], context.units);
+      if (!range) return std::move(range).error();
+      reading.range = *range;
+      break;
+    }
+    case DisplayMode::intensity: {
+      if (fields.size() != 1) return wrong_field_count("averaging line (display intensity)", fields.size(), 1);
+      if (fields[0].find('.') != std::string_view::npos) {
+        return line_error(Errc::wrong_form, "pulse width " + detail::quoted(fields[0]) +
+                                                " has a decimal point; display mode 3 sends pulse width only");
+      }
+      auto width = read_unsigned(fields[0], max_pulse_width_digits, 9'999'999, "pulse width");
+      if (!width) return std::move(width).error();
+      reading.pulse_width_ps = *width;
+      break;
+    }
+    case DisplayMode::range_and_intensity: {
+      if (fields.size() != 2) return wrong_field_count("averaging line (display both)", fields.size(), 2);
+      auto range = read_range(fields[0], context.units);
+      if (!range) return std::move(range).error();
+      auto width = read_unsigned(fields[1], max_pulse_width_digits, 9'999'999, "pulse width");
+      if (!width) return std::move(width).error();
+      reading.range = *range;
+      reading.pulse_width_ps = *width;
+      break;
+    }
+    default:
+      return line_error(Errc::out_of_range, "display mode " + std::to_string(static_cast<int>(context.display)) +
+                                                " is not 1-3");
+  }
+  return Reading{reading};
+}
+
+Result<Reading> decode_binning(std::span<const std::string_view> fields, Units units) {
+  if (fields.size() != 4) return wrong_field_count("binning line", fields.size(), 4);
+  auto index = read_unsigned(fields[0], 2, max_binning_targets - 1, "target index");
+  if (!index) return std::move(index).error();
+  auto count = read_unsigned(fields[1], 2, max_binning_targets, "target count");
+  if (!count) return std::move(count).error();
+  if (*count == 0 || *index >= *count) {
+    return line_error(Errc::out_of_range, "target index " + std::to_string(*index) + " is not below count " +
+                                              std::to_string(*count));
+  }
+  auto range = read_range(fields[2], units);
+  if (!range) return std::move(range).error();
+  auto strength = read_unsigned(fields[3], max_strength_digits, 65535, "strength");
+  if (!strength) return std::move(strength).error();
+  return Reading{BinningTarget{static_cast<std::uint8_t>(*index), static_cast<std::uint8_t>(*count), *range,
+                               *strength}};
+}
+
+Result<Reading> decode_look_down(std::span<const std::string_view> fields) {
+  if (fields.size() != 1) return wrong_field_count("look-down line", fields.size(), 1);
+  if (fields[0] == "0") return Reading{LookDownReading{false}};
+  if (fields[0] == "1") return Reading{LookDownReading{true}};
+  return line_error(Errc::out_of_range, "look-down state " + detail::quoted(fields[0]) + " is not 0 or 1");
+}
+
+Result<Reading> decode_event(std::string_view text) {
+  if (text == "0") return Reading{TimeBetweenEvents{TimeBetweenEvents::Kind::no_presence, 0}};
+  const std::optional<std::uint64_t> pulses = text::parse_hex(text, 4);
+  if (text.size() != 4 || !pulses) {
+    return line_error(Errc::bad_hex, "time between events " + detail::quoted(text) + " is not 4 hex digits");
+  }
+  if (*pulses == 0) return Reading{TimeBetweenEvents{TimeBetweenEvents::Kind::overflow, 0}};
+  return Reading{TimeBetweenEvents{TimeBetweenEvents::Kind::pulses, static_cast<std::uint16_t>(*pulses)}};
+}
+
+Result<Reading> decode_error_line(std::span<const std::string_view> fields) {
+  if (fields.size() != 1) return wrong_field_count("error line", fields.size(), 1);
+  auto number = read_unsigned(fields[0], 3, 999, "error number");
+  if (!number) return std::move(number).error();
+  if (find_error(static_cast<int>(*number)) == nullptr) {
+    return line_error(Errc::out_of_range, "error number " + std::to_string(*number) + " is not in the §10 table");
+  }
+  return Reading{MeasurementError{static_cast<int>(*number)}};
+}
+
+Result<Reading> decode_reading(const FrameView& frame, const MeasurementContext& context) {
+  const bool events_expected = context.mode == Mode::look_down && context.time_between_events;
+  if (frame.kind == FrameKind::time_between_events) {
+    if (!events_expected) {
+      return line_error(Errc::wrong_form,
+                        "time-between-events frame, but the unit is not in look down with TB on (U34)");
+    }
+    return decode_event(frame.event_text);
+  }
+  if (frame.is("ER")) return decode_error_line(frame.fields());
+  if (!frame.is("BM")) {
+    return line_error(Errc::wrong_form, "mnemonic " + detail::quoted(frame.mnemonic) + " is not BM or ER");
+  }
+  switch (context.mode) {
+    case Mode::averaging: return decode_averaging(frame.fields(), context);
+    case Mode::binning: return decode_binning(frame.fields(), context.units);
+    case Mode::look_down:
+      if (events_expected) {
+        return line_error(Errc::wrong_form, "BM line in look down with time between events on (U34)");
+      }
+      return decode_look_down(frame.fields());
+  }
+  return line_error(Errc::out_of_range,
+                    "measurement mode " + std::to_string(static_cast<int>(context.mode)) + " is not 1-3");
+}
+
+// A range in its field, or an error when it does not fit §9's width (U27).
+Result<FieldText> range_field(const Range& range) {
+  const std::optional<FieldText> text = format_distance(range.user, range.units);
+  if (!text || text->size > max_range_chars) {
+    return line_error(Errc::out_of_range, "range " + std::to_string(range.user) + " " + units_word(range.units) +
+                                              " does not fit the 8-character field (§9)");
+  }
+  return *text;
+}
+
+Result<FieldText> pulse_width_field(std::uint32_t picoseconds) {
+  const FieldText text = format_unsigned(picoseconds);
+  if (text.size > max_pulse_width_digits) {
+    return line_error(Errc::out_of_range, "pulse width " + std::to_string(picoseconds) + " ps has more than 7 digits");
+  }
+  return text;
+}
+
+}  // namespace
+
+Range make_range(double user_value, Units units) noexcept { return {user_value, to_metres(user_value, units), units}; }
+
+Result<Measurement> decode_measurement(const FrameView& frame, const MeasurementContext& context) {
+  if (frame.address.is_broadcast()) {
+    return line_error(Errc::wrong_form, "line from broadcast address " + detail::hex_byte(frame.address.byte) +
+                                            " (units never send from one, U4)");
+  }
+  Result<Reading> reading = decode_reading(frame, context);
+  if (!reading) return std::move(reading).error();
+  return Measurement{frame.address, *reading};
+}
+
+Result<Measurement> decode_measurement(Bytes frame, const MeasurementContext& context) {
+  Result<FrameView> view = parse_frame(frame);
+  if (!view) return std::move(view).error();
+  return decode_measurement(*view, context);
+}
+
+Result<FrameText> encode_averaging(Address address, const AveragingReading& reading) {
+  std::array<std::string_view, 2> fields{};
+  std::size_t count = 0;
+  FieldText range_text;
+  FieldText width_text;
+  if (reading.range) {
+    auto text = range_field(*reading.range);
+    if (!text) return std::move(text).error();
+    range_text = *text;
+    fields[count++] = range_text.view();
+  }
+  if (reading.pulse_width_ps) {
+    auto text = pulse_width_field(*reading.pulse_width_ps);
+    if (!text) return std::move(text).error();
+    width_text = *text;
+    fields[count++] = width_text.view();
+  }
+  if (count == 0) return line_error(Errc::truncated, "averaging reading without range or pulse width");
+  return encode_frame(address, "BM", {fields.data(), count});
+}
+
+Result<FrameText> encode_binning_target(Address address, const BinningTarget& target) {
+  if (target.count == 0 || target.count > max_binning_targets || target.index >= target.count) {
+    return line_error(Errc::out_of_range, "target " + std::to_string(target.index) + " of " +
+                                              std::to_string(target.count) + " is not index < count <= 15");
+  }
+  if (target.strength > 65535) {
+    return line_error(Errc::out_of_range, "strength " + std::to_string(target.strength) + " is above 65535");
+  }
+  auto range = range_field(target.range);
+  if (!range) return std::move(range).error();
+  const FieldText index = format_unsigned(target.index);
+  const FieldText count = format_unsigned(target.count);
+  const FieldText strength = format_unsigned(target.strength);
+  const std::array<std::string_view, 4> fields{index.view(), count.view(), range->view(), strength.view()};
+  return encode_frame(address, "BM", fields);
+}
+
+Result<FrameText> encode_look_down(Address address, bool present) {
+  const std::string_view field = present ? "1" : "0";
+  return encode_frame(address, "BM", {&field, 1});
+}
+
+Result<FrameText> encode_measurement_error(Address address, int error_number) {
+  return encode_error_reply(address, error_number);
+}
+
+Result<FrameText> encode_measurement(Address address, const Reading& reading) {
+  if (const auto* averaging = std::get_if<AveragingReading>(&reading)) return encode_averaging(address, *averaging);
+  if (const auto* target = std::get_if<BinningTarget>(&reading)) return encode_binning_target(address, *target);
+  if (const auto* look_down = std::get_if<LookDownReading>(&reading)) {
+    return encode_look_down(address, look_down->present);
+  }
+  if (const auto* event = std::get_if<TimeBetweenEvents>(&reading)) return encode_time_between_events(address, *event);
+  return encode_measurement_error(address, std::get<MeasurementError>(reading).number);
+}
+
+}  // namespace rangekit::uls

@@ -1,2 +1,0 @@
-// Replaced by the ULS codec sources.
-namespace rangekit::uls {}
