@@ -1,0 +1,31 @@
+#include "ls5/messages.hpp"
+
+#include "rangekit/core/text.hpp"
+
+namespace rangekit::ls5::detail {
+
+std::string quote(std::string_view text) {
+  std::string out = "'";
+  for (const char c : text) {
+    const auto byte = static_cast<std::uint8_t>(c);
+    if (byte < 0x20 || byte >= 0x7f) {
+      char escaped[5] = {'\\', 'x', 0, 0, 0};
+      text::write_hex(byte, 2, escaped + 2);
+      out.append(escaped, 4);
+    } else {
+      out.push_back(c);
+    }
+  }
+  out.push_back('\'');
+  return out;
+}
+
+std::string hex2(std::uint8_t value) {
+  char digits[2];
+  text::write_hex(value, 2, digits);
+  return std::string(digits, 2);
+}
+
+Error frame_error(Errc code, std::string message) { return make_error(code, "LS5 frame: " + message); }
+
+}  // namespace rangekit::ls5::detail

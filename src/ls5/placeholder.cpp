@@ -1,2 +1,0 @@
-// Replaced by the LS5 codec sources.
-namespace rangekit::ls5 {}
