@@ -12,7 +12,7 @@ namespace {
 constexpr std::array<std::uint32_t, 10> bauds{1200, 2400, 4800, 9600, 14400, 19200, 38400, 57600, 115200, 230400};
 
 // §9 Binning Mode "Accuracy and Maximum Range" rows; n = 8 continues the
-// doubling (U20). Labels follow the Interface Program's "2.5 (13)" (§2, U35).
+// doubling (U20). Labels follow the Interface Program's "2.5 (13)" (§2, U33).
 constexpr std::array<BinSizeInfo, 9> bin_sizes{{
     {BinSize::inch_1, 1, 2.5, 13, "2.5 (13)"},
     {BinSize::inches_2, 2, 5.1, 26, "5.1 (26)"},

@@ -1,10 +1,9 @@
-// Measurement lines (§8 p.23-24, §9 p.39-41; U8-U13, U27, U34).
+// Measurement lines (§8 p.23-24, §9 p.39-41; U8-U13, U27, U31, U32).
 #include "rangekit/uls/measurement.hpp"
 
 #include <string>
 
 #include "rangekit/core/text.hpp"
-#include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/formulas.hpp"
 #include "uls/fields.hpp"
 
@@ -145,9 +144,7 @@ Result<Reading> decode_error_line(std::span<const std::string_view> fields) {
   if (fields.size() != 1) return wrong_field_count("error line", fields.size(), 1);
   auto number = read_unsigned(fields[0], 3, 999, "error number");
   if (!number) return std::move(number).error();
-  if (find_error(static_cast<int>(*number)) == nullptr) {
-    return line_error(Errc::out_of_range, "error number " + std::to_string(*number) + " is not in the §10 table");
-  }
+  if (*number == 0) return line_error(Errc::out_of_range, "error number 0 is not an error (U31)");
   return Reading{MeasurementError{static_cast<int>(*number)}};
 }
 
@@ -156,7 +153,7 @@ Result<Reading> decode_reading(const FrameView& frame, const MeasurementContext&
   if (frame.kind == FrameKind::time_between_events) {
     if (!events_expected) {
       return line_error(Errc::wrong_form,
-                        "time-between-events frame, but the unit is not in look down with TB on (U34)");
+                        "time-between-events frame, but the unit is not in look down with TB on (U32)");
     }
     return decode_event(frame.event_text);
   }
@@ -169,7 +166,7 @@ Result<Reading> decode_reading(const FrameView& frame, const MeasurementContext&
     case Mode::binning: return decode_binning(frame.fields(), context.units);
     case Mode::look_down:
       if (events_expected) {
-        return line_error(Errc::wrong_form, "BM line in look down with time between events on (U34)");
+        return line_error(Errc::wrong_form, "BM line in look down with time between events on (U32)");
       }
       return decode_look_down(frame.fields());
   }

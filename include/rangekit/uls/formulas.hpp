@@ -32,7 +32,7 @@ bool is_baud_choice(std::uint32_t baud) noexcept;
 inline constexpr std::uint32_t interface_program_max_baud = 115200;
 inline constexpr std::uint32_t serial_command_max_baud = 230400;
 
-// --- Bin size (§8 Set/Get Bin Size, §9 Binning Mode table, U20, U35) ---
+// --- Bin size (§8 Set/Get Bin Size, §9 Binning Mode table, U20, U33) ---
 inline constexpr std::uint32_t bins_per_range = 512;
 inline constexpr double reflective_sheet_limit_binning_m = 1664.0;  // §9
 struct BinSizeInfo {
@@ -40,7 +40,7 @@ struct BinSizeInfo {
   std::uint32_t inches;
   double accuracy_cm;               // §9 column ("±2.5 cm typical" ...); n = 8 by the same rule
   std::uint32_t max_range_m;        // §9 column as printed (whole metres); n = 8: 3329 (U20)
-  std::string_view interface_label; // how the Interface Program lists it: "2.5 (13)" (§2, U35)
+  std::string_view interface_label; // how the Interface Program lists it: "2.5 (13)" (§2, U33)
 };
 std::span<const BinSizeInfo> bin_size_table() noexcept;
 const BinSizeInfo& bin_size_info(BinSize size) noexcept;

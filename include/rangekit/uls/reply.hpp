@@ -17,7 +17,7 @@ struct Reply {
   ReplyKind kind = ReplyKind::ok;
   Address source;
   int error_number = 0;               // kind == error
-  const ErrorInfo* error = nullptr;   // kind == error; null for numbers §10 does not list (U33)
+  const ErrorInfo* error = nullptr;   // kind == error; null for numbers §10 does not list (U31)
   const CommandInfo* command = nullptr;  // kind == value
   std::string_view mnemonic;          // kind == value, as received
   std::array<std::string_view, max_fields> value_slots{};
@@ -26,10 +26,11 @@ struct Reply {
   [[nodiscard]] std::span<const std::string_view> values() const noexcept { return {value_slots.data(), value_count}; }
 };
 
-// Reads a reply. Value replies must name a known command and carry the number
-// of values its get reply has (U29); values are checked by kind where the
-// caller asks (validate_request on the values). No allocation on success.
-Result<Reply> decode_reply(const FrameView& frame);
-Result<Reply> decode_reply(Bytes frame);
+// Reads a reply. Value replies must name a known command with a get, carry the
+// number of values its get reply has and values of the row's kind and range
+// (U29; distances read in `units`; UA's value is decimal, U5). BM replies are
+// only counted here: read them with decode_measurement. No allocation on success.
+Result<Reply> decode_reply(const FrameView& frame, Units units = Units::metres);
+Result<Reply> decode_reply(Bytes frame, Units units = Units::metres);
 
 }  // namespace rangekit::uls
