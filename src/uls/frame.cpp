@@ -56,6 +56,11 @@ Result<FrameView> parse_body(FrameView view, std::string_view body, std::size_t 
   const std::size_t comma = body.find(',');
   const std::string_view mnemonic = body.substr(0, comma);
   if (mnemonic.empty()) return frame_error(Errc::truncated, "empty mnemonic");
+  if (comma == std::string_view::npos && text::is_digit(body.front())) {
+    // Only a time between events starts with a digit and has no comma (U12).
+    return frame_error(Errc::bad_hex, "time between events " + detail::quoted(body) +
+                                          " is not '0' or 4 upper-case hex digits");
+  }
   for (const char c : mnemonic) {
     if (!is_letter(c)) {
       return frame_error(Errc::invalid_frame, "mnemonic " + detail::quoted(mnemonic) + " holds a non-letter");
