@@ -1,9 +1,18 @@
 #include <fmt/core.h>
-#include <CLI/CLI.hpp>
+
+#include "cli/commands.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"rangekit: toolkit for ULS and LS5 laser distance sensors"};
-  app.require_subcommand(0, 1);
-  CLI11_PARSE(app, argc, argv);
-  return 0;
+  CLI::App app{"rangekit: configure, stream and emulate ULS and LS5 laser distance sensors"};
+  app.require_subcommand(1);
+  int exit_code = rangekit::cli::exit_ok;
+  rangekit::cli::add_demo_command(app, exit_code);
+  rangekit::cli::add_decode_command(app, exit_code);
+  rangekit::cli::add_tables_command(app, exit_code);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  }
+  return exit_code;
 }

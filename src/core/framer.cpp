@@ -1,12 +1,16 @@
 #include "rangekit/core/framer.hpp"
 
 #include <algorithm>
+#include <cstring>
 
 namespace rangekit {
 namespace {
 
 bool is_start(std::uint8_t byte, std::string_view starts) noexcept {
-  return starts.find(static_cast<char>(byte)) != std::string_view::npos;
+  for (const char start : starts) {
+    if (static_cast<std::uint8_t>(start) == byte) return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -24,19 +28,30 @@ FrameScan scan_line_frame(Bytes buffer, const LineFramerRules& rules) noexcept {
     return FrameScan::invalid(skip, "bytes before the start of a frame");
   }
 
-  for (std::size_t i = 1; i < buffer.size(); ++i) {
+  // Find the terminator first (memchr is fast), then check the bytes before it
+  // in order, so the first problem in the frame is the one reported.
+  const std::size_t window = std::min(buffer.size(), rules.max_length + 1);
+  const auto* terminator = static_cast<const std::uint8_t*>(std::memchr(buffer.data(), rules.terminator, window));
+  const std::size_t end = terminator != nullptr ? static_cast<std::size_t>(terminator - buffer.data()) : window;
+  // Bytes above every start character and below DEL need no further look: the
+  // common case (digits, letters, ',' and '.' all sit above '$', '#', '!', '%').
+  std::uint8_t highest_start = 0;
+  for (const char start : rules.starts) highest_start = std::max(highest_start, static_cast<std::uint8_t>(start));
+  const std::uint8_t plain_from = std::max<std::uint8_t>(0x20, static_cast<std::uint8_t>(highest_start + 1));
+  for (std::size_t i = 1; i < end; ++i) {
     const std::uint8_t byte = buffer[i];
-    if (byte == rules.terminator) {
-      if (i > rules.max_length) return FrameScan::invalid(i + 1, "frame longer than the protocol allows");
-      return FrameScan::complete(buffer.first(i), i + 1);
-    }
-    if (i >= rules.max_length) return FrameScan::invalid(i, "frame longer than the protocol allows");
-    const bool address_slot = rules.allow_high_bytes_at && i == rules.high_byte_position;
-    if (address_slot) continue;  // any address byte; its range is checked by the codec
+    if (byte >= plain_from && byte < 0x7f) continue;
+    if (byte >= 0x20 && byte < 0x7f && !is_start(byte, rules.starts)) continue;
+    if (rules.allow_high_bytes_at && i == rules.high_byte_position) continue;  // any address byte; the codec checks it
     if (is_start(byte, rules.starts)) return FrameScan::invalid(i, "frame cut short by a new start byte");
     if (byte == '\n') return FrameScan::invalid(i + 1, "line feed inside a frame (frames end with CR)");
-    if (byte < 0x20 || byte >= 0x7f) return FrameScan::invalid(i + 1, "control or non-ASCII byte inside a frame");
+    return FrameScan::invalid(i + 1, "control or non-ASCII byte inside a frame");
   }
+  if (terminator != nullptr) {
+    if (end > rules.max_length) return FrameScan::invalid(end + 1, "frame longer than the protocol allows");
+    return FrameScan::complete(buffer.first(end), end + 1);
+  }
+  if (end > rules.max_length) return FrameScan::invalid(rules.max_length, "frame longer than the protocol allows");
   return FrameScan::need_more();
 }
 

@@ -1,0 +1,215 @@
+// Parser throughput against a memchr-over-the-buffer baseline measured in the
+// same run (issue 3 goal: >= 100 MB/s per core, no heap allocation per frame).
+#include <benchmark/benchmark.h>
+
+#include <array>
+#include <cstring>
+#include <map>
+#include <string>
+
+#include "allocation_counter.hpp"
+#include "rangekit/core/framer.hpp"
+#include "rangekit/ls5/reply.hpp"
+#include "rangekit/ls5/udp_packet.hpp"
+#include "rangekit/uls/frame.hpp"
+#include "rangekit/uls/measurement.hpp"
+#include "streams.hpp"
+
+namespace {
+
+using rangekit::Bytes;
+using rangekit::FrameAssembler;
+
+constexpr std::size_t stream_bytes = 4 << 20;  // 4 MiB per pass
+constexpr std::size_t read_chunk = 4096;       // what one serial read might return
+
+const std::string& uls_stream() {
+  static const std::string stream = rangekit::bench::uls_binning_stream(stream_bytes, 42);
+  return stream;
+}
+const std::string& ls5_stream() {
+  static const std::string stream = rangekit::bench::ls5_stream(stream_bytes, 42);
+  return stream;
+}
+
+// The floor: find every CR with memchr, touching each byte once.
+std::size_t count_lines_memchr(const std::string& stream) {
+  std::size_t lines = 0;
+  const char* at = stream.data();
+  const char* end = at + stream.size();
+  while ((at = static_cast<const char*>(std::memchr(at, '\r', static_cast<std::size_t>(end - at)))) != nullptr) {
+    ++lines;
+    ++at;
+  }
+  return lines;
+}
+
+template <class Decode>
+std::size_t parse_stream(const std::string& stream, rangekit::ScanFunction scan, Decode&& decode) {
+  static FrameAssembler assembler(scan, 2 * read_chunk);
+  assembler.clear();
+  std::size_t decoded = 0;
+  FrameAssembler::Event event;
+  for (std::size_t offset = 0; offset < stream.size(); offset += read_chunk) {
+    const std::size_t size = std::min(read_chunk, stream.size() - offset);
+    assembler.push(Bytes(reinterpret_cast<const std::uint8_t*>(stream.data()) + offset, size));
+    while (assembler.next(event)) {
+      if (event.kind == FrameAssembler::Event::Kind::frame && decode(event.frame)) ++decoded;
+    }
+  }
+  return decoded;
+}
+
+void report(benchmark::State& state, std::size_t bytes, std::size_t frames, std::uint64_t allocations) {
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * bytes));
+  state.counters["frames"] = benchmark::Counter(static_cast<double>(frames));
+  state.counters["allocs_per_frame"] = benchmark::Counter(
+      frames == 0 ? 0.0 : static_cast<double>(allocations) / static_cast<double>(frames * state.iterations()));
+}
+
+void uls_memchr_baseline(benchmark::State& state) {
+  std::size_t lines = 0;
+  const auto before = rangekit::bench::allocation_count();
+  for (auto _ : state) benchmark::DoNotOptimize(lines = count_lines_memchr(uls_stream()));
+  report(state, uls_stream().size(), lines, rangekit::bench::allocation_count() - before);
+}
+
+void uls_binning_decode(benchmark::State& state) {
+  const rangekit::uls::MeasurementContext context{rangekit::uls::Mode::binning, rangekit::uls::DisplayMode::range,
+                                                  rangekit::uls::Units::metres, false};
+  double checksum = 0;
+  auto decode = [&](Bytes frame) {
+    auto measurement = rangekit::uls::decode_measurement(frame, context);
+    if (!measurement) return false;
+    if (const auto* target = std::get_if<rangekit::uls::BinningTarget>(&measurement->reading))
+      checksum += target->range.metres;
+    return true;
+  };
+  std::size_t frames = 0;
+  (void)parse_stream(uls_stream(), &rangekit::uls::scan_frame, decode);  // warm-up: static buffers
+  const auto before = rangekit::bench::allocation_count();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(frames = parse_stream(uls_stream(), &rangekit::uls::scan_frame, decode));
+  benchmark::DoNotOptimize(checksum);
+  report(state, uls_stream().size(), frames, rangekit::bench::allocation_count() - before);
+}
+
+void ls5_memchr_baseline(benchmark::State& state) {
+  std::size_t lines = 0;
+  const auto before = rangekit::bench::allocation_count();
+  for (auto _ : state) benchmark::DoNotOptimize(lines = count_lines_memchr(ls5_stream()));
+  report(state, ls5_stream().size(), lines, rangekit::bench::allocation_count() - before);
+}
+
+void ls5_stream_decode(benchmark::State& state) {
+  std::uint64_t checksum = 0;
+  auto decode = [&](Bytes frame) {
+    auto reply = rangekit::ls5::parse_reply(frame);
+    if (!reply) return false;
+    checksum += reply->result.value;
+    return true;
+  };
+  std::size_t frames = 0;
+  (void)parse_stream(ls5_stream(), &rangekit::ls5::scan_reply_frame, decode);
+  const auto before = rangekit::bench::allocation_count();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(frames = parse_stream(ls5_stream(), &rangekit::ls5::scan_reply_frame, decode));
+  benchmark::DoNotOptimize(checksum);
+  report(state, ls5_stream().size(), frames, rangekit::bench::allocation_count() - before);
+}
+
+// UDP packets of section 10: decode with checksum and state checks, against a
+// plain memchr pass over the same 512 bytes.
+std::array<std::uint8_t, rangekit::ls5::udp_packet_size> sample_packet() {
+  rangekit::ls5::UdpPacket packet;
+  for (std::size_t i = 0; i < packet.records.size(); ++i) {
+    packet.records[i] = rangekit::ls5::UdpRecord{static_cast<std::uint16_t>(i * 97 % 0x4000), 0x07};
+  }
+  packet.serial_number = 157;
+  packet.lower_boundary_mm = 8;
+  packet.range_mm = 40;
+  std::array<std::uint8_t, rangekit::ls5::udp_packet_size> bytes{};
+  (void)rangekit::ls5::encode_udp_packet(packet, bytes);
+  return bytes;
+}
+
+// The floor for a packet: one XOR pass over its bytes, the least a receiver
+// that checks the checksum must do.
+void ls5_udp_xor_baseline(benchmark::State& state) {
+  const auto packet = sample_packet();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(packet.data());
+    std::uint8_t folded = 0;
+    for (const std::uint8_t byte : packet) folded ^= byte;
+    benchmark::DoNotOptimize(folded);
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * packet.size()));
+}
+
+void ls5_udp_decode(benchmark::State& state) {
+  const auto packet = sample_packet();
+  const auto before = rangekit::bench::allocation_count();
+  for (auto _ : state) {
+    auto decoded = rangekit::ls5::decode_udp_packet(packet);
+    benchmark::DoNotOptimize(decoded);
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * packet.size()));
+  state.counters["allocs_per_frame"] = benchmark::Counter(
+      static_cast<double>(rangekit::bench::allocation_count() - before) / static_cast<double>(state.iterations()));
+}
+
+BENCHMARK(uls_memchr_baseline)->Unit(benchmark::kMillisecond);
+BENCHMARK(uls_binning_decode)->Unit(benchmark::kMillisecond);
+BENCHMARK(ls5_memchr_baseline)->Unit(benchmark::kMillisecond);
+BENCHMARK(ls5_stream_decode)->Unit(benchmark::kMillisecond);
+BENCHMARK(ls5_udp_xor_baseline);
+BENCHMARK(ls5_udp_decode);
+
+// Keeps every run's throughput and allocation counter for the summary.
+class SummaryReporter : public benchmark::ConsoleReporter {
+ public:
+  struct Figures {
+    double bytes_per_second = 0;
+    double allocs_per_frame = 0;
+  };
+  std::map<std::string, Figures> figures;
+
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const auto& run : runs) {
+      Figures entry;
+      if (auto it = run.counters.find("bytes_per_second"); it != run.counters.end())
+        entry.bytes_per_second = it->second;
+      if (auto it = run.counters.find("allocs_per_frame"); it != run.counters.end())
+        entry.allocs_per_frame = it->second;
+      figures[run.benchmark_name()] = entry;
+    }
+    ConsoleReporter::ReportRuns(runs);
+  }
+};
+
+void print_comparison(const SummaryReporter& reporter, const char* parser, const char* baseline) {
+  const auto p = reporter.figures.find(parser);
+  const auto b = reporter.figures.find(baseline);
+  if (p == reporter.figures.end() || b == reporter.figures.end()) return;
+  const double mb = p->second.bytes_per_second / 1e6;
+  const double base_mb = b->second.bytes_per_second / 1e6;
+  std::printf(
+      "%-22s %9.1f MB/s  = %5.1f%% of %-22s (%9.1f MB/s)  goal >= 100 MB/s: %-7s allocations/frame: %.4f (%s)\n",
+      parser, mb, 100.0 * mb / base_mb, baseline, base_mb, mb >= 100.0 ? "met" : "MISSED", p->second.allocs_per_frame,
+      p->second.allocs_per_frame < 0.001 ? "none on the hot path" : "ALLOCATES");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  SummaryReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  std::printf("\nComparison with the baseline measured in this run (one core):\n");
+  print_comparison(reporter, "uls_binning_decode", "uls_memchr_baseline");
+  print_comparison(reporter, "ls5_stream_decode", "ls5_memchr_baseline");
+  print_comparison(reporter, "ls5_udp_decode", "ls5_udp_xor_baseline");
+  benchmark::Shutdown();
+  return 0;
+}

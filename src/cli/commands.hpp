@@ -1,0 +1,20 @@
+// Subcommands of the rangekit binary; each file registers one on the CLI11 app.
+// Exceptions stop at this edge: the library returns Result values, and these
+// functions turn failures into a message and a documented exit code.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace rangekit::cli {
+
+// Exit codes (documented in docs/cli.md).
+inline constexpr int exit_ok = 0;
+inline constexpr int exit_usage = 2;      // bad arguments (CLI11 also uses 2 for parse errors... see docs)
+inline constexpr int exit_bad_input = 3;  // input that does not decode
+inline constexpr int exit_io = 4;         // cannot open or read a file or port
+
+void add_tables_command(CLI::App& app, int& exit_code);
+void add_decode_command(CLI::App& app, int& exit_code);
+void add_demo_command(CLI::App& app, int& exit_code);
+
+}  // namespace rangekit::cli

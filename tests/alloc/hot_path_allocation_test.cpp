@@ -1,0 +1,101 @@
+// The hot path (framing + decoding a measurement stream) must not touch the
+// heap once warmed up (issue 3). This binary replaces the global operator new
+// to count allocations, which is why it is a test binary of its own.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+#include <string>
+
+#include "rangekit/core/framer.hpp"
+#include "rangekit/ls5/reply.hpp"
+#include "rangekit/ls5/udp_packet.hpp"
+#include "rangekit/uls/measurement.hpp"
+
+namespace {
+std::atomic<long> allocations{0};
+}
+
+void* operator new(std::size_t size) {
+  allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* memory = std::malloc(size == 0 ? 1 : size)) return memory;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) { return operator new(size); }
+void operator delete(void* memory) noexcept { std::free(memory); }
+void operator delete[](void* memory) noexcept { std::free(memory); }
+void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
+void operator delete[](void* memory, std::size_t) noexcept { std::free(memory); }
+
+namespace rangekit {
+namespace {
+
+template <class Decode>
+long allocations_while_decoding(ScanFunction scan, const std::string& stream, Decode&& decode, int& decoded) {
+  FrameAssembler assembler(scan, 1024);  // allocated here, before counting
+  const long before = allocations.load();
+  FrameAssembler::Event event;
+  for (std::size_t offset = 0; offset < stream.size(); offset += 100) {
+    assembler.push(as_bytes(std::string_view(stream).substr(offset, 100)));
+    while (assembler.next(event)) {
+      if (event.kind == FrameAssembler::Event::Kind::frame && decode(event.frame)) ++decoded;
+    }
+  }
+  return allocations.load() - before;
+}
+
+TEST(HotPathAllocation, CounterSeesAnAllocation) {
+  // The instrument works: a string too long for the small-string buffer allocates.
+  const long before = allocations.load();
+  std::string text(100, 'x');
+  EXPECT_GT(allocations.load() - before, 0);
+  EXPECT_EQ(text.size(), 100U);
+}
+
+TEST(HotPathAllocation, UlsMeasurementStreams) {
+  // Lines in the formats of §8/§9 (averaging range+pulse width, binning, look down).
+  std::string averaging;
+  std::string binning;
+  for (int i = 0; i < 200; ++i) {
+    averaging += "$BM,12." + std::to_string(100 + i) + ",8" + std::to_string(100 + i) + "\r";
+    binning += "$BM,0,2,4.572,42\r$BM,1,2,1234.567,7\r";
+  }
+  int decoded = 0;
+  const uls::MeasurementContext both{uls::Mode::averaging, uls::DisplayMode::range_and_intensity, uls::Units::metres,
+                                     false};
+  EXPECT_EQ(
+      allocations_while_decoding(
+          &uls::scan_frame, averaging, [&](Bytes frame) { return uls::decode_measurement(frame, both).ok(); }, decoded),
+      0);
+  EXPECT_EQ(decoded, 200);
+  decoded = 0;
+  const uls::MeasurementContext bins{uls::Mode::binning, uls::DisplayMode::range, uls::Units::metres, false};
+  EXPECT_EQ(
+      allocations_while_decoding(
+          &uls::scan_frame, binning, [&](Bytes frame) { return uls::decode_measurement(frame, bins).ok(); }, decoded),
+      0);
+  EXPECT_EQ(decoded, 400);
+}
+
+TEST(HotPathAllocation, Ls5StreamRecordsAndUdpPackets) {
+  std::string stream;
+  for (int i = 0; i < 500; ++i) stream += "!2" + std::to_string(1000 + i * 7 % 9000) + "\r";
+  int decoded = 0;
+  EXPECT_EQ(allocations_while_decoding(
+                &ls5::scan_reply_frame, stream, [&](Bytes frame) { return ls5::parse_reply(frame).ok(); }, decoded),
+            0);
+  EXPECT_EQ(decoded, 500);
+
+  ls5::UdpPacket packet;
+  for (std::size_t i = 0; i < packet.records.size(); ++i)
+    packet.records[i] = ls5::UdpRecord{static_cast<std::uint16_t>(i * 50), 0x07};
+  std::array<std::uint8_t, ls5::udp_packet_size> datagram{};
+  ASSERT_TRUE(ls5::encode_udp_packet(packet, datagram));
+  const long before = allocations.load();
+  for (int i = 0; i < 100; ++i) ASSERT_TRUE(ls5::decode_udp_packet(datagram));
+  EXPECT_EQ(allocations.load() - before, 0);
+}
+
+}  // namespace
+}  // namespace rangekit

@@ -1,0 +1,93 @@
+// End-to-end checks of the rangekit binary: exit codes and decoded output.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+struct Run {
+  int exit_code = -1;
+  std::string output;
+};
+
+// Runs the CLI with a shell command line; stdin from `input` when given.
+Run run_cli(const std::string& arguments, const std::string& input = "") {
+  const auto input_file = std::filesystem::temp_directory_path() / ("rangekit-cli-" + std::to_string(::getpid()));
+  {
+    std::ofstream out(input_file, std::ios::binary);
+    out << input;
+  }
+  const std::string command = std::string(RANGEKIT_CLI_PATH) + " " + arguments + " < " + input_file.string() + " 2>&1";
+  Run run;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  std::array<char, 4096> buffer{};
+  std::size_t got = 0;
+  while ((got = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.output.append(buffer.data(), got);
+  const int status = ::pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::filesystem::remove(input_file);
+  return run;
+}
+
+TEST(Cli, DemoRunsAndDecodesBothFamilies) {
+  const auto run = run_cli("demo");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("unit 'Z' (0x5A): set Measurement Mode = 1 (averaging)"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("version LS5.6.0, lower boundary 8.1234 mm, range 40.001 mm, serial 157"),
+            std::string::npos);
+  EXPECT_NE(run.output.find("checksum"), std::string::npos);
+}
+
+TEST(Cli, DecodeUlsBinningLines) {
+  // §9 binning output lines, U10: range in metres, strength = hits.
+  const auto run = run_cli("decode uls --mode binning", "$BM,0,2,4.572,42\r$BM,1,2,1234.567,7\r");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("binning target 1 of 2: 4.572 m, strength 42"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("binning target 2 of 2: 1234.567 m, strength 7"), std::string::npos) << run.output;
+}
+
+TEST(Cli, DecodeLs5RequestsFromTheHost) {
+  const auto run = run_cli("decode ls5 --from host", "#01ON\r#02W0B01\r");  // §9.4
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("sensor 02: Write the parameter: parameter 0B (Data pre-filtering type) = 01"),
+            std::string::npos)
+      << run.output;
+}
+
+TEST(Cli, DecodeReportsGarbageWithExitCode3) {
+  const auto run = run_cli("decode ls5", std::string("xx!25000\r!5000", 14));
+  EXPECT_EQ(run.exit_code, 3) << run.output;
+  EXPECT_NE(run.output.find("rejected: bytes before the start of a frame"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("without a terminating CR"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("code 25000"), std::string::npos) << run.output;
+}
+
+TEST(Cli, MissingFileIsExitCode4) {
+  const auto run = run_cli("decode uls /nonexistent/rangekit-capture.bin");
+  EXPECT_EQ(run.exit_code, 4) << run.output;
+  EXPECT_NE(run.output.find("cannot open /nonexistent/rangekit-capture.bin"), std::string::npos);
+}
+
+TEST(Cli, TablesComeFromTheRegistries) {
+  const auto run = run_cli("tables uls-commands");
+  EXPECT_EQ(run.exit_code, 0);
+  // 36 commands of §8 plus the header line.
+  EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 37) << run.output;
+  const auto parameters = run_cli("tables ls5-parameters --markdown");
+  EXPECT_NE(parameters.output.find("| 0D | Number of points of the median filter"), std::string::npos)
+      << parameters.output;
+}
+
+TEST(Cli, UnknownSubcommandIsAUsageError) {
+  const auto run = run_cli("frobnicate");
+  EXPECT_NE(run.exit_code, 0);
+}
+
+}  // namespace
