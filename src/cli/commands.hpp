@@ -9,7 +9,7 @@ namespace rangekit::cli {
 
 // Exit codes (documented in docs/cli.md).
 inline constexpr int exit_ok = 0;
-inline constexpr int exit_usage = 2;      // bad arguments (CLI11 also uses 2 for parse errors... see docs)
+inline constexpr int exit_usage = 2;      // bad arguments, unknown subcommand or option
 inline constexpr int exit_bad_input = 3;  // input that does not decode
 inline constexpr int exit_io = 4;         // cannot open or read a file or port
 

@@ -12,7 +12,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
-    return app.exit(error);
+    // --help and --version exit 0; every other parse error is a usage error (docs/cli.md).
+    const int printed = app.exit(error);
+    return printed == 0 ? rangekit::cli::exit_ok : rangekit::cli::exit_usage;
   }
   return exit_code;
 }

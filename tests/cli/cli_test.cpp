@@ -86,8 +86,10 @@ TEST(Cli, TablesComeFromTheRegistries) {
 }
 
 TEST(Cli, UnknownSubcommandIsAUsageError) {
-  const auto run = run_cli("frobnicate");
-  EXPECT_NE(run.exit_code, 0);
+  EXPECT_EQ(run_cli("frobnicate").exit_code, 2);
+  EXPECT_EQ(run_cli("decode").exit_code, 2);  // family missing
+  EXPECT_EQ(run_cli("decode uls --mode sideways").exit_code, 2);
+  EXPECT_EQ(run_cli("--help").exit_code, 0);
 }
 
 }  // namespace
