@@ -55,7 +55,7 @@ TEST(Ls5Formulas, SpecialCodesL7) {
   EXPECT_TRUE(make_result_code(50000).ok());
 }
 
-TEST(Ls5Formulas, CodeFromDistanceFormula85) {
+TEST(Ls5Formulas, CodeFromDistanceFormula85L23) {
   // §8.14: 20 mm / 100 mm × 50000 = 10000.
   EXPECT_EQ(code_from_distance(20.0, 100.0).value_or(0), 10000);
   EXPECT_EQ(code_from_distance(100.0, 100.0).value_or(0), 50000);

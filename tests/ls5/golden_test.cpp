@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "rangekit/ls5/frame.hpp"
+#include "rangekit/ls5/parameters.hpp"
 #include "rangekit/ls5/reply.hpp"
 #include "rangekit/ls5/request.hpp"
 #include "test_helpers.hpp"
@@ -181,7 +182,7 @@ TEST(Ls5Golden, StreamRecordWithWrongDigitCountL1) {
   }
 }
 
-TEST(Ls5Golden, StartStreamHasNoEchoL1) {
+TEST(Ls5Golden, StartStreamHasNoEchoL24) {
   const auto reply = parse_reply_line(bytes_of("!01ST\r"));
   ASSERT_FALSE(reply.ok());
   EXPECT_EQ(reply.error().code, Errc::wrong_form);
@@ -399,4 +400,22 @@ TEST(Ls5Golden, AssemblerSplitsAReplyStream) {
     ASSERT_TRUE(record.ok()) << frames[i];
     EXPECT_EQ(record->kind, ReplyKind::stream_record);
   }
+}
+
+// ---- L14: syntax only; the table check is separate ----
+
+TEST(Ls5Golden, WellFormedRequestsForUnknownParametersParseL14) {
+  // 0F is not in table 9.2 and 09 is not a baud code, but both frames are well formed:
+  // the codec parses them and check_parameter_byte says what is wrong.
+  const auto unknown = parse_request_line(bytes_of("#01R0F\r"));
+  ASSERT_TRUE(unknown.ok()) << unknown.error().describe();
+  EXPECT_EQ(unknown->parameter, 0x0F);
+  EXPECT_EQ(check_parameter_available(0x0F, SensorModel{}).error().code, Errc::unknown_parameter);
+
+  const auto bad_baud = parse_request_line(bytes_of("#01W0509\r"));
+  ASSERT_TRUE(bad_baud.ok()) << bad_baud.error().describe();
+  const auto check = check_parameter_byte(bad_baud->parameter, bad_baud->value, SensorModel{});
+  ASSERT_FALSE(check.ok());
+  EXPECT_EQ(check.error().code, Errc::out_of_range);
+  EXPECT_EQ(check.error().message, "LS5 parameter 05 (Baud rate) does not accept 09; accepted: 01-05; 06-08 from LS5.6.0");
 }

@@ -152,6 +152,10 @@ TEST(Ls5ParameterTable, PortLowByteExcludesZeroL18) {
   const auto port = split_value(logical_value_info(LogicalValueId::source_port), 512);
   ASSERT_FALSE(port.ok());
   EXPECT_NE(port.error().message.find("6F"), std::string::npos) << port.error().message;
+  // High bytes of codes: 00-C3 per byte; 0-50000 only on the combined value.
+  EXPECT_TRUE(check_parameter_byte(0x14, 0xC3, SensorModel{}).ok());
+  EXPECT_TRUE(check_parameter_byte(0x13, 0xFF, SensorModel{}).ok());
+  EXPECT_FALSE(check_logical_value(logical_value_info(LogicalValueId::analog_upper_limit), 0xC3FF).ok());
 }
 
 TEST(Ls5ParameterTable, FirmwareVersionsL6) {
@@ -330,7 +334,7 @@ TEST(Ls5ParameterTable, CombineNeedsEveryByte) {
   EXPECT_EQ(combined(LogicalValueId::destination_port, {0x02, 0x5B}), 603U);
 }
 
-TEST(Ls5ParameterTable, EnumerationsOfTable92) {
+TEST(Ls5ParameterTable, EnumerationsOfTable92L22) {
   EXPECT_EQ(baud_rate_from_code(0x01).value_or(0), 9600U);
   EXPECT_EQ(baud_rate_from_code(0x05).value_or(0), 115200U);
   EXPECT_EQ(baud_rate_from_code(0x08).value_or(0), 921600U);

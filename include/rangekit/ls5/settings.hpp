@@ -63,7 +63,7 @@ std::optional<std::uint32_t> baud_rate_from_code(std::uint8_t code) noexcept;
 std::optional<std::uint8_t> baud_code_from_rate(std::uint32_t baud) noexcept;
 
 // Parameter 04 (§8.3, table 9.2). "Parity control" is even parity, "imparity
-// control" odd parity (conformance L13).
+// control" odd parity (conformance L22).
 enum class Parity : std::uint8_t { none, even, odd };
 struct ByteFormat {
   std::uint8_t code;
