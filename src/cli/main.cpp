@@ -1,8 +1,12 @@
 #include <fmt/core.h>
 
+#include <exception>
+
 #include "cli/commands.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   CLI::App app{"rangekit: configure, stream and emulate ULS and LS5 laser distance sensors"};
   app.require_subcommand(1);
   int exit_code = rangekit::cli::exit_ok;
@@ -17,4 +21,21 @@ int main(int argc, char** argv) {
     return printed == 0 ? rangekit::cli::exit_ok : rangekit::cli::exit_usage;
   }
   return exit_code;
+}
+
+}  // namespace
+
+// Exceptions stop here: the library returns Result values, and anything else
+// (out of memory, a bug) becomes one line on stderr and a non-zero exit.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& error) {
+    std::fputs("rangekit: internal error: ", stderr);
+    std::fputs(error.what(), stderr);
+    std::fputs("\n", stderr);
+  } catch (...) {
+    std::fputs("rangekit: internal error\n", stderr);
+  }
+  return 70;  // EX_SOFTWARE
 }
