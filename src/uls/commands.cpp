@@ -12,7 +12,8 @@ namespace {
 constexpr std::array<ValueName, 2> off_on{{{0, "off"}, {1, "on"}}};
 constexpr std::array<ValueName, 2> autostart_names{{{0, "idle on power up"}, {1, "measuring on power up"}}};
 constexpr std::array<ValueName, 2> continuous_names{{{0, "off (polled)"}, {1, "on"}}};
-constexpr std::array<ValueName, 2> filter_names{{{0, "off (non-cooperative targets)"}, {1, "on (cooperative targets)"}}};
+constexpr std::array<ValueName, 2> filter_names{
+    {{0, "off (non-cooperative targets)"}, {1, "on (cooperative targets)"}}};
 constexpr std::array<ValueName, 2> port_names{{{0, "configuration port"}, {1, "output port"}}};
 constexpr std::array<ValueName, 9> bin_size_names{{{0, "1 inch"},
                                                    {1, "2 inches"},
@@ -35,84 +36,137 @@ constexpr std::array<ValueName, 5> status_names{{{0, "error: initialisation fail
                                                  {7, "firing, averaging"},
                                                  {11, "firing, binning"}}};
 
-constexpr std::span<const ValueName> no_names{};
-
 using A = Access;
 using K = ValueKind;
 
-// Field order: mnemonic, title, cli, access, kind, min, max, value_error, port_error,
-// rejected_while_measuring, names, get_fields, set min/max, reply min/max, unit, reference.
+// U24: whether a set is refused with error 31 while the unit measures.
+enum class WhileMeasuring { accepted, rejected };
+constexpr auto accepted = WhileMeasuring::accepted;
+constexpr auto rejected = WhileMeasuring::rejected;
+
+// Row shapes. Most commands are a plain setting: "$CC" gets, "$CC,n" sets,
+// "$CC,n" replies; the few others adjust one of these (U16, U29, U30).
+constexpr CommandInfo setting(std::string_view mnemonic, std::string_view title, std::string_view cli, ValueKind kind,
+                              double min, double max, int value_error, WhileMeasuring measuring, std::string_view unit,
+                              std::string_view reference, std::span<const ValueName> names = {}) {
+  return CommandInfo{.mnemonic = mnemonic,
+                     .title = title,
+                     .cli_name = cli,
+                     .access = A::get_set,
+                     .kind = kind,
+                     .min = min,
+                     .max = max,
+                     .value_error = value_error,
+                     .port_error = 0,
+                     .rejected_while_measuring = measuring == rejected,
+                     .value_names = names,
+                     .get_fields = 0,
+                     .set_fields_min = 1,
+                     .set_fields_max = 1,
+                     .reply_fields_min = 1,
+                     .reply_fields_max = 1,
+                     .unit = unit,
+                     .reference = reference};
+}
+
+constexpr CommandInfo flag(std::string_view mnemonic, std::string_view title, std::string_view cli,
+                           WhileMeasuring measuring, std::string_view reference,
+                           std::span<const ValueName> names = off_on) {
+  return setting(mnemonic, title, cli, K::flag, 0, 1, 1, measuring, "", reference, names);
+}
+
+constexpr CommandInfo action(std::string_view mnemonic, std::string_view title, std::string_view cli,
+                             std::string_view reference) {
+  CommandInfo row = setting(mnemonic, title, cli, K::none, 0, 0, 1, accepted, "", reference);
+  row.access = A::action;
+  row.set_fields_min = row.set_fields_max = 0;
+  row.reply_fields_min = row.reply_fields_max = 0;
+  return row;
+}
+
+constexpr CommandInfo reading(std::string_view mnemonic, std::string_view title, std::string_view cli, ValueKind kind,
+                              std::uint8_t reply_fields_max, std::string_view reference,
+                              std::span<const ValueName> names = {}) {
+  CommandInfo row = setting(mnemonic, title, cli, kind, 0, 0, 1, accepted, "", reference, names);
+  row.access = A::get_only;
+  row.set_fields_min = row.set_fields_max = 0;
+  row.reply_fields_max = reply_fields_max;
+  return row;
+}
+
+constexpr CommandInfo set_only(CommandInfo row) {
+  row.access = A::set_only;
+  row.reply_fields_min = row.reply_fields_max = 0;
+  return row;
+}
+
+// PF (1 or 3 values, U14) and PO (1 or 2, U15); the get reply always carries all.
+constexpr CommandInfo value_list(CommandInfo row, std::uint8_t values) {
+  row.set_fields_max = values;
+  row.reply_fields_min = row.reply_fields_max = values;
+  return row;
+}
+
+// BR: the get names a port, the set and the reply carry port and baud.
+constexpr CommandInfo per_port(CommandInfo row, int port_error) {
+  row.port_error = port_error;
+  row.get_fields = 1;
+  row.set_fields_min = row.set_fields_max = 2;
+  row.reply_fields_min = row.reply_fields_max = 2;
+  return row;
+}
+
 constexpr std::array<CommandInfo, 36> commands{{
-    {"DD", "Dither On/Off", "dither", A::get_set, K::flag, 0, 1, 1, 0, true, off_on, 0, 1, 1, 1, 1, "", "§8 p.25"},
-    {"BM", "Get Measurement", "measure", A::get_only, K::measurement, 0, 0, 1, 0, false, no_names, 0, 0, 0, 1, 4,
-     "", "§8 p.25, formats p.23-24"},
-    {"ID", "Get Software Version", "version", A::get_only, K::text, 0, 0, 1, 0, false, no_names, 0, 0, 0, 1, 8, "",
-     "§8 p.25"},
-    {"US", "Get Unit Status", "status", A::get_only, K::status, 0, 11, 1, 0, false, status_names, 0, 0, 0, 1, 1, "",
-     "§8 p.26"},
-    {"MA", "Measurement Autostart On/Off", "autostart", A::get_set, K::flag, 0, 1, 1, 0, false, autostart_names, 0,
-     1, 1, 1, 1, "", "§8 p.26"},
-    {"GO", "Measurement Start", "start", A::action, K::none, 0, 0, 1, 0, false, no_names, 0, 0, 0, 0, 0, "",
-     "§8 p.26"},
-    {"ST", "Measurement Stop", "stop", A::action, K::none, 0, 0, 1, 0, false, no_names, 0, 0, 0, 0, 0, "", "§8 p.27"},
-    {"PA", "Pointer Autostart On/Off", "pointer-autostart", A::get_set, K::flag, 0, 1, 1, 0, false, off_on, 0, 1, 1,
-     1, 1, "", "§8 p.27"},
-    {"PT", "Pointer On/Off", "pointer", A::set_only, K::flag, 0, 1, 1, 0, false, off_on, 0, 1, 1, 0, 0, "",
-     "§8 p.27"},
-    {"SU", "Save User Settings into Non-Volatile Memory", "save", A::action, K::none, 0, 0, 1, 0, false, no_names, 0,
-     0, 0, 0, 0, "", "§8 p.27"},
-    {"CL", "Set/Get 4-20 mA Current Loop On/Off", "current-loop", A::get_set, K::flag, 0, 1, 1, 0, false, off_on, 0,
-     1, 1, 1, 1, "", "§8 p.28"},
-    {"AW", "Set/Get Averaging Weight (Number of Good Pulses)", "averaging-weight", A::get_set, K::unsigned_int, 1,
-     65535, 35, 0, true, no_names, 0, 1, 1, 1, 1, "pulses", "§8 p.28"},
-    {"BR", "Set/Get Baud Rate", "baud", A::get_set, K::baud_with_port, 1200, 230400, 34, 84, true, port_names, 1, 2,
-     2, 2, 2, "baud", "§8 p.28, choices §9 p.37"},
-    {"BS", "Set/Get Bin Size", "bin-size", A::get_set, K::enumeration, 0, 8, 1, 0, true, bin_size_names, 0, 1, 1, 1,
-     1, "", "§8 p.29, §9 p.40"},
-    {"BH", "Set/Get Bin Threshold", "bin-threshold", A::get_set, K::unsigned_int, 1, 65535, 1, 0, true, no_names, 0,
-     1, 1, 1, 1, "hits", "§8 p.29"},
-    {"CO", "Set/Get Continuous Measurement Output Mode", "continuous", A::get_set, K::flag, 0, 1, 1, 0, false,
-     continuous_names, 0, 1, 1, 1, 1, "", "§8 p.29"},
-    {"FL", "Set/Get Cooperative Filter", "cooperative-filter", A::get_set, K::flag, 0, 1, 1, 0, true, filter_names,
-     0, 1, 1, 1, 1, "", "§8 p.30"},
-    {"DM", "Set/Get Display Mode in Averaging", "display", A::get_set, K::enumeration, 1, 3, 1, 0, true,
-     display_names, 0, 1, 1, 1, 1, "", "§8 p.30"},
-    {"AF", "Set/Get 4-20 mA Fault Current Value", "fault-current", A::get_set, K::milliamps, 0, 24, 83, 0, false,
-     no_names, 0, 1, 1, 1, 1, "mA", "§8 p.30, §6"},
-    {"AT", "Set/Get Fault Timeout for 4-20 mA Current Loop", "fault-timeout", A::get_set, K::seconds, 0, 3600, 83, 0,
-     false, no_names, 0, 1, 1, 1, 1, "s", "§8 p.31, §6"},
-    {"LG", "Set/Get Long Gate", "long-gate", A::get_set, K::distance, 0, 1700, 1, 0, true, no_names, 0, 1, 1, 1, 1,
-     "user units", "§8 p.31"},
-    {"MM", "Set/Get Measurement Mode", "mode", A::get_set, K::enumeration, 1, 3, 85, 0, true, mode_names, 0, 1, 1,
-     1, 1, "", "§8 p.31"},
-    {"MO", "Set/Get Measurement Output Port", "output-port", A::get_set, K::enumeration, 0, 2, 84, 0, true,
-     output_port_names, 0, 1, 1, 1, 1, "", "§8 p.32"},
-    {"MU", "Set/Get Measurement Units", "units", A::get_set, K::enumeration, 0, 1, 1, 0, true, units_names, 0, 1, 1,
-     1, 1, "", "§8 p.32"},
-    {"PL", "Set/Get Power Level", "power", A::get_set, K::enumeration, 0, 2, 1, 0, true, power_names, 0, 1, 1, 1, 1,
-     "", "§8 p.32"},
-    {"PF", "Set/Get PRF", "prf", A::get_set, K::prf_list, 10, 5000, 32, 0, true, no_names, 0, 1, 3, 3, 3, "Hz",
-     "§8 p.33, §2 p.10"},
-    {"PO", "Set/Get Pulses Per Measurement", "ppm", A::get_set, K::ppm_list, 1, 65535, 1, 0, true, no_names, 0, 1,
-     2, 2, 2, "pulses", "§8 p.33"},
-    {"AH", "Set/Get Range at 20 mA", "range-20ma", A::get_set, K::distance, 0, 1700, 83, 0, false, no_names, 0, 1,
-     1, 1, 1, "user units", "§8 p.33, §6"},
-    {"AL", "Set/Get Range at 4 mA", "range-4ma", A::get_set, K::distance, 0, 1700, 83, 0, false, no_names, 0, 1, 1,
-     1, 1, "user units", "§8 p.34, §6"},
-    {"TE", "Set/Get RS485 Bus Termination On/Off", "termination", A::get_set, K::flag, 0, 1, 1, 0, false, off_on, 0,
-     1, 1, 1, 1, "", "§8 p.34"},
-    {"SG", "Set/Get Short Gate", "short-gate", A::get_set, K::distance, 0, 1700, 1, 0, true, no_names, 0, 1, 1, 1, 1,
-     "user units", "§8 p.34"},
-    {"TB", "Set/Get Time between Events", "time-between-events", A::get_set, K::flag, 0, 1, 1, 0, true, off_on, 0,
-     1, 1, 1, 1, "", "§8 p.35, §3 p.15"},
-    {"TP", "Set/Get Trip Point", "trip-point", A::get_set, K::distance, 0, 1700, 1, 0, true, no_names, 0, 1, 1, 1,
-     1, "user units", "§8 p.35"},
-    {"TT", "Set/Get Trip Point Timeout", "trip-timeout", A::get_set, K::hex_pulses, 0, 4294967295.0, 1, 0, true,
-     no_names, 0, 1, 1, 1, 1, "pulses (hex, seconds x 3000)", "§8 p.35, §3"},
-    {"UA", "Set/Get Unit Address", "address", A::get_set, K::address_char, 0x30, 0xEF, 1, 0, true, no_names, 0, 1,
-     1, 1, 1, "", "§8 p.36, §7"},
-    {"OF", "Set/Get User Offset", "offset", A::get_set, K::signed_distance, -1700, 1700, 1, 0, true, no_names, 0, 1,
-     1, 1, 1, "user units", "§8 p.36"},
+    flag("DD", "Dither On/Off", "dither", rejected, "§8 p.25"),
+    reading("BM", "Get Measurement", "measure", K::measurement, 4, "§8 p.25, formats p.23-24"),
+    reading("ID", "Get Software Version", "version", K::text, 8, "§8 p.25"),
+    reading("US", "Get Unit Status", "status", K::status, 1, "§8 p.26", status_names),
+    flag("MA", "Measurement Autostart On/Off", "autostart", accepted, "§8 p.26", autostart_names),
+    action("GO", "Measurement Start", "start", "§8 p.26"),
+    action("ST", "Measurement Stop", "stop", "§8 p.27"),
+    flag("PA", "Pointer Autostart On/Off", "pointer-autostart", accepted, "§8 p.27"),
+    set_only(flag("PT", "Pointer On/Off", "pointer", accepted, "§8 p.27")),
+    action("SU", "Save User Settings into Non-Volatile Memory", "save", "§8 p.27"),
+    flag("CL", "Set/Get 4-20 mA Current Loop On/Off", "current-loop", accepted, "§8 p.28"),
+    setting("AW", "Set/Get Averaging Weight (Number of Good Pulses)", "averaging-weight", K::unsigned_int, 1, 65535, 35,
+            rejected, "pulses", "§8 p.28"),
+    per_port(setting("BR", "Set/Get Baud Rate", "baud", K::baud_with_port, 1200, 230400, 34, rejected, "baud",
+                     "§8 p.28, choices §9 p.37", port_names),
+             84),
+    setting("BS", "Set/Get Bin Size", "bin-size", K::enumeration, 0, 8, 1, rejected, "", "§8 p.29, §9 p.40",
+            bin_size_names),
+    setting("BH", "Set/Get Bin Threshold", "bin-threshold", K::unsigned_int, 1, 65535, 1, rejected, "hits", "§8 p.29"),
+    flag("CO", "Set/Get Continuous Measurement Output Mode", "continuous", accepted, "§8 p.29", continuous_names),
+    flag("FL", "Set/Get Cooperative Filter", "cooperative-filter", rejected, "§8 p.30", filter_names),
+    setting("DM", "Set/Get Display Mode in Averaging", "display", K::enumeration, 1, 3, 1, rejected, "", "§8 p.30",
+            display_names),
+    setting("AF", "Set/Get 4-20 mA Fault Current Value", "fault-current", K::milliamps, 0, 24, 83, accepted, "mA",
+            "§8 p.30, §6"),
+    setting("AT", "Set/Get Fault Timeout for 4-20 mA Current Loop", "fault-timeout", K::seconds, 0, 3600, 83, accepted,
+            "s", "§8 p.31, §6"),
+    setting("LG", "Set/Get Long Gate", "long-gate", K::distance, 0, 1700, 1, rejected, "user units", "§8 p.31"),
+    setting("MM", "Set/Get Measurement Mode", "mode", K::enumeration, 1, 3, 85, rejected, "", "§8 p.31", mode_names),
+    setting("MO", "Set/Get Measurement Output Port", "output-port", K::enumeration, 0, 2, 84, rejected, "", "§8 p.32",
+            output_port_names),
+    setting("MU", "Set/Get Measurement Units", "units", K::enumeration, 0, 1, 1, rejected, "", "§8 p.32", units_names),
+    setting("PL", "Set/Get Power Level", "power", K::enumeration, 0, 2, 1, rejected, "", "§8 p.32", power_names),
+    value_list(setting("PF", "Set/Get PRF", "prf", K::prf_list, 10, 5000, 32, rejected, "Hz", "§8 p.33, §2 p.10"), 3),
+    value_list(
+        setting("PO", "Set/Get Pulses Per Measurement", "ppm", K::ppm_list, 1, 65535, 1, rejected, "pulses", "§8 p.33"),
+        2),
+    setting("AH", "Set/Get Range at 20 mA", "range-20ma", K::distance, 0, 1700, 83, accepted, "user units",
+            "§8 p.33, §6"),
+    setting("AL", "Set/Get Range at 4 mA", "range-4ma", K::distance, 0, 1700, 83, accepted, "user units",
+            "§8 p.34, §6"),
+    flag("TE", "Set/Get RS485 Bus Termination On/Off", "termination", accepted, "§8 p.34"),
+    setting("SG", "Set/Get Short Gate", "short-gate", K::distance, 0, 1700, 1, rejected, "user units", "§8 p.34"),
+    flag("TB", "Set/Get Time between Events", "time-between-events", rejected, "§8 p.35, §3 p.15"),
+    setting("TP", "Set/Get Trip Point", "trip-point", K::distance, 0, 1700, 1, rejected, "user units", "§8 p.35"),
+    setting("TT", "Set/Get Trip Point Timeout", "trip-timeout", K::hex_pulses, 0, 4294967295.0, 1, rejected,
+            "pulses (hex, seconds x 3000)", "§8 p.35, §3"),
+    setting("UA", "Set/Get Unit Address", "address", K::address_char, 0x30, 0xEF, 1, rejected, "", "§8 p.36, §7"),
+    setting("OF", "Set/Get User Offset", "offset", K::signed_distance, -1700, 1700, 1, rejected, "user units",
+            "§8 p.36"),
 }};
 
 }  // namespace
@@ -142,32 +196,52 @@ const CommandInfo* find_command_by_cli_name(std::string_view cli_name) noexcept 
 
 std::string_view access_name(Access access) noexcept {
   switch (access) {
-    case Access::get_set: return "get+set";
-    case Access::get_only: return "get";
-    case Access::set_only: return "set";
-    case Access::action: return "action";
+    case Access::get_set:
+      return "get+set";
+    case Access::get_only:
+      return "get";
+    case Access::set_only:
+      return "set";
+    case Access::action:
+      return "action";
   }
   return "unknown";
 }
 
 std::string_view value_kind_name(ValueKind kind) noexcept {
   switch (kind) {
-    case ValueKind::none: return "none";
-    case ValueKind::flag: return "flag";
-    case ValueKind::enumeration: return "enumeration";
-    case ValueKind::unsigned_int: return "unsigned integer";
-    case ValueKind::distance: return "distance";
-    case ValueKind::signed_distance: return "signed distance";
-    case ValueKind::milliamps: return "milliamps";
-    case ValueKind::seconds: return "seconds";
-    case ValueKind::hex_pulses: return "hex pulse count";
-    case ValueKind::baud_with_port: return "port and baud";
-    case ValueKind::prf_list: return "PRF list (1 or 3)";
-    case ValueKind::ppm_list: return "PPM list (1 or 2)";
-    case ValueKind::address_char: return "address character";
-    case ValueKind::measurement: return "measurement";
-    case ValueKind::text: return "text";
-    case ValueKind::status: return "status";
+    case ValueKind::none:
+      return "none";
+    case ValueKind::flag:
+      return "flag";
+    case ValueKind::enumeration:
+      return "enumeration";
+    case ValueKind::unsigned_int:
+      return "unsigned integer";
+    case ValueKind::distance:
+      return "distance";
+    case ValueKind::signed_distance:
+      return "signed distance";
+    case ValueKind::milliamps:
+      return "milliamps";
+    case ValueKind::seconds:
+      return "seconds";
+    case ValueKind::hex_pulses:
+      return "hex pulse count";
+    case ValueKind::baud_with_port:
+      return "port and baud";
+    case ValueKind::prf_list:
+      return "PRF list (1 or 3)";
+    case ValueKind::ppm_list:
+      return "PPM list (1 or 2)";
+    case ValueKind::address_char:
+      return "address character";
+    case ValueKind::measurement:
+      return "measurement";
+    case ValueKind::text:
+      return "text";
+    case ValueKind::status:
+      return "status";
   }
   return "unknown";
 }

@@ -99,8 +99,8 @@ Result<FrameText> encode_frame(Address address, std::string_view mnemonic, std::
                                                  " alone would read as time between events (U26)");
   }
   if (fields.size() > max_fields) {
-    return encode_error(Errc::overlong, std::to_string(fields.size()) + " fields, more than " +
-                                            std::to_string(max_fields));
+    return encode_error(Errc::overlong,
+                        std::to_string(fields.size()) + " fields, more than " + std::to_string(max_fields));
   }
   for (std::size_t i = 0; i < fields.size(); ++i) {
     if (auto problem = field_problem(mnemonic, fields, i)) return encode_error(Errc::invalid_frame, *problem);
@@ -123,9 +123,7 @@ Result<FrameText> encode_get(Address address, std::string_view mnemonic, std::sp
   return encode_frame(address, mnemonic, arguments);
 }
 
-Result<FrameText> encode_action(Address address, std::string_view mnemonic) {
-  return encode_frame(address, mnemonic);
-}
+Result<FrameText> encode_action(Address address, std::string_view mnemonic) { return encode_frame(address, mnemonic); }
 
 Result<FrameText> encode_set(Address address, std::string_view mnemonic, std::span<const std::string_view> values) {
   if (values.empty()) return encode_error(Errc::truncated, "a set needs at least one value");
@@ -159,8 +157,12 @@ Result<FrameText> encode_time_between_events(Address address, const TimeBetweenE
   char digits[4] = {'0', '0', '0', '0'};
   std::string_view body;
   switch (event.kind) {
-    case TimeBetweenEvents::Kind::no_presence: body = "0"; break;
-    case TimeBetweenEvents::Kind::overflow: body = {digits, 4}; break;
+    case TimeBetweenEvents::Kind::no_presence:
+      body = "0";
+      break;
+    case TimeBetweenEvents::Kind::overflow:
+      body = {digits, 4};
+      break;
     case TimeBetweenEvents::Kind::pulses:
       if (event.pulses == 0) {
         return encode_error(Errc::out_of_range, "0 pulses between events would read as overflow (U12)");

@@ -57,8 +57,8 @@ constexpr std::array<ErrorInfo, 85> errors{{
     {46, "EEPROM Not Finished Yet Error", "ER 046", false, G::general},
     {47, "SPI Busy", "ER 047", true, G::general},
     {48, "Serial Checksum Error", "ER 048", false, G::general},
-    {49, "Pulse Per Output Must Be Greater Than Average Weight", "PPO Must Be Greater Than Average Weight",
-     false, G::general},
+    {49, "Pulse Per Output Must Be Greater Than Average Weight", "PPO Must Be Greater Than Average Weight", false,
+     G::general},
     {50, "Dropped Pulse", "ER 050", false, G::interrupt},
     {51, "Measurement Bad Status", "Measurement Bad Status", false, G::interrupt},
     {52, "NEG PW", "ER 052", false, G::interrupt},
@@ -111,11 +111,16 @@ const ErrorInfo* find_error(int number) noexcept {
 
 std::string_view error_group_name(ErrorGroup group) noexcept {
   switch (group) {
-    case ErrorGroup::general: return "general";
-    case ErrorGroup::interrupt: return "interrupt";
-    case ErrorGroup::table_checksum: return "table checksums";
-    case ErrorGroup::rs485: return "RS485";
-    case ErrorGroup::current_loop: return "4-20";
+    case ErrorGroup::general:
+      return "general";
+    case ErrorGroup::interrupt:
+      return "interrupt";
+    case ErrorGroup::table_checksum:
+      return "table checksums";
+    case ErrorGroup::rs485:
+      return "RS485";
+    case ErrorGroup::current_loop:
+      return "4-20";
   }
   return "unknown";
 }

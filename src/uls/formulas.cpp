@@ -49,9 +49,7 @@ double max_line_rate_hz(std::size_t characters, std::uint32_t baud) noexcept {
 
 std::span<const std::uint32_t> baud_choices() noexcept { return bauds; }
 
-bool is_baud_choice(std::uint32_t baud) noexcept {
-  return std::find(bauds.begin(), bauds.end(), baud) != bauds.end();
-}
+bool is_baud_choice(std::uint32_t baud) noexcept { return std::find(bauds.begin(), bauds.end(), baud) != bauds.end(); }
 
 std::span<const BinSizeInfo> bin_size_table() noexcept { return bin_sizes; }
 
@@ -97,13 +95,9 @@ HexText to_hex_text(std::uint64_t value) noexcept {
   return text;
 }
 
-std::optional<std::uint64_t> parse_trip_timeout(std::string_view hex) noexcept {
-  return text::parse_hex(hex, 8);
-}
+std::optional<std::uint64_t> parse_trip_timeout(std::string_view hex) noexcept { return text::parse_hex(hex, 8); }
 
-double pulses_to_seconds(std::uint64_t pulses, double prf_hz) noexcept {
-  return static_cast<double>(pulses) / prf_hz;
-}
+double pulses_to_seconds(std::uint64_t pulses, double prf_hz) noexcept { return static_cast<double>(pulses) / prf_hz; }
 
 double seconds_to_pulses(double seconds, double prf_hz) noexcept { return seconds * prf_hz; }
 

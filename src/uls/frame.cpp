@@ -58,8 +58,8 @@ Result<FrameView> parse_body(FrameView view, std::string_view body, std::size_t 
   if (mnemonic.empty()) return frame_error(Errc::truncated, "empty mnemonic");
   if (comma == std::string_view::npos && text::is_digit(body.front())) {
     // Only a time between events starts with a digit and has no comma (U12).
-    return frame_error(Errc::bad_hex, "time between events " + detail::quoted(body) +
-                                          " is not '0' or 4 upper-case hex digits");
+    return frame_error(Errc::bad_hex,
+                       "time between events " + detail::quoted(body) + " is not '0' or 4 upper-case hex digits");
   }
   for (const char c : mnemonic) {
     if (!is_letter(c)) {
@@ -94,8 +94,8 @@ bool FrameView::is(std::string_view upper_mnemonic) const noexcept {
 Result<FrameView> parse_frame(Bytes frame) {
   if (frame.empty()) return frame_error(Errc::truncated, "empty");
   if (frame.size() > max_frame_length) {
-    return frame_error(Errc::overlong, std::to_string(frame.size()) + " bytes, longer than " +
-                                           std::to_string(max_frame_length));
+    return frame_error(Errc::overlong,
+                       std::to_string(frame.size()) + " bytes, longer than " + std::to_string(max_frame_length));
   }
   FrameView view;
   const std::uint8_t start = frame[0];

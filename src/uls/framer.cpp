@@ -9,9 +9,7 @@ namespace {
 constexpr LineFramerRules plain_rules{"$#", '\r', max_frame_length, false, 0};
 constexpr LineFramerRules addressed_rules{"$#", '\r', max_frame_length, true, 1};
 
-bool letter_is(std::uint8_t byte, char upper) noexcept {
-  return text::to_upper(static_cast<char>(byte)) == upper;
-}
+bool letter_is(std::uint8_t byte, char upper) noexcept { return text::to_upper(static_cast<char>(byte)) == upper; }
 
 // U25: a UA set may carry an address character 0x7F-0xEF (U5), which F4 would
 // refuse inside a frame. "$UA,<b><CR>" or "#aUA,<b><CR>" is let through here

@@ -40,9 +40,9 @@ Result<Range> read_range(std::string_view field, Units units) {
     return line_error(Errc::bad_number, "range " + detail::quoted(field) + " is not a number");
   }
   if (static_cast<int>(fraction.size()) != decimals_for(units)) {
-    return line_error(Errc::wrong_form, "range " + detail::quoted(field) + " has " +
-                                            std::to_string(fraction.size()) + " decimals; " + units_word(units) +
-                                            " are written with " + std::to_string(decimals_for(units)));
+    return line_error(Errc::wrong_form, "range " + detail::quoted(field) + " has " + std::to_string(fraction.size()) +
+                                            " decimals; " + units_word(units) + " are written with " +
+                                            std::to_string(decimals_for(units)));
   }
   const std::optional<double> value = text::parse_decimal(field, '.');
   if (!value) return line_error(Errc::bad_number, "range " + detail::quoted(field) + " is not a number");
@@ -99,8 +99,8 @@ Result<Reading> decode_averaging(std::span<const std::string_view> fields, const
       break;
     }
     default:
-      return line_error(Errc::out_of_range, "display mode " + std::to_string(static_cast<int>(context.display)) +
-                                                " is not 1-3");
+      return line_error(Errc::out_of_range,
+                        "display mode " + std::to_string(static_cast<int>(context.display)) + " is not 1-3");
   }
   return Reading{reading};
 }
@@ -112,15 +112,15 @@ Result<Reading> decode_binning(std::span<const std::string_view> fields, Units u
   auto count = read_unsigned(fields[1], 2, max_binning_targets, "target count");
   if (!count) return std::move(count).error();
   if (*count == 0 || *index >= *count) {
-    return line_error(Errc::out_of_range, "target index " + std::to_string(*index) + " is not below count " +
-                                              std::to_string(*count));
+    return line_error(Errc::out_of_range,
+                      "target index " + std::to_string(*index) + " is not below count " + std::to_string(*count));
   }
   auto range = read_range(fields[2], units);
   if (!range) return std::move(range).error();
   auto strength = read_unsigned(fields[3], max_strength_digits, 65535, "strength");
   if (!strength) return std::move(strength).error();
-  return Reading{BinningTarget{static_cast<std::uint8_t>(*index), static_cast<std::uint8_t>(*count), *range,
-                               *strength}};
+  return Reading{
+      BinningTarget{static_cast<std::uint8_t>(*index), static_cast<std::uint8_t>(*count), *range, *strength}};
 }
 
 Result<Reading> decode_look_down(std::span<const std::string_view> fields) {
@@ -162,8 +162,10 @@ Result<Reading> decode_reading(const FrameView& frame, const MeasurementContext&
     return line_error(Errc::wrong_form, "mnemonic " + detail::quoted(frame.mnemonic) + " is not BM or ER");
   }
   switch (context.mode) {
-    case Mode::averaging: return decode_averaging(frame.fields(), context);
-    case Mode::binning: return decode_binning(frame.fields(), context.units);
+    case Mode::averaging:
+      return decode_averaging(frame.fields(), context);
+    case Mode::binning:
+      return decode_binning(frame.fields(), context.units);
     case Mode::look_down:
       if (events_expected) {
         return line_error(Errc::wrong_form, "BM line in look down with time between events on (U32)");

@@ -19,8 +19,9 @@ Error value_error(const CommandInfo& command, std::string_view value, const char
 
 Status check_integer(const CommandInfo& command, std::string_view value, double min, double max) {
   const detail::IntegerField number = detail::read_integer(value);
-  if (!number.is_number) return reply_error(Errc::bad_number, std::string(command.mnemonic) + " value " +
-                                                                  detail::quoted(value) + " is not an integer");
+  if (!number.is_number)
+    return reply_error(Errc::bad_number,
+                       std::string(command.mnemonic) + " value " + detail::quoted(value) + " is not an integer");
   if (!number.within(static_cast<std::int64_t>(min), static_cast<std::int64_t>(max))) {
     return value_error(command, value, "is out of range");
   }
@@ -29,8 +30,9 @@ Status check_integer(const CommandInfo& command, std::string_view value, double 
 
 Status check_decimal(const CommandInfo& command, std::string_view value, Units units) {
   const std::optional<double> number = text::parse_decimal(value, '.');
-  if (!number) return reply_error(Errc::bad_number, std::string(command.mnemonic) + " value " +
-                                                        detail::quoted(value) + " is not a number");
+  if (!number)
+    return reply_error(Errc::bad_number,
+                       std::string(command.mnemonic) + " value " + detail::quoted(value) + " is not a number");
   const bool distance = command.kind == ValueKind::distance || command.kind == ValueKind::signed_distance;
   const double in_row_units = distance ? to_metres(*number, units) : *number;
   if (in_row_units < command.min || in_row_units > command.max) return value_error(command, value, "is out of range");
@@ -99,7 +101,8 @@ Result<Reply> decode_reply(const FrameView& frame, Units units) {
   const std::span<const std::string_view> fields = frame.fields();
 
   if (frame.is("OK")) {
-    if (!fields.empty()) return reply_error(Errc::wrong_form, "OK carries " + std::to_string(fields.size()) + " values");
+    if (!fields.empty())
+      return reply_error(Errc::wrong_form, "OK carries " + std::to_string(fields.size()) + " values");
     reply.kind = ReplyKind::ok;
     return reply;
   }
@@ -127,12 +130,12 @@ Result<Reply> decode_reply(const FrameView& frame, Units units) {
     return reply_error(Errc::wrong_form, std::string(command->mnemonic) + " has no get, so no value reply");
   }
   if (fields.size() < command->reply_fields_min || fields.size() > command->reply_fields_max) {
-    return reply_error(fields.size() < command->reply_fields_min ? Errc::truncated : Errc::overlong,
-                       std::string(command->mnemonic) + " reply has " + std::to_string(fields.size()) +
-                           " values, expected " + std::to_string(command->reply_fields_min) +
-                           (command->reply_fields_max != command->reply_fields_min
-                                ? "-" + std::to_string(command->reply_fields_max)
-                                : std::string()));
+    return reply_error(
+        fields.size() < command->reply_fields_min ? Errc::truncated : Errc::overlong,
+        std::string(command->mnemonic) + " reply has " + std::to_string(fields.size()) + " values, expected " +
+            std::to_string(command->reply_fields_min) +
+            (command->reply_fields_max != command->reply_fields_min ? "-" + std::to_string(command->reply_fields_max)
+                                                                    : std::string()));
   }
   Status checked = check_values(*command, fields, units);
   if (!checked) return std::move(checked).error();

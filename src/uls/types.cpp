@@ -39,22 +39,32 @@ std::optional<BinSize> to_bin_size(std::uint64_t number) noexcept {
 
 std::optional<UnitStatus> to_unit_status(std::uint64_t number) noexcept {
   switch (number) {
-    case 0: return UnitStatus::error;
-    case 1: return UnitStatus::ready;
-    case 3: return UnitStatus::look_down;
-    case 7: return UnitStatus::averaging;
-    case 11: return UnitStatus::binning;
-    default: return std::nullopt;
+    case 0:
+      return UnitStatus::error;
+    case 1:
+      return UnitStatus::ready;
+    case 3:
+      return UnitStatus::look_down;
+    case 7:
+      return UnitStatus::averaging;
+    case 11:
+      return UnitStatus::binning;
+    default:
+      return std::nullopt;
   }
 }
 
 std::optional<Mode> status_mode(UnitStatus status) noexcept {
   switch (status) {
-    case UnitStatus::look_down: return Mode::look_down;
-    case UnitStatus::averaging: return Mode::averaging;
-    case UnitStatus::binning: return Mode::binning;
+    case UnitStatus::look_down:
+      return Mode::look_down;
+    case UnitStatus::averaging:
+      return Mode::averaging;
+    case UnitStatus::binning:
+      return Mode::binning;
     case UnitStatus::error:
-    case UnitStatus::ready: return std::nullopt;
+    case UnitStatus::ready:
+      return std::nullopt;
   }
   return std::nullopt;
 }
@@ -62,9 +72,12 @@ std::optional<Mode> status_mode(UnitStatus status) noexcept {
 UnitStatus status_for(bool measuring, Mode mode) noexcept {
   if (!measuring) return UnitStatus::ready;
   switch (mode) {
-    case Mode::averaging: return UnitStatus::averaging;
-    case Mode::binning: return UnitStatus::binning;
-    case Mode::look_down: return UnitStatus::look_down;
+    case Mode::averaging:
+      return UnitStatus::averaging;
+    case Mode::binning:
+      return UnitStatus::binning;
+    case Mode::look_down:
+      return UnitStatus::look_down;
   }
   return UnitStatus::ready;
 }

@@ -1,6 +1,5 @@
 // The checks a unit applies to a request before acting on it (U16, U18, U24,
 // U30). Pure functions of the command row and the request's fields.
-#include <cmath>
 
 #include "rangekit/core/text.hpp"
 #include "rangekit/uls/commands.hpp"
@@ -41,8 +40,7 @@ Verdict check_port(std::string_view field, const CommandInfo& row) noexcept {
 Verdict check_baud(std::string_view field, const CommandInfo& row) noexcept {
   const detail::IntegerField value = detail::read_integer(field);
   if (!value.is_number) return invalid_command;
-  if (value.negative || value.magnitude > UINT32_MAX ||
-      !is_baud_choice(static_cast<std::uint32_t>(value.magnitude))) {
+  if (value.negative || value.magnitude > UINT32_MAX || !is_baud_choice(static_cast<std::uint32_t>(value.magnitude))) {
     return Verdict::reject(row.value_error);
   }
   return Verdict::accept();
@@ -101,8 +99,8 @@ Verdict check_set_values(const CommandInfo& row, std::span<const std::string_vie
 
 FormResult request_form(const CommandInfo& command, std::size_t field_count) noexcept {
   const bool get_shape = field_count == command.get_fields;
-  const bool set_shape = field_count >= command.set_fields_min && field_count <= command.set_fields_max &&
-                         command.set_fields_max > 0;
+  const bool set_shape =
+      field_count >= command.set_fields_min && field_count <= command.set_fields_max && command.set_fields_max > 0;
   switch (command.access) {
     case Access::action:
       if (field_count == 0) return {RequestForm::action, Verdict::accept()};
@@ -121,23 +119,23 @@ FormResult request_form(const CommandInfo& command, std::size_t field_count) noe
   return {RequestForm::get, invalid_command};
 }
 
-Verdict validate_request(const CommandInfo& command, std::span<const std::string_view> fields,
-                         Units units) noexcept {
+Verdict validate_request(const CommandInfo& command, std::span<const std::string_view> fields, Units units) noexcept {
   const FormResult shape = request_form(command, fields.size());
   if (!shape.verdict.ok()) return shape.verdict;
   switch (shape.form) {
-    case RequestForm::action: return Verdict::accept();
+    case RequestForm::action:
+      return Verdict::accept();
     case RequestForm::get:
       // BR's get names the port it asks about (§8 Set/Get Baud Rate).
       if (command.kind == ValueKind::baud_with_port) return check_port(fields[0], command);
       return Verdict::accept();
-    case RequestForm::set: return check_set_values(command, fields, units);
+    case RequestForm::set:
+      return check_set_values(command, fields, units);
   }
   return invalid_command;
 }
 
-Verdict validate_request(std::string_view mnemonic, std::span<const std::string_view> fields,
-                         Units units) noexcept {
+Verdict validate_request(std::string_view mnemonic, std::span<const std::string_view> fields, Units units) noexcept {
   const CommandInfo* command = find_command(mnemonic);
   if (command == nullptr) return invalid_command;
   return validate_request(*command, fields, units);

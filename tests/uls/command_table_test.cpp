@@ -19,24 +19,42 @@ struct Expected {
   std::string_view page;
 };
 constexpr std::array<Expected, 36> section8{{
-    {"DD", "dither", Access::get_set, "p.25"},          {"BM", "measure", Access::get_only, "p.25"},
-    {"ID", "version", Access::get_only, "p.25"},        {"US", "status", Access::get_only, "p.26"},
-    {"MA", "autostart", Access::get_set, "p.26"},       {"GO", "start", Access::action, "p.26"},
-    {"ST", "stop", Access::action, "p.27"},             {"PA", "pointer-autostart", Access::get_set, "p.27"},
-    {"PT", "pointer", Access::set_only, "p.27"},        {"SU", "save", Access::action, "p.27"},
-    {"CL", "current-loop", Access::get_set, "p.28"},    {"AW", "averaging-weight", Access::get_set, "p.28"},
-    {"BR", "baud", Access::get_set, "p.28"},            {"BS", "bin-size", Access::get_set, "p.29"},
-    {"BH", "bin-threshold", Access::get_set, "p.29"},   {"CO", "continuous", Access::get_set, "p.29"},
-    {"FL", "cooperative-filter", Access::get_set, "p.30"}, {"DM", "display", Access::get_set, "p.30"},
-    {"AF", "fault-current", Access::get_set, "p.30"},   {"AT", "fault-timeout", Access::get_set, "p.31"},
-    {"LG", "long-gate", Access::get_set, "p.31"},       {"MM", "mode", Access::get_set, "p.31"},
-    {"MO", "output-port", Access::get_set, "p.32"},     {"MU", "units", Access::get_set, "p.32"},
-    {"PL", "power", Access::get_set, "p.32"},           {"PF", "prf", Access::get_set, "p.33"},
-    {"PO", "ppm", Access::get_set, "p.33"},             {"AH", "range-20ma", Access::get_set, "p.33"},
-    {"AL", "range-4ma", Access::get_set, "p.34"},       {"TE", "termination", Access::get_set, "p.34"},
-    {"SG", "short-gate", Access::get_set, "p.34"},      {"TB", "time-between-events", Access::get_set, "p.35"},
-    {"TP", "trip-point", Access::get_set, "p.35"},      {"TT", "trip-timeout", Access::get_set, "p.35"},
-    {"UA", "address", Access::get_set, "p.36"},         {"OF", "offset", Access::get_set, "p.36"},
+    {"DD", "dither", Access::get_set, "p.25"},
+    {"BM", "measure", Access::get_only, "p.25"},
+    {"ID", "version", Access::get_only, "p.25"},
+    {"US", "status", Access::get_only, "p.26"},
+    {"MA", "autostart", Access::get_set, "p.26"},
+    {"GO", "start", Access::action, "p.26"},
+    {"ST", "stop", Access::action, "p.27"},
+    {"PA", "pointer-autostart", Access::get_set, "p.27"},
+    {"PT", "pointer", Access::set_only, "p.27"},
+    {"SU", "save", Access::action, "p.27"},
+    {"CL", "current-loop", Access::get_set, "p.28"},
+    {"AW", "averaging-weight", Access::get_set, "p.28"},
+    {"BR", "baud", Access::get_set, "p.28"},
+    {"BS", "bin-size", Access::get_set, "p.29"},
+    {"BH", "bin-threshold", Access::get_set, "p.29"},
+    {"CO", "continuous", Access::get_set, "p.29"},
+    {"FL", "cooperative-filter", Access::get_set, "p.30"},
+    {"DM", "display", Access::get_set, "p.30"},
+    {"AF", "fault-current", Access::get_set, "p.30"},
+    {"AT", "fault-timeout", Access::get_set, "p.31"},
+    {"LG", "long-gate", Access::get_set, "p.31"},
+    {"MM", "mode", Access::get_set, "p.31"},
+    {"MO", "output-port", Access::get_set, "p.32"},
+    {"MU", "units", Access::get_set, "p.32"},
+    {"PL", "power", Access::get_set, "p.32"},
+    {"PF", "prf", Access::get_set, "p.33"},
+    {"PO", "ppm", Access::get_set, "p.33"},
+    {"AH", "range-20ma", Access::get_set, "p.33"},
+    {"AL", "range-4ma", Access::get_set, "p.34"},
+    {"TE", "termination", Access::get_set, "p.34"},
+    {"SG", "short-gate", Access::get_set, "p.34"},
+    {"TB", "time-between-events", Access::get_set, "p.35"},
+    {"TP", "trip-point", Access::get_set, "p.35"},
+    {"TT", "trip-timeout", Access::get_set, "p.35"},
+    {"UA", "address", Access::get_set, "p.36"},
+    {"OF", "offset", Access::get_set, "p.36"},
 }};
 
 TEST(UlsCommandTable, HoldsEveryCommandOfSection8InOrder) {
@@ -177,7 +195,7 @@ TEST(UlsConformance, U18_DistancesInUserUnits) {
     EXPECT_TRUE(set(gate, "1700.000").ok());
     EXPECT_EQ(set(gate, "1700.001").error, 1);
     EXPECT_EQ(set(gate, "-0.1").error, 1);
-    EXPECT_TRUE(set(gate, "5577.42", Units::feet).ok());   // 1699.998 m
+    EXPECT_TRUE(set(gate, "5577.42", Units::feet).ok());    // 1699.998 m
     EXPECT_EQ(set(gate, "5577.44", Units::feet).error, 1);  // 1700.004 m
   }
   EXPECT_TRUE(set("OF", "-1700").ok());

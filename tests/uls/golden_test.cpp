@@ -81,43 +81,43 @@ struct CommandForms {
 
 // Values are the document's own where it gives one (§2 screens, §6 example, §3).
 constexpr std::array<CommandForms, 37> forms{{
-    {"DD", "$DD,1", "$DD", "$DD,1"},                          // p.25 (U1: "$1DD,n" is a slip)
-    {"BM", "", "$BM", "$BM,12.345"},                          // p.25, averaging range reply
-    {"ID", "", "$ID", "$ID,ULS version number date"},         // p.25
-    {"US", "", "$US", "$US,7"},                               // p.26
-    {"MA", "$MA,1", "$MA", "$MA,0"},                          // p.26
-    {"GO", "", "$GO", ""},                                    // p.26 action
-    {"ST", "", "$ST", ""},                                    // p.27 action
-    {"PA", "$PA,1", "$PA", "$PA,1"},                          // p.27
-    {"PT", "$PT,1", "", ""},                                  // p.27 set only (U16)
-    {"SU", "", "$SU", ""},                                    // p.27 action
-    {"CL", "$CL,1", "$CL", "$CL,0"},                          // p.28
-    {"AW", "$AW,992", "$AW", "$AW,992"},                      // p.28, §2 screen "992"
-    {"BR", "$BR,0,115200", "$BR,0", "$BR,0,115200"},          // p.28, §8 default 115200
-    {"BS", "$BS,0", "$BS", "$BS,0"},                          // p.29
-    {"BH", "$BH,128", "$BH", "$BH,128"},                      // p.29, §2 "Bin Hits 128"
-    {"CO", "$CO,1", "$CO", "$CO,1"},                          // p.29
-    {"FL", "$FL,0", "$FL", "$FL,0"},                          // p.30
-    {"DM", "$DM,2", "$DM", "$DM,2"},                          // p.30
-    {"AF", "$AF,3.0", "$AF", "$AF,3.0"},                      // p.30, §6 "Fault Indication 3.0 mA"
-    {"AT", "$AT,0.0", "$AT", "$AT,0.0"},                      // p.31, §6 "Fault Timeout 0.0 secs"
-    {"LG", "$LG,100", "$LG", "$LG,100.000"},                  // p.31, §2 "100 m"
-    {"MM", "$MM,1", "$MM", "$MM,1"},                          // p.31, §8 example
-    {"MO", "$MO,0", "$MO", "$MO,0"},                          // p.32
-    {"MU", "$MU,1", "$MU", "$MU,1"},                          // p.32
-    {"PL", "$PL,0", "$PL", "$PL,0"},                          // p.32
-    {"PF", "$PF,2000", "$PF", "$PF,2000,1000,3000"},          // p.33, §2 "PRF 2000", §9 1000 binning
+    {"DD", "$DD,1", "$DD", "$DD,1"},                            // p.25 (U1: "$1DD,n" is a slip)
+    {"BM", "", "$BM", "$BM,12.345"},                            // p.25, averaging range reply
+    {"ID", "", "$ID", "$ID,ULS version number date"},           // p.25
+    {"US", "", "$US", "$US,7"},                                 // p.26
+    {"MA", "$MA,1", "$MA", "$MA,0"},                            // p.26
+    {"GO", "", "$GO", ""},                                      // p.26 action
+    {"ST", "", "$ST", ""},                                      // p.27 action
+    {"PA", "$PA,1", "$PA", "$PA,1"},                            // p.27
+    {"PT", "$PT,1", "", ""},                                    // p.27 set only (U16)
+    {"SU", "", "$SU", ""},                                      // p.27 action
+    {"CL", "$CL,1", "$CL", "$CL,0"},                            // p.28
+    {"AW", "$AW,992", "$AW", "$AW,992"},                        // p.28, §2 screen "992"
+    {"BR", "$BR,0,115200", "$BR,0", "$BR,0,115200"},            // p.28, §8 default 115200
+    {"BS", "$BS,0", "$BS", "$BS,0"},                            // p.29
+    {"BH", "$BH,128", "$BH", "$BH,128"},                        // p.29, §2 "Bin Hits 128"
+    {"CO", "$CO,1", "$CO", "$CO,1"},                            // p.29
+    {"FL", "$FL,0", "$FL", "$FL,0"},                            // p.30
+    {"DM", "$DM,2", "$DM", "$DM,2"},                            // p.30
+    {"AF", "$AF,3.0", "$AF", "$AF,3.0"},                        // p.30, §6 "Fault Indication 3.0 mA"
+    {"AT", "$AT,0.0", "$AT", "$AT,0.0"},                        // p.31, §6 "Fault Timeout 0.0 secs"
+    {"LG", "$LG,100", "$LG", "$LG,100.000"},                    // p.31, §2 "100 m"
+    {"MM", "$MM,1", "$MM", "$MM,1"},                            // p.31, §8 example
+    {"MO", "$MO,0", "$MO", "$MO,0"},                            // p.32
+    {"MU", "$MU,1", "$MU", "$MU,1"},                            // p.32
+    {"PL", "$PL,0", "$PL", "$PL,0"},                            // p.32
+    {"PF", "$PF,2000", "$PF", "$PF,2000,1000,3000"},            // p.33, §2 "PRF 2000", §9 1000 binning
     {"PF", "$PF,3000,1000,3000", "$PF", "$PF,3000,1000,3000"},  // p.33 three-value form (U14)
-    {"PO", "$PO,1024,100", "$PO", "$PO,1024,100"},            // p.33, §2 "1024", §9 100 binning
-    {"AH", "$AH,10.000", "$AH", "$AH,10.000"},                // p.33, §6 "Distance at 20mA 10.000 M"
-    {"AL", "$AL,0.000", "$AL", "$AL,0.000"},                  // p.34, §6 "Distance at 4mA 0.000 M"
-    {"TE", "$TE,1", "$TE", "$TE,1"},                          // p.34
-    {"SG", "$SG,10", "$SG", "$SG,10.000"},                    // p.34, §2 "10 m"
-    {"TB", "$TB,1", "$TB", "$TB,1"},                          // p.35
-    {"TP", "$TP,0.2", "$TP", "$TP,0.200"},                    // p.35, §2 "Trip Point 0.2 M"
-    {"TT", "$TT,107AC0", "$TT", "$TT,107AC0"},                // p.35, U21
-    {"UA", "$UA,Z", "$UA", "$UA,90"},                         // p.36, table "Z = 90"
-    {"OF", "$OF,-1.500", "$OF", "$OF,-1.500"},                // p.36, "can be positive or negative" (§2)
+    {"PO", "$PO,1024,100", "$PO", "$PO,1024,100"},              // p.33, §2 "1024", §9 100 binning
+    {"AH", "$AH,10.000", "$AH", "$AH,10.000"},                  // p.33, §6 "Distance at 20mA 10.000 M"
+    {"AL", "$AL,0.000", "$AL", "$AL,0.000"},                    // p.34, §6 "Distance at 4mA 0.000 M"
+    {"TE", "$TE,1", "$TE", "$TE,1"},                            // p.34
+    {"SG", "$SG,10", "$SG", "$SG,10.000"},                      // p.34, §2 "10 m"
+    {"TB", "$TB,1", "$TB", "$TB,1"},                            // p.35
+    {"TP", "$TP,0.2", "$TP", "$TP,0.200"},                      // p.35, §2 "Trip Point 0.2 M"
+    {"TT", "$TT,107AC0", "$TT", "$TT,107AC0"},                  // p.35, U21
+    {"UA", "$UA,Z", "$UA", "$UA,90"},                           // p.36, table "Z = 90"
+    {"OF", "$OF,-1.500", "$OF", "$OF,-1.500"},                  // p.36, "can be positive or negative" (§2)
 }};
 
 // Parse, then encode what was parsed with the given address; compare with the text.
@@ -278,15 +278,14 @@ struct AddressEntry {
   int printed;
 };
 constexpr std::array<AddressEntry, 62> printed_address_table{{
-    {'a', 97},  {'b', 98},  {'c', 99},  {'d', 100}, {'e', 101}, {'f', 102}, {'g', 103}, {'h', 104},
-    {'i', 105}, {'j', 106}, {'k', 107}, {'l', 108}, {'m', 109}, {'n', 110}, {'o', 111}, {'p', 112},
-    {'q', 113}, {'r', 114}, {'s', 115}, {'t', 116}, {'u', 117}, {'v', 118}, {'w', 119}, {'x', 120},
-    {'y', 122}, {'z', 123},  // misprints, see U5
-    {'A', 65},  {'B', 66},  {'C', 67},  {'D', 68},  {'E', 69},  {'F', 70},  {'G', 71},  {'H', 72},
-    {'I', 73},  {'J', 74},  {'K', 75},  {'L', 76},  {'M', 77},  {'N', 78},  {'O', 79},  {'P', 80},
-    {'Q', 81},  {'R', 82},  {'S', 83},  {'T', 84},  {'U', 85},  {'V', 86},  {'W', 87},  {'X', 88},
-    {'Y', 89},  {'Z', 90},  {'0', 48},  {'1', 49},  {'2', 50},  {'3', 51},  {'4', 52},  {'5', 53},
-    {'6', 54},  {'7', 55},  {'8', 56},  {'9', 57},
+    {'a', 97},  {'b', 98},  {'c', 99},  {'d', 100}, {'e', 101}, {'f', 102}, {'g', 103}, {'h', 104}, {'i', 105},
+    {'j', 106}, {'k', 107}, {'l', 108}, {'m', 109}, {'n', 110}, {'o', 111}, {'p', 112}, {'q', 113}, {'r', 114},
+    {'s', 115}, {'t', 116}, {'u', 117}, {'v', 118}, {'w', 119}, {'x', 120}, {'y', 122}, {'z', 123},  // misprints, see
+                                                                                                     // U5
+    {'A', 65},  {'B', 66},  {'C', 67},  {'D', 68},  {'E', 69},  {'F', 70},  {'G', 71},  {'H', 72},  {'I', 73},
+    {'J', 74},  {'K', 75},  {'L', 76},  {'M', 77},  {'N', 78},  {'O', 79},  {'P', 80},  {'Q', 81},  {'R', 82},
+    {'S', 83},  {'T', 84},  {'U', 85},  {'V', 86},  {'W', 87},  {'X', 88},  {'Y', 89},  {'Z', 90},  {'0', 48},
+    {'1', 49},  {'2', 50},  {'3', 51},  {'4', 52},  {'5', 53},  {'6', 54},  {'7', 55},  {'8', 56},  {'9', 57},
 }};
 
 TEST(UlsConformance, U5_UnitAddressTable) {
@@ -350,7 +349,8 @@ MeasurementContext averaging(DisplayMode display, Units units = Units::metres) {
 }
 
 TEST(UlsConformance, U8_PulseWidthIsPicoseconds) {  // §9 "yyyyyyy = pulse width (pico seconds)"
-  const Result<Measurement> line = decode_measurement(as_bytes("$BM,12.345,8250"), averaging(DisplayMode::range_and_intensity));
+  const Result<Measurement> line =
+      decode_measurement(as_bytes("$BM,12.345,8250"), averaging(DisplayMode::range_and_intensity));
   ASSERT_TRUE(line.ok()) << line.error().describe();
   const auto& reading = std::get<AveragingReading>(line->reading);
   EXPECT_EQ(reading.pulse_width_ps, 8250U);
@@ -365,7 +365,8 @@ TEST(UlsConformance, U9_AveragingLinesFollowDisplayModeAndUnits) {  // §8 "$BM,
   EXPECT_DOUBLE_EQ(metres.range->user, 12.345);
   EXPECT_FALSE(metres.pulse_width_ps.has_value());
 
-  const Result<Measurement> feet = decode_measurement(as_bytes("$BM,40.50"), averaging(DisplayMode::range, Units::feet));
+  const Result<Measurement> feet =
+      decode_measurement(as_bytes("$BM,40.50"), averaging(DisplayMode::range, Units::feet));
   ASSERT_TRUE(feet.ok());
   const Range& in_feet = *std::get<AveragingReading>(feet->reading).range;
   EXPECT_DOUBLE_EQ(in_feet.user, 40.5);
@@ -651,8 +652,11 @@ TEST(UlsConformance, U32_DecoderIsStrictAboutContext) {
   const MeasurementContext look_down{Mode::look_down, DisplayMode::range, Units::metres, false};
   EXPECT_FALSE(decode_measurement(as_bytes("$0BB8"), look_down).ok());  // TB off
   EXPECT_FALSE(decode_measurement(as_bytes("$0BB8"), averaging(DisplayMode::range)).ok());
-  EXPECT_FALSE(decode_measurement(as_bytes("$BM,1"), events).ok());     // TB on
-  EXPECT_FALSE(decode_measurement(as_bytes("#\xF0" "BM,1"), look_down).ok());
+  EXPECT_FALSE(decode_measurement(as_bytes("$BM,1"), events).ok());  // TB on
+  EXPECT_FALSE(decode_measurement(as_bytes("#\xF0"
+                                           "BM,1"),
+                                  look_down)
+                   .ok());
   EXPECT_FALSE(decode_measurement(as_bytes("$MM,1"), look_down).ok());
 }
 

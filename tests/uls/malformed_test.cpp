@@ -27,7 +27,10 @@ const Case frame_cases[] = {
     {"$,1\r", Errc::truncated, "empty mnemonic"},
     {"$MM,1\n", Errc::invalid_frame, "line feed inside a frame"},
     {"$MM,1\n\r", Errc::invalid_frame, "line feed inside a frame"},
-    {std::string_view("$MM,\0" "1\r", 7), Errc::invalid_frame, "control or non-ASCII byte"},
+    {std::string_view("$MM,\0"
+                      "1\r",
+                      7),
+     Errc::invalid_frame, "control or non-ASCII byte"},
     {"$MM,\x7F\r", Errc::invalid_frame, "control or non-ASCII byte"},
     {"$MM,\xC0\r", Errc::invalid_frame, "control or non-ASCII byte"},
     {"#/MM,1\r", Errc::invalid_frame, "address byte 0x2F below 0x30"},
@@ -81,7 +84,10 @@ TEST(UlsMalformed, ParseFrameSeesWhatTheFramerWouldRefuse) {  // F4 inside parse
     EXPECT_FALSE(parsed.ok()) << frame;
     return parsed.ok() ? std::string() : parsed.error().message;
   };
-  EXPECT_EQ(message(std::string_view("$MM,\0" "1", 6)), "ULS frame: embedded NUL at offset 4");
+  EXPECT_EQ(message(std::string_view("$MM,\0"
+                                     "1",
+                                     6)),
+            "ULS frame: embedded NUL at offset 4");
   EXPECT_EQ(message("$MM,1\n"), "ULS frame: line feed at offset 5 (frames end with CR)");
   EXPECT_EQ(message("$MM,1\r"), "ULS frame: CR inside the frame at offset 5");
   EXPECT_EQ(message("$MM,\x1B"), "ULS frame: control byte 0x1B at offset 4");

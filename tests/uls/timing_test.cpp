@@ -12,21 +12,21 @@ namespace rangekit::uls {
 namespace {
 
 TEST(UlsTiming, OutputRateIsPrfOverPpm) {
-  EXPECT_DOUBLE_EQ(output_period_s(1024, 2000), 0.512);   // §2 "a measurement every 512 ms"
-  EXPECT_DOUBLE_EQ(output_rate_hz(3000, 300), 10.0);      // §9 averaging "3000/300 Hz or 10 Hz"
-  EXPECT_DOUBLE_EQ(output_rate_hz(1000, 100), 10.0);      // §9 binning "1000/100 Hz or 10 Hz"
-  EXPECT_DOUBLE_EQ(output_rate_hz(1000, 25), 40.0);       // §9 binning "1000/25 or 40 Hz"
+  EXPECT_DOUBLE_EQ(output_period_s(1024, 2000), 0.512);  // §2 "a measurement every 512 ms"
+  EXPECT_DOUBLE_EQ(output_rate_hz(3000, 300), 10.0);     // §9 averaging "3000/300 Hz or 10 Hz"
+  EXPECT_DOUBLE_EQ(output_rate_hz(1000, 100), 10.0);     // §9 binning "1000/100 Hz or 10 Hz"
+  EXPECT_DOUBLE_EQ(output_rate_hz(1000, 25), 40.0);      // §9 binning "1000/25 or 40 Hz"
   EXPECT_DOUBLE_EQ(output_period_s(300, 3000), 0.1);
 }
 
-TEST(UlsConformance, U19_CharacterTimeScalesWithBaud) {  // §9 Output Data Rate
-  EXPECT_DOUBLE_EQ(character_time_s(115200), 100e-6);  // "approximately 100 µs per character at 115200"
-  EXPECT_DOUBLE_EQ(character_time_s(57600), 200e-6);   // "will double to 200 µs at ... 57600"
-  EXPECT_NEAR(line_time_s(12, 115200), 1.2e-3, 1e-12);  // "12 characters x 100 µs = 1.2 ms"
+TEST(UlsConformance, U19_CharacterTimeScalesWithBaud) {        // §9 Output Data Rate
+  EXPECT_DOUBLE_EQ(character_time_s(115200), 100e-6);          // "approximately 100 µs per character at 115200"
+  EXPECT_DOUBLE_EQ(character_time_s(57600), 200e-6);           // "will double to 200 µs at ... 57600"
+  EXPECT_NEAR(line_time_s(12, 115200), 1.2e-3, 1e-12);         // "12 characters x 100 µs = 1.2 ms"
   EXPECT_EQ(std::floor(max_line_rate_hz(12, 115200)), 833.0);  // "1/1.2 ms = 833 Hz"
-  EXPECT_NEAR(line_time_s(21, 115200), 2.1e-3, 1e-12);  // "21 characters x 100 µs = 2.1 ms"
+  EXPECT_NEAR(line_time_s(21, 115200), 2.1e-3, 1e-12);         // "21 characters x 100 µs = 2.1 ms"
   EXPECT_EQ(std::floor(max_line_rate_hz(21, 115200)), 476.0);  // "1/2.1 ms = 476 Hz"
-  EXPECT_NEAR(line_time_s(300, 115200), 30e-3, 1e-12);  // binning "20 x 15 = 300 characters ... 30 ms"
+  EXPECT_NEAR(line_time_s(300, 115200), 30e-3, 1e-12);         // binning "20 x 15 = 300 characters ... 30 ms"
   EXPECT_EQ(std::floor(max_line_rate_hz(300, 115200)), 33.0);  // "33 Hz"
 }
 
@@ -49,9 +49,15 @@ struct BinRow {
   std::uint32_t max_range_m;
 };
 constexpr std::array<BinRow, 9> printed_bins{{
-    {0, 1, 2.5, 13},       {1, 2, 5.1, 26},       {2, 4, 10.2, 52},
-    {3, 8, 20.4, 104},     {4, 16, 40.8, 208},    {5, 32, 81.6, 416},
-    {6, 64, 163.2, 832},   {7, 128, 326.4, 1664}, {8, 256, 652.8, 3329},  // n = 8 by U20's rule
+    {0, 1, 2.5, 13},
+    {1, 2, 5.1, 26},
+    {2, 4, 10.2, 52},
+    {3, 8, 20.4, 104},
+    {4, 16, 40.8, 208},
+    {5, 32, 81.6, 416},
+    {6, 64, 163.2, 832},
+    {7, 128, 326.4, 1664},
+    {8, 256, 652.8, 3329},  // n = 8 by U20's rule
 }};
 
 TEST(UlsConformance, U20_BinSizeTable) {
@@ -82,7 +88,7 @@ TEST(UlsConformance, U33_BinSizeLabelsOfTheInterfaceProgram) {  // §2 "Bin Size
   EXPECT_DOUBLE_EQ(bin_size_m(BinSize::inch_1) * 100, 2.54);
 }
 
-TEST(UlsConformance, U23_FourToTwentyMilliamps) {  // §6 example: 0 m at 4 mA, 10 m at 20 mA
+TEST(UlsConformance, U23_FourToTwentyMilliamps) {      // §6 example: 0 m at 4 mA, 10 m at 20 mA
   EXPECT_DOUBLE_EQ(*loop_current_ma(5, 0, 10), 12.0);  // "5 x 1.6 mA = 8 mA + 4 mA ... = 12 mA"
   EXPECT_DOUBLE_EQ(*loop_current_ma(1, 0, 10) - *loop_current_ma(0, 0, 10), 1.6);  // 1.6 mA per metre
   EXPECT_DOUBLE_EQ(*loop_current_ma(0, 0, 10), 4.0);
@@ -96,7 +102,7 @@ TEST(UlsConformance, U23_FourToTwentyMilliamps) {  // §6 example: 0 m at 4 mA, 
 
 TEST(UlsTiming, TimeBetweenEventsSection3) {
   EXPECT_DOUBLE_EQ(pulses_to_seconds(0x0BB8, 3000), 1.0);  // "0BB8 hex (3000 decimal) ... 1 second"
-  EXPECT_NEAR(tbe_max_seconds(3000), 22.0, 0.2);            // "approximately 22 seconds"
+  EXPECT_NEAR(tbe_max_seconds(3000), 22.0, 0.2);           // "approximately 22 seconds"
   EXPECT_EQ(max_tbe_pulses, 65535U);
   using Kind = TimeBetweenEvents::Kind;
   EXPECT_EQ(tbe_from_pulses(3000), (TimeBetweenEvents{Kind::pulses, 3000}));
@@ -109,13 +115,13 @@ TEST(UlsTiming, TimeBetweenEventsSection3) {
   EXPECT_DOUBLE_EQ(seconds_to_pulses(1.0, 3000), 3000.0);
 }
 
-TEST(UlsConformance, U34_LookDownResponse) {  // §3 Look Down Mode
+TEST(UlsConformance, U34_LookDownResponse) {                 // §3 Look Down Mode
   EXPECT_DOUBLE_EQ(look_down_latency_s(3000), 0.010);        // "30 ... pulses ... 10 milliseconds"
   EXPECT_NEAR(look_down_uncertainty_s(3000), 330e-6, 5e-6);  // "± 330 µs"
   EXPECT_DOUBLE_EQ(look_down_uncertainty_s(3000), 1.0 / 3000);
-  EXPECT_DOUBLE_EQ(pulses_to_seconds(rereference_pulses, 3000), 360.0);  // "1,080,000 ... approximately 6 minutes"
+  EXPECT_DOUBLE_EQ(pulses_to_seconds(rereference_pulses, 3000), 360.0);     // "1,080,000 ... approximately 6 minutes"
   EXPECT_NEAR(pulses_to_seconds(short_timeout_pulses, 3000), 2.67, 0.005);  // "8,000 ... approximately 3 seconds"
-  EXPECT_DOUBLE_EQ(pulses_to_seconds(rereference_pulses, 1500), 720.0);  // inversely proportional to PRF (§2)
+  EXPECT_DOUBLE_EQ(pulses_to_seconds(rereference_pulses, 1500), 720.0);     // inversely proportional to PRF (§2)
   EXPECT_EQ(trip_timeout_pulses(360), rereference_pulses);
   EXPECT_EQ(to_hex_text(short_timeout_pulses).view(), "1F40");
 }

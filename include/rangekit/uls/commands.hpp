@@ -46,19 +46,19 @@ struct ValueName {
 };
 
 struct CommandInfo {
-  std::string_view mnemonic;   // "MM" (upper case, as encoders write it, U17)
-  std::string_view title;      // heading in §8
-  std::string_view cli_name;   // "mode"
+  std::string_view mnemonic;  // "MM" (upper case, as encoders write it, U17)
+  std::string_view title;     // heading in §8
+  std::string_view cli_name;  // "mode"
   Access access;
   ValueKind kind;
-  double min;                  // every value of a set; distances in metres (U18)
+  double min;  // every value of a set; distances in metres (U18)
   double max;
-  int value_error;             // ULS error number for a value outside min..max (U18)
-  int port_error;              // BR: the port argument's error (84); 0 elsewhere
+  int value_error;                // ULS error number for a value outside min..max (U18)
+  int port_error;                 // BR: the port argument's error (84); 0 elsewhere
   bool rejected_while_measuring;  // a set answers 31 while measuring (U24)
   std::span<const ValueName> value_names;
-  std::uint8_t get_fields;     // fields a get carries (BR: the port)
-  std::uint8_t set_fields_min; // fields a set carries
+  std::uint8_t get_fields;      // fields a get carries (BR: the port)
+  std::uint8_t set_fields_min;  // fields a set carries
   std::uint8_t set_fields_max;
   std::uint8_t reply_fields_min;  // fields of the get reply (U29)
   std::uint8_t reply_fields_max;

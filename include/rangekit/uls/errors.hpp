@@ -11,9 +11,9 @@ enum class ErrorGroup { general, interrupt, table_checksum, rs485, current_loop 
 
 struct ErrorInfo {
   int number = 0;
-  std::string_view explanation;  // §10 "Explanation" column
-  std::string_view display;      // §10 "ULS Interface Display" column
-  bool service_required = false; // the ☒ mark: must be resolved by LTI (U22)
+  std::string_view explanation;   // §10 "Explanation" column
+  std::string_view display;       // §10 "ULS Interface Display" column
+  bool service_required = false;  // the ☒ mark: must be resolved by LTI (U22)
   ErrorGroup group = ErrorGroup::general;
 };
 
@@ -25,10 +25,10 @@ std::string_view error_group_name(ErrorGroup group) noexcept;
 
 // The numbers the codec itself produces or interprets.
 namespace error_number {
-inline constexpr int invalid_command = 1;              // also every value without its own number (U18)
-inline constexpr int target_not_found = 4;              // streamed (U13)
-inline constexpr int average_not_filled = 5;            // streamed (U13)
-inline constexpr int already_measuring = 31;            // settings while measuring (U24)
+inline constexpr int invalid_command = 1;     // also every value without its own number (U18)
+inline constexpr int target_not_found = 4;    // streamed (U13)
+inline constexpr int average_not_filled = 5;  // streamed (U13)
+inline constexpr int already_measuring = 31;  // settings while measuring (U24)
 inline constexpr int invalid_prf = 32;
 inline constexpr int invalid_baud = 34;
 inline constexpr int invalid_average_weight = 35;

@@ -38,9 +38,9 @@ inline constexpr double reflective_sheet_limit_binning_m = 1664.0;  // §9
 struct BinSizeInfo {
   BinSize size;
   std::uint32_t inches;
-  double accuracy_cm;               // §9 column ("±2.5 cm typical" ...); n = 8 by the same rule
-  std::uint32_t max_range_m;        // §9 column as printed (whole metres); n = 8: 3329 (U20)
-  std::string_view interface_label; // how the Interface Program lists it: "2.5 (13)" (§2, U33)
+  double accuracy_cm;                // §9 column ("±2.5 cm typical" ...); n = 8 by the same rule
+  std::uint32_t max_range_m;         // §9 column as printed (whole metres); n = 8: 3329 (U20)
+  std::string_view interface_label;  // how the Interface Program lists it: "2.5 (13)" (§2, U33)
 };
 std::span<const BinSizeInfo> bin_size_table() noexcept;
 const BinSizeInfo& bin_size_info(BinSize size) noexcept;
@@ -59,10 +59,10 @@ std::optional<double> loop_current_ma(double distance, double range_at_4ma, doub
 
 // --- Trip point timeout TT (§8 "(seconds * 3000) in hexadecimal", §3, U21) ---
 inline constexpr std::uint32_t trip_timeout_pulses_per_second = 3000;
-inline constexpr std::uint64_t rereference_pulses = 1'080'000;  // §3: "approximately 6 minutes"
-inline constexpr std::uint64_t short_timeout_pulses = 8'000;    // §3: "approximately 3 seconds"
+inline constexpr std::uint64_t rereference_pulses = 1'080'000;        // §3: "approximately 6 minutes"
+inline constexpr std::uint64_t short_timeout_pulses = 8'000;          // §3: "approximately 3 seconds"
 inline constexpr std::uint64_t max_trip_timeout_pulses = 0xFFFFFFFF;  // 8 hex digits (U18)
-std::uint64_t trip_timeout_pulses(double seconds) noexcept;      // rounded to the nearest pulse
+std::uint64_t trip_timeout_pulses(double seconds) noexcept;           // rounded to the nearest pulse
 double trip_timeout_seconds(std::uint64_t pulses) noexcept;
 
 // Upper-case hex without leading zeros, as TT carries it: 1080000 -> "107AC0".

@@ -21,9 +21,9 @@
 
 namespace rangekit::uls {
 
-inline constexpr std::size_t max_frame_length = 64;  // bytes before the CR (F5)
-inline constexpr std::size_t max_fields = 8;         // values after the mnemonic (U28)
-inline constexpr std::size_t min_mnemonic_length = 2; // "2 to 4-letter mnemonic" (§8)
+inline constexpr std::size_t max_frame_length = 64;    // bytes before the CR (F5)
+inline constexpr std::size_t max_fields = 8;           // values after the mnemonic (U28)
+inline constexpr std::size_t min_mnemonic_length = 2;  // "2 to 4-letter mnemonic" (§8)
 inline constexpr std::size_t max_mnemonic_length = 4;
 
 // Framer for a ULS byte stream (F1-F5): starts "$#", CR, 64 bytes; the address
@@ -35,15 +35,13 @@ enum class FrameKind { message, time_between_events };
 // One parsed frame; the views point into the parsed bytes.
 struct FrameView {
   FrameKind kind = FrameKind::message;
-  Address address;                  // addressed == ('#' frame)
-  std::string_view mnemonic;        // as received (case kept); empty for time between events
+  Address address;            // addressed == ('#' frame)
+  std::string_view mnemonic;  // as received (case kept); empty for time between events
   std::array<std::string_view, max_fields> field_slots{};
   std::size_t field_count = 0;
-  std::string_view event_text;      // time between events: "0" or four hex digits
+  std::string_view event_text;  // time between events: "0" or four hex digits
 
-  [[nodiscard]] std::span<const std::string_view> fields() const noexcept {
-    return {field_slots.data(), field_count};
-  }
+  [[nodiscard]] std::span<const std::string_view> fields() const noexcept { return {field_slots.data(), field_count}; }
   // Case-insensitive comparison with an upper-case mnemonic (U17).
   [[nodiscard]] bool is(std::string_view upper_mnemonic) const noexcept;
 };

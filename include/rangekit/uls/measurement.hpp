@@ -14,10 +14,10 @@
 namespace rangekit::uls {
 
 struct MeasurementContext {
-  Mode mode = Mode::averaging;                 // MM
-  DisplayMode display = DisplayMode::range;    // DM (averaging only)
-  Units units = Units::metres;                 // MU
-  bool time_between_events = false;           // TB (look down only)
+  Mode mode = Mode::averaging;               // MM
+  DisplayMode display = DisplayMode::range;  // DM (averaging only)
+  Units units = Units::metres;               // MU
+  bool time_between_events = false;          // TB (look down only)
 };
 
 // §9 field widths (U27): a range is at most 8 characters with its sign, a pulse
@@ -30,7 +30,7 @@ inline constexpr std::uint8_t max_binning_targets = 15;  // §3, §9
 
 // A distance as sent, in user units, and the same in metres.
 struct Range {
-  double user = 0;   // feet or metres, as on the wire
+  double user = 0;  // feet or metres, as on the wire
   double metres = 0;
   Units units = Units::metres;
   friend bool operator==(const Range&, const Range&) = default;
@@ -51,8 +51,8 @@ struct AveragingReading {
 
 // Binning: one line per target, `$BM,i,m,n,s` (U10).
 struct BinningTarget {
-  std::uint8_t index = 0;   // 0-based position in the target array
-  std::uint8_t count = 0;   // targets in the array, 1-15
+  std::uint8_t index = 0;  // 0-based position in the target array
+  std::uint8_t count = 0;  // targets in the array, 1-15
   Range range;
   std::uint32_t strength = 0;  // hits in the target's bin
   friend bool operator==(const BinningTarget&, const BinningTarget&) = default;

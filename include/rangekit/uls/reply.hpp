@@ -16,10 +16,10 @@ enum class ReplyKind { ok, error, value };
 struct Reply {
   ReplyKind kind = ReplyKind::ok;
   Address source;
-  int error_number = 0;               // kind == error
-  const ErrorInfo* error = nullptr;   // kind == error; null for numbers §10 does not list (U31)
+  int error_number = 0;                  // kind == error
+  const ErrorInfo* error = nullptr;      // kind == error; null for numbers §10 does not list (U31)
   const CommandInfo* command = nullptr;  // kind == value
-  std::string_view mnemonic;          // kind == value, as received
+  std::string_view mnemonic;             // kind == value, as received
   std::array<std::string_view, max_fields> value_slots{};
   std::size_t value_count = 0;
 

@@ -26,7 +26,15 @@ enum class BaudPort : std::uint8_t { configuration = 0, output = 1 };
 
 // §8 Set/Get Bin Size: n selects 2^n inches.
 enum class BinSize : std::uint8_t {
-  inch_1 = 0, inches_2, inches_4, inches_8, inches_16, inches_32, inches_64, inches_128, inches_256
+  inch_1 = 0,
+  inches_2,
+  inches_4,
+  inches_8,
+  inches_16,
+  inches_32,
+  inches_64,
+  inches_128,
+  inches_256
 };
 
 // §8 Get Unit Status: the reply is a sum of these bits (U6).
@@ -39,9 +47,9 @@ inline constexpr std::uint8_t binning_calc = 0x08;
 
 // The five values §8 lists for US (U6).
 enum class UnitStatus : std::uint8_t {
-  error = 0,                                                                  // failed to initialise
-  ready = status_bit::active,                                                 // 1: not measuring
-  look_down = status_bit::active | status_bit::laser_firing,                  // 3
+  error = 0,                                                                               // failed to initialise
+  ready = status_bit::active,                                                              // 1: not measuring
+  look_down = status_bit::active | status_bit::laser_firing,                               // 3
   averaging = status_bit::active | status_bit::laser_firing | status_bit::averaging_calc,  // 7
   binning = status_bit::active | status_bit::laser_firing | status_bit::binning_calc,      // 11
 };
@@ -83,9 +91,7 @@ struct Address {
   static constexpr Address broadcast(std::uint8_t address = first_broadcast_address) noexcept {
     return {true, address};
   }
-  [[nodiscard]] constexpr bool is_broadcast() const noexcept {
-    return addressed && byte >= first_broadcast_address;
-  }
+  [[nodiscard]] constexpr bool is_broadcast() const noexcept { return addressed && byte >= first_broadcast_address; }
   [[nodiscard]] constexpr bool is_unit() const noexcept {
     return addressed && byte >= first_unit_address && byte <= last_unit_address;
   }
