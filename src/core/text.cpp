@@ -2,9 +2,7 @@
 
 namespace rangekit::text {
 
-bool is_digit(char c) noexcept { return c >= '0' && c <= '9'; }
 
-bool is_hex_digit(char c) noexcept { return is_digit(c) || (c >= 'A' && c <= 'F') || (c >= 'a' && c <= 'f'); }
 
 namespace {
 int hex_value(char c) noexcept {
