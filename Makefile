@@ -49,8 +49,10 @@ format:
 format-check: deps
 	@clang-format --dry-run --Werror $(SOURCES) && echo "clang-format: clean"
 
+# clang-tidy over the library and CLI sources, in parallel (run-clang-tidy ships with clang-tidy).
 tidy: configure
-	@clang-tidy -p $(BUILD) --quiet $(filter src/%.cpp,$(SOURCES)) && echo "clang-tidy: clean"
+	@run-clang-tidy -p $(BUILD) -quiet -j $(JOBS) '$(CURDIR)/src/.*\.cpp$$' > $(BUILD)/clang-tidy.log 2>&1 \
+	  && echo "clang-tidy: clean" || { grep -E 'error:|warning:' $(BUILD)/clang-tidy.log | sort -u; exit 1; }
 
 clean:
 	@rm -rf $(BUILD) build-asan build-fuzz
