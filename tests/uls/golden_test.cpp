@@ -156,6 +156,13 @@ TEST(UlsGolden, EveryCommandRoundTripsInBothAddressingForms) {
       expect_round_trip(frame, Address::unit('Z'), with_address(frame, 'Z') + "\r");
       expect_round_trip(frame, Address::unit('0'), with_address(frame, '0') + "\r");
     }
+    // Requests may go to every unit at once (§8 RS485 Protocol, U4).
+    for (const std::string_view request : {row.set, row.get}) {
+      if (request.empty()) continue;
+      SCOPED_TRACE(std::string(request));
+      expect_round_trip(request, Address::broadcast(0xF0), with_address(request, '\xF0') + "\r");
+      expect_round_trip(request, Address::broadcast(0xFF), with_address(request, '\xFF') + "\r");
+    }
   }
 }
 
