@@ -2,8 +2,6 @@
 
 namespace rangekit::text {
 
-
-
 namespace {
 int hex_value(char c) noexcept {
   if (is_digit(c)) return c - '0';

@@ -1,0 +1,63 @@
+// A Unix-domain socket that takes one JSON object per line and answers each
+// with one JSON line: how tests and users steer a running emulator (move a
+// target, inject faults, advance a virtual clock, read the analog outputs).
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rangekit/core/result.hpp"
+
+namespace rangekit {
+
+class ControlSocket {
+ public:
+  using Handler = std::function<nlohmann::json(const nlohmann::json& request)>;
+
+  // Listens at `path`; fails if something already exists there. Removes the
+  // socket file when destroyed.
+  static Result<std::unique_ptr<ControlSocket>> listen(const std::string& path);
+  ~ControlSocket();
+  ControlSocket(const ControlSocket&) = delete;
+  ControlSocket& operator=(const ControlSocket&) = delete;
+
+  // File descriptors to poll for input (listener and clients).
+  [[nodiscard]] std::vector<int> poll_fds() const;
+  // Accepts new clients and answers every complete line that arrived. A line
+  // that is not a JSON object gets {"error": "..."}; nothing throws out of here.
+  void service(const Handler& handler);
+  [[nodiscard]] const std::string& path() const noexcept { return path_; }
+
+ private:
+  struct Client {
+    int fd;
+    std::string pending;
+  };
+  ControlSocket(int fd, std::string path) : listener_(fd), path_(std::move(path)) {}
+  int listener_;
+  std::string path_;
+  std::vector<Client> clients_;
+};
+
+// Client side, for tests and the CLI: one request, one reply.
+class ControlClient {
+ public:
+  static Result<ControlClient> connect(const std::string& path);
+  ControlClient(ControlClient&& other) noexcept;
+  ControlClient& operator=(ControlClient&& other) noexcept;
+  ControlClient(const ControlClient&) = delete;
+  ControlClient& operator=(const ControlClient&) = delete;
+  ~ControlClient();
+  Result<nlohmann::json> request(const nlohmann::json& request, int timeout_ms = 5000);
+
+ private:
+  explicit ControlClient(int fd) : fd_(fd) {}
+  int fd_ = -1;
+  std::string pending_;
+};
+
+}  // namespace rangekit

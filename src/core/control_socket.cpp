@@ -1,0 +1,187 @@
+#include "rangekit/core/control_socket.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+#include <cerrno>
+#include <cstring>
+
+#include "rangekit/core/fd_transport.hpp"
+
+namespace rangekit {
+namespace {
+
+constexpr std::size_t max_line = 64 * 1024;
+
+Result<sockaddr_un> unix_address(const std::string& path) {
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  if (path.size() >= sizeof(address.sun_path)) {
+    return make_error(Errc::overlong, "control socket path is longer than " +
+                                          std::to_string(sizeof(address.sun_path) - 1) + " characters: " + path);
+  }
+  std::memcpy(address.sun_path, path.c_str(), path.size() + 1);
+  return address;
+}
+
+bool write_line(int fd, const std::string& line) {
+  std::size_t done = 0;
+  while (done < line.size()) {
+    const ssize_t n = ::send(fd, line.data() + done, line.size() - done, MSG_NOSIGNAL);
+    if (n > 0) {
+      done += static_cast<std::size_t>(n);
+      continue;
+    }
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+      pollfd waiter{fd, POLLOUT, 0};
+      if (::poll(&waiter, 1, 1000) <= 0) return false;
+      continue;
+    }
+    return false;
+  }
+  return true;
+}
+
+nlohmann::json answer(const ControlSocket::Handler& handler, const std::string& line) {
+  nlohmann::json request = nlohmann::json::parse(line, nullptr, false);
+  if (request.is_discarded() || !request.is_object()) {
+    return {{"error", "not a JSON object: " + line.substr(0, 200)}};
+  }
+  try {
+    return handler(request);
+  } catch (const std::exception& error) {
+    // A request with fields of the wrong type (nlohmann throws type_error).
+    return {{"error", std::string("bad request: ") + error.what()}};
+  }
+}
+
+}  // namespace
+
+Result<std::unique_ptr<ControlSocket>> ControlSocket::listen(const std::string& path) {
+  auto address = unix_address(path);
+  if (!address) return address.error();
+  struct stat existing {};
+  if (::lstat(path.c_str(), &existing) == 0) {
+    return make_error(Errc::io, path + " already exists; remove it or choose another control path");
+  }
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+  if (fd < 0) return make_error(Errc::io, errno_text("socket", errno));
+  if (::bind(fd, reinterpret_cast<const sockaddr*>(&address.value()), sizeof(sockaddr_un)) != 0 ||
+      ::listen(fd, 8) != 0) {
+    const int error_number = errno;
+    ::close(fd);
+    return make_error(Errc::io, errno_text("cannot listen on " + path, error_number));
+  }
+  return std::unique_ptr<ControlSocket>(new ControlSocket(fd, path));
+}
+
+ControlSocket::~ControlSocket() {
+  for (const auto& client : clients_) ::close(client.fd);
+  ::close(listener_);
+  ::unlink(path_.c_str());
+}
+
+std::vector<int> ControlSocket::poll_fds() const {
+  std::vector<int> fds{listener_};
+  for (const auto& client : clients_) fds.push_back(client.fd);
+  return fds;
+}
+
+void ControlSocket::service(const Handler& handler) {
+  while (true) {
+    const int fd = ::accept4(listener_, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
+    if (fd < 0) break;
+    clients_.push_back(Client{fd, {}});
+  }
+  for (auto& client : clients_) {
+    char buffer[4096];
+    while (true) {
+      const ssize_t n = ::recv(client.fd, buffer, sizeof buffer, 0);
+      if (n > 0) {
+        client.pending.append(buffer, static_cast<std::size_t>(n));
+        continue;
+      }
+      if (n == 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
+        ::close(client.fd);
+        client.fd = -1;
+      }
+      break;
+    }
+    std::size_t newline = 0;
+    while (client.fd >= 0 && (newline = client.pending.find('\n')) != std::string::npos) {
+      const std::string line = client.pending.substr(0, newline);
+      client.pending.erase(0, newline + 1);
+      if (line.empty()) continue;
+      if (!write_line(client.fd, answer(handler, line).dump() + "\n")) {
+        ::close(client.fd);
+        client.fd = -1;
+      }
+    }
+    if (client.fd >= 0 && client.pending.size() > max_line) {
+      (void)write_line(client.fd, nlohmann::json{{"error", "request line longer than 64 KiB"}}.dump() + "\n");
+      ::close(client.fd);
+      client.fd = -1;
+    }
+  }
+  std::erase_if(clients_, [](const Client& client) { return client.fd < 0; });
+}
+
+Result<ControlClient> ControlClient::connect(const std::string& path) {
+  auto address = unix_address(path);
+  if (!address) return address.error();
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) return make_error(Errc::io, errno_text("socket", errno));
+  if (::connect(fd, reinterpret_cast<const sockaddr*>(&address.value()), sizeof(sockaddr_un)) != 0) {
+    const int error_number = errno;
+    ::close(fd);
+    return make_error(Errc::io, errno_text("cannot connect to control socket " + path, error_number));
+  }
+  return ControlClient(fd);
+}
+
+ControlClient::ControlClient(ControlClient&& other) noexcept : fd_(other.fd_), pending_(std::move(other.pending_)) {
+  other.fd_ = -1;
+}
+
+ControlClient& ControlClient::operator=(ControlClient&& other) noexcept {
+  if (this != &other) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = other.fd_;
+    pending_ = std::move(other.pending_);
+    other.fd_ = -1;
+  }
+  return *this;
+}
+
+ControlClient::~ControlClient() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+Result<nlohmann::json> ControlClient::request(const nlohmann::json& request, int timeout_ms) {
+  if (fd_ < 0) return make_error(Errc::closed, "control connection is closed");
+  if (!write_line(fd_, request.dump() + "\n")) return make_error(Errc::closed, "control socket: cannot send");
+  while (true) {
+    const auto newline = pending_.find('\n');
+    if (newline != std::string::npos) {
+      const std::string line = pending_.substr(0, newline);
+      pending_.erase(0, newline + 1);
+      auto reply = nlohmann::json::parse(line, nullptr, false);
+      if (reply.is_discarded()) return make_error(Errc::invalid_frame, "control reply is not JSON: " + line);
+      return reply;
+    }
+    pollfd waiter{fd_, POLLIN, 0};
+    const int ready = ::poll(&waiter, 1, timeout_ms);
+    if (ready == 0) return make_error(Errc::timeout, "no control reply within " + std::to_string(timeout_ms) + " ms");
+    if (ready < 0 && errno == EINTR) continue;
+    char buffer[4096];
+    const ssize_t n = ::recv(fd_, buffer, sizeof buffer, 0);
+    if (n <= 0) return make_error(Errc::closed, "control socket closed by the emulator");
+    pending_.append(buffer, static_cast<std::size_t>(n));
+  }
+}
+
+}  // namespace rangekit

@@ -1,0 +1,265 @@
+#include "rangekit/core/emulator_runtime.hpp"
+
+#include <poll.h>
+#include <unistd.h>
+#include <algorithm>
+#include <cerrno>
+#include <set>
+
+namespace rangekit {
+namespace {
+
+double seconds(Nanos time) { return static_cast<double>(time.count()) / 1e9; }
+
+Nanos character_time(const SerialSettings& settings) {
+  return Nanos(static_cast<std::int64_t>(settings.bits_per_byte()) * 1'000'000'000LL / settings.baud);
+}
+
+struct SourcedByte {
+  LineByte byte;
+  std::size_t source;  // attachment index
+};
+
+}  // namespace
+
+EmulatorRuntime::EmulatorRuntime(std::vector<Line> lines, const RuntimeOptions& options)
+    : lines_(std::move(lines)), options_(options), random_(options.seed) {
+  if (options.virtual_clock) {
+    virtual_clock_ = std::make_unique<VirtualClock>();
+  } else {
+    real_clock_ = std::make_unique<ScaledSteadyClock>(options.time_scale > 0 ? options.time_scale : 1.0);
+  }
+}
+
+EmulatorRuntime::~EmulatorRuntime() = default;
+
+Result<std::unique_ptr<EmulatorRuntime>> EmulatorRuntime::create(std::vector<LineConfig> configs,
+                                                                 const RuntimeOptions& options) {
+  std::vector<Line> lines;
+  for (auto& config : configs) {
+    for (const auto& attachment : config.attachments) {
+      if (attachment.device == nullptr || attachment.port >= attachment.device->port_count()) {
+        return make_error(Errc::out_of_range, "line " + config.name + ": attachment names no port of a device");
+      }
+    }
+    auto pty = PseudoTerminal::open(config.link_path);
+    if (!pty) return pty.error();
+    // Held open by us too, so the master never sees a hang-up while no host is connected.
+    if (auto held = (*pty)->hold_slave_open(); !held) return held.error();
+    lines.push_back(Line{std::move(config), std::move(*pty), {}});
+  }
+  auto runtime = std::unique_ptr<EmulatorRuntime>(new EmulatorRuntime(std::move(lines), options));
+  if (options.control_path) {
+    auto control = ControlSocket::listen(*options.control_path);
+    if (!control) return control.error();
+    runtime->control_ = std::move(*control);
+  }
+  return runtime;
+}
+
+Nanos EmulatorRuntime::now() const { return virtual_clock_ ? virtual_clock_->now() : real_clock_->now(); }
+
+const std::string& EmulatorRuntime::line_path(std::size_t line) const { return lines_.at(line).pty->public_path(); }
+
+void EmulatorRuntime::set_noise(std::size_t line, const LineNoise& noise) { lines_.at(line).noise = noise; }
+
+bool EmulatorRuntime::host_matches(const Line& line, const LineAttachment& attachment) const {
+  const auto host = line.pty->peer_settings();
+  if (!host) return true;  // cannot tell: assume the host is right
+  const SerialSettings device = attachment.device->port_settings(attachment.port);
+  // Parity cannot be seen through a pty (docs/conformance.md H2).
+  return host->baud == device.baud && host->stop_bits == device.stop_bits;
+}
+
+std::uint8_t EmulatorRuntime::garble(std::uint8_t value) {
+  // What a UART sampling at the wrong speed makes of a byte: unrelated bits.
+  return static_cast<std::uint8_t>(value ^ static_cast<std::uint8_t>(random_() | 1U));
+}
+
+Status EmulatorRuntime::read_input(Nanos now) {
+  for (auto& line : lines_) {
+    std::uint8_t buffer[512];
+    while (true) {
+      const ssize_t n = ::read(line.pty->native_handle(), buffer, sizeof buffer);
+      if (n <= 0) {
+        if (n < 0 && errno == EINTR) continue;
+        break;  // EAGAIN: nothing more now
+      }
+      for (const auto& attachment : line.config.attachments) {
+        const bool matches = host_matches(line, attachment);
+        for (ssize_t i = 0; i < n; ++i) {
+          attachment.device->receive(attachment.port, matches ? buffer[i] : garble(buffer[i]), now);
+        }
+      }
+    }
+  }
+  return ok_status();
+}
+
+void EmulatorRuntime::run_devices(Nanos now) {
+  std::set<DeviceModel*> done;
+  for (auto& line : lines_) {
+    for (const auto& attachment : line.config.attachments) {
+      if (done.insert(attachment.device).second) attachment.device->advance(now);
+    }
+  }
+}
+
+Status EmulatorRuntime::flush_output(Nanos now) {
+  std::vector<LineByte> taken;
+  std::vector<SourcedByte> merged;
+  for (auto& line : lines_) {
+    merged.clear();
+    for (std::size_t i = 0; i < line.config.attachments.size(); ++i) {
+      const auto& attachment = line.config.attachments[i];
+      taken.clear();
+      attachment.device->take_line_output(attachment.port, now, taken);
+      for (const auto& byte : taken) merged.push_back(SourcedByte{byte, i});
+    }
+    if (merged.empty()) continue;
+    std::stable_sort(merged.begin(), merged.end(),
+                     [](const SourcedByte& a, const SourcedByte& b) { return a.byte.done < b.byte.done; });
+    std::vector<std::uint8_t> wire;
+    wire.reserve(merged.size());
+    for (std::size_t i = 0; i < merged.size(); ++i) {
+      const auto& attachment = line.config.attachments[merged[i].source];
+      std::uint8_t value = merged[i].byte.value;
+      // Half duplex: a byte from another device that overlaps this one in time collides with it.
+      const Nanos span = character_time(attachment.device->port_settings(attachment.port));
+      while (i + 1 < merged.size() && merged[i + 1].source != merged[i].source &&
+             merged[i + 1].byte.done - merged[i].byte.done < span) {
+        value = static_cast<std::uint8_t>(value & merged[i + 1].byte.value) ^ 0x5A;
+        ++i;
+      }
+      if (!host_matches(line, attachment)) value = garble(value);
+      if (line.noise.drop_rate > 0 && std::uniform_real_distribution<double>(0, 1)(random_) < line.noise.drop_rate) {
+        continue;
+      }
+      if (line.noise.bit_error_rate > 0) {
+        for (int bit = 0; bit < 8; ++bit) {
+          if (std::uniform_real_distribution<double>(0, 1)(random_) < line.noise.bit_error_rate) {
+            value = static_cast<std::uint8_t>(value ^ (1U << bit));
+          }
+        }
+      }
+      wire.push_back(value);
+    }
+    std::size_t written = 0;
+    while (written < wire.size()) {
+      const ssize_t n = ::write(line.pty->native_handle(), wire.data() + written, wire.size() - written);
+      if (n > 0) {
+        written += static_cast<std::size_t>(n);
+        continue;
+      }
+      if (n < 0 && errno == EINTR) continue;
+      // Nobody is reading and the pty buffer is full: the bytes are lost, as on a real line.
+      dropped_output_ += wire.size() - written;
+      break;
+    }
+  }
+  return ok_status();
+}
+
+Nanos EmulatorRuntime::next_deadline() const {
+  Nanos earliest = Nanos::max();
+  for (const auto& line : lines_) {
+    for (const auto& attachment : line.config.attachments)
+      earliest = std::min(earliest, attachment.device->next_deadline());
+  }
+  return earliest;
+}
+
+Status EmulatorRuntime::advance_to(Nanos when) {
+  if (!virtual_clock_) return make_error(Errc::unsupported, "advance needs the virtual clock (--virtual-clock)");
+  if (when < virtual_clock_->now()) return make_error(Errc::out_of_range, "the virtual clock cannot go back");
+  while (true) {
+    const Nanos deadline = next_deadline();
+    if (deadline > when) break;
+    const Nanos at = std::max(deadline, virtual_clock_->now());
+    virtual_clock_->advance_to(at);
+    run_devices(at);
+    if (auto flushed = flush_output(at); !flushed) return flushed;
+    if (next_deadline() <= at) {
+      return make_error(Errc::invalid_frame,
+                        "a device did not move its deadline past " + std::to_string(seconds(at)) + " s");
+    }
+  }
+  virtual_clock_->advance_to(when);
+  run_devices(when);
+  return flush_output(when);
+}
+
+nlohmann::json EmulatorRuntime::handle_control(const nlohmann::json& request) {
+  const std::string command = request.value("cmd", "");
+  if (command == "status") {
+    nlohmann::json lines = nlohmann::json::array();
+    for (const auto& line : lines_) {
+      nlohmann::json devices = nlohmann::json::array();
+      for (const auto& attachment : line.config.attachments) devices.push_back(attachment.device->label());
+      lines.push_back({{"name", line.config.name}, {"path", line.pty->public_path()}, {"devices", devices}});
+    }
+    return {{"ok", true},
+            {"time_s", seconds(now())},
+            {"virtual_clock", virtual_clock_ != nullptr},
+            {"lines", lines},
+            {"dropped_output_bytes", dropped_output_}};
+  }
+  if (command == "advance") {
+    const double by = request.value("seconds", 0.0);
+    if (!(by >= 0)) return {{"error", "advance: 'seconds' must be a number >= 0"}};
+    auto advanced = advance_to(now() + Nanos(static_cast<std::int64_t>(by * 1e9)));
+    if (!advanced) return {{"error", advanced.error().message}};
+    return {{"ok", true}, {"time_s", seconds(now())}};
+  }
+  if (command == "noise") {
+    const std::string name = request.value("line", lines_.front().config.name);
+    for (auto& line : lines_) {
+      if (line.config.name != name) continue;
+      line.noise.bit_error_rate = request.value("bit_error_rate", 0.0);
+      line.noise.drop_rate = request.value("drop_rate", 0.0);
+      return {{"ok", true}, {"line", name}};
+    }
+    return {{"error", "noise: no line named '" + name + "'"}};
+  }
+  if (command == "shutdown") {
+    shutdown_requested_ = true;
+    return {{"ok", true}};
+  }
+  if (extension_) {
+    nlohmann::json reply = extension_(request);
+    if (!reply.is_null()) return reply;
+  }
+  return {{"error", "unknown command '" + command + "' (runtime: status, advance, noise, shutdown)"}};
+}
+
+Status EmulatorRuntime::step(Nanos max_wait) {
+  std::vector<pollfd> fds;
+  for (const auto& line : lines_) fds.push_back(pollfd{line.pty->native_handle(), POLLIN, 0});
+  if (control_) {
+    for (const int fd : control_->poll_fds()) fds.push_back(pollfd{fd, POLLIN, 0});
+  }
+  Nanos wait = max_wait;
+  if (real_clock_) {
+    const Nanos deadline = next_deadline();
+    if (deadline != Nanos::max()) wait = std::clamp(real_clock_->real_duration(deadline - now()), Nanos(0), max_wait);
+  }
+  // Round up so a deadline less than a millisecond away is not spun on.
+  const int timeout_ms = static_cast<int>((wait.count() + 999'999) / 1'000'000);
+  if (::poll(fds.data(), fds.size(), timeout_ms) < 0 && errno != EINTR) {
+    return make_error(Errc::io, "poll failed in the emulator loop");
+  }
+  const Nanos current = now();
+  if (auto read = read_input(current); !read) return read;
+  if (control_) control_->service([this](const nlohmann::json& request) { return handle_control(request); });
+  run_devices(current);
+  return flush_output(current);
+}
+
+Status EmulatorRuntime::run(const std::atomic<bool>& stop) {
+  while (!stop.load() && !shutdown_requested_) {
+    if (auto stepped = step(std::chrono::milliseconds(50)); !stepped) return stepped;
+  }
+  return ok_status();
+}
+
+}  // namespace rangekit

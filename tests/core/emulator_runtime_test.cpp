@@ -1,0 +1,172 @@
+// The emulator runtime over real pseudo-terminals, with a trivial echo device
+// on the virtual clock: pacing, line faults, bus collisions, control socket.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+#include <array>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "rangekit/core/emulator_runtime.hpp"
+#include "rangekit/core/serial_pacer.hpp"
+
+namespace rangekit {
+namespace {
+
+using namespace std::chrono_literals;
+
+// Answers every byte it receives with the same byte, at its own baud.
+class EchoDevice final : public DeviceModel {
+ public:
+  explicit EchoDevice(std::uint32_t baud, std::string label = "echo")
+      : settings_{baud, Parity::none, 1}, pacer_(baud, 1000), label_(std::move(label)) {}
+  [[nodiscard]] std::size_t port_count() const noexcept override { return 1; }
+  [[nodiscard]] SerialSettings port_settings(std::size_t) const override { return settings_; }
+  void receive(std::size_t, std::uint8_t byte, Nanos now) override {
+    pacer_.send(Bytes(&byte, 1), now);
+    ++received;
+  }
+  void advance(Nanos) override {}
+  [[nodiscard]] Nanos next_deadline() const override { return pacer_.next_completion(); }
+  void take_line_output(std::size_t, Nanos now, std::vector<LineByte>& out) override {
+    while (pacer_.next_completion() <= now) {
+      const Nanos done = pacer_.next_completion();
+      std::vector<std::uint8_t> bytes;
+      pacer_.take_sent(done, bytes);
+      for (const auto value : bytes) out.push_back(LineByte{done, value});
+    }
+  }
+  nlohmann::json control(const nlohmann::json&, Nanos) override { return {{"echo", true}}; }
+  [[nodiscard]] std::string label() const override { return label_; }
+  int received = 0;
+
+ private:
+  SerialSettings settings_;
+  SerialPacer pacer_;
+  std::string label_;
+};
+
+std::string read_available(Transport& port, std::size_t expected) {
+  std::string text;
+  std::array<std::uint8_t, 256> buffer{};
+  while (text.size() < expected) {
+    auto got = port.read_some(buffer, 500ms);
+    if (!got) break;
+    text.append(reinterpret_cast<const char*>(buffer.data()), *got);
+  }
+  return text;
+}
+
+struct Rig {
+  std::unique_ptr<EmulatorRuntime> runtime;
+  std::unique_ptr<SerialPort> host;
+};
+
+Rig make_rig(std::vector<DeviceModel*> devices, std::uint32_t host_baud, std::optional<std::string> control = {}) {
+  LineConfig line{"bus", std::nullopt, {}};
+  for (auto* device : devices) line.attachments.push_back(LineAttachment{device, 0});
+  RuntimeOptions options;
+  options.virtual_clock = true;
+  options.control_path = std::move(control);
+  auto runtime = EmulatorRuntime::create({line}, options);
+  EXPECT_TRUE(runtime) << runtime.error().message;
+  auto host = SerialPort::open((*runtime)->line_path(0), SerialSettings{host_baud, Parity::none, 1});
+  EXPECT_TRUE(host) << host.error().message;
+  return Rig{std::move(*runtime), std::move(*host)};
+}
+
+// Feeds the host's bytes to the runtime: written bytes are in the pty as soon as write returns.
+void deliver(Rig& rig, std::string_view text) {
+  ASSERT_TRUE(rig.host->write_all(as_bytes(text)));
+  ASSERT_TRUE(rig.runtime->step(0ns));
+}
+
+TEST(EmulatorRuntime, BytesComeBackOnlyOnceTheirTimeHasCome) {
+  EchoDevice echo(9600);
+  auto rig = make_rig({&echo}, 9600);
+  deliver(rig, "AB");
+  EXPECT_EQ(echo.received, 2);
+  // 9600 baud 8N1: 1.0417 ms per byte. Before the first byte is done, nothing.
+  ASSERT_TRUE(rig.runtime->advance_to(1ms));
+  std::array<std::uint8_t, 8> buffer{};
+  EXPECT_FALSE(rig.host->read_some(buffer, 20ms));
+  ASSERT_TRUE(rig.runtime->advance_to(3ms));
+  EXPECT_EQ(read_available(*rig.host, 2), "AB");
+}
+
+TEST(EmulatorRuntime, HostAtTheWrongBaudSeesGarbage) {
+  EchoDevice echo(115200);
+  auto rig = make_rig({&echo}, 9600);
+  deliver(rig, "HELLO");
+  ASSERT_TRUE(rig.runtime->advance_to(10ms));
+  const std::string back = read_available(*rig.host, 5);
+  EXPECT_EQ(back.size(), 5U);
+  EXPECT_NE(back, "HELLO");
+}
+
+TEST(EmulatorRuntime, TwoDevicesTalkingAtOnceCollide) {
+  EchoDevice first(115200, "first");
+  EchoDevice second(115200, "second");
+  auto rig = make_rig({&first, &second}, 115200);
+  deliver(rig, "Q");
+  ASSERT_TRUE(rig.runtime->advance_to(1ms));
+  const std::string back = read_available(*rig.host, 1);
+  ASSERT_EQ(back.size(), 1U);  // one corrupted byte, not two clean ones
+  EXPECT_NE(back, "Q");
+}
+
+TEST(EmulatorRuntime, DroppedBytesNeverArrive) {
+  EchoDevice echo(115200);
+  auto rig = make_rig({&echo}, 115200);
+  rig.runtime->set_noise(0, LineNoise{0.0, 1.0});
+  deliver(rig, "ABC");
+  ASSERT_TRUE(rig.runtime->advance_to(1ms));
+  std::array<std::uint8_t, 8> buffer{};
+  EXPECT_FALSE(rig.host->read_some(buffer, 20ms));
+}
+
+TEST(EmulatorRuntime, ControlSocketStatusAdvanceAndErrors) {
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("rangekit-ctl-" + std::to_string(::getpid()))).string();
+  std::filesystem::remove(path);
+  EchoDevice echo(115200);
+  auto rig = make_rig({&echo}, 115200, path);
+  auto client = ControlClient::connect(path);
+  ASSERT_TRUE(client) << client.error().message;
+  // The runtime answers while stepping; a helper thread plays the event loop.
+  std::atomic<bool> stop{false};
+  std::thread loop([&] { (void)rig.runtime->run(stop); });
+  auto status = client->request({{"cmd", "status"}});
+  ASSERT_TRUE(status);
+  EXPECT_EQ((*status)["virtual_clock"], true);
+  EXPECT_EQ((*status)["lines"][0]["devices"][0], "echo");
+  auto advanced = client->request({{"cmd", "advance"}, {"seconds", 1.5}});
+  ASSERT_TRUE(advanced);
+  EXPECT_DOUBLE_EQ((*advanced)["time_s"].get<double>(), 1.5);
+  auto unknown = client->request({{"cmd", "warp"}});
+  ASSERT_TRUE(unknown);
+  EXPECT_NE((*unknown)["error"].get<std::string>().find("unknown command 'warp'"), std::string::npos);
+  auto wrong_type = client->request({{"cmd", "advance"}, {"seconds", "soon"}});
+  ASSERT_TRUE(wrong_type);
+  EXPECT_TRUE(wrong_type->contains("error"));
+  stop = true;
+  loop.join();
+  rig.runtime.reset();
+  EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+TEST(EmulatorRuntime, SymlinkAndControlPathsAreCheckedUpFront) {
+  const auto link = std::filesystem::temp_directory_path() / ("rangekit-link-" + std::to_string(::getpid()));
+  std::filesystem::remove(link);
+  { std::ofstream(link.string()) << "occupied"; }
+  EchoDevice echo(115200);
+  auto runtime =
+      EmulatorRuntime::create({LineConfig{"port", link.string(), {LineAttachment{&echo, 0}}}}, RuntimeOptions{});
+  ASSERT_FALSE(runtime);
+  EXPECT_NE(runtime.error().message.find("already exists"), std::string::npos);
+  std::filesystem::remove(link);
+}
+
+}  // namespace
+}  // namespace rangekit
