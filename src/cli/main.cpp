@@ -3,6 +3,7 @@
 #include <exception>
 
 #include "cli/commands.hpp"
+#include "cli/sim.hpp"
 
 namespace {
 
@@ -13,6 +14,7 @@ int run(int argc, char** argv) {
   rangekit::cli::add_demo_command(app, exit_code);
   rangekit::cli::add_decode_command(app, exit_code);
   rangekit::cli::add_tables_command(app, exit_code);
+  rangekit::cli::add_sim_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

@@ -1,0 +1,36 @@
+// `rangekit sim uls|ls5`: the emulators. This part is shared by both: the
+// runtime options, signal handling and the ready line tests wait for.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "rangekit/core/emulator_runtime.hpp"
+
+namespace rangekit::cli {
+
+struct SimCommonOptions {
+  std::string control;     // --control PATH: JSON-lines Unix socket
+  std::string state_dir;   // --state DIR: non-volatile memory
+  std::string scene;       // --scene FILE (TOML)
+  std::uint32_t seed = 1;  // --seed N
+  double time_scale = 1;   // --time-scale X
+  bool virtual_clock = false;
+};
+
+void add_common_sim_options(CLI::App& command, SimCommonOptions& options);
+
+// Serves the lines until SIGINT/SIGTERM or {"cmd":"shutdown"}. Prints one
+// "ready" line to stdout first (each line's name and path, and the control
+// path), so scripts and tests can wait for it instead of sleeping. Device
+// commands on the control socket go to `extension`.
+int run_emulator(std::vector<LineConfig> lines, const SimCommonOptions& options, const std::string& title,
+                 ControlSocket::Handler extension);
+
+void add_sim_command(CLI::App& app, int& exit_code);
+// Each family registers its own subcommand of `sim` (src/cli/sim_uls.cpp, sim_ls5.cpp).
+void add_sim_uls(CLI::App& sim, int& exit_code);
+void add_sim_ls5(CLI::App& sim, int& exit_code);
+
+}  // namespace rangekit::cli
