@@ -1,5 +1,7 @@
 #include "ls5/messages.hpp"
 
+#include <utility>
+
 #include "rangekit/core/text.hpp"
 
 namespace rangekit::ls5::detail {
@@ -26,6 +28,6 @@ std::string hex2(std::uint8_t value) {
   return std::string(digits, 2);
 }
 
-Error frame_error(Errc code, std::string message) { return make_error(code, "LS5 frame: " + message); }
+Error frame_error(Errc code, std::string message) { return make_error(code, "LS5 frame: " + std::move(message)); }
 
 }  // namespace rangekit::ls5::detail

@@ -33,7 +33,9 @@ TEST(Ls5ConformanceTable, EveryRowNamesAnExistingTestThatHoldsIt) {
     int files = 0;
     for (auto it = std::sregex_iterator(line.begin(), line.end(), test_pattern); it != std::sregex_iterator(); ++it) {
       const std::string path = (*it)[1];
-      const std::string text = read_file(root + "/" + path);
+      std::string file = root;
+      file.append("/").append(path);
+      const std::string text = read_file(file);
       EXPECT_FALSE(text.empty()) << id << ": " << path << " missing";
       // "L1" must not match "L10": the id is followed by a non-digit.
       EXPECT_TRUE(std::regex_search(text, std::regex(id + "(?![0-9])"))) << id << ": " << path << " does not mention it";
