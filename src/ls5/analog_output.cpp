@@ -22,9 +22,12 @@ double analog_output(const AnalogRange& range, const AnalogLimits& limits, std::
 double analog_output(const AnalogRange& range, const AnalogLimits& limits, ResultCode code,
                      std::optional<std::uint16_t> last_result_code) noexcept {
   switch (code.kind) {
-    case CodeKind::result: return analog_output(range, limits, code.value);
-    case CodeKind::no_measurement_yet: return range.min;  // §8.2: "the state of no result"
-    case CodeKind::no_signal: break;
+    case CodeKind::result:
+      return analog_output(range, limits, code.value);
+    case CodeKind::no_measurement_yet:
+      return range.min;  // §8.2: "the state of no result"
+    case CodeKind::no_signal:
+      break;
   }
   // §8.10: "No signal" drives the output to the extreme nearer the last measured value.
   if (!last_result_code) return range.min;

@@ -12,11 +12,11 @@ using S = ResponseForm;
 // echo may be broadcast, and a broadcast is never answered.
 constexpr std::array<CommandInfo, command_count> commands{{
     {CommandId::identification, "ID", "Identification", "identify", R::no_argument, S::identification, false, false},
-    {CommandId::read_parameter, "R", "Read the parameter", "read", R::parameter_address, S::parameter_value, false, false},
+    {CommandId::read_parameter, "R", "Read the parameter", "read", R::parameter_address, S::parameter_value, false,
+     false},
     {CommandId::write_parameter, "W", "Write the parameter", "write", R::address_and_value, S::echo, true, true},
-    {CommandId::store_to_flash, "FL",
-     "Save parameters to non-volatile memory (Store current parameters to FLASH)", "store", R::no_argument,
-     S::echo, true, true},
+    {CommandId::store_to_flash, "FL", "Save parameters to non-volatile memory (Store current parameters to FLASH)",
+     "store", R::no_argument, S::echo, true, true},
     {CommandId::turn_on, "ON", "Turn on the sensor", "turn-on", R::no_argument, S::echo, true, true},
     {CommandId::turn_off, "OF", "Turn off the sensor", "turn-off", R::no_argument, S::echo, true, true},
     {CommandId::latch_result, "FX", "Latch the result", "latch", R::no_argument, S::echo, true, true},
@@ -62,20 +62,28 @@ const CommandInfo* find_command_by_cli_name(std::string_view cli_name) noexcept 
 
 std::size_t request_argument_length(RequestForm form) noexcept {
   switch (form) {
-    case RequestForm::no_argument: return 0;
-    case RequestForm::parameter_address: return 2;
-    case RequestForm::address_and_value: return 4;
+    case RequestForm::no_argument:
+      return 0;
+    case RequestForm::parameter_address:
+      return 2;
+    case RequestForm::address_and_value:
+      return 4;
   }
   return 0;
 }
 
 std::size_t reply_argument_length(const CommandInfo& command) noexcept {
   switch (command.response) {
-    case ResponseForm::echo: return request_argument_length(command.request);
-    case ResponseForm::parameter_value: return 4;
-    case ResponseForm::result: return 5;
-    case ResponseForm::identification: return 35;
-    case ResponseForm::stream: return 0;
+    case ResponseForm::echo:
+      return request_argument_length(command.request);
+    case ResponseForm::parameter_value:
+      return 4;
+    case ResponseForm::result:
+      return 5;
+    case ResponseForm::identification:
+      return 35;
+    case ResponseForm::stream:
+      return 0;
   }
   return 0;
 }

@@ -46,11 +46,11 @@ Result<const CommandInfo*> parse_command(std::string_view frame) {
   std::string upper(1, upper_first);
   if (!upper_one_letter && code.size() == 2) upper.push_back(text::to_upper(code[1]));
   if (find_command_by_code(upper) != nullptr) {
-    return frame_error(Errc::unknown_command, "command " + quote(frame.substr(3, upper.size())) +
-                                                  " must be upper case (" + upper + ")");
+    return frame_error(Errc::unknown_command,
+                       "command " + quote(frame.substr(3, upper.size())) + " must be upper case (" + upper + ")");
   }
-  return frame_error(Errc::unknown_command, "command " + quote(code) + " in " + quote(frame) +
-                                                " is not an LS5 command (table 9.1)");
+  return frame_error(Errc::unknown_command,
+                     "command " + quote(code) + " in " + quote(frame) + " is not an LS5 command (table 9.1)");
 }
 
 Status check_argument_length(std::string_view frame, const CommandInfo& command, std::size_t expected,
@@ -58,9 +58,8 @@ Status check_argument_length(std::string_view frame, const CommandInfo& command,
   const std::size_t at = 3 + command.code.size();
   const std::string_view arguments = frame.substr(at);
   if (arguments.size() < expected) {
-    return frame_error(Errc::truncated, std::string(command.code) + " takes " + what + " (" +
-                                            std::to_string(expected) + " characters), got " + quote(arguments) +
-                                            " in " + quote(frame));
+    return frame_error(Errc::truncated, std::string(command.code) + " takes " + what + " (" + std::to_string(expected) +
+                                            " characters), got " + quote(arguments) + " in " + quote(frame));
   }
   if (arguments.size() > expected) {
     return frame_error(Errc::overlong, "unexpected " + quote(arguments.substr(expected)) + " after " +

@@ -12,15 +12,13 @@ namespace {
 
 constexpr std::size_t version_at = 0;
 constexpr std::size_t lower_at = version_at + identification_version_width + 1;  // after 'b'
-constexpr std::size_t range_at = lower_at + identification_lower_width + 1;       // after 'd'
-constexpr std::size_t serial_at = range_at + identification_range_width + 3;      // after "s/n"
+constexpr std::size_t range_at = lower_at + identification_lower_width + 1;      // after 'd'
+constexpr std::size_t serial_at = range_at + identification_range_width + 3;     // after "s/n"
 static_assert(serial_at + identification_serial_width == identification_field_length);
 
 constexpr std::uint32_t max_serial = 9'999'999;
 
-Error id_error(Errc code, const std::string& message) {
-  return make_error(code, "LS5 identification: " + message);
-}
+Error id_error(Errc code, const std::string& message) { return make_error(code, "LS5 identification: " + message); }
 
 bool printable(std::string_view text) noexcept {
   for (const char c : text) {
@@ -41,8 +39,8 @@ Result<double> parse_number_field(std::string_view field, const char* what) {
   const std::optional<double> value =
       (!number.empty() && text::is_digit(number.front())) ? text::parse_decimal(number, ',') : std::nullopt;
   if (!value) {
-    return id_error(Errc::bad_number, std::string(what) + " " + detail::quote(field) +
-                                          " is not a number with a decimal comma");
+    return id_error(Errc::bad_number,
+                    std::string(what) + " " + detail::quote(field) + " is not a number with a decimal comma");
   }
   return *value;
 }
@@ -128,7 +126,8 @@ Result<IdentificationField> encode_identification_field(const Identification& id
     return id_error(Errc::wrong_form, "the version text must be 1-10 printable characters");
   }
   if (id.serial_number > max_serial) {
-    return id_error(Errc::out_of_range, "serial number " + std::to_string(id.serial_number) + " has more than 7 digits");
+    return id_error(Errc::out_of_range,
+                    "serial number " + std::to_string(id.serial_number) + " has more than 7 digits");
   }
   char field[identification_field_length];
   std::size_t at = 0;
@@ -141,7 +140,8 @@ Result<IdentificationField> encode_identification_field(const Identification& id
   }
   field[range_at - 1] = 'd';
   if (!(id.range_mm > 0.0) || !format_number_field(id.range_mm, identification_range_width, field + range_at)) {
-    return id_error(Errc::out_of_range, "range " + std::to_string(id.range_mm) + " mm is not positive or does not fit 7 characters");
+    return id_error(Errc::out_of_range,
+                    "range " + std::to_string(id.range_mm) + " mm is not positive or does not fit 7 characters");
   }
   field[serial_at - 3] = 's';
   field[serial_at - 2] = '/';
@@ -156,8 +156,8 @@ Result<IdentificationField> encode_identification_field(const Identification& id
 Result<Identification> make_identification(std::string_view version_text, double lower_boundary_mm, double range_mm,
                                            std::uint32_t serial_number) {
   if (version_text.empty() || version_text.size() > identification_version_width || !printable(version_text)) {
-    return id_error(Errc::wrong_form, "the version text must be 1-10 printable characters, got " +
-                                          detail::quote(version_text));
+    return id_error(Errc::wrong_form,
+                    "the version text must be 1-10 printable characters, got " + detail::quote(version_text));
   }
   Identification id;
   id.version_text.assign(version_text);

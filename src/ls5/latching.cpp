@@ -34,8 +34,7 @@ std::uint16_t latch_upper_limit(std::uint16_t code, std::uint16_t fixed_range) n
 }
 
 Result<LatchRecalculation> recalculate_on_latch(std::uint8_t mode_byte, ResultCode latched,
-                                                std::uint16_t analog_fixed_range,
-                                                std::uint16_t discrete_fixed_range) {
+                                                std::uint16_t analog_fixed_range, std::uint16_t discrete_fixed_range) {
   const std::optional<LatchingMode> mode = latching_mode_from_byte(mode_byte);
   if (!mode) {
     return make_error(Errc::out_of_range, "LS5 latching mode " + detail::hex2(mode_byte) +
@@ -75,7 +74,8 @@ Result<LatchRecalculation> recalculate_on_latch(std::uint8_t mode_byte, ResultCo
       add_code_writes(outcome.writes, address::output2_second_swing_low, outcome.upper);
       break;
     case LatchingMode::off:
-    case LatchingMode::latch_only: break;
+    case LatchingMode::latch_only:
+      break;
   }
   return outcome;
 }

@@ -45,12 +45,12 @@ constexpr LogicalValueInfo values[] = {
      K::number, "code", 1.0},
     {L::output1_first_swing, "First swing of the first discrete output", "output1-first-swing", out1_first_bytes, 0,
      max_code, K::number, "code", 1.0},
-    {L::output1_second_swing, "Second swing of the first discrete output", "output1-second-swing", out1_second_bytes,
-     0, max_code, K::number, "code", 1.0},
+    {L::output1_second_swing, "Second swing of the first discrete output", "output1-second-swing", out1_second_bytes, 0,
+     max_code, K::number, "code", 1.0},
     {L::output2_first_swing, "First swing of the second discrete output", "output2-first-swing", out2_first_bytes, 0,
      max_code, K::number, "code", 1.0},
-    {L::output2_second_swing, "Second swing of the second discrete output", "output2-second-swing",
-     out2_second_bytes, 0, max_code, K::number, "code", 1.0},
+    {L::output2_second_swing, "Second swing of the second discrete output", "output2-second-swing", out2_second_bytes,
+     0, max_code, K::number, "code", 1.0},
     {L::max_exposure_time, "Maximum exposure time", "max-exposure", exposure_bytes, 1, 0xFFFF, K::number, "µs", 1.0},
     {L::analog_fixed_range, "Fixed range of the analog output", "analog-fixed-range", analog_fixed_bytes, 1, 0xFFFF,
      K::number, "code", 1.0},
@@ -59,14 +59,14 @@ constexpr LogicalValueInfo values[] = {
     {L::sensor_ip, "Sensor IP address", "ip-address", sensor_ip_bytes, 0, 0xFFFFFFFFULL, K::ipv4, "", 1.0},
     {L::gateway_ip, "Gateway IP address", "gateway", gateway_bytes, 0, 0xFFFFFFFFULL, K::ipv4, "", 1.0},
     {L::subnet_mask, "Subnetwork mask", "subnet-mask", mask_bytes, 0, 0xFFFFFFFFULL, K::ipv4, "", 1.0},
-    {L::destination_ip, "Destination IP address", "destination-ip", destination_ip_bytes, 0, 0xFFFFFFFFULL, K::ipv4,
-     "", 1.0},
+    {L::destination_ip, "Destination IP address", "destination-ip", destination_ip_bytes, 0, 0xFFFFFFFFULL, K::ipv4, "",
+     1.0},
     {L::sensor_mac, "MAC address of the sensor", "mac-address", sensor_mac_bytes, 0, 0xFFFFFFFFFFFFULL, K::mac, "",
      1.0},
     {L::destination_mac, "Destination MAC address", "destination-mac", destination_mac_bytes, 0, 0xFFFFFFFFFFFFULL,
      K::mac, "", 1.0},
-    {L::destination_port, "Destination port number", "destination-port", destination_port_bytes, 1, 0xFFFF,
-     K::number, "", 1.0},
+    {L::destination_port, "Destination port number", "destination-port", destination_port_bytes, 1, 0xFFFF, K::number,
+     "", 1.0},
     {L::source_port, "Source port number", "source-port", source_port_bytes, 1, 0xFFFF, K::number, "", 1.0},
 };
 
@@ -132,8 +132,8 @@ Result<std::uint64_t> combine_bytes(const LogicalValueInfo& info, std::span<cons
 
 Status check_logical_value(const LogicalValueInfo& info, std::uint64_t value) {
   if (value < info.min || value > info.max) {
-    return make_error(Errc::out_of_range, "LS5 value " + describe(info) + " must be " + std::to_string(info.min) +
-                                              "-" + std::to_string(info.max) + ", got " + std::to_string(value));
+    return make_error(Errc::out_of_range, "LS5 value " + describe(info) + " must be " + std::to_string(info.min) + "-" +
+                                              std::to_string(info.max) + ", got " + std::to_string(value));
   }
   return ok_status();
 }
@@ -194,9 +194,12 @@ std::string format_mac(std::uint64_t address) {
 
 std::string format_value(const LogicalValueInfo& info, std::uint64_t value) {
   switch (info.kind) {
-    case ValueKind::ipv4: return format_ipv4(static_cast<std::uint32_t>(value));
-    case ValueKind::mac: return format_mac(value);
-    case ValueKind::number: break;
+    case ValueKind::ipv4:
+      return format_ipv4(static_cast<std::uint32_t>(value));
+    case ValueKind::mac:
+      return format_mac(value);
+    case ValueKind::number:
+      break;
   }
   std::string text;
   if (info.scale == 1.0) {

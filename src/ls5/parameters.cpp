@@ -16,8 +16,8 @@ constexpr ValueSpan nonzero_byte[] = {{0x01, 0xFF}};
 constexpr ValueSpan zero_or_one[] = {{0x00, 0x01}};
 constexpr ValueSpan byte_formats[] = {{0x00, 0x05}};
 constexpr ValueSpan baud_codes[] = {{0x01, 0x05}, {0x06, 0x08, 1, firmware_6_0}};  // note 2
-constexpr ValueSpan median_points[] = {{0x01, 0x31, 2}};                             // L4: odd, hex
-constexpr ValueSpan high_byte_of_code[] = {{0x00, 0xC3}};                            // codes 0-50000
+constexpr ValueSpan median_points[] = {{0x01, 0x31, 2}};                           // L4: odd, hex
+constexpr ValueSpan high_byte_of_code[] = {{0x00, 0xC3}};                          // codes 0-50000
 constexpr ValueSpan discrete_outputs[] = {{0x00, 0x02}, {0x10, 0x12}, {0x20, 0x22}};
 constexpr ValueSpan latching_modes[] = {{0x00, 0x01}, {0x02, 0x09, 1, firmware_9_0}};  // §8.14
 
@@ -25,9 +25,9 @@ constexpr ValueSpan latching_modes[] = {{0x00, 0x01}, {0x02, 0x09, 1, firmware_9
 constexpr NamedValue power_on_names[] = {{0x00, "off", "off"}, {0x01, "on", "on"}};
 constexpr NamedValue enabled_names[] = {{0x00, "disabled", "disabled"}, {0x01, "enabled", "enabled"}};
 constexpr NamedValue byte_format_names[] = {
-    {0x00, "8N1", "no parity, 1 stop bit"},     {0x01, "8E1", "parity control, 1 stop bit"},
+    {0x00, "8N1", "no parity, 1 stop bit"},        {0x01, "8E1", "parity control, 1 stop bit"},
     {0x02, "8O1", "imparity control, 1 stop bit"}, {0x03, "8N2", "no parity, 2 stop bits"},
-    {0x04, "8E2", "parity control, 2 stop bits"}, {0x05, "8O2", "imparity control, 2 stop bits"},
+    {0x04, "8E2", "parity control, 2 stop bits"},  {0x05, "8O2", "imparity control, 2 stop bits"},
 };
 constexpr NamedValue baud_names[] = {
     {0x01, "9600", "9600 baud"},     {0x02, "19200", "19200 baud"},   {0x03, "38400", "38400 baud"},
@@ -115,26 +115,26 @@ constexpr ParameterInfo parameters[] = {
      L::output1_first_swing, 0},
     {0x17, "First swing of the first discrete output, high byte", "output1-first-swing.high", high_byte_of_code, 0x00,
      D::fixed, L::output1_first_swing, 1},
-    {0x18, "Second swing of the first discrete output, low byte", "output1-second-swing.low", any_byte, 0x50,
-     D::fixed, L::output1_second_swing, 0},
-    {0x19, "Second swing of the first discrete output, high byte", "output1-second-swing.high", high_byte_of_code,
-     0xC3, D::fixed, L::output1_second_swing, 1},
-    {0x1A, "First swing of the second discrete output, low byte", "output2-first-swing.low", any_byte, 0x00,
-     D::fixed, L::output2_first_swing, 0},
-    {0x1B, "First swing of the second discrete output, high byte", "output2-first-swing.high", high_byte_of_code,
-     0x00, D::fixed, L::output2_first_swing, 1},
-    {0x1C, "Second swing of the second discrete output, low byte", "output2-second-swing.low", any_byte, 0x50,
-     D::fixed, L::output2_second_swing, 0},
+    {0x18, "Second swing of the first discrete output, low byte", "output1-second-swing.low", any_byte, 0x50, D::fixed,
+     L::output1_second_swing, 0},
+    {0x19, "Second swing of the first discrete output, high byte", "output1-second-swing.high", high_byte_of_code, 0xC3,
+     D::fixed, L::output1_second_swing, 1},
+    {0x1A, "First swing of the second discrete output, low byte", "output2-first-swing.low", any_byte, 0x00, D::fixed,
+     L::output2_first_swing, 0},
+    {0x1B, "First swing of the second discrete output, high byte", "output2-first-swing.high", high_byte_of_code, 0x00,
+     D::fixed, L::output2_first_swing, 1},
+    {0x1C, "Second swing of the second discrete output, low byte", "output2-second-swing.low", any_byte, 0x50, D::fixed,
+     L::output2_second_swing, 0},
     {0x1D, "Second swing of the second discrete output, high byte", "output2-second-swing.high", high_byte_of_code,
      0xC3, D::fixed, L::output2_second_swing, 1},
     {0x1E, "Triggering", "triggering", zero_or_one, 0x00, D::fixed, L::none, 0, any, false, triggering_names},
     {0x1F, "Latching", "latching", latching_modes, 0x01, D::fixed, L::none, 0, any, false, latching_names},
     {0x20, "Maximum exposure time, low byte", "max-exposure.low", any_byte, 0xB8, D::fixed, L::max_exposure_time, 0,
      v7},
-    {0x21, "Maximum exposure time, high byte", "max-exposure.high", any_byte, 0x24, D::fixed, L::max_exposure_time,
-     1, v7},
-    {0x22, "Priority of measurement of frequency/sensitivity", "priority", zero_or_one, 0x01, D::fixed, L::none, 0,
-     v7, false, priority_names},
+    {0x21, "Maximum exposure time, high byte", "max-exposure.high", any_byte, 0x24, D::fixed, L::max_exposure_time, 1,
+     v7},
+    {0x22, "Priority of measurement of frequency/sensitivity", "priority", zero_or_one, 0x01, D::fixed, L::none, 0, v7,
+     false, priority_names},
     {0x23, "Fixed range of the analog output, low byte", "analog-fixed-range.low", any_byte, 0x10, D::fixed,
      L::analog_fixed_range, 0, v9},
     {0x24, "Fixed range of the analog output, high byte", "analog-fixed-range.high", any_byte, 0x27, D::fixed,
@@ -171,29 +171,27 @@ constexpr ParameterInfo parameters[] = {
      v12, true},
     {0x65, "MAC address of the sensor, byte 5", "mac-address.5", any_byte, 0x00, D::serial_low_byte, L::sensor_mac, 0,
      v12, true},
-    {0x66, "Destination MAC address, byte 0", "destination-mac.0", any_byte, 0xFF, D::fixed, L::destination_mac, 5,
-     v12, true},
-    {0x67, "Destination MAC address, byte 1", "destination-mac.1", any_byte, 0xFF, D::fixed, L::destination_mac, 4,
-     v12, true},
-    {0x68, "Destination MAC address, byte 2", "destination-mac.2", any_byte, 0xFF, D::fixed, L::destination_mac, 3,
-     v12, true},
-    {0x69, "Destination MAC address, byte 3", "destination-mac.3", any_byte, 0xFF, D::fixed, L::destination_mac, 2,
-     v12, true},
-    {0x6A, "Destination MAC address, byte 4", "destination-mac.4", any_byte, 0xFF, D::fixed, L::destination_mac, 1,
-     v12, true},
-    {0x6B, "Destination MAC address, byte 5", "destination-mac.5", any_byte, 0xFF, D::fixed, L::destination_mac, 0,
-     v12, true},
+    {0x66, "Destination MAC address, byte 0", "destination-mac.0", any_byte, 0xFF, D::fixed, L::destination_mac, 5, v12,
+     true},
+    {0x67, "Destination MAC address, byte 1", "destination-mac.1", any_byte, 0xFF, D::fixed, L::destination_mac, 4, v12,
+     true},
+    {0x68, "Destination MAC address, byte 2", "destination-mac.2", any_byte, 0xFF, D::fixed, L::destination_mac, 3, v12,
+     true},
+    {0x69, "Destination MAC address, byte 3", "destination-mac.3", any_byte, 0xFF, D::fixed, L::destination_mac, 2, v12,
+     true},
+    {0x6A, "Destination MAC address, byte 4", "destination-mac.4", any_byte, 0xFF, D::fixed, L::destination_mac, 1, v12,
+     true},
+    {0x6B, "Destination MAC address, byte 5", "destination-mac.5", any_byte, 0xFF, D::fixed, L::destination_mac, 0, v12,
+     true},
     // Ports: the table lists the high byte first (L5); the low byte excludes 00 as printed (L18).
-    {0x6C, "Destination port number, high byte", "destination-port.high", any_byte, 0x02, D::fixed,
-     L::destination_port, 1, v12, true},
+    {0x6C, "Destination port number, high byte", "destination-port.high", any_byte, 0x02, D::fixed, L::destination_port,
+     1, v12, true},
     {0x6D, "Destination port number, low byte", "destination-port.low", nonzero_byte, 0x5B, D::fixed,
      L::destination_port, 0, v12, true},
-    {0x6E, "Source port number, high byte", "source-port.high", any_byte, 0x13, D::fixed, L::source_port, 1, v12,
-     true},
+    {0x6E, "Source port number, high byte", "source-port.high", any_byte, 0x13, D::fixed, L::source_port, 1, v12, true},
     {0x6F, "Source port number, low byte", "source-port.low", nonzero_byte, 0x88, D::fixed, L::source_port, 0, v12,
      true},
-    {0x70, "UDP data auto-stream", "udp-auto-stream", zero_or_one, 0x01, D::fixed, L::none, 0, v12, true,
-     on_off_names},
+    {0x70, "UDP data auto-stream", "udp-auto-stream", zero_or_one, 0x01, D::fixed, L::none, 0, v12, true, on_off_names},
 };
 
 constexpr bool sorted_by_address() {
@@ -233,14 +231,17 @@ const ParameterInfo* find_parameter_by_cli_name(std::string_view cli_name) noexc
 
 ByteRole byte_role(const ParameterInfo& parameter) noexcept {
   switch (parameter.part_of) {
-    case LogicalValueId::none: return ByteRole::whole;
+    case LogicalValueId::none:
+      return ByteRole::whole;
     case LogicalValueId::sensor_ip:
     case LogicalValueId::gateway_ip:
     case LogicalValueId::subnet_mask:
     case LogicalValueId::destination_ip:
     case LogicalValueId::sensor_mac:
-    case LogicalValueId::destination_mac: return ByteRole::octet;
-    default: return parameter.significance == 0 ? ByteRole::low_byte : ByteRole::high_byte;
+    case LogicalValueId::destination_mac:
+      return ByteRole::octet;
+    default:
+      return parameter.significance == 0 ? ByteRole::low_byte : ByteRole::high_byte;
   }
 }
 
@@ -249,10 +250,13 @@ std::uint8_t octet_index(const ParameterInfo& parameter) noexcept {
     case LogicalValueId::sensor_ip:
     case LogicalValueId::gateway_ip:
     case LogicalValueId::subnet_mask:
-    case LogicalValueId::destination_ip: return static_cast<std::uint8_t>(3 - parameter.significance);
+    case LogicalValueId::destination_ip:
+      return static_cast<std::uint8_t>(3 - parameter.significance);
     case LogicalValueId::sensor_mac:
-    case LogicalValueId::destination_mac: return static_cast<std::uint8_t>(5 - parameter.significance);
-    default: return 0;
+    case LogicalValueId::destination_mac:
+      return static_cast<std::uint8_t>(5 - parameter.significance);
+    default:
+      return 0;
   }
 }
 
@@ -299,9 +303,12 @@ Status check_parameter_byte(std::uint8_t address, std::uint8_t value, const Sens
 
 std::uint8_t default_byte(const ParameterInfo& parameter, std::uint32_t serial_number) noexcept {
   switch (parameter.default_source) {
-    case DefaultSource::fixed: return parameter.default_value;
-    case DefaultSource::serial_high_byte: return static_cast<std::uint8_t>((serial_number >> 8U) & 0xFFU);
-    case DefaultSource::serial_low_byte: return static_cast<std::uint8_t>(serial_number & 0xFFU);
+    case DefaultSource::fixed:
+      return parameter.default_value;
+    case DefaultSource::serial_high_byte:
+      return static_cast<std::uint8_t>((serial_number >> 8U) & 0xFFU);
+    case DefaultSource::serial_low_byte:
+      return static_cast<std::uint8_t>(serial_number & 0xFFU);
   }
   return parameter.default_value;
 }

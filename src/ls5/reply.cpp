@@ -32,7 +32,9 @@ Status check_reply_address(std::uint8_t address) {
 Result<ResultCode> parse_result_digits(std::string_view digits, std::string_view frame) {
   bool all_digits = digits.size() == result_digits;
   for (const char c : digits) all_digits = all_digits && text::is_digit(c);
-  if (!all_digits) return frame_error(Errc::bad_number, "result " + quote(digits) + " in " + quote(frame) + " is not 5 decimal digits");
+  if (!all_digits)
+    return frame_error(Errc::bad_number,
+                       "result " + quote(digits) + " in " + quote(frame) + " is not 5 decimal digits");
   const auto value = text::parse_unsigned(digits, result_digits);
   auto code = make_result_code(static_cast<std::uint32_t>(*value));
   if (!code) return frame_error(code.error().code, code.error().message + " in " + quote(frame));
@@ -83,7 +85,8 @@ Result<Reply> parse_addressed_reply(std::string_view frame) {
     return frame_error(Errc::wrong_form, "the identification reply starts with '%', got " + quote(frame));
   }
   if (info.response == ResponseForm::stream) {
-    return frame_error(Errc::wrong_form, "ST has no reply of its own: stream records are '!ddddd', got " + quote(frame));
+    return frame_error(Errc::wrong_form,
+                       "ST has no reply of its own: stream records are '!ddddd', got " + quote(frame));
   }
   const char* what = info.response == ResponseForm::result ? "a 5-digit result"
                      : reply_argument_length(info) == 4    ? "a parameter address and value (aadd)"
@@ -117,7 +120,8 @@ Result<Reply> parse_addressed_reply(std::string_view frame) {
       return reply;
     }
     case ResponseForm::identification:
-    case ResponseForm::stream: break;
+    case ResponseForm::stream:
+      break;
   }
   return frame_error(Errc::wrong_form, "unexpected reply form in " + quote(frame));
 }
@@ -192,8 +196,9 @@ Result<Reply> parse_reply_line(Bytes line) {
   if (scan.status == FrameStatus::need_more) {
     return frame_error(Errc::truncated, quote(as_text(line)) + " does not end with CR");
   }
-  return frame_error(Errc::invalid_frame, std::string(scan.reason != nullptr ? scan.reason : "line ending before the frame") +
-                                              " in " + quote(as_text(line)));
+  return frame_error(Errc::invalid_frame,
+                     std::string(scan.reason != nullptr ? scan.reason : "line ending before the frame") + " in " +
+                         quote(as_text(line)));
 }
 
 Result<FrameText> encode_reply(const Reply& reply) {
@@ -228,7 +233,8 @@ Result<FrameText> encode_reply(const Reply& reply) {
                               : reply.kind == ReplyKind::parameter_value ? ResponseForm::parameter_value
                                                                          : ResponseForm::result;
   if (info.response != wanted) {
-    return frame_error(Errc::wrong_form, std::string(info.code) + " is not answered with this kind of reply (table 9.1)");
+    return frame_error(Errc::wrong_form,
+                       std::string(info.code) + " is not answered with this kind of reply (table 9.1)");
   }
   out.push_back(reply_start);
   detail::append_hex_byte(out, reply.address);

@@ -10,9 +10,12 @@ namespace {
 
 const char* argument_description(RequestForm form) noexcept {
   switch (form) {
-    case RequestForm::no_argument: return "no argument";
-    case RequestForm::parameter_address: return "a parameter address (aa)";
-    case RequestForm::address_and_value: return "a parameter address and a value (aadd)";
+    case RequestForm::no_argument:
+      return "no argument";
+    case RequestForm::parameter_address:
+      return "a parameter address (aa)";
+    case RequestForm::address_and_value:
+      return "a parameter address and a value (aadd)";
   }
   return "";
 }
@@ -22,8 +25,8 @@ bool valid_command(CommandId id) noexcept { return static_cast<std::size_t>(id) 
 // Table 9.1 note 1 (conformance L15).
 Status check_broadcast(std::uint8_t address, const CommandInfo& command) {
   if (address == broadcast_address && !command.broadcast_allowed) {
-    return detail::frame_error(Errc::wrong_form, std::string(command.code) +
-                                                     " cannot be sent to the broadcast address 00 (table 9.1 note 1)");
+    return detail::frame_error(
+        Errc::wrong_form, std::string(command.code) + " cannot be sent to the broadcast address 00 (table 9.1 note 1)");
   }
   return ok_status();
 }
@@ -77,8 +80,9 @@ Result<Request> parse_request_line(Bytes line) {
   if (scan.status == FrameStatus::need_more) {
     return detail::frame_error(Errc::truncated, detail::quote(as_text(line)) + " does not end with CR");
   }
-  return detail::frame_error(Errc::invalid_frame, std::string(scan.reason != nullptr ? scan.reason : "line ending before the frame") +
-                                                      " in " + detail::quote(as_text(line)));
+  return detail::frame_error(
+      Errc::invalid_frame, std::string(scan.reason != nullptr ? scan.reason : "line ending before the frame") + " in " +
+                               detail::quote(as_text(line)));
 }
 
 Result<FrameText> encode_request(const Request& request) {

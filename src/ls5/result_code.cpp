@@ -28,10 +28,12 @@ double derivative_mm(std::uint16_t code, double range_mm) noexcept {
 
 Result<double> distance_from_code(ResultCode code, double range_mm) {
   switch (code.kind) {
-    case CodeKind::result: return distance_mm(code.value, range_mm);
+    case CodeKind::result:
+      return distance_mm(code.value, range_mm);
     case CodeKind::no_measurement_yet:
       return make_error(Errc::out_of_range, "LS5 result code 65534: the sensor has not measured yet");
-    case CodeKind::no_signal: return make_error(Errc::out_of_range, "LS5 result code 65535: no signal");
+    case CodeKind::no_signal:
+      return make_error(Errc::out_of_range, "LS5 result code 65535: no signal");
   }
   return make_error(Errc::out_of_range, "LS5 result code is not a result");
 }

@@ -62,8 +62,10 @@ bool latching_writes_rom(LatchingMode mode) noexcept {
     case LatchingMode::analog_limits_to_rom:
     case LatchingMode::output1_limits_to_rom:
     case LatchingMode::output2_limits_to_rom:
-    case LatchingMode::output1_lower_output2_upper_to_rom: return true;
-    default: return false;
+    case LatchingMode::output1_lower_output2_upper_to_rom:
+      return true;
+    default:
+      return false;
   }
 }
 

@@ -24,7 +24,8 @@ bool valid_state(std::uint8_t state) noexcept {
 }
 
 Error state_error(std::size_t record, std::uint8_t state) {
-  const char* why = (state & udp_state::always_one) == 0 ? "bit 1 must always be 1" : "bits 4-7 are reserved and must be 0";
+  const char* why =
+      (state & udp_state::always_one) == 0 ? "bit 1 must always be 1" : "bits 4-7 are reserved and must be 0";
   return make_error(Errc::invalid_frame, "LS5 UDP packet: state word 0x" + detail::hex2(state) + " of measurement " +
                                              std::to_string(record + 1) + ": " + why + " (§10.1)");
 }
@@ -90,8 +91,8 @@ Result<double> udp_distance_mm(const UdpRecord& record, double range_mm) {
                       "LS5 UDP record holds a derivative (state bit 3); §10.1 gives no scale for it (L19)");
   }
   if (record.code > udp_full_scale_code) {
-    return make_error(Errc::out_of_range, "LS5 UDP record code " + std::to_string(record.code) +
-                                              " is above 0x4000 (formula 10.1)");
+    return make_error(Errc::out_of_range,
+                      "LS5 UDP record code " + std::to_string(record.code) + " is above 0x4000 (formula 10.1)");
   }
   return range_mm * record.code / udp_full_scale_code;
 }

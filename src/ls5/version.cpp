@@ -44,11 +44,20 @@ Result<FirmwareVersion> parse_firmware_version(std::string_view text) {
   FirmwareVersion version;
   const char* why = nullptr;
   switch (parse_into(text, version)) {
-    case VersionProblem::none: return version;
-    case VersionProblem::prefix: why = "does not start with \"LS5.\""; break;
-    case VersionProblem::shape: why = "expected LS5.<major>.<minor>"; break;
-    case VersionProblem::major: why = "the major version is not a 1-3 digit number"; break;
-    case VersionProblem::minor: why = "the minor version is not a 1-3 digit number or 'x'"; break;
+    case VersionProblem::none:
+      return version;
+    case VersionProblem::prefix:
+      why = "does not start with \"LS5.\"";
+      break;
+    case VersionProblem::shape:
+      why = "expected LS5.<major>.<minor>";
+      break;
+    case VersionProblem::major:
+      why = "the major version is not a 1-3 digit number";
+      break;
+    case VersionProblem::minor:
+      why = "the minor version is not a 1-3 digit number or 'x'";
+      break;
   }
   return make_error(Errc::bad_number, "LS5 firmware version " + detail::quote(text) + ": " + why);
 }

@@ -38,7 +38,8 @@ TEST(Ls5ConformanceTable, EveryRowNamesAnExistingTestThatHoldsIt) {
       const std::string text = read_file(file);
       EXPECT_FALSE(text.empty()) << id << ": " << path << " missing";
       // "L1" must not match "L10": the id is followed by a non-digit.
-      EXPECT_TRUE(std::regex_search(text, std::regex(id + "(?![0-9])"))) << id << ": " << path << " does not mention it";
+      EXPECT_TRUE(std::regex_search(text, std::regex(id + "(?![0-9])")))
+          << id << ": " << path << " does not mention it";
       ++files;
     }
     EXPECT_GT(files, 0) << id << " names no test in tests/ls5";

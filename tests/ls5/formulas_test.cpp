@@ -134,9 +134,9 @@ TEST(Ls5Formulas, DiscreteOutputFigure86L9) {
     std::uint16_t k;
     bool between;
   };
-  const Case cases[] = {{0, false},     {19999, false}, {20000, true},          {30000, true},
-                        {40000, true},  {40001, false}, {50000, false},         {code_no_signal, false},
-                        {code_no_measurement_yet, false}};
+  const Case cases[] = {{0, false},     {19999, false},          {20000, true},
+                        {30000, true},  {40000, true},           {40001, false},
+                        {50000, false}, {code_no_signal, false}, {code_no_measurement_yet, false}};
   for (const Case& c : cases) {
     EXPECT_EQ(discrete_output_state(initial_zero, swings, c.k), c.between) << c.k;
     EXPECT_EQ(discrete_output_state(initial_one, swings, c.k), !c.between) << c.k;
@@ -259,10 +259,10 @@ TEST(Ls5Formulas, LatchingModesL10) {
 
 TEST(Ls5Formulas, DerivativeCodeL11) {
   EXPECT_EQ(derivative_code(100, 100), 25000);
-  EXPECT_EQ(derivative_code(30000, 25000), 30000);  // 25000 + 5000
-  EXPECT_EQ(derivative_code(20000, 25000), 20000);  // 25000 − 5000
-  EXPECT_EQ(derivative_code(0, 50000), 0);          // 25000 − 50000 → 0
-  EXPECT_EQ(derivative_code(50000, 0), 50000);      // 25000 + 50000 → 50000
+  EXPECT_EQ(derivative_code(30000, 25000), 30000);                              // 25000 + 5000
+  EXPECT_EQ(derivative_code(20000, 25000), 20000);                              // 25000 − 5000
+  EXPECT_EQ(derivative_code(0, 50000), 0);                                      // 25000 − 50000 → 0
+  EXPECT_EQ(derivative_code(50000, 0), 50000);                                  // 25000 + 50000 → 50000
   EXPECT_DOUBLE_EQ(derivative_mm(derivative_code(30000, 25000), 100.0), 10.0);  // 100 × 5000 / 50000
 }
 

@@ -417,5 +417,6 @@ TEST(Ls5Golden, WellFormedRequestsForUnknownParametersParseL14) {
   const auto check = check_parameter_byte(bad_baud->parameter, bad_baud->value, SensorModel{});
   ASSERT_FALSE(check.ok());
   EXPECT_EQ(check.error().code, Errc::out_of_range);
-  EXPECT_EQ(check.error().message, "LS5 parameter 05 (Baud rate) does not accept 09; accepted: 01-05; 06-08 from LS5.6.0");
+  EXPECT_EQ(check.error().message,
+            "LS5 parameter 05 (Baud rate) does not accept 09; accepted: 01-05; 06-08 from LS5.6.0");
 }

@@ -148,7 +148,7 @@ std::vector<std::uint8_t> random_buffer(std::mt19937& random) {
   }
   // Sometimes a real frame with one byte changed.
   if (random() % 8 == 0) {
-    static const std::string seeds[] = {"#01ON\r", "#02W0B01\r", "!01FR25000\r", "!25000\r", "%01" + id_field + "\r",
+    static const std::string seeds[] = {"#01ON\r",  "#02W0B01\r", "!01FR25000\r", "!25000\r", "%01" + id_field + "\r",
                                         "#01R05\r", "!01R0505\r", "!01LR65535\r"};
     const std::string& seed = seeds[random() % std::size(seeds)];
     buffer.assign(seed.begin(), seed.end());
@@ -157,9 +157,7 @@ std::vector<std::uint8_t> random_buffer(std::mt19937& random) {
   return buffer;
 }
 
-bool names_the_problem(const Error& error) {
-  return !error.message.empty() && error.message.rfind("LS5 ", 0) == 0;
-}
+bool names_the_problem(const Error& error) { return !error.message.empty() && error.message.rfind("LS5 ", 0) == 0; }
 
 // A frame that parses re-encodes to text that parses to the same text again.
 void check_request_round_trip(const Request& request, int& round_trips) {

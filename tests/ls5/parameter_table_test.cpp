@@ -12,8 +12,8 @@
 
 using namespace rangekit;
 using namespace rangekit::ls5;
-using ls5_test::U8s;
 using ls5_test::bytes_of;
+using ls5_test::U8s;
 
 namespace {
 const SensorModel newest{FirmwareVersion{12, 0}, true};
@@ -68,7 +68,7 @@ TEST(Ls5ParameterTable, AcceptedValuesAsPrinted) {
   const SensorModel any{};
   EXPECT_FALSE(check_parameter_byte(0x01, 0x00, any).ok());  // network address 01-FF
   EXPECT_TRUE(check_parameter_byte(0x01, 0xFF, any).ok());
-  EXPECT_TRUE(check_parameter_byte(0x04, 0x05, any).ok());   // byte format 00-05
+  EXPECT_TRUE(check_parameter_byte(0x04, 0x05, any).ok());  // byte format 00-05
   EXPECT_FALSE(check_parameter_byte(0x04, 0x06, any).ok());
   EXPECT_FALSE(check_parameter_byte(0x05, 0x00, any).ok());  // baud 01-08
   EXPECT_FALSE(check_parameter_byte(0x08, 0x00, any).ok());  // thinning 01-FF
@@ -209,7 +209,8 @@ TEST(Ls5ParameterTable, FirmwareVersionsL6) {
     EXPECT_NE(serial_only.error().message.find("Ethernet"), std::string::npos);
   }
   // Everything else: every firmware.
-  for (const std::uint8_t a : U8s{0x01, 0x05, 0x0D, 0x15, 0x1F}) EXPECT_TRUE(check_parameter_available(a, SensorModel{}).ok());
+  for (const std::uint8_t a : U8s{0x01, 0x05, 0x0D, 0x15, 0x1F})
+    EXPECT_TRUE(check_parameter_available(a, SensorModel{}).ok());
 }
 
 TEST(Ls5ParameterTable, DefaultsOfTable92) {
@@ -249,8 +250,7 @@ TEST(Ls5ParameterTable, DefaultsOfTable92) {
   EXPECT_EQ(format_value(ip, table_default(LogicalValueId::sensor_ip)), "192.168.0.3");
   EXPECT_EQ(format_ipv4(static_cast<std::uint32_t>(table_default(LogicalValueId::gateway_ip))), "192.168.0.1");
   EXPECT_EQ(format_ipv4(static_cast<std::uint32_t>(table_default(LogicalValueId::subnet_mask))), "255.255.255.255");
-  EXPECT_EQ(format_ipv4(static_cast<std::uint32_t>(table_default(LogicalValueId::destination_ip))),
-            "255.255.255.255");
+  EXPECT_EQ(format_ipv4(static_cast<std::uint32_t>(table_default(LogicalValueId::destination_ip))), "255.255.255.255");
   EXPECT_EQ(format_mac(table_default(LogicalValueId::destination_mac)), "FF:FF:FF:FF:FF:FF");
   EXPECT_EQ(table_default(LogicalValueId::destination_port), 603U);
   EXPECT_EQ(table_default(LogicalValueId::source_port), 5000U);
@@ -261,8 +261,7 @@ TEST(Ls5ParameterTable, MacFromSerialNumberL20) {
   EXPECT_EQ(format_mac(default_sensor_mac(157)), "1E:30:6C:A2:00:9D");
   EXPECT_EQ(format_mac(default_sensor_mac(0x1234)), "1E:30:6C:A2:12:34");
   EXPECT_EQ(default_sensor_mac(0xABCD), 0x1E306CA2ABCDULL);
-  EXPECT_EQ(format_value(logical_value_info(LogicalValueId::sensor_mac), default_sensor_mac(157)),
-            "1E:30:6C:A2:00:9D");
+  EXPECT_EQ(format_value(logical_value_info(LogicalValueId::sensor_mac), default_sensor_mac(157)), "1E:30:6C:A2:00:9D");
   EXPECT_EQ(default_byte(*find_parameter(0x64), 0x1234), 0x12);
   EXPECT_EQ(default_byte(*find_parameter(0x65), 0x1234), 0x34);
 }
@@ -298,10 +297,9 @@ TEST(Ls5ParameterTable, ConfigurationExampleOfTable93) {
   };
   // Table 9.3, every configuration command, in order.
   const Row rows[] = {
-      {"#01W1512\r", 0x15, 0x12}, {"#01W1620\r", 0x16, 0x20}, {"#01W174E\r", 0x17, 0x4E},
-      {"#01W1840\r", 0x18, 0x40}, {"#01W199C\r", 0x19, 0x9C}, {"#01W1A10\r", 0x1A, 0x10},
-      {"#01W1B27\r", 0x1B, 0x27}, {"#01W1C30\r", 0x1C, 0x30}, {"#01W1D75\r", 0x1D, 0x75},
-      {"#01W0301\r", 0x03, 0x01}, {"#01W1100\r", 0x11, 0x00}, {"#01W1200\r", 0x12, 0x00},
+      {"#01W1512\r", 0x15, 0x12}, {"#01W1620\r", 0x16, 0x20}, {"#01W174E\r", 0x17, 0x4E}, {"#01W1840\r", 0x18, 0x40},
+      {"#01W199C\r", 0x19, 0x9C}, {"#01W1A10\r", 0x1A, 0x10}, {"#01W1B27\r", 0x1B, 0x27}, {"#01W1C30\r", 0x1C, 0x30},
+      {"#01W1D75\r", 0x1D, 0x75}, {"#01W0301\r", 0x03, 0x01}, {"#01W1100\r", 0x11, 0x00}, {"#01W1200\r", 0x12, 0x00},
       {"#01W1350\r", 0x13, 0x50}, {"#01W14C3\r", 0x14, 0xC3},
   };
   std::uint8_t memory[256] = {};
@@ -351,7 +349,8 @@ TEST(Ls5ParameterTable, EnumerationsOfTable92L22) {
 
   EXPECT_EQ(latching_mode_from_byte(0x09), LatchingMode::output1_lower_output2_upper_to_rom);
   EXPECT_FALSE(latching_mode_from_byte(0x0A).has_value());
-  for (const std::uint8_t odd : U8s{0x03, 0x05, 0x07, 0x09}) EXPECT_TRUE(latching_writes_rom(*latching_mode_from_byte(odd)));
+  for (const std::uint8_t odd : U8s{0x03, 0x05, 0x07, 0x09})
+    EXPECT_TRUE(latching_writes_rom(*latching_mode_from_byte(odd)));
   for (const std::uint8_t even : U8s{0x00, 0x01, 0x02, 0x04, 0x06, 0x08}) {
     EXPECT_FALSE(latching_writes_rom(*latching_mode_from_byte(even)));
   }

@@ -36,8 +36,8 @@ TEST(Ls5Version, Ordering) {
 }
 
 TEST(Ls5Version, RejectsOtherText) {
-  for (const std::string_view text : {"", "LS5", "LS5.", "LS5.6", "LS5.6.", "LS5..0", "LS4.6.0", "ls5.6.0",
-                                      "LS5.6.0 ", " LS5.6.0", "LS5.6.0.1", "LS5.1000.0", "LS5.x.0", "LS5.-1.0"}) {
+  for (const std::string_view text : {"", "LS5", "LS5.", "LS5.6", "LS5.6.", "LS5..0", "LS4.6.0", "ls5.6.0", "LS5.6.0 ",
+                                      " LS5.6.0", "LS5.6.0.1", "LS5.1000.0", "LS5.x.0", "LS5.-1.0"}) {
     const auto version = parse_firmware_version(text);
     ASSERT_FALSE(version.ok()) << text;
     EXPECT_EQ(version.error().code, Errc::bad_number);

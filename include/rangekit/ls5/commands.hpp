@@ -48,13 +48,13 @@ struct CommandInfo {
   std::string_view cli_name;  // lower-case, dash-separated
   RequestForm request;
   ResponseForm response;
-  bool broadcast_allowed;     // table 9.1 note 1: may be sent to address 00
-  bool silent_on_broadcast;   // table 9.1 note 2: no reply when broadcast
+  bool broadcast_allowed;    // table 9.1 note 1: may be sent to address 00
+  bool silent_on_broadcast;  // table 9.1 note 2: no reply when broadcast
 };
 
 std::span<const CommandInfo> command_table() noexcept;
 const CommandInfo& command_info(CommandId id) noexcept;
-const CommandInfo* find_command_by_code(std::string_view code) noexcept;       // exact, upper case
+const CommandInfo* find_command_by_code(std::string_view code) noexcept;  // exact, upper case
 const CommandInfo* find_command_by_cli_name(std::string_view cli_name) noexcept;
 
 // Number of characters after the command code in a request / in the matching reply.

@@ -47,9 +47,7 @@ class FixedText {
     return {reinterpret_cast<const std::uint8_t*>(data_.data()), size_};
   }
 
-  friend constexpr bool operator==(const FixedText& a, const FixedText& b) noexcept {
-    return a.view() == b.view();
-  }
+  friend constexpr bool operator==(const FixedText& a, const FixedText& b) noexcept { return a.view() == b.view(); }
   friend constexpr bool operator==(const FixedText& a, std::string_view b) noexcept { return a.view() == b; }
 
  private:

@@ -77,8 +77,7 @@ struct LatchRecalculation {
 
 // What latching `latched` does under latching byte `mode` (parameter 1F), with the
 // fixed ranges of parameters 23/24 (analog) and 25/26 (discrete outputs).
-Result<LatchRecalculation> recalculate_on_latch(std::uint8_t mode, ResultCode latched,
-                                                std::uint16_t analog_fixed_range,
+Result<LatchRecalculation> recalculate_on_latch(std::uint8_t mode, ResultCode latched, std::uint16_t analog_fixed_range,
                                                 std::uint16_t discrete_fixed_range);
 
 // ---- Derivative, §8.8 (conformance L11) ----

@@ -13,7 +13,7 @@ inline constexpr char request_start = '#';
 inline constexpr char reply_start = '!';
 inline constexpr char identification_start = '%';
 inline constexpr char frame_terminator = '\r';
-inline constexpr std::size_t max_frame_length = 64;  // before the CR (F5)
+inline constexpr std::size_t max_frame_length = 64;      // before the CR (F5)
 inline constexpr std::uint8_t broadcast_address = 0x00;  // §8.1, L3
 
 // Host -> sensor: frames starting with '#'.

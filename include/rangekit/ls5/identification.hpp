@@ -21,7 +21,7 @@ inline constexpr std::size_t identification_serial_width = 7;
 
 struct Identification {
   FixedText<identification_version_width> version_text;  // trailing spaces removed
-  std::optional<FirmwareVersion> version;                 // when version_text parses (conformance L17)
+  std::optional<FirmwareVersion> version;                // when version_text parses (conformance L17)
   double lower_boundary_mm = 0.0;
   double range_mm = 0.0;
   std::uint32_t serial_number = 0;  // 0-9999999
@@ -35,7 +35,7 @@ Result<Identification> decode_identification_field(std::string_view field);
 Result<IdentificationField> encode_identification_field(const Identification& identification);
 
 // An Identification whose version_text and version agree.
-Result<Identification> make_identification(std::string_view version_text, double lower_boundary_mm,
-                                           double range_mm, std::uint32_t serial_number);
+Result<Identification> make_identification(std::string_view version_text, double lower_boundary_mm, double range_mm,
+                                           std::uint32_t serial_number);
 
 }  // namespace rangekit::ls5

@@ -55,7 +55,7 @@ std::uint64_t default_value(const LogicalValueInfo& info, std::uint32_t serial_n
 
 // Table 9.2 unit conversions. Each rejects values that are not a whole number of
 // units or do not fit (conformance L21).
-Result<std::uint16_t> period_code_from_ms(double milliseconds);          // t = code × 0.1 ms, code 0001-FFFF
+Result<std::uint16_t> period_code_from_ms(double milliseconds);  // t = code × 0.1 ms, code 0001-FFFF
 double period_ms(std::uint16_t code) noexcept;
 Result<std::uint16_t> signal_absence_code_from_ms(double milliseconds);  // τ = code × 1 ms, code 0000-FFFF
 

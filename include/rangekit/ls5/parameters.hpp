@@ -15,26 +15,26 @@ namespace rangekit::ls5 {
 
 // The values that are built from several parameter bytes (conformance L5).
 enum class LogicalValueId : std::uint8_t {
-  none,                   // the byte is a parameter on its own
-  measurement_period,     // 06/07, 0.1 ms units
-  signal_absence_time,    // 09/0A, τ in ms
-  analog_lower_limit,     // 11/12, code 0-50000
-  analog_upper_limit,     // 13/14
-  output1_first_swing,    // 16/17
-  output1_second_swing,   // 18/19
-  output2_first_swing,    // 1A/1B
-  output2_second_swing,   // 1C/1D
-  max_exposure_time,      // 20/21, µs
-  analog_fixed_range,     // 23/24, code
-  discrete_fixed_range,   // 25/26, code
-  sensor_ip,              // 50-53
-  gateway_ip,             // 54-57
-  subnet_mask,            // 58-5B
-  destination_ip,         // 5C-5F
-  sensor_mac,             // 60-65
-  destination_mac,        // 66-6B
-  destination_port,       // 6C/6D, high byte first
-  source_port,            // 6E/6F, high byte first
+  none,                  // the byte is a parameter on its own
+  measurement_period,    // 06/07, 0.1 ms units
+  signal_absence_time,   // 09/0A, τ in ms
+  analog_lower_limit,    // 11/12, code 0-50000
+  analog_upper_limit,    // 13/14
+  output1_first_swing,   // 16/17
+  output1_second_swing,  // 18/19
+  output2_first_swing,   // 1A/1B
+  output2_second_swing,  // 1C/1D
+  max_exposure_time,     // 20/21, µs
+  analog_fixed_range,    // 23/24, code
+  discrete_fixed_range,  // 25/26, code
+  sensor_ip,             // 50-53
+  gateway_ip,            // 54-57
+  subnet_mask,           // 58-5B
+  destination_ip,        // 5C-5F
+  sensor_mac,            // 60-65
+  destination_mac,       // 66-6B
+  destination_port,      // 6C/6D, high byte first
+  source_port,           // 6E/6F, high byte first
 };
 
 // A run of accepted byte values first, first+step, ..., last, available from `since`.

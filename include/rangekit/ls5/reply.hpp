@@ -25,12 +25,12 @@ enum class ReplyKind : std::uint8_t {
 
 struct Reply {
   ReplyKind kind = ReplyKind::echo;
-  std::uint8_t address = 0x01;  // not used by stream records
+  std::uint8_t address = 0x01;             // not used by stream records
   CommandId command = CommandId::turn_on;  // not used by stream records
-  std::uint8_t parameter = 0;   // R, W
-  std::uint8_t value = 0;       // R, W
-  ResultCode result{};          // result, stream_record
-  Identification identification{};  // identification
+  std::uint8_t parameter = 0;              // R, W
+  std::uint8_t value = 0;                  // R, W
+  ResultCode result{};                     // result, stream_record
+  Identification identification{};         // identification
 
   static Reply echo(const Request& request) noexcept;
   static Reply parameter_value(std::uint8_t address, std::uint8_t parameter, std::uint8_t value) noexcept;

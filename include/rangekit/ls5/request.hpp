@@ -13,8 +13,8 @@ namespace rangekit::ls5 {
 struct Request {
   std::uint8_t address = 0x01;  // 00 broadcast, 01-FF a sensor
   CommandId command = CommandId::identification;
-  std::uint8_t parameter = 0;   // R and W
-  std::uint8_t value = 0;       // W
+  std::uint8_t parameter = 0;  // R and W
+  std::uint8_t value = 0;      // W
 
   static constexpr Request simple(std::uint8_t address, CommandId command) noexcept {
     return Request{address, command, 0, 0};

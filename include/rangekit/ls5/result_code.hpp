@@ -9,9 +9,9 @@
 namespace rangekit::ls5 {
 
 inline constexpr std::uint16_t max_result_code = 50000;
-inline constexpr std::uint16_t derivative_zero_code = 25000;       // formula 8.2
-inline constexpr std::uint16_t code_no_measurement_yet = 65534;    // §8.9
-inline constexpr std::uint16_t code_no_signal = 65535;             // §8.9
+inline constexpr std::uint16_t derivative_zero_code = 25000;     // formula 8.2
+inline constexpr std::uint16_t code_no_measurement_yet = 65534;  // §8.9
+inline constexpr std::uint16_t code_no_signal = 65535;           // §8.9
 
 enum class CodeKind : std::uint8_t { result, no_measurement_yet, no_signal };
 

@@ -74,10 +74,10 @@ struct ByteFormat {
 std::span<const ByteFormat> byte_format_table() noexcept;
 std::optional<ByteFormat> byte_format_from_code(std::uint8_t code) noexcept;
 
-enum class Triggering : std::uint8_t { timer = 0x00, sync_input = 0x01 };          // parameter 1E
-enum class PreFilter : std::uint8_t { averaging = 0x00, median = 0x01 };           // parameter 0B
-enum class ResultType : std::uint8_t { pure = 0x00, derivative = 0x01 };           // parameter 0E
-enum class Priority : std::uint8_t { frequency = 0x00, sensitivity = 0x01 };       // parameter 22
+enum class Triggering : std::uint8_t { timer = 0x00, sync_input = 0x01 };     // parameter 1E
+enum class PreFilter : std::uint8_t { averaging = 0x00, median = 0x01 };      // parameter 0B
+enum class ResultType : std::uint8_t { pure = 0x00, derivative = 0x01 };      // parameter 0E
+enum class Priority : std::uint8_t { frequency = 0x00, sensitivity = 0x01 };  // parameter 22
 
 // Parameter 1F (table 9.2, §8.13, §8.14).
 enum class LatchingMode : std::uint8_t {

@@ -34,10 +34,10 @@ struct FirmwareVersion {
 
 // Versions the document names (table 9.2 notes 2-5, §8.5, §8.8, §8.14).
 inline constexpr FirmwareVersion any_firmware{0, 0};
-inline constexpr FirmwareVersion firmware_6_0{6, 0};    // baud rates above 115200, standby mode (§8.2)
-inline constexpr FirmwareVersion firmware_7_0{7, 0};    // exposure time and priority (§8.5)
-inline constexpr FirmwareVersion firmware_8_0{8, 0};    // type of preliminary result (§8.8)
-inline constexpr FirmwareVersion firmware_9_0{9, 0};    // latching with recalculation (§8.14)
+inline constexpr FirmwareVersion firmware_6_0{6, 0};          // baud rates above 115200, standby mode (§8.2)
+inline constexpr FirmwareVersion firmware_7_0{7, 0};          // exposure time and priority (§8.5)
+inline constexpr FirmwareVersion firmware_8_0{8, 0};          // type of preliminary result (§8.8)
+inline constexpr FirmwareVersion firmware_9_0{9, 0};          // latching with recalculation (§8.14)
 inline constexpr FirmwareVersion firmware_12_x{12, 0, true};  // Ethernet settings (table 9.2 note 5)
 
 // Parses "LS5.<major>.<minor>" where major and minor are 1-3 decimal digits and
