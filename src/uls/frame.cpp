@@ -38,10 +38,12 @@ std::string describe_byte(std::uint8_t byte, std::size_t offset) {
   return "non-ASCII byte " + detail::hex_byte(byte) + at;
 }
 
-Result<FrameView> parse_body(FrameView view, std::string_view body, std::size_t body_offset) {
+// Fills `view` in place (it is large; copying it per frame shows on the hot path).
+Status parse_body(FrameView& view, std::string_view body, std::size_t body_offset) {
   if (body.empty()) return frame_error(Errc::truncated, "empty mnemonic");
   for (std::size_t i = 0; i < body.size(); ++i) {
     const auto byte = static_cast<std::uint8_t>(body[i]);
+    if (byte > '$' && byte < 0x7F) continue;  // digits, letters, ',' and '.': the common case
     const bool printable = byte >= 0x20 && byte < 0x7F && byte != '$' && byte != '#';
     if (!printable && !(byte >= 0x7F && is_unit_address_value(body, i))) {
       return frame_error(Errc::invalid_frame, describe_byte(byte, body_offset + i));
@@ -50,7 +52,7 @@ Result<FrameView> parse_body(FrameView view, std::string_view body, std::size_t 
   if (is_time_between_events(body)) {
     view.kind = FrameKind::time_between_events;
     view.event_text = body;
-    return view;
+    return ok_status();
   }
 
   const std::size_t comma = body.find(',');
@@ -70,7 +72,7 @@ Result<FrameView> parse_body(FrameView view, std::string_view body, std::size_t 
     return frame_error(Errc::invalid_frame, "mnemonic " + detail::quoted(mnemonic) + " is not 2 to 4 letters");
   }
   view.mnemonic = mnemonic;
-  if (comma == std::string_view::npos) return view;
+  if (comma == std::string_view::npos) return ok_status();
 
   const std::size_t count = text::split(body.substr(comma + 1), ',', view.field_slots);
   if (count > max_fields) {
@@ -82,7 +84,7 @@ Result<FrameView> parse_body(FrameView view, std::string_view body, std::size_t 
       return frame_error(Errc::invalid_frame, "field " + std::to_string(i + 1) + " is empty");
     }
   }
-  return view;
+  return ok_status();
 }
 
 }  // namespace
@@ -111,7 +113,10 @@ Result<FrameView> parse_frame(Bytes frame) {
   } else if (start != '$') {
     return frame_error(Errc::invalid_frame, "starts with " + detail::hex_byte(start) + ", not '$' or '#'");
   }
-  return parse_body(view, as_text(frame.subspan(body_offset)), body_offset);
+  if (auto parsed = parse_body(view, as_text(frame.subspan(body_offset)), body_offset); !parsed) {
+    return std::move(parsed).error();
+  }
+  return view;
 }
 
 Result<FrameView> parse_frame(std::string_view frame) { return parse_frame(as_bytes(frame)); }

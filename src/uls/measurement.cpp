@@ -16,37 +16,45 @@ int decimals_for(Units units) noexcept { return units == Units::metres ? 3 : 2; 
 const char* units_word(Units units) noexcept { return units == Units::metres ? "metres" : "feet"; }
 
 // "[-]digits.ddd" (metres) or "[-]digits.dd" (feet), at most 8 characters (U9, U27).
+// One pass that checks and converts: this sits on the measurement hot path.
 Result<Range> read_range(std::string_view field, Units units) {
   if (field.size() > max_range_chars) {
     return line_error(Errc::overlong, "range " + detail::quoted(field) + " longer than 8 characters");
   }
-  const std::size_t point = field.find('.');
-  const std::string_view integer = field.substr(0, point);
-  const std::string_view digits = (!integer.empty() && integer.front() == '-') ? integer.substr(1) : integer;
-  const auto all_digits = [](std::string_view text) {
-    if (text.empty()) return false;
-    for (const char c : text) {
-      if (!text::is_digit(c)) return false;
+  std::size_t i = 0;
+  const bool negative = !field.empty() && field.front() == '-';
+  if (negative) ++i;
+  std::uint64_t mantissa = 0;
+  std::size_t integer_digits = 0;
+  std::size_t fraction_digits = 0;
+  bool point = false;
+  bool number = true;
+  for (; i < field.size(); ++i) {
+    const char c = field[i];
+    if (c == '.' && !point) {
+      point = true;
+      continue;
     }
-    return true;
-  };
-  if (point == std::string_view::npos) {
-    const bool number = all_digits(digits);
-    return line_error(number ? Errc::wrong_form : Errc::bad_number,
-                      "range " + detail::quoted(field) + (number ? " has no decimal point" : " is not a number"));
+    if (!text::is_digit(c)) {
+      number = false;
+      break;
+    }
+    mantissa = mantissa * 10 + static_cast<std::uint64_t>(c - '0');
+    ++(point ? fraction_digits : integer_digits);
   }
-  const std::string_view fraction = field.substr(point + 1);
-  if (!all_digits(digits) || !all_digits(fraction)) {
+  if (!point && number && integer_digits > 0) {
+    return line_error(Errc::wrong_form, "range " + detail::quoted(field) + " has no decimal point");
+  }
+  if (!number || !point || integer_digits == 0 || fraction_digits == 0) {
     return line_error(Errc::bad_number, "range " + detail::quoted(field) + " is not a number");
   }
-  if (static_cast<int>(fraction.size()) != decimals_for(units)) {
-    return line_error(Errc::wrong_form, "range " + detail::quoted(field) + " has " + std::to_string(fraction.size()) +
+  if (static_cast<int>(fraction_digits) != decimals_for(units)) {
+    return line_error(Errc::wrong_form, "range " + detail::quoted(field) + " has " + std::to_string(fraction_digits) +
                                             " decimals; " + units_word(units) + " are written with " +
                                             std::to_string(decimals_for(units)));
   }
-  const std::optional<double> value = text::parse_decimal(field, '.');
-  if (!value) return line_error(Errc::bad_number, "range " + detail::quoted(field) + " is not a number");
-  return make_range(*value, units);
+  const double magnitude = static_cast<double>(mantissa) / (fraction_digits == 3 ? 1000.0 : 100.0);
+  return make_range(negative ? -magnitude : magnitude, units);
 }
 
 Result<std::uint32_t> read_unsigned(std::string_view field, std::size_t max_digits, std::uint64_t max_value,
