@@ -158,6 +158,18 @@ TEST(SerialPort, UnsupportedBaudIsRefusedWithTheRate) {
   EXPECT_NE(port.error().message.find("250000"), std::string::npos);
 }
 
+// docs/conformance.md H1: ULS §9 lists 14400 baud, which termios cannot set.
+TEST(SerialPort, UlsBaud14400IsRefusedClearly) {
+  auto pty = PseudoTerminal::open();
+  ASSERT_TRUE(pty);
+  auto port = SerialPort::open((*pty)->slave_path(), SerialSettings{14400, Parity::none, 1});
+  ASSERT_FALSE(port);
+  EXPECT_EQ(port.error().code, Errc::unsupported);
+  EXPECT_NE(port.error().message.find("14400 baud is not a speed this system's serial driver can set"),
+            std::string::npos)
+      << port.error().message;
+}
+
 TEST(SerialSettings, BitsPerByte) {
   EXPECT_EQ((SerialSettings{115200, Parity::none, 1}.bits_per_byte()), 10);
   EXPECT_EQ((SerialSettings{115200, Parity::even, 1}.bits_per_byte()), 11);
