@@ -1,0 +1,167 @@
+// The LS5 firmware as a pure state machine (issue 5): one serial port, the
+// parameter memory of table 9.2 in RAM and ROM, the commands of table 9.1 and
+// the measurement pipeline of figure 8.7. No I/O: time comes only from `now`,
+// UDP packets leave through a callback, ROM through a StateStore.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "rangekit/core/device_model.hpp"
+#include "rangekit/core/motion.hpp"
+#include "rangekit/core/serial_pacer.hpp"
+#include "rangekit/core/state_store.hpp"
+#include "rangekit/ls5/ls5.hpp"
+
+namespace rangekit::ls5::emulator {
+
+// A span of time with no signal (shading or dust on the glass).
+struct Dropout {
+  double start_s = 0;
+  double end_s = 0;
+  std::string kind = "shading";
+};
+
+// What the sensor looks at (docs/emulator-ls5.md, "Scene").
+struct Scene {
+  Motion target = Motion::fixed(-1);  // distance from the sensor's window in mm; < 0: the middle of the range
+  bool target_set = false;
+  double reflectivity = 1.0;    // 0 (black) .. 1 (white)
+  double noise_mm = -1;         // standard deviation; < 0: a third of the table 5.1 error (0.15 % of range)
+  double dust_probability = 0;  // chance of a lost measurement each cycle
+  std::vector<Dropout> dropouts;
+};
+
+// Reads a scene file; errors name the file, line and key.
+Result<Scene> load_scene(const std::string& path);
+Result<Scene> parse_scene(std::string_view text, const std::string& source_name);
+
+struct FirmwareConfig {
+  double lower_boundary_mm = 8.1234;
+  double range_mm = 40.001;
+  std::uint32_t serial_number = 157;
+  std::string version_text = "LS5.12.0";
+  std::uint8_t factory_address = 0x01;  // the network address's default (--address)
+  AnalogRange analog = current_4_20_mA;
+  std::string state_dir;  // empty: ROM does not persist across processes
+  std::uint32_t seed = 1;
+  Scene scene{};
+  // Called with each full UDP packet (Ethernet models, parameter 70 on).
+  std::function<void(const std::array<std::uint8_t, udp_packet_size>&)> udp_sink;
+};
+
+// Parses "8.1234/40.001" into lower boundary and range.
+Result<std::pair<double, double>> parse_model(std::string_view text);
+
+class Firmware final : public DeviceModel {
+ public:
+  static Result<std::unique_ptr<Firmware>> create(FirmwareConfig config, Nanos now = Nanos{0});
+
+  [[nodiscard]] std::size_t port_count() const noexcept override { return 1; }
+  [[nodiscard]] SerialSettings port_settings(std::size_t port) const override;
+  void receive(std::size_t port, std::uint8_t byte, Nanos now) override;
+  void advance(Nanos now) override;
+  [[nodiscard]] Nanos next_deadline() const override;
+  void take_line_output(std::size_t port, Nanos now, std::vector<LineByte>& out) override;
+  nlohmann::json control(const nlohmann::json& request, Nanos now) override;
+  [[nodiscard]] std::string label() const override;
+
+  // For tests and the control socket.
+  void power_cycle(Nanos now);
+  void set_sync_input(bool high, Nanos now);
+  void set_scene(Scene scene) { config_.scene = std::move(scene); }
+  [[nodiscard]] std::uint8_t ram(std::uint8_t address) const noexcept { return ram_[address]; }
+  [[nodiscard]] std::optional<std::uint8_t> rom(std::uint8_t address) const;
+  [[nodiscard]] double analog_value() const noexcept { return analog_; }
+  [[nodiscard]] bool output1() const noexcept { return oc1_; }
+  [[nodiscard]] bool output2() const noexcept { return oc2_; }
+  [[nodiscard]] bool laser_on() const noexcept { return on_ && phase_ == Phase::operating; }
+  [[nodiscard]] bool streaming() const noexcept { return streaming_; }
+  [[nodiscard]] ResultCode current_result() const noexcept { return current_; }
+  [[nodiscard]] std::uint64_t measurements() const noexcept { return measurements_; }
+  [[nodiscard]] std::uint64_t records_sent() const noexcept { return records_sent_; }
+  [[nodiscard]] std::uint64_t records_skipped() const noexcept { return records_skipped_; }
+  [[nodiscard]] std::uint64_t udp_packets() const noexcept { return udp_packets_; }
+  [[nodiscard]] std::string_view phase_name() const noexcept;
+  [[nodiscard]] const Status& last_state_error() const noexcept { return state_error_; }
+
+ private:
+  enum class Phase { initializing, standby, operating };
+  explicit Firmware(FirmwareConfig config);
+
+  void load_defaults();
+  void load_rom_into_ram();
+  Status save_rom();
+  [[nodiscard]] SerialSettings stored_serial_settings() const;
+  [[nodiscard]] std::uint32_t bits_hundredths(const SerialSettings& settings) const;
+  void apply_serial(const SerialSettings& settings, Nanos now);
+  void enter_operating(Nanos now);
+
+  void handle_frame(Bytes frame, Nanos now);
+  void reply(const Reply& reply, Nanos now);
+  void drain_pacer(Nanos now);
+
+  [[nodiscard]] std::uint16_t u16(std::uint8_t low_address) const noexcept;
+  [[nodiscard]] Nanos period() const noexcept;
+  void measure(Nanos now, bool from_sync);
+  [[nodiscard]] std::optional<double> raw_measurement(Nanos now, bool& weak);
+  void update_outputs();
+  void latch(Nanos now);
+  void push_udp(const ResultCode& code);
+
+  FirmwareConfig config_;
+  FirmwareVersion version_{};
+  SensorModel model_{};
+  StateStore store_;
+  std::array<std::uint8_t, 256> ram_{};
+  std::optional<std::array<std::uint8_t, 256>> rom_;
+  Status state_error_ = ok_status();
+  std::mt19937 random_;
+
+  Phase phase_ = Phase::operating;
+  Nanos phase_until_ = Nanos::max();
+  bool on_ = true;
+  bool streaming_ = false;
+  bool sync_high_ = false;
+
+  SerialSettings serial_{};
+  SerialPacer pacer_;
+  std::vector<LineByte> sent_;
+  std::optional<SerialSettings> pending_serial_;
+  Nanos pending_serial_at_ = Nanos::max();
+  std::vector<std::uint8_t> rx_;
+  Nanos last_now_{0};
+
+  // Measurement pipeline.
+  Nanos next_measurement_ = Nanos::max();
+  Nanos last_measurement_ = Nanos::min();
+  std::optional<std::uint16_t> previous_raw_;  // for the derivative
+  std::optional<std::uint16_t> last_valid_;    // after the derivative, for τ
+  Nanos last_valid_at_{0};
+  std::deque<std::uint16_t> window_;  // pre-filter
+  ResultCode current_{};
+  ResultCode latched_{};
+  std::optional<std::uint16_t> last_result_code_;  // for the analog output's no-signal extreme
+  std::uint64_t measurements_ = 0;
+  std::uint64_t thinning_count_ = 0;
+  std::uint64_t records_sent_ = 0;
+  std::uint64_t records_skipped_ = 0;
+  bool measured_once_ = false;
+  double analog_ = 0;
+  bool oc1_ = false;
+  bool oc2_ = false;
+
+  // Ethernet.
+  UdpPacket udp_packet_{};
+  std::size_t udp_fill_ = 0;
+  std::uint8_t udp_counter_ = 0;
+  std::uint64_t udp_packets_ = 0;
+};
+
+}  // namespace rangekit::ls5::emulator
