@@ -1,0 +1,920 @@
+// The ULS firmware model; see firmware.hpp and docs/emulator-uls.md.
+#include "uls/emulator/firmware.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
+namespace rangekit::uls::emulator {
+namespace {
+
+constexpr double minimum_range_m = 0.15;        // §9
+constexpr double cooperative_range_m = 1700.0;  // §9 reflective sheet
+// §9 maximum ranges by power level (high, medium, low).
+constexpr std::array<double, 3> white_range_m{266.0, 228.0, 188.0};  // 90% white
+constexpr std::array<double, 3> gray_range_m{133.0, 114.0, 94.0};    // 20% gray
+// Single-pulse timing jitter (one sigma) and the time quantum of a pulse (docs/emulator-uls.md).
+constexpr double jitter_m = 0.02;
+constexpr double cooperative_jitter_m = 0.01;
+constexpr double quantum_m = 0.05;
+constexpr std::uint32_t dither_cycle = 32;  // §3
+constexpr double detect_probability = 0.99;
+
+std::string number_text(double value) {
+  std::string text = std::to_string(value);  // fixed, 6 decimals
+  while (!text.empty() && text.back() == '0') text.pop_back();
+  if (!text.empty() && text.back() == '.') text.pop_back();
+  return text;
+}
+
+std::string distance_text(double metres, Units units) {
+  auto field = format_distance(from_metres(metres, units), units);
+  return field ? std::string(field->view()) : std::string("0");
+}
+
+double parse_number(std::string_view text) { return std::strtod(std::string(text).c_str(), nullptr); }
+
+std::uint32_t parse_unsigned(std::string_view text) {
+  return static_cast<std::uint32_t>(std::strtoul(std::string(text).c_str(), nullptr, 10));
+}
+
+double seconds(Nanos span) { return static_cast<double>(span.count()) / 1e9; }
+
+}  // namespace
+
+// --- Settings in non-volatile memory ---
+
+nlohmann::json Settings::to_json() const {
+  return {{"MM", wire_value(mode)},
+          {"PF", prf},
+          {"PO", ppm},
+          {"AW", averaging_weight},
+          {"DD", dither},
+          {"BS", bin_size},
+          {"BH", bin_hits},
+          {"CO", continuous},
+          {"FL", cooperative_filter},
+          {"DM", wire_value(display)},
+          {"AF", fault_current_ma},
+          {"AT", fault_timeout_s},
+          {"LG", long_gate_m},
+          {"SG", short_gate_m},
+          {"MO", wire_value(output_port)},
+          {"MU", wire_value(units)},
+          {"PL", wire_value(power)},
+          {"AH", range_at_20ma_m},
+          {"AL", range_at_4ma_m},
+          {"TE", termination},
+          {"TB", time_between_events},
+          {"TP", trip_point_m},
+          {"TT", trip_timeout_pulses},
+          {"UA", address},
+          {"OF", offset_m},
+          {"MA", autostart},
+          {"PA", pointer_autostart},
+          {"CL", current_loop},
+          {"BR", baud}};
+}
+
+Settings Settings::from_json(const nlohmann::json& memory, const Settings& defaults) {
+  Settings s = defaults;
+  auto get = [&](const char* key, auto& field) {
+    if (memory.contains(key)) field = memory.at(key).get<std::decay_t<decltype(field)>>();
+  };
+  std::uint8_t mode = wire_value(s.mode), display = wire_value(s.display), port = wire_value(s.output_port),
+               units = wire_value(s.units), power = wire_value(s.power);
+  get("MM", mode);
+  get("DM", display);
+  get("MO", port);
+  get("MU", units);
+  get("PL", power);
+  s.mode = to_mode(mode).value_or(defaults.mode);
+  s.display = to_display_mode(display).value_or(defaults.display);
+  s.output_port = to_output_port(port).value_or(defaults.output_port);
+  s.units = to_units(units).value_or(defaults.units);
+  s.power = to_power_level(power).value_or(defaults.power);
+  get("PF", s.prf);
+  get("PO", s.ppm);
+  get("AW", s.averaging_weight);
+  get("DD", s.dither);
+  get("BS", s.bin_size);
+  get("BH", s.bin_hits);
+  get("CO", s.continuous);
+  get("FL", s.cooperative_filter);
+  get("AF", s.fault_current_ma);
+  get("AT", s.fault_timeout_s);
+  get("LG", s.long_gate_m);
+  get("SG", s.short_gate_m);
+  get("AH", s.range_at_20ma_m);
+  get("AL", s.range_at_4ma_m);
+  get("TE", s.termination);
+  get("TB", s.time_between_events);
+  get("TP", s.trip_point_m);
+  get("TT", s.trip_timeout_pulses);
+  get("UA", s.address);
+  get("OF", s.offset_m);
+  get("MA", s.autostart);
+  get("PA", s.pointer_autostart);
+  get("CL", s.current_loop);
+  get("BR", s.baud);
+  return s;
+}
+
+// --- Construction and power ---
+
+Firmware::Firmware(FirmwareOptions options, Nanos now)
+    : options_(std::move(options)),
+      store_(options_.state_dir, options_.state_key),
+      scene_(options_.scene),
+      random_(options_.seed) {
+  if (options_.address) factory_.address = *options_.address;
+  boot(now);
+}
+
+void Firmware::boot(Nanos now) {
+  settings_ = factory_;
+  if (auto memory = store_.load(); memory && memory->has_value()) {
+    try {
+      settings_ = Settings::from_json(**memory, factory_);
+    } catch (const nlohmann::json::exception&) {
+      settings_ = factory_;  // unreadable memory: factory defaults
+    }
+  }
+  for (std::size_t i = 0; i < ports_.size(); ++i) {
+    ports_[i].input.clear();
+    ports_[i].outbox.clear();
+    ports_[i].pending_baud.reset();
+    ports_[i].pacer = SerialPacer(settings_.baud[i], uls_hundredths_of_bits);
+  }
+  measuring_ = false;
+  latest_.clear();
+  polls_.clear();
+  last_distance_m_.reset();
+  last_error_ = 0;
+  error_since_.reset();
+  pointer_ = settings_.pointer_autostart;
+  last_now_ = now;
+  if (settings_.autostart) start_measuring(now);  // §2 ULS Autostart
+}
+
+void Firmware::power_cycle(Nanos now) { boot(now); }
+
+std::string Firmware::label() const {
+  if (settings_.address == 0) return "ULS (unassigned)";
+  return std::string("ULS #") + static_cast<char>(settings_.address);
+}
+
+SerialSettings Firmware::port_settings(std::size_t port) const {
+  return SerialSettings{settings_.baud[std::min<std::size_t>(port, 1)], Parity::none, 1};
+}
+
+// --- Serial side ---
+
+void Firmware::drain(Port& port, Nanos now) {
+  while (port.pacer.next_completion() <= now) {
+    const Nanos done = port.pacer.next_completion();
+    std::vector<std::uint8_t> bytes;
+    port.pacer.take_sent(done, bytes);
+    for (const auto value : bytes) port.outbox.push_back(LineByte{done, value});
+  }
+  while (port.outbox.size() > 65536) port.outbox.pop_front();  // nobody reads this port
+  if (port.pending_baud && port.pending_at <= now && port.pacer.queued() == 0) {
+    // BR takes effect once the $OK has left the line (§8 Set/Get Baud Rate, U36).
+    const std::size_t index = static_cast<std::size_t>(&port - ports_.data());
+    settings_.baud[index] = *port.pending_baud;
+    port.pacer.reconfigure(*port.pending_baud, uls_hundredths_of_bits, port.pending_at);
+    port.pending_baud.reset();
+  }
+}
+
+void Firmware::take_line_output(std::size_t port, Nanos now, std::vector<LineByte>& out) {
+  if (port >= ports_.size()) return;
+  advance(now);
+  auto& p = ports_[port];
+  while (!p.outbox.empty() && p.outbox.front().done <= now) {
+    out.push_back(p.outbox.front());
+    p.outbox.pop_front();
+  }
+}
+
+void Firmware::receive(std::size_t port, std::uint8_t byte, Nanos now) {
+  if (port >= ports_.size()) return;
+  advance(now);
+  auto& input = ports_[port].input;
+  input.push_back(byte);
+  while (!input.empty()) {
+    const FrameScan scan = scan_frame(Bytes(input.data(), input.size()));
+    if (scan.status == FrameStatus::need_more) break;
+    if (scan.status == FrameStatus::complete) {
+      const std::vector<std::uint8_t> frame(scan.frame.begin(), scan.frame.end());
+      input.erase(input.begin(), input.begin() + static_cast<std::ptrdiff_t>(scan.consumed));
+      auto parsed = parse_frame(Bytes(frame.data(), frame.size()));
+      if (parsed) {
+        handle_frame(port, *parsed, now);
+      } else if (!frame.empty() && frame[0] == '$') {
+        reply(port, false, encode_error_reply(Address::none(), 1), now);  // malformed '$' frame (U37)
+      } else if (frame.size() > 1 && frame[0] == '#' && settings_.address != 0 && frame[1] == settings_.address) {
+        reply(port, false, encode_error_reply(Address::unit(settings_.address), 1), now);
+      }
+      continue;
+    }
+    // Invalid bytes (noise, a cut frame): dropped silently (U37).
+    input.erase(input.begin(), input.begin() + static_cast<std::ptrdiff_t>(std::max<std::size_t>(scan.consumed, 1)));
+  }
+}
+
+void Firmware::reply(std::size_t port, bool silent, const Result<FrameText>& frame, Nanos now) {
+  if (silent || !frame) return;
+  ports_[port].pacer.send(frame->bytes(), now);
+}
+
+void Firmware::reply_values(std::size_t port, Address to, bool silent, std::string_view mnemonic,
+                            std::initializer_list<std::string_view> values, Nanos now) {
+  const std::vector<std::string_view> list(values);
+  reply(port, silent, encode_value_reply(to, mnemonic, list), now);
+}
+
+void Firmware::handle_frame(std::size_t port, const FrameView& frame, Nanos now) {
+  Address to = Address::none();
+  bool silent = false;
+  if (frame.address.addressed) {
+    if (frame.address.is_broadcast()) {
+      silent = true;  // U4: every unit acts, none replies
+      to = Address::unit(settings_.address);
+    } else {
+      if (settings_.address == 0 || frame.address.byte != settings_.address) return;  // U3
+      to = Address::unit(settings_.address);
+    }
+  }
+  if (frame.kind == FrameKind::time_between_events) {
+    reply(port, silent, encode_error_reply(to, 1), now);
+    return;
+  }
+  const CommandInfo* command = find_command(frame.mnemonic);
+  if (command == nullptr) {
+    reply(port, silent, encode_error_reply(to, 1), now);
+    return;
+  }
+  const FormResult form = request_form(*command, frame.field_count);
+  Verdict verdict = form.verdict;
+  if (verdict.ok()) verdict = validate_request(*command, frame.fields(), settings_.units);
+  if (verdict.ok()) verdict = check_while_measuring(*command, form.form, measuring_);
+  if (!verdict.ok()) {
+    reply(port, silent, encode_error_reply(to, verdict.error), now);
+    return;
+  }
+  execute(port, to, silent, *command, form.form, frame, now);
+}
+
+void Firmware::execute(std::size_t port, Address to, bool silent, const CommandInfo& command, RequestForm form,
+                       const FrameView& frame, Nanos now) {
+  const std::string_view m = command.mnemonic;
+  const auto fields = frame.fields();
+  const bool get = form == RequestForm::get;
+  const Units units = settings_.units;
+  auto ok = [&] { reply(port, silent, encode_ok(to), now); };
+  auto error = [&](int number) { reply(port, silent, encode_error_reply(to, number), now); };
+  auto value = [&](std::string_view text) { reply_values(port, to, silent, m, {text}, now); };
+  auto flag = [&](bool& field) {
+    if (get) {
+      value(field ? "1" : "0");
+    } else {
+      field = fields[0] == "1";
+      ok();
+    }
+  };
+  auto distance = [&](double& field) {
+    if (get) {
+      value(distance_text(field, units));
+    } else {
+      field = to_metres(parse_number(fields[0]), units);
+      ok();
+    }
+  };
+  auto unsigned_value = [&](std::uint32_t& field) {
+    if (get) {
+      value(std::to_string(field));
+    } else {
+      field = parse_unsigned(fields[0]);
+      ok();
+    }
+  };
+
+  if (m == "GO") {
+    start_measuring(now);
+    ok();
+  } else if (m == "ST") {
+    stop_measuring();
+    ok();
+  } else if (m == "SU") {
+    if (store_.save(settings_.to_json())) {
+      ok();
+    } else {
+      error(10);  // "☒ must be resolved by LTI": memory failure
+    }
+  } else if (m == "ID") {
+    reply_values(port, to, silent, m, {"ULS emulator rangekit 1.0 protocol 0.97", "2026-11-25"}, now);
+  } else if (m == "US") {
+    value(std::to_string(wire_value(status_for(measuring_, settings_.mode))));
+  } else if (m == "BM") {
+    if (silent) {
+      if (!measuring_) start_measuring(now);
+      return;
+    }
+    if (!measuring_) {
+      start_measuring(now);  // §2 ULS Autostart: Get Measurement starts the unit
+      polls_.push_back({port, to});
+      return;
+    }
+    if (latest_.empty()) {
+      polls_.push_back({port, to});
+      return;
+    }
+    for (const auto& reading : latest_) reply(port, false, encode_measurement(to, reading), now);
+  } else if (m == "PT") {
+    pointer_ = fields[0] == "1";
+    ok();
+  } else if (m == "MA") {
+    flag(settings_.autostart);
+  } else if (m == "PA") {
+    flag(settings_.pointer_autostart);
+  } else if (m == "CL") {
+    flag(settings_.current_loop);
+  } else if (m == "CO") {
+    flag(settings_.continuous);
+  } else if (m == "FL") {
+    flag(settings_.cooperative_filter);
+  } else if (m == "DD") {
+    flag(settings_.dither);
+  } else if (m == "TE") {
+    flag(settings_.termination);
+  } else if (m == "TB") {
+    flag(settings_.time_between_events);
+  } else if (m == "AW") {
+    if (get) {
+      value(std::to_string(settings_.averaging_weight));
+      return;
+    }
+    const std::uint32_t weight = parse_unsigned(fields[0]);
+    if (auto v = check_ppm_against_weight(settings_.ppm[0], weight); !v.ok()) return error(v.error);
+    settings_.averaging_weight = weight;
+    ok();
+  } else if (m == "PO") {
+    if (get) {
+      reply_values(port, to, silent, m, {std::to_string(settings_.ppm[0]), std::to_string(settings_.ppm[1])}, now);
+      return;
+    }
+    auto ppm = settings_.ppm;
+    if (fields.size() == 2) {
+      ppm = {parse_unsigned(fields[0]), parse_unsigned(fields[1])};
+    } else {
+      ppm[settings_.mode == Mode::binning ? 1 : 0] = parse_unsigned(fields[0]);
+    }
+    if (auto v = check_ppm_against_weight(ppm[0], settings_.averaging_weight); !v.ok()) return error(v.error);
+    settings_.ppm = ppm;
+    ok();
+  } else if (m == "PF") {
+    if (get) {
+      reply_values(
+          port, to, silent, m,
+          {std::to_string(settings_.prf[0]), std::to_string(settings_.prf[1]), std::to_string(settings_.prf[2])}, now);
+      return;
+    }
+    if (fields.size() == 3) {
+      for (std::size_t i = 0; i < 3; ++i) settings_.prf[i] = parse_unsigned(fields[i]);
+    } else {
+      settings_.prf[static_cast<std::size_t>(wire_value(settings_.mode) - 1)] = parse_unsigned(fields[0]);
+    }
+    ok();
+  } else if (m == "BR") {
+    const std::size_t which = fields[0] == "1" ? 1 : 0;
+    if (get) {
+      reply_values(port, to, silent, m, {fields[0], std::to_string(settings_.baud[which])}, now);
+      return;
+    }
+    ok();
+    auto& target = ports_[which];
+    target.pending_baud = parse_unsigned(fields[1]);
+    target.pending_at = std::max(now, ports_[port].pacer.idle_at(now));
+  } else if (m == "BS") {
+    if (get) {
+      value(std::to_string(settings_.bin_size));
+      return;
+    }
+    settings_.bin_size = static_cast<std::uint8_t>(parse_unsigned(fields[0]));
+    ok();
+  } else if (m == "BH") {
+    unsigned_value(settings_.bin_hits);
+  } else if (m == "DM") {
+    if (get) return value(std::to_string(wire_value(settings_.display)));
+    settings_.display = to_display_mode(parse_unsigned(fields[0])).value_or(settings_.display);
+    ok();
+  } else if (m == "MM") {
+    if (get) return value(std::to_string(wire_value(settings_.mode)));
+    settings_.mode = to_mode(parse_unsigned(fields[0])).value_or(settings_.mode);
+    ok();
+  } else if (m == "MO") {
+    if (get) return value(std::to_string(wire_value(settings_.output_port)));
+    settings_.output_port = to_output_port(parse_unsigned(fields[0])).value_or(settings_.output_port);
+    ok();
+  } else if (m == "MU") {
+    if (get) return value(std::to_string(wire_value(settings_.units)));
+    settings_.units = to_units(parse_unsigned(fields[0])).value_or(settings_.units);
+    ok();
+  } else if (m == "PL") {
+    if (get) return value(std::to_string(wire_value(settings_.power)));
+    settings_.power = to_power_level(parse_unsigned(fields[0])).value_or(settings_.power);
+    ok();
+  } else if (m == "AF") {
+    if (get) return value(number_text(settings_.fault_current_ma));
+    settings_.fault_current_ma = parse_number(fields[0]);
+    ok();
+  } else if (m == "AT") {
+    if (get) return value(number_text(settings_.fault_timeout_s));
+    settings_.fault_timeout_s = parse_number(fields[0]);
+    ok();
+  } else if (m == "AH" || m == "AL") {
+    double& field = m == "AH" ? settings_.range_at_20ma_m : settings_.range_at_4ma_m;
+    if (get) return value(distance_text(field, units));
+    const double metres = to_metres(parse_number(fields[0]), units);
+    const double low = m == "AL" ? metres : settings_.range_at_4ma_m;
+    const double high = m == "AH" ? metres : settings_.range_at_20ma_m;
+    if (auto v = check_current_loop_range(low, high); !v.ok()) return error(v.error);
+    field = metres;
+    ok();
+  } else if (m == "LG") {
+    distance(settings_.long_gate_m);
+  } else if (m == "SG") {
+    distance(settings_.short_gate_m);
+  } else if (m == "TP") {
+    distance(settings_.trip_point_m);
+  } else if (m == "OF") {
+    distance(settings_.offset_m);
+  } else if (m == "TT") {
+    if (get) return value(to_hex_text(settings_.trip_timeout_pulses).view());
+    settings_.trip_timeout_pulses = parse_trip_timeout(fields[0]).value_or(settings_.trip_timeout_pulses);
+    ok();
+  } else if (m == "UA") {
+    if (get) {
+      if (settings_.address == 0) return error(82);  // U3
+      return value(std::to_string(unit_address_value(settings_.address)));
+    }
+    ok();  // the reply still carries the old address
+    settings_.address = static_cast<std::uint8_t>(fields[0][0]);
+  } else {
+    error(1);
+  }
+}
+
+// --- Measuring ---
+
+std::uint32_t Firmware::current_prf() const noexcept {
+  return settings_.prf[static_cast<std::size_t>(wire_value(settings_.mode) - 1)];
+}
+
+std::uint32_t Firmware::current_ppm() const noexcept {
+  return settings_.mode == Mode::binning ? settings_.ppm[1] : settings_.ppm[0];
+}
+
+Nanos Firmware::pulse_time(std::uint64_t index) const noexcept {
+  // From a pulse counter, never by adding rounded periods: no drift over long runs.
+  const std::uint64_t whole = index / run_prf_;
+  const std::uint64_t part = index % run_prf_;
+  return run_start_ + Nanos(static_cast<std::int64_t>(whole * 1'000'000'000ULL + part * 1'000'000'000ULL / run_prf_));
+}
+
+void Firmware::reset_cycle() {
+  cycle_pulses_ = 0;
+  good_ = 0;
+  any_return_ = false;
+  sum_m_ = 0;
+  pulse_width_sum_ = 0;
+  bins_.fill(0);
+}
+
+void Firmware::start_measuring(Nanos now) {
+  measuring_ = true;
+  run_start_ = now;
+  run_prf_ = current_prf();
+  next_pulse_ = 1;  // the first pulse fires one period after the start
+  reset_cycle();
+  latest_.clear();
+  reference_m_.reset();
+  reference_pulses_ = 0;
+  reference_candidate_m_ = 0;
+  present_ = false;
+  announced_ = false;
+  disagreeing_ = 0;
+  have_no_presence_edge_ = false;
+  stable_pulses_ = 0;
+  longer_pulses_ = 0;
+  error_since_.reset();
+}
+
+void Firmware::stop_measuring() {
+  measuring_ = false;
+  polls_.clear();
+}
+
+void Firmware::advance(Nanos now) {
+  if (now < last_now_) now = last_now_;
+  last_now_ = now;
+  while (measuring_) {
+    const Nanos t = pulse_time(next_pulse_);
+    if (t > now) break;
+    fire_pulse(t);
+    ++next_pulse_;
+  }
+  for (auto& port : ports_) drain(port, now);
+}
+
+Nanos Firmware::next_deadline() const {
+  Nanos earliest = Nanos::max();
+  for (const auto& port : ports_) {
+    earliest = std::min(earliest, port.pacer.next_completion());
+    if (port.pending_baud) earliest = std::min(earliest, std::max(port.pending_at, last_now_));
+  }
+  if (measuring_) {
+    if (settings_.mode == Mode::look_down) {
+      earliest = std::min(earliest, pulse_time(next_pulse_));
+    } else {
+      const std::uint32_t ppm = current_ppm();
+      const std::uint64_t remaining = ppm > cycle_pulses_ ? ppm - cycle_pulses_ - 1 : 0;
+      earliest = std::min(earliest, pulse_time(next_pulse_ + remaining));
+    }
+  }
+  return earliest;
+}
+
+double Firmware::max_range_m(double reflectivity, bool cooperative) const noexcept {
+  const auto level = static_cast<std::size_t>(wire_value(settings_.power));
+  if (cooperative) return cooperative_range_m * white_range_m[level] / white_range_m[0];
+  // §9 ranges at 90% and 20%, linear in reflectivity between and beyond them.
+  const double r = std::clamp(reflectivity, 0.0, 1.0);
+  const double range = gray_range_m[level] + (white_range_m[level] - gray_range_m[level]) * (r - 0.2) / 0.7;
+  return std::max(range, 1.0);
+}
+
+std::optional<Firmware::PulseReturn> Firmware::first_return(Nanos t, bool certain) {
+  if (fault_no_return_) return std::nullopt;
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::optional<PulseReturn> best;
+  for (const auto& target : scene_.targets) {
+    const double d = target.motion.position_at(t);
+    if (d < minimum_range_m) continue;
+    if (settings_.short_gate_m > 0 && d < settings_.short_gate_m) continue;
+    if (settings_.long_gate_m > 0 && d > settings_.long_gate_m) continue;
+    if (settings_.cooperative_filter && !target.cooperative) continue;
+    const double range = max_range_m(target.reflectivity, target.cooperative);
+    if (d > range) continue;  // below the detection threshold
+    if (best && best->distance_m <= d) continue;
+    if (!certain && uniform(random_) >= detect_probability) continue;
+    const double ratio = range / d;
+    best = PulseReturn{d, ratio * ratio, target.cooperative};
+  }
+  return best;
+}
+
+void Firmware::fire_pulse(Nanos t) {
+  switch (settings_.mode) {
+    case Mode::averaging:
+      fire_averaging(t);
+      break;
+    case Mode::binning:
+      fire_binning(t);
+      break;
+    case Mode::look_down:
+      fire_look_down(t);
+      break;
+  }
+}
+
+void Firmware::fire_averaging(Nanos t) {
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const bool dust = scene_.dust > 0 && uniform(random_) < scene_.dust;
+  if (dust) {
+    any_return_ = true;  // a weak return the noise filter rejects: a bad pulse
+  } else if (auto hit = first_return(t, false)) {
+    any_return_ = true;
+    if (good_ < settings_.averaging_weight) {
+      std::normal_distribution<double> noise(0.0, hit->cooperative ? cooperative_jitter_m : jitter_m);
+      double raw = hit->distance_m + noise(random_);
+      // The pulse is timed in quanta; dithering shifts the quantum grid over a 32-pulse cycle.
+      const double shift =
+          settings_.dither ? (static_cast<double>(good_ % dither_cycle) + 0.5) / dither_cycle * quantum_m : 0.0;
+      raw = std::round((raw + shift) / quantum_m) * quantum_m - shift;
+      sum_m_ += raw;
+      pulse_width_sum_ += 2000.0 + 1500.0 * std::log2(1.0 + hit->strength);
+      ++good_;
+    }
+  }
+  if (++cycle_pulses_ >= settings_.ppm[0]) complete_averaging(t);
+}
+
+void Firmware::complete_averaging(Nanos t) {
+  ++measurements_;
+  if (!any_return_) {
+    record_error(4, t);
+    emit({MeasurementError{4}}, t);
+  } else if (good_ < settings_.averaging_weight) {
+    record_error(5, t);
+    emit({MeasurementError{5}}, t);
+  } else {
+    const double metres = sum_m_ / good_ + settings_.offset_m;
+    record_distance(metres, t);
+    AveragingReading reading;
+    const auto width = static_cast<std::uint32_t>(std::clamp(pulse_width_sum_ / good_, 0.0, 9'999'999.0));
+    if (settings_.display != DisplayMode::intensity) {
+      const double user = from_metres(metres, settings_.units);
+      reading.range =
+          make_range(settings_.units == Units::metres ? std::round(user * 1000) / 1000 : std::round(user * 100) / 100,
+                     settings_.units);
+    }
+    if (settings_.display != DisplayMode::range) reading.pulse_width_ps = width;
+    emit({reading}, t);
+  }
+  reset_cycle();
+}
+
+void Firmware::fire_binning(Nanos t) {
+  const BinSize size = to_bin_size(settings_.bin_size).value_or(BinSize::inch_1);
+  const double bin_m = bin_size_m(size);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  auto hit_at = [&](double d) {
+    if (d < 0) return;
+    const auto index = static_cast<std::size_t>(d / bin_m);
+    if (index < bins_.size()) ++bins_[index];
+  };
+  if (!fault_no_return_) {
+    for (const auto& target : scene_.targets) {
+      const double d = target.motion.position_at(t);
+      if (d < minimum_range_m) continue;
+      if (settings_.short_gate_m > 0 && d < settings_.short_gate_m) continue;
+      if (settings_.long_gate_m > 0 && d > settings_.long_gate_m) continue;
+      if (settings_.cooperative_filter && !target.cooperative) continue;
+      // No threshold in binning (§3): weak returns still land, with a probability
+      // falling with the signal strength (range / distance)^2.
+      const double ratio = max_range_m(target.reflectivity, target.cooperative) / d;
+      const double p = std::min(detect_probability, 0.5 * ratio * ratio);
+      if (uniform(random_) >= p) continue;
+      std::normal_distribution<double> noise(0.0, target.cooperative ? cooperative_jitter_m : jitter_m);
+      hit_at(d + noise(random_));
+    }
+    const double span = bin_m * static_cast<double>(bins_.size());
+    double noise_hits = scene_.ambient_noise;
+    while (noise_hits > 0) {
+      if (noise_hits >= 1 || uniform(random_) < noise_hits) hit_at(uniform(random_) * span);
+      noise_hits -= 1;
+    }
+    if (scene_.dust > 0 && uniform(random_) < scene_.dust) hit_at(minimum_range_m + uniform(random_) * 30.0);
+  }
+  if (++cycle_pulses_ >= settings_.ppm[1]) complete_binning(t);
+}
+
+void Firmware::complete_binning(Nanos t) {
+  ++measurements_;
+  const BinSize size = to_bin_size(settings_.bin_size).value_or(BinSize::inch_1);
+  const double bin_m = bin_size_m(size);
+  struct Found {
+    std::size_t bin;
+    std::uint32_t hits;
+  };
+  std::vector<Found> found;
+  for (std::size_t i = 0; i < bins_.size() && found.size() < max_binning_targets; ++i) {
+    if (bins_[i] < settings_.bin_hits) continue;
+    // A run of neighbouring bins over the threshold is one target, at its strongest bin (U38).
+    Found best{i, bins_[i]};
+    while (i + 1 < bins_.size() && bins_[i + 1] >= settings_.bin_hits) {
+      ++i;
+      if (bins_[i] > best.hits) best = {i, bins_[i]};
+    }
+    found.push_back(best);  // 15 targets: the unit restarts and sees nothing beyond (§3)
+  }
+  if (found.empty()) {
+    record_error(4, t);
+    emit({MeasurementError{4}}, t);
+  } else {
+    std::vector<Reading> lines;
+    for (std::size_t i = 0; i < found.size(); ++i) {
+      const double metres = (static_cast<double>(found[i].bin) + 0.5) * bin_m + settings_.offset_m;
+      if (i == 0) record_distance(metres, t);
+      const double user = from_metres(metres, settings_.units);
+      BinningTarget target;
+      target.index = static_cast<std::uint8_t>(i);
+      target.count = static_cast<std::uint8_t>(found.size());
+      target.range =
+          make_range(settings_.units == Units::metres ? std::round(user * 1000) / 1000 : std::round(user * 100) / 100,
+                     settings_.units);
+      target.strength = std::min<std::uint32_t>(found[i].hits, 65535);
+      lines.emplace_back(target);
+    }
+    emit(std::move(lines), t);
+  }
+  reset_cycle();
+}
+
+void Firmware::fire_look_down(Nanos t) {
+  const std::uint64_t pulse = next_pulse_;
+  // Look down fires without averaging: a target within range always answers (U38).
+  const auto hit = first_return(t, true);
+  const std::optional<double> d = hit ? std::optional<double>(hit->distance_m) : std::nullopt;
+  if (!reference_m_) {
+    // Reference on start (§3): the longest distance over the first 30 pulses.
+    if (d) reference_candidate_m_ = std::max(reference_candidate_m_, *d);
+    if (++reference_pulses_ >= look_down_decision_pulses && reference_candidate_m_ > 0) {
+      reference_m_ = reference_candidate_m_;
+      have_no_presence_edge_ = true;
+      no_presence_edge_pulse_ = pulse;
+    }
+    return;
+  }
+  const bool presence_pulse = d && *d < *reference_m_ - settings_.trip_point_m;
+  if (presence_pulse != present_) {
+    // 30 consecutive pulses decide a change (§3, U34).
+    if (++disagreeing_ >= look_down_decision_pulses) {
+      present_ = presence_pulse;
+      disagreeing_ = 0;
+      stable_pulses_ = 0;
+      if (settings_.time_between_events) {
+        if (present_) {
+          emit({have_no_presence_edge_ ? tbe_from_pulses(pulse - no_presence_edge_pulse_)
+                                       : TimeBetweenEvents{TimeBetweenEvents::Kind::overflow, 0}},
+               t);
+        } else {
+          no_presence_edge_pulse_ = pulse;
+          have_no_presence_edge_ = true;
+          emit({TimeBetweenEvents{}}, t);
+        }
+      } else {
+        emit({LookDownReading{present_}}, t);
+      }
+      if (!present_) {
+        no_presence_edge_pulse_ = pulse;
+        have_no_presence_edge_ = true;
+      }
+    }
+  } else {
+    disagreeing_ = 0;
+  }
+  if (present_ && d) {
+    // Re-reference on a distance that stays put for TT pulses while tripped (§3).
+    if (std::abs(*d - stable_m_) > std::max(settings_.trip_point_m / 2, 0.1)) {
+      stable_m_ = *d;
+      stable_pulses_ = 0;
+    } else if (++stable_pulses_ >= settings_.trip_timeout_pulses) {
+      reference_m_ = *d;
+      present_ = false;
+      stable_pulses_ = 0;
+      emit({LookDownReading{false}}, t);
+    }
+  }
+  if (!present_ && d && *d > *reference_m_ + settings_.trip_point_m / 2) {
+    // A longer distance while not tripped becomes the reference after about 2 s (§3).
+    longer_m_ = longer_pulses_ == 0 ? *d : std::max(longer_m_, *d);
+    if (++longer_pulses_ >= 2ULL * run_prf_) {
+      reference_m_ = longer_m_;
+      longer_pulses_ = 0;
+    }
+  } else {
+    longer_pulses_ = 0;
+  }
+}
+
+Address Firmware::measurement_address() const noexcept {
+  if (settings_.address != 0 && settings_.output_port == OutputPort::universal_rs485)
+    return Address::unit(settings_.address);
+  return Address::none();
+}
+
+std::size_t Firmware::measurement_port() const noexcept {
+  return settings_.output_port == OutputPort::configuration ? configuration_port : universal_port;
+}
+
+void Firmware::emit(std::vector<Reading> readings, Nanos t) {
+  // TBE with the re-reference emits a plain BM,0 only without TB.
+  if (settings_.time_between_events && settings_.mode == Mode::look_down) {
+    std::erase_if(readings, [](const Reading& r) { return std::holds_alternative<LookDownReading>(r); });
+    if (readings.empty()) return;
+  }
+  latest_ = readings;
+  for (const auto& poll : polls_) {
+    for (const auto& reading : readings) reply(poll.port, false, encode_measurement(poll.to, reading), t);
+  }
+  polls_.clear();
+  if (!settings_.continuous) return;
+  auto& port = ports_[measurement_port()];
+  if (port.pacer.idle_at(t) > t) {
+    ++skipped_;  // the UART is still sending the previous line (§9 serial limits)
+    return;
+  }
+  const Address from = measurement_address();
+  for (const auto& reading : readings) {
+    if (auto line = encode_measurement(from, reading)) port.pacer.send(line->bytes(), t);
+  }
+}
+
+void Firmware::record_error(int number, Nanos t) {
+  last_error_ = number;
+  if (!error_since_) error_since_ = t;
+}
+
+void Firmware::record_distance(double metres, Nanos) {
+  last_distance_m_ = metres;
+  last_error_ = 0;
+  error_since_.reset();
+}
+
+// --- Outputs and control ---
+
+Outputs Firmware::outputs(Nanos now) const {
+  Outputs out;
+  out.measuring = measuring_;
+  out.laser_firing = measuring_;
+  out.pointer = pointer_;
+  out.trip = measuring_ && settings_.mode == Mode::look_down && present_;
+  out.status = wire_value(status_for(measuring_, settings_.mode));
+  out.measurements = measurements_;
+  out.skipped_lines = skipped_;
+  out.last_distance_m = last_distance_m_;
+  out.last_error = last_error_;
+  if (settings_.current_loop && measuring_) {
+    // §6: fault current after AT seconds of errors 4/5; hold the last value before that.
+    const bool fault = error_since_ && (!last_distance_m_ || seconds(now - *error_since_) >= settings_.fault_timeout_s);
+    if (fault) {
+      out.current_ma = settings_.fault_current_ma;
+    } else if (last_distance_m_) {
+      out.current_ma = loop_current_ma(*last_distance_m_, settings_.range_at_4ma_m, settings_.range_at_20ma_m)
+                           .value_or(settings_.fault_current_ma);
+    } else {
+      out.current_ma = loop_min_ma;
+    }
+  }
+  return out;
+}
+
+void Firmware::set_scene(Scene scene, Nanos now) {
+  advance(now);
+  scene_ = std::move(scene);
+}
+
+bool Firmware::move_target(std::size_t index, double distance_m, Nanos now) {
+  advance(now);
+  if (index >= scene_.targets.size()) return false;
+  scene_.targets[index].motion = Motion::fixed(distance_m);
+  return true;
+}
+
+void Firmware::set_no_return_fault(bool on, Nanos now) {
+  advance(now);
+  fault_no_return_ = on;
+}
+
+nlohmann::json Firmware::control(const nlohmann::json& request, Nanos now) {
+  const std::string command = request.value("cmd", "");
+  if (command == "outputs") {
+    advance(now);
+    const Outputs o = outputs(now);
+    nlohmann::json reply{{"ok", true},
+                         {"device", label()},
+                         {"current_ma", o.current_ma},
+                         {"trip", o.trip},
+                         {"laser_firing", o.laser_firing},
+                         {"pointer", o.pointer},
+                         {"status", o.status},
+                         {"measuring", o.measuring},
+                         {"measurements", o.measurements},
+                         {"skipped_lines", o.skipped_lines},
+                         {"last_error", o.last_error}};
+    reply["distance_m"] = o.last_distance_m ? nlohmann::json(*o.last_distance_m) : nlohmann::json(nullptr);
+    return reply;
+  }
+  if (command == "set_scene") {
+    if (!request.contains("scene")) return {{"error", "set_scene: needs 'scene' (an object like the TOML file)"}};
+    auto scene = scene_from_json(request.at("scene"));
+    if (!scene) return {{"error", "set_scene: " + scene.error().message}};
+    set_scene(std::move(*scene), now);
+    return {{"ok", true}, {"device", label()}};
+  }
+  if (command == "move_target") {
+    const auto index = request.value("target", std::size_t{0});
+    if (!request.contains("distance_m") || !request.at("distance_m").is_number())
+      return {{"error", "move_target: needs 'distance_m' (number)"}};
+    if (!move_target(index, request.at("distance_m").get<double>(), now))
+      return {{"error", "move_target: no target " + std::to_string(index)}};
+    return {{"ok", true}, {"device", label()}};
+  }
+  if (command == "fault") {
+    const std::string kind = request.value("kind", "no_return");
+    if (kind != "no_return") return {{"error", "fault: unknown kind '" + kind + "' (no_return)"}};
+    set_no_return_fault(request.value("on", true), now);
+    return {{"ok", true}, {"device", label()}};
+  }
+  if (command == "power_cycle") {
+    power_cycle(now);
+    return {{"ok", true}, {"device", label()}};
+  }
+  return {{"error", "unknown command '" + command + "' (ULS: outputs, set_scene, move_target, fault, power_cycle)"}};
+}
+
+}  // namespace rangekit::uls::emulator

@@ -1,0 +1,200 @@
+// The ULS firmware model (issue 4): a pure DeviceModel with the two serial
+// ports of §4 (0 = 4-pin configuration port, 1 = universal port), the §8
+// command set, the §3 measurement modes on a scene, the §6 current loop and
+// non-volatile memory. No I/O but the StateStore; time only from `now`.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+#include "rangekit/core/device_model.hpp"
+#include "rangekit/core/serial_pacer.hpp"
+#include "rangekit/core/state_store.hpp"
+#include "rangekit/uls/uls.hpp"
+#include "uls/emulator/scene.hpp"
+
+namespace rangekit::uls::emulator {
+
+inline constexpr std::size_t configuration_port = 0;
+inline constexpr std::size_t universal_port = 1;
+inline constexpr std::uint32_t uls_hundredths_of_bits = 1152;  // U19
+
+// Every user setting of §8, in SI units (distances in metres).
+struct Settings {
+  Mode mode = Mode::averaging;
+  std::array<std::uint32_t, 3> prf{2000, 2000, 2000};  // averaging, binning, look down (U14)
+  std::array<std::uint32_t, 2> ppm{1024, 1024};        // averaging, binning (U15)
+  std::uint32_t averaging_weight = 992;
+  bool dither = false;
+  std::uint8_t bin_size = 0;  // 2^n inches
+  std::uint32_t bin_hits = 128;
+  bool continuous = true;  // U35
+  bool cooperative_filter = false;
+  DisplayMode display = DisplayMode::range_and_intensity;  // U35: "Both" in the §2 screenshot
+  double fault_current_ma = 3.0;
+  double fault_timeout_s = 0.0;
+  double long_gate_m = 0.0;   // 0 = off
+  double short_gate_m = 0.0;  // 0 = off
+  OutputPort output_port = OutputPort::configuration;
+  Units units = Units::metres;
+  PowerLevel power = PowerLevel::high;
+  double range_at_20ma_m = 10.0;
+  double range_at_4ma_m = 0.0;
+  bool termination = false;
+  bool time_between_events = false;
+  double trip_point_m = 0.2;
+  std::uint64_t trip_timeout_pulses = rereference_pulses;
+  std::uint8_t address = 0;  // 0 = unassigned (U3)
+  double offset_m = 0.0;
+  bool autostart = false;
+  bool pointer_autostart = false;
+  bool current_loop = false;
+  std::array<std::uint32_t, 2> baud{115200, 115200};  // configuration, universal
+
+  [[nodiscard]] nlohmann::json to_json() const;
+  static Settings from_json(const nlohmann::json& memory, const Settings& defaults);
+};
+
+struct FirmwareOptions {
+  std::string state_dir;                // empty: nothing persists
+  std::string state_key = "uls";        // file name in state_dir
+  std::uint32_t seed = 1;               // noise of this unit
+  std::optional<std::uint8_t> address;  // installed address (factory default otherwise 0)
+  Scene scene = default_scene();
+};
+
+// What the control socket reads (issue 4 "outputs").
+struct Outputs {
+  double current_ma = 0;
+  bool trip = false;
+  bool laser_firing = false;
+  bool pointer = false;
+  int status = 1;
+  bool measuring = false;
+  std::uint64_t measurements = 0;         // completed measurement cycles
+  std::uint64_t skipped_lines = 0;        // measurements not sent: the UART was still busy
+  std::optional<double> last_distance_m;  // as reported (offset applied), metres
+  int last_error = 0;
+};
+
+class Firmware final : public DeviceModel {
+ public:
+  explicit Firmware(FirmwareOptions options, Nanos now = Nanos(0));
+
+  [[nodiscard]] std::size_t port_count() const noexcept override { return 2; }
+  [[nodiscard]] SerialSettings port_settings(std::size_t port) const override;
+  void receive(std::size_t port, std::uint8_t byte, Nanos now) override;
+  void advance(Nanos now) override;
+  [[nodiscard]] Nanos next_deadline() const override;
+  void take_line_output(std::size_t port, Nanos now, std::vector<LineByte>& out) override;
+  nlohmann::json control(const nlohmann::json& request, Nanos now) override;
+  [[nodiscard]] std::string label() const override;
+
+  // Control-socket actions, also used directly by tests.
+  void set_scene(Scene scene, Nanos now);
+  bool move_target(std::size_t index, double distance_m, Nanos now);
+  void set_no_return_fault(bool on, Nanos now);
+  void power_cycle(Nanos now);
+  [[nodiscard]] Outputs outputs(Nanos now) const;
+  [[nodiscard]] const Settings& settings() const noexcept { return settings_; }
+  [[nodiscard]] bool measuring() const noexcept { return measuring_; }
+  [[nodiscard]] Nanos last_time() const noexcept { return last_now_; }
+
+ private:
+  struct Port {
+    std::vector<std::uint8_t> input;
+    SerialPacer pacer{115200, uls_hundredths_of_bits};
+    std::deque<LineByte> outbox;
+    std::optional<std::uint32_t> pending_baud;
+    Nanos pending_at{0};
+  };
+  struct PulseReturn {
+    double distance_m = 0;
+    double strength = 0;
+    bool cooperative = false;
+  };
+
+  void boot(Nanos now);
+  void handle_frame(std::size_t port, const FrameView& frame, Nanos now);
+  void execute(std::size_t port, Address reply_to, bool silent, const CommandInfo& command, RequestForm form,
+               const FrameView& frame, Nanos now);
+  void reply(std::size_t port, bool silent, const Result<FrameText>& frame, Nanos now);
+  void reply_values(std::size_t port, Address to, bool silent, std::string_view mnemonic,
+                    std::initializer_list<std::string_view> values, Nanos now);
+  void start_measuring(Nanos now);
+  void stop_measuring();
+  void reset_cycle();
+  [[nodiscard]] std::uint32_t current_prf() const noexcept;
+  [[nodiscard]] std::uint32_t current_ppm() const noexcept;
+  [[nodiscard]] Nanos pulse_time(std::uint64_t index) const noexcept;
+  void fire_pulse(Nanos t);
+  void fire_averaging(Nanos t);
+  void fire_binning(Nanos t);
+  void fire_look_down(Nanos t);
+  void complete_averaging(Nanos t);
+  void complete_binning(Nanos t);
+  void emit(std::vector<Reading> readings, Nanos t);
+  [[nodiscard]] Address measurement_address() const noexcept;
+  [[nodiscard]] std::size_t measurement_port() const noexcept;
+  [[nodiscard]] double max_range_m(double reflectivity, bool cooperative) const noexcept;
+  std::optional<PulseReturn> first_return(Nanos t, bool certain);
+  void drain(Port& port, Nanos now);
+  void record_error(int number, Nanos t);
+  void record_distance(double metres, Nanos t);
+
+  FirmwareOptions options_;
+  StateStore store_;
+  Settings factory_;
+  Settings settings_;
+  Scene scene_;
+  std::mt19937 random_;
+  std::array<Port, 2> ports_;
+  Nanos last_now_{0};
+
+  bool measuring_ = false;
+  bool pointer_ = false;
+  bool fault_no_return_ = false;
+  Nanos run_start_{0};
+  std::uint32_t run_prf_ = 2000;
+  std::uint64_t next_pulse_ = 0;
+
+  // Averaging / binning cycle.
+  std::uint32_t cycle_pulses_ = 0;
+  std::uint32_t good_ = 0;
+  bool any_return_ = false;
+  double sum_m_ = 0;
+  double pulse_width_sum_ = 0;
+  std::array<std::uint32_t, bins_per_range> bins_{};
+
+  // Look down (§3).
+  std::optional<double> reference_m_;
+  double reference_candidate_m_ = 0;
+  std::uint32_t reference_pulses_ = 0;
+  bool present_ = false;
+  bool announced_ = false;
+  std::uint32_t disagreeing_ = 0;
+  std::uint64_t no_presence_edge_pulse_ = 0;
+  bool have_no_presence_edge_ = false;
+  double stable_m_ = 0;
+  std::uint64_t stable_pulses_ = 0;
+  std::uint64_t longer_pulses_ = 0;
+  double longer_m_ = 0;
+
+  // Latest results.
+  std::vector<Reading> latest_;
+  struct PendingPoll {
+    std::size_t port;
+    Address to;
+  };
+  std::vector<PendingPoll> polls_;
+  std::uint64_t measurements_ = 0;
+  std::uint64_t skipped_ = 0;
+  std::optional<double> last_distance_m_;
+  int last_error_ = 0;
+  std::optional<Nanos> error_since_;
+};
+
+}  // namespace rangekit::uls::emulator
