@@ -92,6 +92,8 @@ TEST(UlsConformance, U23_FourToTwentyMilliamps) {      // §6 example: 0 m at 4 
   EXPECT_DOUBLE_EQ(*loop_current_ma(5, 0, 10), 12.0);  // "5 x 1.6 mA = 8 mA + 4 mA ... = 12 mA"
   EXPECT_DOUBLE_EQ(*loop_current_ma(1, 0, 10) - *loop_current_ma(0, 0, 10), 1.6);  // 1.6 mA per metre
   EXPECT_DOUBLE_EQ(*loop_current_ma(0, 0, 10), 4.0);
+  // §6 note: "9 volts ÷ 20 mA = a maximum sense resistor of 450 ohms".
+  EXPECT_DOUBLE_EQ(max_sense_resistor_ohms(), 450.0);
   EXPECT_DOUBLE_EQ(*loop_current_ma(10, 0, 10), 20.0);
   EXPECT_DOUBLE_EQ(*loop_current_ma(-3, 0, 10), 4.0);   // clamped
   EXPECT_DOUBLE_EQ(*loop_current_ma(25, 0, 10), 20.0);  // clamped

@@ -56,6 +56,13 @@ inline constexpr double loop_max_ma = 20.0;
 // I = 4 + 16 (d - AL) / (AH - AL), clamped to 4-20 mA; AH < AL inverts.
 // None when AL == AH (the unit refuses that range, error 83).
 std::optional<double> loop_current_ma(double distance, double range_at_4ma, double range_at_20ma) noexcept;
+// §6: the internally powered loop gives about 9 V of compliance, which limits the
+// sense resistor: 9 V / 20 mA = 450 ohms.
+inline constexpr double loop_compliance_volts = 9.0;
+constexpr double max_sense_resistor_ohms(double compliance_volts = loop_compliance_volts,
+                                         double full_scale_ma = 20.0) noexcept {
+  return compliance_volts / (full_scale_ma / 1000.0);
+}
 
 // --- Trip point timeout TT (§8 "(seconds * 3000) in hexadecimal", §3, U21) ---
 inline constexpr std::uint32_t trip_timeout_pulses_per_second = 3000;
