@@ -86,7 +86,7 @@ struct Rig {
     std::snprintf(text, sizeof text, "#%02XW%02X%02X\r", sensor, address, value);
     std::string expected = text;
     expected[0] = '!';
-    EXPECT_EQ(exchange(text), expected);
+    EXPECT_EQ(exchange(text, 2ms), expected);  // 9 bytes: 0.78 ms at 115200
   }
   void set_scene_code(double code) { fw->set_scene(fixed_scene(position_for_code(code))); }
 };

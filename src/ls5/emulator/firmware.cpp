@@ -416,7 +416,6 @@ std::optional<double> Firmware::raw_measurement(Nanos now, bool& weak) {
 }
 
 void Firmware::measure(Nanos now, bool from_sync) {
-  (void)from_sync;
   last_measurement_ = now;
   ++measurements_;
   bool weak = false;
@@ -480,8 +479,10 @@ void Firmware::measure(Nanos now, bool from_sync) {
   (void)weak;
 
   const std::uint8_t n = std::max<std::uint8_t>(1, ram_[address::thinning]);
-  // Stream (§8.4): every n-th result; none in the §8.13 case sync triggering + latching.
-  if (streaming_ && !(sync_triggered && ram_[address::latching] != 0)) {
+  // Stream (§8.4): every n-th result; none in the §8.13 case sync triggering + latching, and
+  // with timer triggering a measurement the sync input started to latch is not streamed (L33).
+  const bool latch_cycle = ram_[address::latching] != 0x00 && (sync_triggered || from_sync);
+  if (streaming_ && !latch_cycle) {
     if (++thinning_count_ % n == 0) {
       if (pacer_.idle_at(now) <= now) {
         reply(Reply::stream_record(current_), now);

@@ -1,0 +1,320 @@
+// The measurement pipeline of figure 8.7 and the outputs, against hand-computed values.
+#include <unistd.h>
+
+#include "ls5_emulator/firmware_rig.hpp"
+
+namespace rangekit::ls5::emulator::testing {
+namespace {
+
+// Measures one code per period (10 ms) and returns the results the firmware reports.
+std::vector<std::uint16_t> feed(Rig& rig, std::initializer_list<double> codes) {
+  std::vector<std::uint16_t> results;
+  for (const double code : codes) {
+    rig.set_scene_code(code);
+    const auto before = rig.fw->measurements();
+    rig.run_for(10ms);
+    EXPECT_EQ(rig.fw->measurements(), before + 1);
+    results.push_back(rig.fw->current_result().value);
+  }
+  return results;
+}
+
+TEST(Ls5Pipeline, MovingAverageOfKPoints) {
+  Rig rig;
+  rig.run_for(5ms);  // measurements fall on 10, 20, ... ms: sit between them
+  rig.write(0x0C, 0x03);
+  EXPECT_EQ(feed(rig, {1000, 2000, 6000, 6000}), (std::vector<std::uint16_t>{1000, 1500, 3000, 4667}));
+}
+
+TEST(Ls5Pipeline, MedianOfMPoints) {
+  Rig rig;
+  rig.run_for(5ms);
+  rig.write(0x0D, 0x03);
+  rig.write(0x0B, 0x01);
+  EXPECT_EQ(feed(rig, {1000, 9000, 2000, 3000, 40000}), (std::vector<std::uint16_t>{1000, 9000, 2000, 3000, 3000}));
+}
+
+TEST(Ls5Pipeline, DerivativeIsDifferencePlus25000) {
+  Rig rig;
+  rig.run_for(5ms);
+  rig.write(0x0E, 0x01);
+  EXPECT_EQ(feed(rig, {1000, 1500, 1200}), (std::vector<std::uint16_t>{25000, 25500, 24700}));
+}
+
+TEST(Ls5Pipeline, OutOfRangeIsNoSignal) {
+  Rig rig;
+  rig.run_for(5ms);
+  rig.fw->set_scene(fixed_scene(5));  // before the lower boundary (10 mm)
+  rig.write(0x0A, 0x00);
+  rig.write(0x09, 0x00);  // τ = 0
+  rig.run_for(10ms);
+  EXPECT_EQ(rig.fw->current_result().value, code_no_signal);
+}
+
+TEST(Ls5Pipeline, SignalAbsenceHoldsTheLastResultForTau) {
+  Rig rig;
+  rig.write(0x06, 0x0A);  // t = 1 ms; τ stays at its default 10 ms
+  Scene scene = fixed_scene(position_for_code(12345));
+  scene.dropouts.push_back(Dropout{0.1, 0.2, "shading"});
+  rig.fw->set_scene(scene);
+  rig.run_to(Nanos(108'500'000));  // last valid result at 99 ms (measurements on whole ms + write offsets)
+  EXPECT_EQ(rig.fw->current_result().value, 12345);
+  rig.run_to(Nanos(115'000'000));
+  EXPECT_EQ(rig.fw->current_result().value, code_no_signal);
+  rig.run_to(Nanos(205'000'000));
+  EXPECT_EQ(rig.fw->current_result().value, 12345);
+}
+
+TEST(Ls5Pipeline, SensitivityPriorityLowersTheRateOnWeakTargets) {
+  Rig rig;
+  rig.write(0x06, 0x0A);                      // t = 1 ms
+  rig.fw->set_scene(fixed_scene(35, 0.005));  // needs 4 ms of exposure (max 9.4 ms by default)
+  auto before = rig.fw->measurements();
+  rig.run_for(1s);
+  EXPECT_NEAR(static_cast<double>(rig.fw->measurements() - before), 250, 1);
+  EXPECT_EQ(rig.fw->current_result().value, 25000);
+  rig.write(0x22, 0x00);  // frequency priority: the rate holds, the weak target is lost
+  before = rig.fw->measurements();
+  rig.run_for(1s);
+  EXPECT_NEAR(static_cast<double>(rig.fw->measurements() - before), 1000, 2);
+  EXPECT_EQ(rig.fw->current_result().value, code_no_signal);
+}
+
+TEST(Ls5Pipeline, Table93AnalogAndDiscreteExample) {
+  Rig rig;
+  for (const char* command :
+       {"#01W1512\r", "#01W1620\r", "#01W174E\r", "#01W1840\r", "#01W199C\r", "#01W1A10\r", "#01W1B27\r", "#01W1C30\r",
+        "#01W1D75\r", "#01W0301\r", "#01W1100\r", "#01W1200\r", "#01W1350\r", "#01W14C3\r"}) {
+    std::string echo = command;
+    echo[0] = '!';
+    EXPECT_EQ(rig.exchange(command), echo);
+  }
+  struct Point {
+    double code;
+    bool oc1;
+    bool oc2;
+    double milliamps;
+  };
+  // OC1: N = 0, swings 20000/40000; OC2: N = 1, swings 10000/30000; 4-20 mA over 0-50000.
+  for (const Point& p :
+       {Point{5000, false, true, 5.6}, Point{15000, false, false, 8.8}, Point{25000, true, false, 12.0},
+        Point{35000, true, true, 15.2}, Point{45000, false, true, 18.4}}) {
+    rig.set_scene_code(p.code);
+    rig.run_for(10ms);
+    EXPECT_EQ(rig.fw->output1(), p.oc1) << p.code;
+    EXPECT_EQ(rig.fw->output2(), p.oc2) << p.code;
+    EXPECT_NEAR(rig.fw->analog_value(), p.milliamps, 1e-9) << p.code;
+  }
+  // No signal: the extreme nearer the last output (18.4 mA is above mid-scale: 20 mA, L8).
+  rig.write(0x09, 0x00);
+  rig.write(0x0A, 0x00);
+  rig.fw->set_scene(fixed_scene(200));
+  rig.run_for(10ms);
+  EXPECT_DOUBLE_EQ(rig.fw->analog_value(), 20.0);
+}
+
+TEST(Ls5Pipeline, WeldingExampleOfSection814WithTheSyncInput) {
+  FirmwareConfig config = test_config("LS5.9.0");
+  config.lower_boundary_mm = 0;
+  config.range_mm = 100;
+  config.scene = fixed_scene(50);  // code 25000
+  config.state_dir = temp_dir("welding");
+  Rig rig(config);
+  rig.write(0x25, 0x10);
+  rig.write(0x26, 0x27);  // D = 10000
+  rig.write(0x1F, 0x09);
+  rig.write(0x15, 0x21);
+  rig.run_for(20ms);
+  rig.fw->set_sync_input(true, rig.now);  // the button
+  rig.fw->set_sync_input(false, rig.now + 1ms);
+  EXPECT_EQ(rig.exchange("#01FR\r"), "!01FR25000\r");
+  EXPECT_EQ(rig.exchange("#01R16\r"), "!01R1620\r");
+  EXPECT_EQ(rig.exchange("#01R17\r"), "!01R174E\r");
+  EXPECT_EQ(rig.exchange("#01R1C\r"), "!01R1C30\r");
+  EXPECT_EQ(rig.exchange("#01R1D\r"), "!01R1D75\r");
+  EXPECT_EQ(rig.fw->rom(0x17), 0x4E);
+  EXPECT_EQ(rig.fw->rom(0x1D), 0x75);
+  // Only the recalculated limits went to ROM: latching and outputs are still the defaults there.
+  EXPECT_EQ(rig.fw->rom(0x1F), default_byte(*find_parameter(0x1F), 157));
+  EXPECT_EQ(rig.fw->rom(0x15), default_byte(*find_parameter(0x15), 157));
+  Rig restarted(config);
+  EXPECT_EQ(restarted.exchange("#01R17\r"), "!01R174E\r");
+  EXPECT_EQ(restarted.exchange("#01R1D\r"), "!01R1D75\r");
+  std::filesystem::remove_all(config.state_dir);
+}
+
+TEST(Ls5Pipeline, SyncTriggeringSkipsEdgesFasterThanThePeriod) {
+  Rig rig;
+  rig.write(0x1F, 0x00);  // no latching: the sync input only triggers
+  rig.write(0x1E, 0x01);
+  const auto before = rig.fw->measurements();
+  rig.run_for(50ms);
+  EXPECT_EQ(rig.fw->measurements(), before);  // no timer
+  for (const auto at : {0ms, 5ms, 12ms, 30ms}) {
+    rig.run_to(Nanos(100ms) + at);
+    rig.fw->set_sync_input(true, rig.now);
+    rig.fw->set_sync_input(false, rig.now);
+  }
+  EXPECT_EQ(rig.fw->measurements(), before + 3);  // the edge at +5 ms came too soon
+}
+
+TEST(Ls5Pipeline, AmbiguousCaseSyncLatchingAndStreamGivesNoStreamOutput) {
+  Rig rig;
+  rig.write(0x1E, 0x01);
+  rig.write(0x1F, 0x01);
+  rig.out.clear();
+  rig.send("#01ST\r");
+  rig.run_for(20ms);
+  rig.set_scene_code(7000);
+  rig.fw->set_sync_input(true, rig.now);
+  rig.fw->set_sync_input(false, rig.now);
+  rig.run_for(20ms);
+  EXPECT_EQ(rig.out, "");
+  EXPECT_TRUE(rig.fw->streaming());
+  EXPECT_EQ(rig.exchange("#01FR\r"), "!01FR07000\r");
+  EXPECT_EQ(rig.exchange("#01LR\r"), "!01LR07000\r");
+}
+
+TEST(Ls5Pipeline, TimerTriggeringWithLatchingStillStreams) {
+  Rig rig;
+  rig.write(0x1F, 0x01);
+  rig.out.clear();
+  rig.send("#01ST\r");
+  rig.run_for(15ms);
+  rig.set_scene_code(7000);
+  rig.fw->set_sync_input(true, rig.now);  // measurement + latch, timer restarts
+  rig.run_for(15ms);
+  EXPECT_EQ(rig.out, "!25000\r!07000\r");
+  EXPECT_EQ(rig.fw->current_result().value, 7000);
+}
+
+TEST(Ls5Pipeline, StreamRateIsOneOverNTimesTOver60Seconds) {
+  Rig rig;
+  rig.write(0x06, 0x0A);
+  rig.write(0x07, 0x00);  // t = 1 ms
+  rig.write(0x08, 0x02);  // n = 2: T = 2 ms
+  rig.send("#01ST\r");
+  const Nanos start = rig.now;
+  rig.out.clear();
+  rig.run_for(60s);
+  const double records = static_cast<double>(rig.out.size()) / 7.0;
+  const double rate = records / (static_cast<double>((rig.now - start).count()) / 1e9);
+  EXPECT_NEAR(rate, 500.0, 500.0 * 1e-4);
+  EXPECT_EQ(rig.fw->records_skipped(), 0U);
+}
+
+TEST(Ls5Pipeline, OneKilohertzNeeds115200) {
+  Rig rig;
+  rig.write(0x06, 0x0A);
+  rig.write(0x07, 0x00);  // t = 1 ms, n = 1
+  rig.send("#01ST\r");
+  rig.run_for(10s);
+  EXPECT_EQ(rig.fw->records_skipped(), 0U);
+  EXPECT_NEAR(static_cast<double>(rig.fw->records_sent()), 10000, 2);
+
+  Rig slow;
+  slow.write(0x06, 0x0A);
+  slow.write(0x07, 0x00);
+  slow.write(0x05, 0x04);  // 57600: a record takes 1.215 ms (§8.4)
+  slow.send("#01ST\r");
+  slow.run_for(10s);
+  EXPECT_NEAR(static_cast<double>(slow.fw->records_sent()), 5000, 2);
+  EXPECT_NEAR(static_cast<double>(slow.fw->records_skipped()), 5000, 2);
+}
+
+TEST(Ls5Pipeline, ParityAndStopBitsCountInThePacing) {
+  Rig rig;
+  rig.write(0x06, 0x0A);
+  rig.write(0x07, 0x00);
+  rig.write(0x04, 0x04);  // 8E2: 12 bits, a record takes 0.73 ms at 115200 -- still fits 1 kHz
+  rig.send("#01ST\r");
+  rig.run_for(1s);
+  EXPECT_EQ(rig.fw->records_skipped(), 0U);
+  EXPECT_TRUE(rig.exchange("#01SB\r").ends_with("!01SB\r"));
+  rig.write(0x05, 0x04);  // 57600 8E2: 1.46 ms per record
+  rig.send("#01ST\r");
+  rig.run_for(1s);
+  EXPECT_GT(rig.fw->records_skipped(), 400U);
+}
+
+TEST(Ls5Pipeline, StandbyAfterPowerUpWhenStoredBaudIsAbove115200) {
+  Rig rig;
+  rig.write(0x05, 0x06);  // 230400 (takes effect after the echo)
+  rig.send("#01FL\r");
+  rig.run_for(5ms);
+  const Nanos up = rig.now;
+  rig.fw->power_cycle(up);
+  EXPECT_EQ(rig.fw->phase_name(), "initializing");
+  EXPECT_EQ(rig.exchange("#01ID\r", 100ms), "");  // deaf for 4 s
+  rig.run_to(up + 4s + 1ms);
+  EXPECT_EQ(rig.fw->phase_name(), "standby");
+  EXPECT_EQ(rig.fw->port_settings(0).baud, 19200U);
+  EXPECT_EQ(rig.exchange("#01R05\r"), "!01R0506\r");
+  EXPECT_FALSE(rig.fw->laser_on());
+  const auto count = rig.fw->measurements();
+  rig.run_to(up + 9s - 1ms);
+  EXPECT_EQ(rig.fw->port_settings(0).baud, 19200U);
+  rig.run_to(up + 9s + 1ms);
+  EXPECT_EQ(rig.fw->phase_name(), "operating");
+  EXPECT_EQ(rig.fw->port_settings(0).baud, 230400U);
+  rig.run_to(up + 9s + 499ms);
+  EXPECT_EQ(rig.fw->measurements(), count);
+  rig.run_to(up + 9s + 501ms);
+  EXPECT_EQ(rig.fw->measurements(), count + 1);
+}
+
+TEST(Ls5Pipeline, StandbyLetsTheHostLowerTheBaud) {
+  Rig rig;
+  rig.write(0x05, 0x06);
+  rig.send("#01FL\r");
+  rig.run_for(5ms);
+  const Nanos up = rig.now;
+  rig.fw->power_cycle(up);
+  rig.run_to(up + 4s + 1ms);
+  EXPECT_EQ(rig.exchange("#01W0505\r"), "!01W0505\r");
+  EXPECT_EQ(rig.fw->port_settings(0).baud, 19200U);  // still standby
+  rig.run_to(up + 9s + 1ms);
+  EXPECT_EQ(rig.fw->port_settings(0).baud, 115200U);
+}
+
+TEST(Ls5Pipeline, UdpPacketEvery168ResultsAtTheOutputPeriod) {
+  std::vector<std::array<std::uint8_t, udp_packet_size>> packets;
+  FirmwareConfig config = test_config("LS5.12.3");
+  config.udp_sink = [&](const std::array<std::uint8_t, udp_packet_size>& packet) { packets.push_back(packet); };
+  Rig rig(config);
+  rig.write(0x06, 0x0A);
+  rig.write(0x07, 0x00);  // t = 1 ms
+  rig.run_for(1s);
+  ASSERT_GE(packets.size(), 5U);
+  for (std::size_t i = 0; i < packets.size(); ++i) {
+    auto packet = decode_udp_packet(Bytes(packets[i].data(), packets[i].size()));
+    ASSERT_TRUE(packet) << packet.error().message;
+    EXPECT_EQ(packet->counter, i);
+    EXPECT_EQ(packet->serial_number, 157);
+    EXPECT_EQ(packet->lower_boundary_mm, 10);
+    EXPECT_EQ(packet->range_mm, 50);
+    const auto& last = packet->records.back();
+    EXPECT_TRUE(last.measured());
+    EXPECT_TRUE(last.in_range());
+    EXPECT_EQ(last.code, 0x2000);  // code 25000 = half scale
+  }
+  EXPECT_NEAR(static_cast<double>(packets.size()), 1000.0 / 168, 1);
+  rig.write(0x70, 0x00);
+  const auto count = packets.size();
+  rig.run_for(1s);
+  EXPECT_EQ(packets.size(), count);
+}
+
+TEST(Ls5Pipeline, NoUdpOnSerialOnlyModels) {
+  int packets = 0;
+  FirmwareConfig config = test_config("LS5.9.0");
+  config.udp_sink = [&](const std::array<std::uint8_t, udp_packet_size>&) { ++packets; };
+  Rig rig(config);
+  rig.write(0x06, 0x0A);
+  rig.write(0x07, 0x00);
+  rig.run_for(1s);
+  EXPECT_EQ(packets, 0);
+}
+
+}  // namespace
+}  // namespace rangekit::ls5::emulator::testing
