@@ -1,15 +1,165 @@
-// `rangekit sim ls5`: placeholder until the LS5 emulator lands (issue 5).
+// `rangekit sim ls5`: the LS5 emulator (issue 5) on a pseudo-terminal, one or
+// more sensors on the line (RS-485 bus), the Ethernet stream to a loopback
+// UDP destination. Firmware: src/ls5/emulator; how to run it: docs/emulator-ls5.md.
 #include <fmt/core.h>
+
+#include <memory>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/sim.hpp"
+#include "ls5/emulator/firmware.hpp"
+#include "rangekit/core/udp.hpp"
 
 namespace rangekit::cli {
-void add_sim_ls5(CLI::App& sim, int& exit_code) {
-  auto* command = sim.add_subcommand("ls5", "LS5 emulator (not yet available)");
-  command->callback([&exit_code] {
-    fmt::print(stderr, "rangekit sim ls5: the LS5 emulator is not built yet\n");
-    exit_code = exit_usage;
-  });
+
+namespace {
+
+struct Ls5SimOptions {
+  std::string port;
+  std::vector<std::string> addresses;
+  std::string model = "8.1234/40.001";
+  std::uint32_t serial = 157;
+  std::string version = "LS5.12.0";
+  std::string udp;
+  std::string analog = "4-20mA";
+};
+
+std::optional<std::uint8_t> parse_address(const std::string& text) {
+  try {
+    std::size_t used = 0;
+    const bool hex = text.starts_with("0x") || text.starts_with("0X");
+    const unsigned long value = std::stoul(hex ? text.substr(2) : text, &used, hex ? 16 : 10);
+    if (used != text.size() - (hex ? 2 : 0) || value < 1 || value > 255) return std::nullopt;
+    return static_cast<std::uint8_t>(value);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
 }
+
+// Control requests for a sensor name it with "address" (decimal or "0x1A"); with one sensor it may be left out.
+nlohmann::json route(const std::vector<std::unique_ptr<ls5::emulator::Firmware>>& sensors,
+                     const nlohmann::json& request) {
+  static const std::vector<std::string> device_commands = {"outputs", "sync", "power_cycle", "move_target",
+                                                           "set_scene"};
+  const std::string command = request.value("cmd", "");
+  if (std::find(device_commands.begin(), device_commands.end(), command) == device_commands.end()) return nullptr;
+  if (!request.contains("address")) {
+    if (sensors.size() == 1) return sensors.front()->control(request, Nanos{0});
+    return {{"error", command + ": several sensors share the line; name one with \"address\""}};
+  }
+  std::optional<std::uint8_t> address;
+  if (request["address"].is_number_unsigned()) {
+    const auto value = request["address"].get<std::uint64_t>();
+    if (value >= 1 && value <= 255) address = static_cast<std::uint8_t>(value);
+  } else if (request["address"].is_string()) {
+    address = parse_address(request["address"].get<std::string>());
+  }
+  if (!address) return {{"error", command + ": address must be 1-255"}};
+  for (const auto& sensor : sensors) {
+    if (sensor->ram(ls5::address::network_address) == *address) return sensor->control(request, Nanos{0});
+  }
+  return {{"error", fmt::format("{}: no sensor at address {:02X}", command, *address)}};
+}
+
+int run(const Ls5SimOptions& options, const SimCommonOptions& common) {
+  auto model = ls5::emulator::parse_model(options.model);
+  if (!model) {
+    fmt::print(stderr, "rangekit sim ls5: --model: {}\n", model.error().message);
+    return exit_usage;
+  }
+  ls5::AnalogRange analog = ls5::current_4_20_mA;
+  if (options.analog == "0-20mA") {
+    analog = ls5::current_0_20_mA;
+  } else if (options.analog == "0-10V") {
+    analog = ls5::voltage_0_10_V;
+  } else if (options.analog != "4-20mA") {
+    fmt::print(stderr, "rangekit sim ls5: --analog must be 4-20mA, 0-20mA or 0-10V\n");
+    return exit_usage;
+  }
+  ls5::emulator::Scene scene;
+  if (!common.scene.empty()) {
+    auto loaded = ls5::emulator::load_scene(common.scene);
+    if (!loaded) {
+      fmt::print(stderr, "rangekit sim ls5: {}\n", loaded.error().message);
+      return exit_bad_input;
+    }
+    scene = std::move(*loaded);
+  }
+  std::optional<UdpSocket> udp_socket;
+  std::optional<Endpoint> udp_destination;
+  if (!options.udp.empty()) {
+    auto endpoint = parse_endpoint(options.udp);
+    if (!endpoint) {
+      fmt::print(stderr, "rangekit sim ls5: --udp: {}\n", endpoint.error().message);
+      return exit_usage;
+    }
+    auto socket = UdpSocket::bind(Endpoint{"127.0.0.1", 0});
+    if (!socket) {
+      fmt::print(stderr, "rangekit sim ls5: --udp: {}\n", socket.error().message);
+      return exit_io;
+    }
+    udp_socket.emplace(std::move(*socket));
+    udp_destination = *endpoint;
+  }
+  std::vector<std::string> addresses = options.addresses;
+  if (addresses.empty()) addresses.push_back("1");
+  std::vector<std::unique_ptr<ls5::emulator::Firmware>> sensors;
+  for (std::size_t i = 0; i < addresses.size(); ++i) {
+    const auto address = parse_address(addresses[i]);
+    if (!address) {
+      fmt::print(stderr, "rangekit sim ls5: --address '{}' must be 1-255 (decimal or 0x hex)\n", addresses[i]);
+      return exit_usage;
+    }
+    ls5::emulator::FirmwareConfig config;
+    config.lower_boundary_mm = model->first;
+    config.range_mm = model->second;
+    config.serial_number = options.serial + static_cast<std::uint32_t>(i);  // each sensor its own serial
+    config.version_text = options.version;
+    config.factory_address = *address;
+    config.analog = analog;
+    config.state_dir = common.state_dir;
+    config.seed = common.seed + static_cast<std::uint32_t>(i);
+    config.scene = scene;
+    if (udp_socket) {
+      config.udp_sink = [&udp_socket, &udp_destination](const std::array<std::uint8_t, ls5::udp_packet_size>& packet) {
+        (void)udp_socket->send_to(Bytes(packet.data(), packet.size()), *udp_destination);
+      };
+    }
+    auto firmware = ls5::emulator::Firmware::create(std::move(config));
+    if (!firmware) {
+      fmt::print(stderr, "rangekit sim ls5: {}\n", firmware.error().message);
+      return exit_usage;
+    }
+    sensors.push_back(std::move(*firmware));
+  }
+  LineConfig line{"port", std::nullopt, {}};
+  if (!options.port.empty()) line.link_path = options.port;
+  for (const auto& sensor : sensors) line.attachments.push_back(LineAttachment{sensor.get(), 0});
+  std::string title = "rangekit sim ls5";
+  for (const auto& sensor : sensors) title += " [" + sensor->label() + "]";
+  return run_emulator({line}, common, title,
+                      [&sensors](const nlohmann::json& request) { return route(sensors, request); });
+}
+
+}  // namespace
+
+void add_sim_ls5(CLI::App& sim, int& exit_code) {
+  auto* command = sim.add_subcommand("ls5", "LS5 emulator: firmware model on a pseudo-terminal (docs/emulator-ls5.md)");
+  auto options = std::make_shared<Ls5SimOptions>();
+  auto common = std::make_shared<SimCommonOptions>();
+  command->add_option("--port", options->port, "symlink to create for the serial line's pty");
+  command->add_option("--address", options->addresses,
+                      "network address of a sensor on the line, 1-255 (repeat for an RS-485 bus); default 1");
+  command->add_option("--model", options->model, "LOWER_MM/RANGE_MM, e.g. 8.1234/40.001")->capture_default_str();
+  command->add_option("--serial", options->serial, "serial number (the next sensors get +1, +2, ...)")
+      ->capture_default_str();
+  command->add_option("--version", options->version, "firmware version, LS5.x.y (LS5.12.x has Ethernet)")
+      ->capture_default_str();
+  command->add_option("--udp", options->udp, "send the Ethernet stream to HOST:PORT (loopback); off when not given");
+  command->add_option("--analog", options->analog, "analog output type: 4-20mA, 0-20mA, 0-10V")->capture_default_str();
+  add_common_sim_options(*command, *common);
+  command->callback([options, common, &exit_code] { exit_code = run(*options, *common); });
+}
+
 }  // namespace rangekit::cli

@@ -1,0 +1,235 @@
+// `rangekit sim ls5` as a process: a host on the real pty, the control socket
+// driving the virtual clock and the sync input, a loopback UDP receiver.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <filesystem>
+#include <fstream>
+
+#include "rangekit/core/control_socket.hpp"
+#include "rangekit/core/serial_port.hpp"
+#include "rangekit/core/udp.hpp"
+#include "rangekit/ls5/ls5.hpp"
+
+namespace rangekit {
+namespace {
+
+using namespace std::chrono_literals;
+
+class SimProcess {
+ public:
+  explicit SimProcess(const std::vector<std::string>& arguments) {
+    int out[2];
+    if (::pipe(out) != 0) return;
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      ::dup2(out[1], STDOUT_FILENO);
+      ::close(out[0]);
+      ::close(out[1]);
+      std::vector<char*> argv;
+      argv.push_back(const_cast<char*>(RANGEKIT_CLI_PATH));
+      for (const auto& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      ::execv(RANGEKIT_CLI_PATH, argv.data());
+      ::_exit(127);
+    }
+    ::close(out[1]);
+    stdout_ = ::fdopen(out[0], "r");
+  }
+  ~SimProcess() {
+    if (pid_ > 0 && !exited_) {
+      ::kill(pid_, SIGTERM);
+      (void)wait();
+    }
+    if (stdout_) std::fclose(stdout_);
+  }
+  SimProcess(const SimProcess&) = delete;
+  SimProcess& operator=(const SimProcess&) = delete;
+
+  // Blocks until the ready line (never sleeps to synchronise).
+  std::string ready_line() {
+    char buffer[1024];
+    if (!stdout_ || !std::fgets(buffer, sizeof buffer, stdout_)) return {};
+    return buffer;
+  }
+  int wait() {
+    int status = 0;
+    ::waitpid(pid_, &status, 0);
+    exited_ = true;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  FILE* stdout_ = nullptr;
+  bool exited_ = false;
+};
+
+struct Paths {
+  std::filesystem::path dir;
+  std::string port, control, scene;
+  explicit Paths(const std::string& name) {
+    dir = std::filesystem::temp_directory_path() / ("rangekit-ls5sim-" + name + "-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    port = (dir / "ls5").string();
+    control = (dir / "ctl").string();
+    scene = (dir / "scene.toml").string();
+  }
+  ~Paths() { std::filesystem::remove_all(dir); }
+};
+
+std::string read_bytes(SerialPort& port, std::size_t expected, std::chrono::milliseconds timeout = 2000ms) {
+  std::string text;
+  std::array<std::uint8_t, 512> buffer{};
+  while (text.size() < expected) {
+    auto got = port.read_some(std::span(buffer.data(), expected - text.size()), timeout);
+    if (!got || *got == 0) break;
+    text.append(reinterpret_cast<const char*>(buffer.data()), *got);
+  }
+  return text;
+}
+
+struct Session {
+  std::unique_ptr<SerialPort> host;
+  std::optional<ControlClient> control;
+
+  nlohmann::json ask(const nlohmann::json& request) {
+    auto reply = control->request(request);
+    EXPECT_TRUE(reply) << reply.error().message;
+    return reply ? *reply : nlohmann::json{};
+  }
+  // Writes a request, lets 20 ms of virtual time pass, reads the expected reply length.
+  std::string exchange(std::string_view request, std::size_t reply_length, std::chrono::milliseconds timeout = 2000ms) {
+    EXPECT_TRUE(host->write_all(as_bytes(request)));
+    ask({{"cmd", "status"}});  // the runtime has polled the pty by the time it answers
+    ask({{"cmd", "advance"}, {"seconds", 0.02}});
+    return read_bytes(*host, reply_length, timeout);
+  }
+};
+
+Session connect(const Paths& paths) {
+  Session session;
+  auto host = SerialPort::open(paths.port, SerialSettings{115200, Parity::none, 1});
+  EXPECT_TRUE(host) << host.error().message;
+  if (host) session.host = std::move(*host);
+  auto client = ControlClient::connect(paths.control);
+  EXPECT_TRUE(client) << client.error().message;
+  if (client) session.control.emplace(std::move(*client));
+  return session;
+}
+
+TEST(Ls5Sim, BusOfTwoSensorsCommandsWeldingExampleAndUdp) {
+  Paths paths("bus");
+  { std::ofstream(paths.scene) << "[target]\nposition_mm = 50.0\nnoise_mm = 0.0\n"; }
+  auto receiver = UdpSocket::bind(Endpoint{"127.0.0.1", 0});
+  ASSERT_TRUE(receiver) << receiver.error().message;
+  SimProcess sim({"sim",
+                  "ls5",
+                  "--port",
+                  paths.port,
+                  "--address",
+                  "1",
+                  "--address",
+                  "2",
+                  "--model",
+                  "0/100",
+                  "--serial",
+                  "157",
+                  "--version",
+                  "LS5.12.0",
+                  "--udp",
+                  receiver->local_endpoint().to_string(),
+                  "--scene",
+                  paths.scene,
+                  "--control",
+                  paths.control,
+                  "--virtual-clock"});
+  const std::string ready = sim.ready_line();
+  ASSERT_NE(ready.find("ready:"), std::string::npos) << ready;
+  auto s = connect(paths);
+  ASSERT_TRUE(s.host && s.control);
+
+  // Identification and the §9.4 sessions.
+  EXPECT_EQ(s.exchange("#01ID\r", 39), "%01LS5.12.0  b0,0000d100,000s/n0000157\r");
+  EXPECT_EQ(s.exchange("#02ID\r", 39), "%02LS5.12.0  b0,0000d100,000s/n0000158\r");
+  EXPECT_EQ(s.exchange("#01ON\r", 6), "!01ON\r");
+  EXPECT_EQ(s.exchange("#02W0B01\r", 9), "!02W0B01\r");
+  EXPECT_EQ(s.exchange("#01LR\r", 11), "!01LR25000\r");
+
+  // §8.14 welding example on sensor 01, with the button on the sync input.
+  for (const char* command : {"#01W2510\r", "#01W2627\r", "#01W1F09\r"}) {
+    std::string echo = command;
+    echo[0] = '!';
+    EXPECT_EQ(s.exchange(command, 9), echo);
+  }
+  auto synced = s.ask({{"cmd", "sync"}, {"level", "pulse"}, {"address", 1}});
+  EXPECT_EQ(synced["latched"], 25000) << synced.dump();
+  EXPECT_EQ(s.exchange("#01R17\r", 9), "!01R174E\r");
+  EXPECT_EQ(s.exchange("#01R1D\r", 9), "!01R1D75\r");
+  EXPECT_EQ(s.exchange("#02R1D\r", 9), "!02R1DC3\r") << "sensor 02 keeps its default";
+
+  auto outputs = s.ask({{"cmd", "outputs"}, {"address", 2}});
+  EXPECT_EQ(outputs["unit"], "mA");
+  EXPECT_TRUE(outputs.contains("oc1"));
+  EXPECT_TRUE(s.ask({{"cmd", "outputs"}}).contains("error"));  // two sensors: name one
+
+  // Ethernet: period 10 ms, 168 results = 1.68 s per packet from each sensor.
+  s.ask({{"cmd", "advance"}, {"seconds", 2.0}});
+  std::array<std::uint8_t, 1024> datagram{};
+  std::set<std::uint16_t> serials;
+  for (int i = 0; i < 2; ++i) {
+    auto got = receiver->receive(datagram, 2000ms);
+    ASSERT_TRUE(got) << got.error().message;
+    ASSERT_EQ(got->size, ls5::udp_packet_size);
+    auto packet = ls5::decode_udp_packet(Bytes(datagram.data(), got->size));
+    ASSERT_TRUE(packet) << packet.error().message;
+    EXPECT_EQ(packet->counter, 0);
+    EXPECT_EQ(packet->range_mm, 100);
+    EXPECT_TRUE(packet->records.back().in_range());
+    serials.insert(packet->serial_number);
+  }
+  EXPECT_EQ(serials, (std::set<std::uint16_t>{157, 158}));
+
+  EXPECT_EQ(s.ask({{"cmd", "shutdown"}})["ok"], true);
+  EXPECT_EQ(sim.wait(), 0);
+}
+
+TEST(Ls5Sim, FlashSurvivesPowerCycleThroughTheControlSocket) {
+  Paths paths("flash");
+  const std::string state = (paths.dir / "state").string();
+  SimProcess sim({"sim", "ls5", "--port", paths.port, "--state", state, "--control", paths.control, "--virtual-clock"});
+  ASSERT_NE(sim.ready_line().find("ready:"), std::string::npos);
+  auto s = connect(paths);
+  ASSERT_TRUE(s.host && s.control);
+  EXPECT_EQ(s.exchange("#01W0C04\r", 9), "!01W0C04\r");
+  EXPECT_EQ(s.exchange("#01FL\r", 6), "!01FL\r");
+  EXPECT_EQ(s.exchange("#01W0803\r", 9), "!01W0803\r");
+  EXPECT_EQ(s.ask({{"cmd", "power_cycle"}})["ok"], true);
+  EXPECT_EQ(s.exchange("#01R0C\r", 9), "!01R0C04\r");
+  EXPECT_EQ(s.exchange("#01R08\r", 9), "!01R0801\r");
+}
+
+TEST(Ls5Sim, HostAtAnotherBaudSeesGarbage) {
+  Paths paths("baud");
+  SimProcess sim({"sim", "ls5", "--port", paths.port, "--control", paths.control, "--virtual-clock"});
+  ASSERT_NE(sim.ready_line().find("ready:"), std::string::npos);
+  auto s = connect(paths);
+  ASSERT_TRUE(s.host && s.control);
+  EXPECT_EQ(s.exchange("#01W0504\r", 9), "!01W0504\r");  // the sensor now talks at 57600
+  // The request arrives garbled: no reply, or garbage (never a clean identification).
+  EXPECT_NE(s.exchange("#01ID\r", 1, 300ms), "%");
+}
+
+TEST(Ls5Sim, BadArgumentsAreUsageErrors) {
+  SimProcess bad_model({"sim", "ls5", "--model", "forty"});
+  EXPECT_EQ(bad_model.wait(), 2);
+  SimProcess bad_address({"sim", "ls5", "--address", "0"});
+  EXPECT_EQ(bad_address.wait(), 2);
+}
+
+}  // namespace
+}  // namespace rangekit
