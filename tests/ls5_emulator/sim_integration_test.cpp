@@ -224,6 +224,18 @@ TEST(Ls5Sim, HostAtAnotherBaudSeesGarbage) {
   EXPECT_NE(s.exchange("#01ID\r", 1, 300ms), "%");
 }
 
+TEST(Ls5Sim, SameAddressTwiceCollidesOnTheBus) {
+  Paths paths("collide");
+  SimProcess sim({"sim", "ls5", "--port", paths.port, "--address", "1", "--address", "1", "--control", paths.control,
+                  "--virtual-clock"});
+  ASSERT_NE(sim.ready_line().find("ready:"), std::string::npos);
+  auto s = connect(paths);
+  ASSERT_TRUE(s.host && s.control);
+  const std::string reply = s.exchange("#01R06\r", 9, 500ms);
+  EXPECT_EQ(reply.size(), 9U);  // both answer at once: 9 corrupted bytes, not two clean replies
+  EXPECT_NE(reply, "!01R0664\r");
+}
+
 TEST(Ls5Sim, BadArgumentsAreUsageErrors) {
   SimProcess bad_model({"sim", "ls5", "--model", "forty"});
   EXPECT_EQ(bad_model.wait(), 2);
