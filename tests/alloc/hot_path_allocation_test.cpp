@@ -1,32 +1,16 @@
 // The hot path (framing + decoding a measurement stream) must not touch the
-// heap once warmed up (issue 3). This binary replaces the global operator new
-// to count allocations, which is why it is a test binary of its own.
+// heap once warmed up (issue 3). This binary links bench/allocation_counter.cpp,
+// which replaces the global operator new to count allocations: that is why it
+// is a test binary of its own.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
 #include <string>
 
+#include "allocation_counter.hpp"
 #include "rangekit/core/framer.hpp"
 #include "rangekit/ls5/reply.hpp"
 #include "rangekit/ls5/udp_packet.hpp"
 #include "rangekit/uls/measurement.hpp"
-
-namespace {
-std::atomic<long> allocations{0};
-}
-
-void* operator new(std::size_t size) {
-  allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* memory = std::malloc(size == 0 ? 1 : size)) return memory;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) { return operator new(size); }
-void operator delete(void* memory) noexcept { std::free(memory); }
-void operator delete[](void* memory) noexcept { std::free(memory); }
-void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
-void operator delete[](void* memory, std::size_t) noexcept { std::free(memory); }
 
 namespace rangekit {
 namespace {
@@ -34,7 +18,7 @@ namespace {
 template <class Decode>
 long allocations_while_decoding(ScanFunction scan, const std::string& stream, Decode&& decode, int& decoded) {
   FrameAssembler assembler(scan, 1024);  // allocated here, before counting
-  const long before = allocations.load();
+  const long before = static_cast<long>(bench::allocation_count());
   FrameAssembler::Event event;
   for (std::size_t offset = 0; offset < stream.size(); offset += 100) {
     assembler.push(as_bytes(std::string_view(stream).substr(offset, 100)));
@@ -42,14 +26,14 @@ long allocations_while_decoding(ScanFunction scan, const std::string& stream, De
       if (event.kind == FrameAssembler::Event::Kind::frame && decode(event.frame)) ++decoded;
     }
   }
-  return allocations.load() - before;
+  return static_cast<long>(bench::allocation_count()) - before;
 }
 
 TEST(HotPathAllocation, CounterSeesAnAllocation) {
   // The instrument works: a string too long for the small-string buffer allocates.
-  const long before = allocations.load();
+  const long before = static_cast<long>(bench::allocation_count());
   std::string text(100, 'x');
-  EXPECT_GT(allocations.load() - before, 0);
+  EXPECT_GT(static_cast<long>(bench::allocation_count()) - before, 0);
   EXPECT_EQ(text.size(), 100U);
 }
 
@@ -92,9 +76,9 @@ TEST(HotPathAllocation, Ls5StreamRecordsAndUdpPackets) {
     packet.records[i] = ls5::UdpRecord{static_cast<std::uint16_t>(i * 50), 0x07};
   std::array<std::uint8_t, ls5::udp_packet_size> datagram{};
   ASSERT_TRUE(ls5::encode_udp_packet(packet, datagram));
-  const long before = allocations.load();
+  const long before = static_cast<long>(bench::allocation_count());
   for (int i = 0; i < 100; ++i) ASSERT_TRUE(ls5::decode_udp_packet(datagram));
-  EXPECT_EQ(allocations.load() - before, 0);
+  EXPECT_EQ(static_cast<long>(bench::allocation_count()) - before, 0);
 }
 
 }  // namespace
