@@ -22,7 +22,7 @@ struct Ls5SimOptions {
   std::uint32_t serial = 157;
   std::string version = "LS5.12.0";
   std::string udp;
-  std::string analog = "4-20mA";
+  std::string analog;  // default: from the ordering code, else 4-20mA
 };
 
 std::optional<std::uint8_t> parse_address(const std::string& text) {
@@ -68,12 +68,15 @@ int run(const Ls5SimOptions& options, const SimCommonOptions& common) {
     fmt::print(stderr, "rangekit sim ls5: --model: {}\n", model.error().message);
     return exit_usage;
   }
-  ls5::AnalogRange analog = ls5::current_4_20_mA;
-  if (options.analog == "0-20mA") {
+  ls5::AnalogRange analog = model->analog;
+  if (options.analog.empty()) {
+  } else if (options.analog == "4-20mA") {
+    analog = ls5::current_4_20_mA;
+  } else if (options.analog == "0-20mA") {
     analog = ls5::current_0_20_mA;
   } else if (options.analog == "0-10V") {
     analog = ls5::voltage_0_10_V;
-  } else if (options.analog != "4-20mA") {
+  } else {
     fmt::print(stderr, "rangekit sim ls5: --analog must be 4-20mA, 0-20mA or 0-10V\n");
     return exit_usage;
   }
@@ -112,8 +115,9 @@ int run(const Ls5SimOptions& options, const SimCommonOptions& common) {
       return exit_usage;
     }
     ls5::emulator::FirmwareConfig config;
-    config.lower_boundary_mm = model->first;
-    config.range_mm = model->second;
+    config.lower_boundary_mm = model->lower_boundary_mm;
+    config.range_mm = model->range_mm;
+    config.ethernet = ls5::has_ethernet(*model);
     config.serial_number = options.serial + static_cast<std::uint32_t>(i);  // each sensor its own serial
     config.version_text = options.version;
     config.factory_address = *address;
@@ -151,13 +155,17 @@ void add_sim_ls5(CLI::App& sim, int& exit_code) {
   command->add_option("--port", options->port, "symlink to create for the serial line's pty");
   command->add_option("--address", options->addresses,
                       "network address of a sensor on the line, 1-255 (repeat for an RS-485 bus); default 1");
-  command->add_option("--model", options->model, "LOWER_MM/RANGE_MM, e.g. 8.1234/40.001")->capture_default_str();
+  command
+      ->add_option("--model", options->model,
+                   "LOWER_MM/RANGE_MM (8.1234/40.001) or an ordering code (LS5-100/200-485/E-I4-2-12-A)")
+      ->capture_default_str();
   command->add_option("--serial", options->serial, "serial number (the next sensors get +1, +2, ...)")
       ->capture_default_str();
   command->add_option("--version", options->version, "firmware version, LS5.x.y (LS5.12.x has Ethernet)")
       ->capture_default_str();
   command->add_option("--udp", options->udp, "send the Ethernet stream to HOST:PORT (loopback); off when not given");
-  command->add_option("--analog", options->analog, "analog output type: 4-20mA, 0-20mA, 0-10V")->capture_default_str();
+  command->add_option("--analog", options->analog,
+                      "analog output type: 4-20mA, 0-20mA, 0-10V (default: the ordering code's, else 4-20mA)");
   add_common_sim_options(*command, *common);
   command->callback([options, common, &exit_code] { exit_code = run(*options, *common); });
 }

@@ -122,6 +122,22 @@ TEST(Ls5Control, CreateRefusesBadIdentity) {
   EXPECT_TRUE(parse_model("8.1234/40.001"));
   EXPECT_FALSE(parse_model("8.1234-40.001"));
   EXPECT_FALSE(parse_model("8/0"));
+  auto ordered = parse_model("LS5-100/200-232-U10-2-12-A");
+  ASSERT_TRUE(ordered) << ordered.error().message;
+  EXPECT_DOUBLE_EQ(ordered->range_mm, 200);
+  EXPECT_FALSE(has_ethernet(*ordered));
+  EXPECT_EQ(ordered->analog.unit, "V");
+}
+
+TEST(Ls5Control, Rs232OrderingCodeHasNoEthernetEvenOnLs512) {
+  FirmwareConfig config = test_config("LS5.12.0");
+  config.ethernet = false;
+  int packets = 0;
+  config.udp_sink = [&](const std::array<std::uint8_t, udp_packet_size>&) { ++packets; };
+  Rig rig(config);
+  EXPECT_EQ(rig.exchange("#01R70\r"), "");
+  rig.run_for(3s);
+  EXPECT_EQ(packets, 0);
 }
 
 }  // namespace

@@ -40,24 +40,27 @@ std::string hex2(std::uint8_t value) {
 
 }  // namespace
 
-Result<std::pair<double, double>> parse_model(std::string_view text) {
+Result<OrderingCode> parse_model(std::string_view text) {
+  if (text.starts_with("LS5-")) return parse_ordering_code(text);
+  const std::string message =
+      "model '" + std::string(text) + "' is not LOWER_MM/RANGE_MM (e.g. 8.1234/40.001) or an ordering code (LS5-...)";
   const auto slash = text.find('/');
-  if (slash == std::string_view::npos) {
-    return make_error(Errc::bad_number,
-                      "model '" + std::string(text) + "' is not LOWER_MM/RANGE_MM (e.g. 8.1234/40.001)");
-  }
+  if (slash == std::string_view::npos) return make_error(Errc::bad_number, message);
   try {
     std::size_t used1 = 0;
     std::size_t used2 = 0;
     const std::string lower(text.substr(0, slash));
     const std::string range(text.substr(slash + 1));
-    const double l = std::stod(lower, &used1);
-    const double r = std::stod(range, &used2);
-    if (used1 != lower.size() || used2 != range.size() || l < 0 || r <= 0) throw std::invalid_argument("model");
-    return std::pair{l, r};
+    OrderingCode code;
+    code.lower_boundary_mm = std::stod(lower, &used1);
+    code.range_mm = std::stod(range, &used2);
+    if (used1 != lower.size() || used2 != range.size() || code.lower_boundary_mm < 0 || code.range_mm <= 0) {
+      return make_error(Errc::bad_number, message);
+    }
+    code.interface = DigitalInterface::rs485_ethernet;  // the version decides (L6)
+    return code;
   } catch (const std::exception&) {
-    return make_error(Errc::bad_number,
-                      "model '" + std::string(text) + "' is not LOWER_MM/RANGE_MM (e.g. 8.1234/40.001)");
+    return make_error(Errc::bad_number, message);
   }
 }
 
@@ -80,9 +83,10 @@ Result<std::unique_ptr<Firmware>> Firmware::create(FirmwareConfig config, Nanos 
       make_identification(config.version_text, config.lower_boundary_mm, config.range_mm, config.serial_number);
   if (!identification) return std::move(identification).error();
   if (auto field = encode_identification_field(*identification); !field) return std::move(field).error();
+  const bool config_ethernet = config.ethernet.value_or(true);
   std::unique_ptr<Firmware> firmware(new Firmware(std::move(config)));
   firmware->version_ = *version;
-  firmware->model_ = SensorModel{*version, version->at_least(firmware_12_x)};
+  firmware->model_ = SensorModel{*version, version->at_least(firmware_12_x) && config_ethernet};
   auto stored = firmware->store_.load();
   if (!stored) return std::move(stored).error();
   if (*stored) {
@@ -406,7 +410,7 @@ std::optional<double> Firmware::raw_measurement(Nanos now, bool& weak) {
   if (needed_us > available_us) return std::nullopt;
   weak = needed_us > period_us;
   double position = scene.target_set ? scene.target.position_at(now) : config_.lower_boundary_mm + config_.range_mm / 2;
-  const double error = config_.range_mm * 0.0015;  // table 5.1: ±0.15 % of the range
+  const double error = digital_error_limit_mm(config_.range_mm);  // §3: ±0.15 % of the range
   const double sigma = scene.noise_mm >= 0 ? scene.noise_mm : error / 3;
   if (sigma > 0) {
     const double noise = std::normal_distribution<double>(0, sigma)(random_);

@@ -18,6 +18,7 @@
 #include "rangekit/core/serial_pacer.hpp"
 #include "rangekit/core/state_store.hpp"
 #include "rangekit/ls5/ls5.hpp"
+#include "rangekit/ls5/model.hpp"
 
 namespace rangekit::ls5::emulator {
 
@@ -49,6 +50,8 @@ struct FirmwareConfig {
   std::string version_text = "LS5.12.0";
   std::uint8_t factory_address = 0x01;  // the network address's default (--address)
   AnalogRange analog = current_4_20_mA;
+  // Whether the sensor has Ethernet (ordering code "485/E", L25); unset: every LS5.12 and later has it.
+  std::optional<bool> ethernet;
   std::string state_dir;  // empty: ROM does not persist across processes
   std::uint32_t seed = 1;
   Scene scene{};
@@ -56,8 +59,9 @@ struct FirmwareConfig {
   std::function<void(const std::array<std::uint8_t, udp_packet_size>&)> udp_sink;
 };
 
-// Parses "8.1234/40.001" into lower boundary and range.
-Result<std::pair<double, double>> parse_model(std::string_view text);
+// --model: "8.1234/40.001" (lower boundary and range) or a whole ordering code
+// "LS5-100/200-485/E-I4-2-12-A" (§5, L25), which also sets the interface and analog type.
+Result<OrderingCode> parse_model(std::string_view text);
 
 class Firmware final : public DeviceModel {
  public:
