@@ -60,7 +60,7 @@ struct Unit {
   }
   std::vector<TimedLine> lines_with_times(std::size_t port) {
     std::vector<TimedLine> lines;
-    std::string current;
+    std::string& current = partial[port];  // a line still on the wire stays for the next call
     for (const auto& b : take(port)) {
       if (b.value == '\r') {
         lines.push_back(TimedLine{current, b.done});
@@ -80,6 +80,7 @@ struct Unit {
   std::unique_ptr<Firmware> firmware;
   Nanos now{0};
   std::vector<LineByte> output[2];
+  std::string partial[2];
 };
 
 }  // namespace rangekit::uls::emulator::testing
