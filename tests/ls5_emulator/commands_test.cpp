@@ -1,4 +1,6 @@
 // Every command of table 9.1 against the firmware model, byte for byte.
+// Conformance rows held here: L26 (no reply to what the sensor cannot honour), L27 (DF in RAM),
+// L28 (serial settings after the echo), L37 (any byte stops the stream), L39 (OF).
 #include <unistd.h>
 
 #include "ls5_emulator/firmware_rig.hpp"

@@ -1,4 +1,6 @@
 // The measurement pipeline of figure 8.7 and the outputs, against hand-computed values.
+// Conformance rows held here: L29 (standby), L30 (derivative), L31 (τ), L32 (filters), L33 (§8.13),
+// L34 (exposure and priority), L35 (stream pacing), L36 (UDP), L38 (ROM-writing latching).
 #include <unistd.h>
 
 #include "ls5_emulator/firmware_rig.hpp"

@@ -1,5 +1,6 @@
 // `rangekit sim ls5` as a process: a host on the real pty, the control socket
-// driving the virtual clock and the sync input, a loopback UDP receiver.
+// driving the virtual clock and the sync input, a loopback UDP receiver (conformance L36:
+// packets only to --udp).
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
