@@ -225,6 +225,36 @@ TEST(Ls5Sim, HostAtAnotherBaudSeesGarbage) {
   EXPECT_NE(s.exchange("#01ID\r", 1, 300ms), "%");
 }
 
+TEST(Ls5Sim, StandbyAt19200AfterPowerCycleWithAFastStoredBaud) {
+  Paths paths("standby");
+  SimProcess sim(
+      {"sim", "ls5", "--port", paths.port, "--version", "LS5.6.0", "--control", paths.control, "--virtual-clock"});
+  ASSERT_NE(sim.ready_line().find("ready:"), std::string::npos);
+  auto s = connect(paths);
+  ASSERT_TRUE(s.host && s.control);
+  EXPECT_EQ(s.exchange("#01W0506\r", 9), "!01W0506\r");  // 230400 from now on
+  s.host.reset();
+  auto fast = SerialPort::open(paths.port, SerialSettings{230400, Parity::none, 1});
+  ASSERT_TRUE(fast) << fast.error().message;
+  s.host = std::move(*fast);
+  EXPECT_EQ(s.exchange("#01FL\r", 6), "!01FL\r");
+  EXPECT_EQ(s.ask({{"cmd", "power_cycle"}})["phase"], "initializing");
+  s.ask({{"cmd", "advance"}, {"seconds", 4.5}});
+  EXPECT_EQ(s.ask({{"cmd", "outputs"}})["phase"], "standby");
+  s.host.reset();
+  auto slow = SerialPort::open(paths.port, SerialSettings{19200, Parity::none, 1});
+  ASSERT_TRUE(slow) << slow.error().message;
+  s.host = std::move(*slow);
+  EXPECT_EQ(s.exchange("#01R05\r", 9), "!01R0506\r");  // standby talks 19200 8N1 (§8.2)
+  s.ask({{"cmd", "advance"}, {"seconds", 5.0}});
+  EXPECT_EQ(s.ask({{"cmd", "outputs"}})["phase"], "operating");
+  s.host.reset();
+  auto again = SerialPort::open(paths.port, SerialSettings{230400, Parity::none, 1});
+  ASSERT_TRUE(again) << again.error().message;
+  s.host = std::move(*again);
+  EXPECT_EQ(s.exchange("#01R05\r", 9), "!01R0506\r");
+}
+
 TEST(Ls5Sim, SameAddressTwiceCollidesOnTheBus) {
   Paths paths("collide");
   SimProcess sim({"sim", "ls5", "--port", paths.port, "--address", "1", "--address", "1", "--control", paths.control,
