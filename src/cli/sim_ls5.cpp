@@ -68,15 +68,14 @@ int run(const Ls5SimOptions& options, const SimCommonOptions& common) {
     fmt::print(stderr, "rangekit sim ls5: --model: {}\n", model.error().message);
     return exit_usage;
   }
-  ls5::AnalogRange analog = model->analog;
-  if (options.analog.empty()) {
-  } else if (options.analog == "4-20mA") {
+  ls5::AnalogRange analog = model->analog;  // the ordering code's, 4-20 mA for a bare LOWER/RANGE
+  if (options.analog == "4-20mA") {
     analog = ls5::current_4_20_mA;
   } else if (options.analog == "0-20mA") {
     analog = ls5::current_0_20_mA;
   } else if (options.analog == "0-10V") {
     analog = ls5::voltage_0_10_V;
-  } else {
+  } else if (!options.analog.empty()) {
     fmt::print(stderr, "rangekit sim ls5: --analog must be 4-20mA, 0-20mA or 0-10V\n");
     return exit_usage;
   }

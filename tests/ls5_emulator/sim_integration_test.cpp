@@ -225,6 +225,54 @@ TEST(Ls5Sim, HostAtAnotherBaudSeesGarbage) {
   EXPECT_NE(s.exchange("#01ID\r", 1, 300ms), "%");
 }
 
+TEST(Ls5Sim, EveryCommandAndTheSection95ExampleOverThePty) {
+  Paths paths("commands");
+  { std::ofstream(paths.scene) << "[target]\nposition_mm = 20.0\nnoise_mm = 0.0\n"; }
+  SimProcess sim({"sim", "ls5", "--port", paths.port, "--model", "LS5-0/50-232-U10-2-24-A", "--version", "LS5.9.0",
+                  "--scene", paths.scene, "--control", paths.control, "--virtual-clock"});
+  ASSERT_NE(sim.ready_line().find("ready:"), std::string::npos);
+  auto s = connect(paths);
+  ASSERT_TRUE(s.host && s.control);
+  EXPECT_EQ(s.exchange("#01ID\r", 39), "%01LS5.9.0   b0,0000d50,0000s/n0000157\r");
+  EXPECT_EQ(s.exchange("#01R70\r", 9, 300ms), "");  // RS-232 model: no Ethernet parameters
+  // Table 9.3 (§9.5).
+  for (const char* command :
+       {"#01W1512\r", "#01W1620\r", "#01W174E\r", "#01W1840\r", "#01W199C\r", "#01W1A10\r", "#01W1B27\r", "#01W1C30\r",
+        "#01W1D75\r", "#01W0301\r", "#01W1100\r", "#01W1200\r", "#01W1350\r", "#01W14C3\r"}) {
+    std::string echo = command;
+    echo[0] = '!';
+    EXPECT_EQ(s.exchange(command, 9), echo);
+  }
+  s.ask({{"cmd", "advance"}, {"seconds", 0.05}});
+  auto outputs = s.ask({{"cmd", "outputs"}});  // code 20000 (20 mm of 50): OC1 on at its first swing
+  EXPECT_EQ(outputs["result"], 20000);
+  EXPECT_EQ(outputs["oc1"], true);
+  EXPECT_EQ(outputs["oc2"], false);
+  EXPECT_EQ(outputs["unit"], "V");
+  EXPECT_NEAR(outputs["analog"].get<double>(), 4.0, 1e-9);  // 0-10 V: 20000 / 50000 × 10 V
+  EXPECT_EQ(s.ask({{"cmd", "move_target"}, {"position_mm", 5.0}})["ok"], true);
+  s.ask({{"cmd", "advance"}, {"seconds", 0.05}});
+  outputs = s.ask({{"cmd", "outputs"}});
+  EXPECT_EQ(outputs["oc1"], false);
+  EXPECT_EQ(outputs["oc2"], true);
+  EXPECT_NEAR(outputs["analog"].get<double>(), 1.0, 1e-9);
+  // The other commands of table 9.1.
+  EXPECT_EQ(s.exchange("#01FX\r", 6), "!01FX\r");
+  EXPECT_EQ(s.exchange("#01FR\r", 11), "!01FR05000\r");
+  EXPECT_EQ(s.exchange("#01LR\r", 11), "!01LR05000\r");
+  EXPECT_EQ(s.exchange("#01OF\r", 6), "!01OF\r");
+  EXPECT_EQ(s.ask({{"cmd", "outputs"}})["oc2"], false);
+  EXPECT_EQ(s.exchange("#01ON\r", 6), "!01ON\r");
+  EXPECT_TRUE(s.host->write_all(as_bytes("#01ST\r")));
+  s.ask({{"cmd", "status"}});
+  s.ask({{"cmd", "advance"}, {"seconds", 0.035}});
+  EXPECT_EQ(read_bytes(*s.host, 21), "!05000\r!05000\r!05000\r");
+  EXPECT_EQ(s.exchange("#01SB\r", 6), "!01SB\r");
+  EXPECT_EQ(s.exchange("#01DF\r", 6), "!01DF\r");
+  EXPECT_EQ(s.exchange("#01R15\r", 9), "!01R1512\r");
+  EXPECT_EQ(s.exchange("#01R17\r", 9), "!01R1700\r");
+}
+
 TEST(Ls5Sim, StandbyAt19200AfterPowerCycleWithAFastStoredBaud) {
   Paths paths("standby");
   SimProcess sim(
