@@ -247,6 +247,7 @@ TEST(Ls5Pipeline, StandbyAfterPowerUpWhenStoredBaudIsAbove115200) {
   const Nanos up = rig.now;
   rig.fw->power_cycle(up);
   EXPECT_EQ(rig.fw->phase_name(), "initializing");
+  EXPECT_TRUE(rig.fw->laser_on());                // lights up at once (§8.2)
   EXPECT_EQ(rig.exchange("#01ID\r", 100ms), "");  // deaf for 4 s
   rig.run_to(up + 4s + 1ms);
   EXPECT_EQ(rig.fw->phase_name(), "standby");
@@ -258,6 +259,7 @@ TEST(Ls5Pipeline, StandbyAfterPowerUpWhenStoredBaudIsAbove115200) {
   EXPECT_EQ(rig.fw->port_settings(0).baud, 19200U);
   rig.run_to(up + 9s + 1ms);
   EXPECT_EQ(rig.fw->phase_name(), "operating");
+  EXPECT_TRUE(rig.fw->laser_on());
   EXPECT_EQ(rig.fw->port_settings(0).baud, 230400U);
   rig.run_to(up + 9s + 499ms);
   EXPECT_EQ(rig.fw->measurements(), count);

@@ -56,6 +56,7 @@ class SimProcess {
     if (!stdout_ || !std::fgets(buffer, sizeof buffer, stdout_)) return {};
     return buffer;
   }
+  void terminate() { ::kill(pid_, SIGTERM); }
   int wait() {
     int status = 0;
     ::waitpid(pid_, &status, 0);
@@ -313,6 +314,17 @@ TEST(Ls5Sim, SameAddressTwiceCollidesOnTheBus) {
   const std::string reply = s.exchange("#01R06\r", 9, 500ms);
   EXPECT_EQ(reply.size(), 9U);  // both answer at once: 9 corrupted bytes, not two clean replies
   EXPECT_NE(reply, "!01R0664\r");
+}
+
+TEST(Ls5Sim, SigtermShutsDownCleanly) {
+  Paths paths("sigterm");
+  SimProcess sim({"sim", "ls5", "--port", paths.port, "--control", paths.control});
+  ASSERT_NE(sim.ready_line().find("ready:"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::is_symlink(paths.port));
+  sim.terminate();
+  EXPECT_EQ(sim.wait(), 0);
+  EXPECT_FALSE(std::filesystem::exists(paths.port));
+  EXPECT_FALSE(std::filesystem::exists(paths.control));
 }
 
 TEST(Ls5Sim, BadArgumentsAreUsageErrors) {

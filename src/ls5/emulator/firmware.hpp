@@ -85,7 +85,10 @@ class Firmware final : public DeviceModel {
   [[nodiscard]] double analog_value() const noexcept { return analog_; }
   [[nodiscard]] bool output1() const noexcept { return oc1_; }
   [[nodiscard]] bool output2() const noexcept { return oc2_; }
-  [[nodiscard]] bool laser_on() const noexcept { return on_ && phase_ == Phase::operating; }
+  // §8.2: the laser lights during initialisation, goes off in standby, then follows ON/OF.
+  [[nodiscard]] bool laser_on() const noexcept {
+    return phase_ == Phase::initializing || (on_ && phase_ == Phase::operating);
+  }
   [[nodiscard]] bool streaming() const noexcept { return streaming_; }
   [[nodiscard]] ResultCode current_result() const noexcept { return current_; }
   [[nodiscard]] std::uint64_t measurements() const noexcept { return measurements_; }
