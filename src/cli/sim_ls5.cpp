@@ -117,6 +117,7 @@ int run(const Ls5SimOptions& options, const SimCommonOptions& common) {
     config.lower_boundary_mm = model->lower_boundary_mm;
     config.range_mm = model->range_mm;
     config.ethernet = ls5::has_ethernet(*model);
+    config.discrete_outputs = model->discrete_outputs;
     config.serial_number = options.serial + static_cast<std::uint32_t>(i);  // each sensor its own serial
     config.version_text = options.version;
     config.factory_address = *address;

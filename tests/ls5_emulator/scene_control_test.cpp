@@ -129,6 +129,24 @@ TEST(Ls5Control, CreateRefusesBadIdentity) {
   EXPECT_EQ(ordered->analog.unit, "V");
 }
 
+TEST(Ls5Control, MissingDiscreteOutputsStayZero) {
+  FirmwareConfig config = test_config();
+  config.discrete_outputs = 1;
+  Rig rig(config);
+  rig.write(0x15, 0x22);  // both "enabled", N = 1
+  rig.write(0x1A, 0x00);
+  rig.write(0x1B, 0x00);
+  rig.write(0x1C, 0x00);
+  rig.write(0x1D, 0x00);  // output 2's swings 0..0: 25000 is outside, so it would be N = 1
+  rig.write(0x16, 0x00);
+  rig.write(0x17, 0x00);
+  rig.write(0x18, 0x00);
+  rig.write(0x19, 0x00);
+  rig.run_for(20ms);
+  EXPECT_TRUE(rig.fw->output1());
+  EXPECT_FALSE(rig.fw->output2());  // not fitted
+}
+
 TEST(Ls5Control, Rs232OrderingCodeHasNoEthernetEvenOnLs512) {
   FirmwareConfig config = test_config("LS5.12.0");
   config.ethernet = false;

@@ -520,6 +520,8 @@ void Firmware::update_outputs() {
   oc2_ = discrete_output_state(outputs->output2,
                                Swings{u16(address::output2_first_swing_low), u16(address::output2_second_swing_low)},
                                current_.value);
+  oc1_ = oc1_ && config_.discrete_outputs >= 1;
+  oc2_ = oc2_ && config_.discrete_outputs >= 2;
 }
 
 void Firmware::latch(Nanos) {

@@ -52,7 +52,8 @@ struct FirmwareConfig {
   AnalogRange analog = current_4_20_mA;
   // Whether the sensor has Ethernet (ordering code "485/E", L25); unset: every LS5.12 and later has it.
   std::optional<bool> ethernet;
-  std::string state_dir;  // empty: ROM does not persist across processes
+  std::uint8_t discrete_outputs = 2;  // pins OC1/OC2 fitted (ordering code); a missing one stays 0
+  std::string state_dir;              // empty: ROM does not persist across processes
   std::uint32_t seed = 1;
   Scene scene{};
   // Called with each full UDP packet (Ethernet models, parameter 70 on).
