@@ -179,7 +179,8 @@ void Firmware::drain(Port& port, Nanos now) {
     for (const auto value : bytes) port.outbox.push_back(LineByte{done, value});
   }
   while (port.outbox.size() > 65536) port.outbox.pop_front();  // nobody reads this port
-  if (port.pending_baud && port.pending_at <= now && port.pacer.queued() == 0) {
+  if (port.pending_baud && port.pending_at < now && port.pacer.queued() == 0) {
+    // Strictly after: the runtime hands the $OK's last byte to the host at the old speed first.
     // BR takes effect once the $OK has left the line (§8 Set/Get Baud Rate, U36).
     const std::size_t index = static_cast<std::size_t>(&port - ports_.data());
     settings_.baud[index] = *port.pending_baud;
@@ -533,7 +534,8 @@ Nanos Firmware::next_deadline() const {
   Nanos earliest = Nanos::max();
   for (const auto& port : ports_) {
     earliest = std::min(earliest, port.pacer.next_completion());
-    if (port.pending_baud) earliest = std::min(earliest, std::max(port.pending_at, last_now_));
+    if (port.pending_baud)
+      earliest = std::min(earliest, std::max({port.pending_at, port.pacer.idle_at(last_now_), last_now_}) + Nanos(1));
   }
   if (measuring_) {
     if (settings_.mode == Mode::look_down) {
