@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "rangekit/core/control_socket.hpp"
 #include "rangekit/core/emulator_runtime.hpp"
 #include "rangekit/core/serial_port.hpp"
 #include "uls/emulator/firmware.hpp"
@@ -118,7 +119,9 @@ TEST(UlsPty, CommandSessionThroughTheCli) {
   std::filesystem::create_directories(dir);
   const std::string port = (dir / "uls").string();
   const std::string config = (dir / "uls-config").string();
-  const std::string command = std::string(RANGEKIT_CLI_PATH) + " sim uls --port " + port + " --config-port " + config;
+  const std::string control = (dir / "control").string();
+  const std::string command =
+      std::string(RANGEKIT_CLI_PATH) + " sim uls --port " + port + " --config-port " + config + " --control " + control;
   int pipe_fds[2];
   ASSERT_EQ(::pipe(pipe_fds), 0);
   const pid_t child = ::fork();
@@ -142,6 +145,21 @@ TEST(UlsPty, CommandSessionThroughTheCli) {
     const std::string replies = read_lines(**host, 6, 2000ms);
     EXPECT_EQ(replies.substr(0, 4), "$ID,") << replies;
     EXPECT_NE(replies.find("\r$MM,1\r$ER,32\r$OK\r$OK\r$BM,50.0"), std::string::npos) << replies;
+    auto client = ControlClient::connect(control);
+    ASSERT_TRUE(client) << client.error().message;
+    auto moved = client->request({{"cmd", "move_target"}, {"device", 0}, {"distance_m", 20.0}});
+    ASSERT_TRUE(moved);
+    EXPECT_EQ((*moved)["ok"], true) << moved->dump();
+    // Within a few 0.512 s cycles the unit reports the moved target.
+    const std::string after = read_lines(**host, 4, 3000ms);
+    EXPECT_NE(after.find("$BM,20.0"), std::string::npos) << after;
+    auto outputs = client->request({{"cmd", "outputs"}});
+    ASSERT_TRUE(outputs);
+    EXPECT_EQ((*outputs)["measuring"], true) << outputs->dump();
+    EXPECT_EQ((*outputs)["status"], 7) << outputs->dump();
+    auto unknown = client->request({{"cmd", "outputs"}, {"device", "Q"}});
+    ASSERT_TRUE(unknown);
+    EXPECT_TRUE(unknown->contains("error")) << unknown->dump();
     ASSERT_TRUE((*host)->write_all(as_bytes("$ST\r")));
   }
   ::kill(child, SIGTERM);
