@@ -6,7 +6,7 @@
 #include <chrono>
 
 // The firmware header is internal to src/ (bench/ has no src include path).
-#include "../src/ls5/emulator/firmware.hpp"
+#include "ls5/emulator/firmware.hpp"
 
 namespace {
 

@@ -14,7 +14,7 @@
 namespace rangekit {
 namespace {
 
-constexpr std::size_t max_line = 64 * 1024;
+constexpr std::size_t max_line = std::size_t{64} * 1024;
 
 Result<sockaddr_un> unix_address(const std::string& path) {
   sockaddr_un address{};
