@@ -14,7 +14,7 @@
 #include "rangekit/core/serial_pacer.hpp"
 #include "rangekit/core/state_store.hpp"
 #include "rangekit/uls/uls.hpp"
-#include "uls/emulator/scene.hpp"
+#include "scene.hpp"  // relative: the bench target has no src/ include path
 
 namespace rangekit::uls::emulator {
 
