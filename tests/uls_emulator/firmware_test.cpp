@@ -15,6 +15,7 @@ namespace {
 using namespace std::chrono_literals;
 using testing::Unit;
 
+// docs/conformance.md U35
 TEST(UlsFirmware, FactoryDefaultsAnswerGets) {
   Unit unit;
   EXPECT_EQ(unit.ask("$MM"), "$MM,1");
@@ -146,6 +147,7 @@ TEST(UlsFirmware, AutostartMeasuresAfterPowerUp) {
   std::filesystem::remove_all(dir);
 }
 
+// docs/conformance.md U36
 TEST(UlsFirmware, BaudChangeTakesEffectAfterTheOk) {
   Unit unit;
   unit.send(universal_port, "$BR,1,9600\r");
@@ -173,6 +175,7 @@ TEST(UlsFirmware, RepliesGoToThePortTheCommandCameFrom) {
   EXPECT_EQ(unit.text(configuration_port), "");
 }
 
+// docs/conformance.md U37
 TEST(UlsFirmware, AddressedBroadcastAndUnassigned) {
   FirmwareOptions options;
   options.address = 'Z';
@@ -196,6 +199,7 @@ TEST(UlsFirmware, AddressedBroadcastAndUnassigned) {
   EXPECT_EQ(unassigned.ask("#AMM", universal_port), "#AMM,1");
 }
 
+// docs/conformance.md U37
 TEST(UlsFirmware, MalformedDollarFramesAnswerErrorOne) {
   Unit unit;
   EXPECT_EQ(unit.ask("$MM,"), "$ER,1");
@@ -228,6 +232,7 @@ TEST(UlsFirmware, OutputRateIsPrfOverPpmOverSixtySeconds) {
 // a measurement finishing while the UART is busy is skipped.
 double paced_rate(double period_s, double line_s) { return 1.0 / (std::ceil(line_s / period_s - 1e-9) * period_s); }
 
+// docs/conformance.md U38
 TEST(UlsFirmware, SerialLimitsEmergeFromPacing) {
   // 5000 PRF / 2 PPM asks for 2500 lines/s; "$BM,150.000<CR>" is 12 characters
   // = 1.2 ms at 115200 (U19), so the port carries 833 lines/s (§9).

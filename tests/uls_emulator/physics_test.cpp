@@ -1,4 +1,4 @@
-// Measurement physics of the ULS model on a fixed seed: averaging accuracy
+// Measurement physics of the ULS model (docs/conformance.md U38) on a fixed seed: averaging accuracy
 // (§9), binning against averaging (§3 figure), look-down latency (§3), the
 // 4-20 mA loop (§6), polled output and the scene file.
 #include <gtest/gtest.h>

@@ -69,6 +69,7 @@ Bus make_bus(std::vector<std::optional<std::uint8_t>> addresses) {
   return bus;
 }
 
+// docs/conformance.md U37
 TEST(UlsPty, BusOfEightUnitsWithAddressAssignment) {
   const std::string addresses = "ABCDEFGH";
   std::vector<std::optional<std::uint8_t>> list;
@@ -102,6 +103,7 @@ TEST(UlsPty, FactoryUnitsIgnoreAddressedFrames) {
   EXPECT_EQ(bus.ask("#KUA"), "#KUA,75\r");
 }
 
+// docs/conformance.md U36
 TEST(UlsPty, BaudChangeMidSessionNeedsTheHostToFollow) {
   auto bus = make_bus({std::nullopt});
   EXPECT_EQ(bus.ask("$BR,1,9600"), "$OK\r");
