@@ -16,5 +16,9 @@ inline constexpr int exit_io = 4;         // cannot open or read a file or port
 void add_tables_command(CLI::App& app, int& exit_code);
 void add_decode_command(CLI::App& app, int& exit_code);
 void add_demo_command(CLI::App& app, int& exit_code);
+// Host side (issue 6): one file per family, plus replay of captures.
+void add_uls_command(CLI::App& app, int& exit_code);
+void add_ls5_command(CLI::App& app, int& exit_code);
+void add_replay_command(CLI::App& app, int& exit_code);
 
 }  // namespace rangekit::cli

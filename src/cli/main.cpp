@@ -15,6 +15,9 @@ int run(int argc, char** argv) {
   rangekit::cli::add_decode_command(app, exit_code);
   rangekit::cli::add_tables_command(app, exit_code);
   rangekit::cli::add_sim_command(app, exit_code);
+  rangekit::cli::add_uls_command(app, exit_code);
+  rangekit::cli::add_ls5_command(app, exit_code);
+  rangekit::cli::add_replay_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

@@ -1,0 +1,110 @@
+// One measurement as the host received it, in a form both families share, so
+// stream output (jsonl/csv/text), SQLite capture and replay handle ULS and LS5
+// alike. Field names follow the JSON keys of docs/cli.md.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rangekit {
+
+enum class SampleKind : std::uint8_t {
+  uls_averaging,  // distance_m and/or pulse_width
+  uls_binning,    // targets (one complete target array)
+  uls_look_down,  // presence and/or pulses_between_events
+  uls_error,      // device_error (e.g. $ER,4 target not found)
+  ls5_result,     // code, distance_mm, signal
+};
+
+const char* sample_kind_name(SampleKind kind) noexcept;
+
+struct TargetHit {
+  double distance_m = 0;
+  std::uint32_t strength = 0;
+  friend bool operator==(const TargetHit&, const TargetHit&) = default;
+};
+
+// LS5 result-code meaning (§9.3): a distance, 65534 no measurement yet, 65535 no signal.
+enum class SignalState : std::uint8_t { ok, none_yet, lost };
+const char* signal_state_name(SignalState state) noexcept;
+
+struct Sample {
+  std::chrono::system_clock::time_point time;  // host receive time (UTC)
+  std::string device;                          // "uls" or "ls5"
+  std::string source;                          // port path or UDP endpoint it came from
+  int address = -1;                            // bus address, -1 when the protocol has none
+  SampleKind kind = SampleKind::uls_averaging;
+
+  // ULS averaging
+  std::optional<double> distance_m;
+  std::optional<std::uint32_t> pulse_width;  // as on the wire (picoseconds)
+  // ULS binning
+  std::vector<TargetHit> targets;
+  // ULS look down
+  std::optional<bool> presence;
+  std::optional<std::uint32_t> pulses_between_events;
+  // ULS measurement error number ($ER,n)
+  std::optional<int> device_error;
+  // LS5
+  std::optional<std::uint16_t> code;
+  std::optional<double> distance_mm;  // null on 65534/65535
+  std::optional<SignalState> signal;
+
+  friend bool operator==(const Sample&, const Sample&) = default;
+};
+
+// A link event a stream reports besides samples: the cable went away, came back,
+// a frame did not decode, records were lost (UDP counter gap, queue overflow).
+enum class StreamEventKind : std::uint8_t {
+  connected,
+  disconnected,
+  reconnected,
+  bad_frame,
+  lost_records,
+  device_error
+};
+const char* stream_event_kind_name(StreamEventKind kind) noexcept;
+
+struct StreamEvent {
+  std::chrono::system_clock::time_point time;
+  StreamEventKind kind = StreamEventKind::connected;
+  std::string message;
+  std::uint64_t count = 0;  // lost records for lost_records
+};
+
+}  // namespace rangekit
+
+#include <memory>
+#include <variant>
+
+namespace rangekit {
+
+using StreamItem = std::variant<Sample, StreamEvent>;
+
+// Anything that yields samples: a live ULS or LS5 stream, a UDP receiver, a
+// capture being replayed. The stream CLI and the capture writer consume this.
+class SampleSource {
+ public:
+  SampleSource() = default;
+  SampleSource(const SampleSource&) = delete;
+  SampleSource& operator=(const SampleSource&) = delete;
+  virtual ~SampleSource() = default;
+
+  // The next sample or event, waiting up to `timeout`; nullopt when nothing came
+  // in time, or at once when finished() and nothing is left.
+  virtual std::optional<StreamItem> next(std::chrono::milliseconds timeout) = 0;
+  // True once the source has ended for good (replay reached its end, the device
+  // stream stopped and will not reconnect). Items may still be queued.
+  [[nodiscard]] virtual bool finished() const = 0;
+  // Asks the source to stop (Ctrl-C); it finishes soon after.
+  virtual void stop() = 0;
+  // Records lost inside the source (queue overflow, UDP counter gaps).
+  [[nodiscard]] virtual std::uint64_t lost() const { return 0; }
+};
+
+using SampleSourcePtr = std::unique_ptr<SampleSource>;
+
+}  // namespace rangekit

@@ -1,0 +1,16 @@
+// Placeholder while the host side of issue 6 is written; replaced by the real subcommand.
+#include <fmt/core.h>
+
+#include "cli/commands.hpp"
+
+namespace rangekit::cli {
+
+void add_uls_command(CLI::App& app, int& exit_code) {
+  auto* command = app.add_subcommand("uls", "(not yet available)");
+  command->callback([&exit_code] {
+    fmt::print(stderr, "rangekit uls: not yet available\n");
+    exit_code = 70;
+  });
+}
+
+}  // namespace rangekit::cli
