@@ -9,9 +9,14 @@ namespace rangekit::cli {
 
 // Exit codes (documented in docs/cli.md).
 inline constexpr int exit_ok = 0;
-inline constexpr int exit_usage = 2;      // bad arguments, unknown subcommand or option
-inline constexpr int exit_bad_input = 3;  // input that does not decode
-inline constexpr int exit_io = 4;         // cannot open or read a file or port
+inline constexpr int exit_usage = 2;          // bad arguments, unknown subcommand or option
+inline constexpr int exit_bad_input = 3;      // input that does not decode
+inline constexpr int exit_io = 4;             // cannot open or read a file or port
+inline constexpr int exit_no_reply = 5;       // the device did not answer (wrong port, baud or address; unplugged)
+inline constexpr int exit_device_error = 6;   // the device answered with an error number
+inline constexpr int exit_write_failed = 7;   // output or capture file could not be written (disk full)
+inline constexpr int exit_link_lost = 8;      // the link went away and did not come back in time
+inline constexpr int exit_interrupted = 130;  // Ctrl-C; files were closed cleanly
 
 void add_tables_command(CLI::App& app, int& exit_code);
 void add_decode_command(CLI::App& app, int& exit_code);

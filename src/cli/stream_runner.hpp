@@ -1,0 +1,32 @@
+// The loop behind every `stream` subcommand and `replay`: pulls samples from a
+// SampleSource, writes them to stdout or --out in the chosen format and/or to a
+// SQLite --capture, stops on --count/--duration/Ctrl-C, shows a live status line
+// on a terminal, and turns failures into the exit codes of docs/cli.md.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "rangekit/core/sample.hpp"
+
+namespace rangekit::cli {
+
+struct StreamOptions {
+  std::string format = "text";         // jsonl | csv | text
+  std::optional<std::uint64_t> count;  // stop after this many samples
+  std::optional<double> duration_s;    // stop after this many seconds
+  std::string out;                     // file for the formatted stream ("" = stdout)
+  std::string capture;                 // SQLite capture file ("" = none)
+  bool quiet = false;                  // no live status line even on a tty
+};
+
+// Adds --format, --count, --duration, --out, --capture, --quiet to a subcommand.
+void add_stream_options(CLI::App& command, StreamOptions& options);
+
+// Runs until the source finishes, the limits are reached or SIGINT/SIGTERM.
+// Returns an exit code of commands.hpp (exit_ok, exit_write_failed, exit_interrupted, ...).
+int run_stream(SampleSource& source, const StreamOptions& options);
+
+}  // namespace rangekit::cli
