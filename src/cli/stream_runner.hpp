@@ -28,5 +28,7 @@ void add_stream_options(CLI::App& command, StreamOptions& options);
 // Runs until the source finishes, the limits are reached or SIGINT/SIGTERM.
 // Returns an exit code of commands.hpp (exit_ok, exit_write_failed, exit_interrupted, ...).
 int run_stream(SampleSource& source, const StreamOptions& options);
+// The same, naming the subcommand in messages ("rangekit replay: ...").
+int run_stream_as(SampleSource& source, const StreamOptions& options, const std::string& command_name);
 
 }  // namespace rangekit::cli

@@ -1,0 +1,154 @@
+// CLI edge of the stream loop (record/stream_loop.hpp): options, SIGINT/SIGTERM,
+// the live status line on a terminal, messages and exit codes.
+#include "cli/stream_runner.hpp"
+
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <string>
+
+#include "cli/commands.hpp"
+#include "rangekit/record/format.hpp"
+#include "rangekit/record/stream_loop.hpp"
+
+namespace rangekit::cli {
+namespace {
+
+std::atomic<bool> stop_signalled{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler");
+
+extern "C" void on_stop_signal(int /*signal*/) { stop_signalled.store(true); }
+
+// Installs the handlers for the length of one run and restores the previous ones.
+class StopSignals {
+ public:
+  StopSignals() {
+    stop_signalled.store(false);
+    struct sigaction action {};
+    action.sa_handler = on_stop_signal;
+    sigemptyset(&action.sa_mask);
+    ::sigaction(SIGINT, &action, &previous_int_);
+    ::sigaction(SIGTERM, &action, &previous_term_);
+  }
+  ~StopSignals() {
+    ::sigaction(SIGINT, &previous_int_, nullptr);
+    ::sigaction(SIGTERM, &previous_term_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  struct sigaction previous_int_ {};
+  struct sigaction previous_term_ {};
+};
+
+std::string status_text(const record::StreamStats& stats) {
+  const double rate = stats.elapsed_s > 0 ? static_cast<double>(stats.samples) / stats.elapsed_s : 0.0;
+  return fmt::format("{} samples  {:.1f}/s  errors {}  lost {}  disconnects {}", stats.samples, rate, stats.errors,
+                     stats.lost, stats.disconnects);
+}
+
+// The status line lives on stderr and is redrawn in place with \r; anything
+// else written to the same terminal first clears it.
+class StatusLine {
+ public:
+  explicit StatusLine(bool enabled) : enabled_(enabled) {}
+  void show(const record::StreamStats& stats) {
+    if (!enabled_) return;
+    fmt::print(stderr, "\r{}\x1b[K", status_text(stats));
+    std::fflush(stderr);
+    shown_ = true;
+  }
+  void clear() {
+    if (!shown_) return;
+    fmt::print(stderr, "\r\x1b[K");
+    std::fflush(stderr);
+    shown_ = false;
+  }
+  [[nodiscard]] bool enabled() const { return enabled_; }
+
+ private:
+  bool enabled_;
+  bool shown_ = false;
+};
+
+int exit_code_for(const record::StreamOutcome& outcome, const std::string& command_name) {
+  switch (outcome.reason) {
+    case record::StopReason::count_reached:
+    case record::StopReason::duration_reached:
+      return exit_ok;
+    case record::StopReason::source_finished:
+      if (outcome.stats.link_down) {
+        fmt::print(stderr, "rangekit {}: the link went away and did not come back\n", command_name);
+        return exit_link_lost;
+      }
+      return exit_ok;
+    case record::StopReason::interrupted:
+      fmt::print(stderr, "rangekit {}: interrupted after {} samples; files closed\n", command_name,
+                 outcome.stats.samples);
+      return exit_interrupted;
+    case record::StopReason::open_failed:
+      fmt::print(stderr, "rangekit {}: {}\n", command_name, outcome.error ? outcome.error->message : "cannot open");
+      return exit_io;
+    case record::StopReason::write_failed:
+      fmt::print(stderr, "rangekit {}: {}\n", command_name, outcome.error ? outcome.error->message : "write failed");
+      return exit_write_failed;
+  }
+  return exit_ok;
+}
+
+}  // namespace
+
+void add_stream_options(CLI::App& command, StreamOptions& options) {
+  command.add_option("--format", options.format, "output format: jsonl, csv or text")
+      ->check(CLI::IsMember({"jsonl", "csv", "text"}))
+      ->capture_default_str();
+  command.add_option("--count", options.count, "stop after N samples");
+  command.add_option("--duration", options.duration_s, "stop after S seconds")->check(CLI::NonNegativeNumber);
+  command.add_option("--out", options.out, "write the stream to FILE instead of standard output");
+  command.add_option("--capture", options.capture, "also append everything to the SQLite capture FILE");
+  command.add_flag("--quiet", options.quiet, "no live status line, even on a terminal");
+}
+
+int run_stream(SampleSource& source, const StreamOptions& options) { return run_stream_as(source, options, "stream"); }
+
+int run_stream_as(SampleSource& source, const StreamOptions& options, const std::string& command_name) {
+  auto format = record::parse_output_format(options.format);
+  if (!format) {
+    fmt::print(stderr, "rangekit {}: {}\n", command_name, format.error().message);
+    return exit_usage;
+  }
+  record::StreamLoopOptions loop;
+  loop.format = *format;
+  loop.out = options.out;
+  loop.capture = options.capture;
+  loop.count = options.count;
+  loop.duration_s = options.duration_s;
+
+  const bool output_on_terminal = options.out.empty() && ::isatty(STDOUT_FILENO) == 1;
+  StatusLine status(!options.quiet && ::isatty(STDERR_FILENO) == 1);
+  record::StreamObserver observer;
+  observer.on_event = [&status, &command_name](const StreamEvent& event) {
+    status.clear();
+    std::string line;
+    record::append_text(line, event);
+    fmt::print(stderr, "rangekit {}: {}", command_name, line);
+  };
+  if (status.enabled()) {
+    observer.on_status = [&status](const record::StreamStats& stats) { status.show(stats); };
+    if (output_on_terminal) {
+      observer.before_output_flush = [&status] { status.clear(); };
+      observer.after_output_flush = [&status](const record::StreamStats& stats) { status.show(stats); };
+    }
+  }
+
+  StopSignals signals;
+  const auto outcome = record::run_stream_loop(source, loop, stop_signalled, observer);
+  status.clear();
+  if (status.enabled()) fmt::print(stderr, "{}\n", status_text(outcome.stats));
+  return exit_code_for(outcome, command_name);
+}
+
+}  // namespace rangekit::cli

@@ -1,0 +1,305 @@
+#include "rangekit/record/capture.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <set>
+#include <utility>
+
+#include "rangekit/record/format.hpp"
+#include "sqlite_handle.hpp"
+
+namespace rangekit::record {
+namespace {
+
+constexpr const char* rangekit_version = "0.1.0";
+
+constexpr const char* schema_sql = R"sql(
+BEGIN;
+CREATE TABLE IF NOT EXISTS meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
+INSERT OR IGNORE INTO meta(key, value) VALUES ('format', 'rangekit-capture'), ('format_version', '1');
+CREATE TABLE IF NOT EXISTS sessions(
+  id INTEGER PRIMARY KEY,
+  started TEXT NOT NULL,
+  started_ns INTEGER NOT NULL,
+  ended_ns INTEGER,
+  rangekit_version TEXT NOT NULL,
+  sources TEXT NOT NULL DEFAULT '');
+CREATE TABLE IF NOT EXISTS samples(
+  seq INTEGER PRIMARY KEY,
+  session INTEGER NOT NULL,
+  time_ns INTEGER NOT NULL,
+  device TEXT NOT NULL,
+  source TEXT NOT NULL,
+  address INTEGER,
+  kind TEXT NOT NULL,
+  distance_m REAL,
+  pulse_width INTEGER,
+  targets TEXT,
+  presence INTEGER,
+  pulses_between_events INTEGER,
+  device_error INTEGER,
+  code INTEGER,
+  distance_mm REAL,
+  signal TEXT);
+CREATE TABLE IF NOT EXISTS events(
+  seq INTEGER PRIMARY KEY,
+  session INTEGER NOT NULL,
+  time_ns INTEGER NOT NULL,
+  kind TEXT NOT NULL,
+  message TEXT NOT NULL,
+  count INTEGER NOT NULL);
+COMMIT;
+)sql";
+
+constexpr const char* insert_sample_sql =
+    "INSERT INTO samples(seq, session, time_ns, device, source, address, kind, distance_m, pulse_width, targets, "
+    "presence, pulses_between_events, device_error, code, distance_mm, signal) "
+    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16)";
+constexpr const char* insert_event_sql =
+    "INSERT INTO events(seq, session, time_ns, kind, message, count) VALUES (?1, ?2, ?3, ?4, ?5, ?6)";
+
+std::int64_t to_nanos(std::chrono::system_clock::time_point time) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(time.time_since_epoch()).count();
+}
+
+void bind_text(sqlite3_stmt* statement, int index, const std::string& text) {
+  sqlite3_bind_text(statement, index, text.data(), static_cast<int>(text.size()), SQLITE_TRANSIENT);
+}
+
+template <class T>
+void bind_optional_integer(sqlite3_stmt* statement, int index, const std::optional<T>& value) {
+  if (value) {
+    sqlite3_bind_int64(statement, index, static_cast<std::int64_t>(*value));
+  } else {
+    sqlite3_bind_null(statement, index);
+  }
+}
+
+void bind_optional_real(sqlite3_stmt* statement, int index, const std::optional<double>& value) {
+  if (value) {
+    sqlite3_bind_double(statement, index, *value);
+  } else {
+    sqlite3_bind_null(statement, index);
+  }
+}
+
+// Targets as JSON text; nlohmann writes doubles so that they read back exactly.
+std::string targets_json(const std::vector<TargetHit>& targets) {
+  auto array = nlohmann::json::array();
+  for (const auto& target : targets)
+    array.push_back({{"distance_m", target.distance_m}, {"strength", target.strength}});
+  return array.dump();
+}
+
+class SqliteCapture final : public CaptureSink {
+ public:
+  SqliteCapture(std::string path, Database database, CaptureOptions options)
+      : path_(std::move(path)), database_(std::move(database)), options_(options) {}
+
+  ~SqliteCapture() override { (void)close(); }
+
+  Status start() {
+    auto* db = database_.get();
+    if (auto status = execute(path_, db, "PRAGMA journal_mode=WAL"); !status) return status;
+    if (auto status = execute(path_, db, "PRAGMA synchronous=NORMAL"); !status) return status;
+    if (options_.max_page_count > 0) {
+      const auto pragma = "PRAGMA max_page_count=" + std::to_string(options_.max_page_count);
+      if (auto status = execute(path_, db, pragma.c_str()); !status) return status;
+    }
+    if (auto status = execute(path_, db, schema_sql); !status) {
+      (void)execute(path_, db, "ROLLBACK");
+      return status;
+    }
+    if (auto status = read_next_seq(); !status) return status;
+    if (auto status = insert_session(); !status) return status;
+    auto samples = prepare(path_, db, insert_sample_sql);
+    if (!samples) return std::move(samples).error();
+    insert_sample_ = std::move(*samples);
+    auto events = prepare(path_, db, insert_event_sql);
+    if (!events) return std::move(events).error();
+    insert_event_ = std::move(*events);
+    return ok_status();
+  }
+
+  Status write(const Sample& sample) override {
+    if (auto status = begin_batch(); !status) return status;
+    auto* statement = insert_sample_.get();
+    sqlite3_reset(statement);
+    sqlite3_bind_int64(statement, 1, next_seq_);
+    sqlite3_bind_int64(statement, 2, session_);
+    sqlite3_bind_int64(statement, 3, to_nanos(sample.time));
+    bind_text(statement, 4, sample.device);
+    bind_text(statement, 5, sample.source);
+    bind_optional_integer(statement, 6, sample.address >= 0 ? std::optional<int>(sample.address) : std::nullopt);
+    sqlite3_bind_text(statement, 7, sample_kind_name(sample.kind), -1, SQLITE_STATIC);
+    bind_optional_real(statement, 8, sample.distance_m);
+    bind_optional_integer(statement, 9, sample.pulse_width);
+    if (sample.kind == SampleKind::uls_binning || !sample.targets.empty()) {
+      bind_text(statement, 10, targets_json(sample.targets));
+    } else {
+      sqlite3_bind_null(statement, 10);
+    }
+    bind_optional_integer(statement, 11, sample.presence);
+    bind_optional_integer(statement, 12, sample.pulses_between_events);
+    bind_optional_integer(statement, 13, sample.device_error);
+    bind_optional_integer(statement, 14, sample.code);
+    bind_optional_real(statement, 15, sample.distance_mm);
+    if (sample.signal) {
+      sqlite3_bind_text(statement, 16, signal_state_name(*sample.signal), -1, SQLITE_STATIC);
+    } else {
+      sqlite3_bind_null(statement, 16);
+    }
+    if (auto status = step(statement, "writing a sample"); !status) return status;
+    ++batch_samples_;
+    if (sources_.insert(sample.device + " " + sample.source).second) sources_changed_ = true;
+    return commit_if_due();
+  }
+
+  Status write_event(const StreamEvent& event) override {
+    if (auto status = begin_batch(); !status) return status;
+    auto* statement = insert_event_.get();
+    sqlite3_reset(statement);
+    sqlite3_bind_int64(statement, 1, next_seq_);
+    sqlite3_bind_int64(statement, 2, session_);
+    sqlite3_bind_int64(statement, 3, to_nanos(event.time));
+    sqlite3_bind_text(statement, 4, stream_event_kind_name(event.kind), -1, SQLITE_STATIC);
+    bind_text(statement, 5, event.message);
+    sqlite3_bind_int64(statement, 6, static_cast<std::int64_t>(event.count));
+    if (auto status = step(statement, "writing an event"); !status) return status;
+    return commit_if_due();
+  }
+
+  Status flush() override {
+    if (failure_) return *failure_;
+    if (!in_batch_) return ok_status();
+    return commit();
+  }
+
+  [[nodiscard]] std::uint64_t committed_samples() const override { return committed_samples_; }
+  [[nodiscard]] const std::string& path() const override { return path_; }
+
+ private:
+  Status close() {
+    if (!database_) return ok_status();
+    auto status = flush();
+    if (status && !failure_) {
+      const auto ended =
+          "UPDATE sessions SET ended_ns = " + std::to_string(to_nanos(std::chrono::system_clock::now())) +
+          " WHERE id = " + std::to_string(session_);
+      (void)execute(path_, database_.get(), ended.c_str());
+    }
+    insert_sample_.reset();
+    insert_event_.reset();
+    database_.reset();
+    return status;
+  }
+
+  Status read_next_seq() {
+    auto query = prepare(path_, database_.get(),
+                         "SELECT max(coalesce((SELECT max(seq) FROM samples), 0), "
+                         "coalesce((SELECT max(seq) FROM events), 0))");
+    if (!query) return std::move(query).error();
+    const int code = sqlite3_step(query->get());
+    if (code != SQLITE_ROW) return sqlite_error(path_, database_.get(), code, "reading the last sequence number");
+    next_seq_ = sqlite3_column_int64(query->get(), 0) + 1;
+    return ok_status();
+  }
+
+  Status insert_session() {
+    auto insert = prepare(path_, database_.get(),
+                          "INSERT INTO sessions(started, started_ns, rangekit_version) VALUES (?1, ?2, ?3)");
+    if (!insert) return std::move(insert).error();
+    const auto now = std::chrono::system_clock::now();
+    std::string started;
+    append_iso_time(started, now);
+    bind_text(insert->get(), 1, started);
+    sqlite3_bind_int64(insert->get(), 2, to_nanos(now));
+    sqlite3_bind_text(insert->get(), 3, rangekit_version, -1, SQLITE_STATIC);
+    if (auto status = step(insert->get(), "starting a session"); !status) return status;
+    session_ = sqlite3_last_insert_rowid(database_.get());
+    return ok_status();
+  }
+
+  Status step(sqlite3_stmt* statement, const char* what) {
+    if (failure_) return *failure_;
+    const int code = sqlite3_step(statement);
+    sqlite3_reset(statement);
+    if (code != SQLITE_DONE) return fail(sqlite_error(path_, database_.get(), code, what));
+    ++next_seq_;
+    return ok_status();
+  }
+
+  Status begin_batch() {
+    if (failure_) return *failure_;
+    if (in_batch_) return ok_status();
+    if (auto status = execute(path_, database_.get(), "BEGIN"); !status) return fail(std::move(status).error());
+    in_batch_ = true;
+    batch_started_ = std::chrono::steady_clock::now();
+    return ok_status();
+  }
+
+  Status commit_if_due() {
+    ++batch_items_;
+    if (batch_items_ >= options_.batch_samples ||
+        std::chrono::steady_clock::now() - batch_started_ >= options_.batch_interval) {
+      return commit();
+    }
+    return ok_status();
+  }
+
+  Status commit() {
+    if (sources_changed_) {
+      std::string list;
+      for (const auto& source : sources_) list += (list.empty() ? "" : ", ") + source;
+      auto update = prepare(path_, database_.get(), "UPDATE sessions SET sources = ?1 WHERE id = ?2");
+      if (!update) return fail(std::move(update).error());
+      bind_text(update->get(), 1, list);
+      sqlite3_bind_int64(update->get(), 2, session_);
+      const int code = sqlite3_step(update->get());
+      if (code != SQLITE_DONE) return fail(sqlite_error(path_, database_.get(), code, "recording the sources"));
+      sources_changed_ = false;
+    }
+    if (auto status = execute(path_, database_.get(), "COMMIT"); !status) return fail(std::move(status).error());
+    in_batch_ = false;
+    committed_samples_ += batch_samples_;
+    batch_samples_ = 0;
+    batch_items_ = 0;
+    return ok_status();
+  }
+
+  // The open batch is lost; the file keeps every batch committed before.
+  Status fail(Error error) {
+    if (in_batch_ && sqlite3_get_autocommit(database_.get()) == 0) (void)execute(path_, database_.get(), "ROLLBACK");
+    in_batch_ = false;
+    failure_ = std::move(error);
+    return *failure_;
+  }
+
+  std::string path_;
+  Database database_;
+  CaptureOptions options_;
+  Statement insert_sample_;
+  Statement insert_event_;
+  std::int64_t session_ = 0;
+  std::int64_t next_seq_ = 1;
+  bool in_batch_ = false;
+  std::chrono::steady_clock::time_point batch_started_;
+  std::size_t batch_items_ = 0;
+  std::uint64_t batch_samples_ = 0;
+  std::uint64_t committed_samples_ = 0;
+  std::set<std::string> sources_;
+  bool sources_changed_ = false;
+  std::optional<Error> failure_;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<CaptureSink>> open_capture(const std::string& path, const CaptureOptions& options) {
+  auto database = open_database(path, true, true);
+  if (!database) return std::move(database).error();
+  auto capture = std::make_unique<SqliteCapture>(path, std::move(*database), options);
+  if (auto status = capture->start(); !status) return std::move(status).error();
+  return std::unique_ptr<CaptureSink>(std::move(capture));
+}
+
+}  // namespace rangekit::record

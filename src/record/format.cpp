@@ -1,0 +1,315 @@
+#include "rangekit/record/format.hpp"
+
+#include <cinttypes>
+#include <cstdio>
+#include <ctime>
+
+namespace rangekit::record {
+namespace {
+
+using std::chrono::system_clock;
+
+struct CivilTime {
+  std::tm fields{};
+  int millis = 0;
+};
+
+CivilTime civil_utc(system_clock::time_point time) {
+  const auto since_epoch = std::chrono::duration_cast<std::chrono::milliseconds>(time.time_since_epoch());
+  auto seconds = since_epoch.count() / 1000;
+  auto millis = since_epoch.count() % 1000;
+  if (millis < 0) {  // before 1970: floor, not truncate toward zero
+    millis += 1000;
+    --seconds;
+  }
+  CivilTime civil;
+  const auto as_time_t = static_cast<std::time_t>(seconds);
+  ::gmtime_r(&as_time_t, &civil.fields);
+  civil.millis = static_cast<int>(millis);
+  return civil;
+}
+
+template <class... Args>
+void append_printf(std::string& out, const char* format, Args... args) {
+  char buffer[64];
+  const int length = std::snprintf(buffer, sizeof buffer, format, args...);
+  if (length > 0)
+    out.append(buffer,
+               static_cast<std::size_t>(length) < sizeof buffer ? static_cast<std::size_t>(length) : sizeof buffer - 1);
+}
+
+void append_metres(std::string& out, double metres) { append_printf(out, "%.4f", metres); }
+void append_millimetres(std::string& out, double millimetres) { append_printf(out, "%.2f", millimetres); }
+void append_unsigned(std::string& out, std::uint64_t value) { append_printf(out, "%" PRIu64, value); }
+void append_signed(std::string& out, std::int64_t value) { append_printf(out, "%" PRId64, value); }
+
+void append_json_string(std::string& out, const std::string& text) {
+  out += '"';
+  for (const char c : text) {
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          append_printf(out, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+        } else {
+          out += c;
+        }
+    }
+  }
+  out += '"';
+}
+
+template <class T, class Append>
+void append_json_optional(std::string& out, const std::optional<T>& value, Append append) {
+  if (value) {
+    append(out, *value);
+  } else {
+    out += "null";
+  }
+}
+
+void append_json_key(std::string& out, const char* key) {
+  out += ",\"";
+  out += key;
+  out += "\":";
+}
+
+// Quotes a CSV field only when it needs it (RFC 4180).
+void append_csv_text(std::string& out, const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) {
+    out += text;
+    return;
+  }
+  out += '"';
+  for (const char c : text) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  out += '"';
+}
+
+template <class T, class Append>
+void append_csv_optional(std::string& out, const std::optional<T>& value, Append append) {
+  if (value) append(out, *value);
+}
+
+void append_bool(std::string& out, bool value) { out += value ? "true" : "false"; }
+void append_u32(std::string& out, std::uint32_t value) { append_unsigned(out, value); }
+void append_int(std::string& out, int value) { append_signed(out, value); }
+void append_u16(std::string& out, std::uint16_t value) { append_unsigned(out, value); }
+void append_signal_json(std::string& out, SignalState state) {
+  out += '"';
+  out += signal_state_name(state);
+  out += '"';
+}
+void append_signal_csv(std::string& out, SignalState state) { out += signal_state_name(state); }
+
+void append_clock_time(std::string& out, std::chrono::system_clock::time_point time) {
+  const auto civil = civil_utc(time);
+  append_printf(out, "%02d:%02d:%02d.%03d", civil.fields.tm_hour, civil.fields.tm_min, civil.fields.tm_sec,
+                civil.millis);
+}
+
+}  // namespace
+
+void append_iso_time(std::string& out, std::chrono::system_clock::time_point time) {
+  const auto civil = civil_utc(time);
+  append_printf(out, "%04d-%02d-%02dT%02d:%02d:%02d.%03dZ", civil.fields.tm_year + 1900, civil.fields.tm_mon + 1,
+                civil.fields.tm_mday, civil.fields.tm_hour, civil.fields.tm_min, civil.fields.tm_sec, civil.millis);
+}
+
+void append_jsonl(std::string& out, const Sample& sample) {
+  out += "{\"time\":\"";
+  append_iso_time(out, sample.time);
+  out += '"';
+  append_json_key(out, "device");
+  append_json_string(out, sample.device);
+  append_json_key(out, "address");
+  if (sample.address < 0) {
+    out += "null";
+  } else {
+    append_int(out, sample.address);
+  }
+  append_json_key(out, "source");
+  append_json_string(out, sample.source);
+  append_json_key(out, "kind");
+  out += '"';
+  out += sample_kind_name(sample.kind);
+  out += '"';
+  switch (sample.kind) {
+    case SampleKind::uls_averaging:
+      append_json_key(out, "distance_m");
+      append_json_optional(out, sample.distance_m, append_metres);
+      append_json_key(out, "pulse_width");
+      append_json_optional(out, sample.pulse_width, append_u32);
+      break;
+    case SampleKind::uls_binning: {
+      append_json_key(out, "targets");
+      out += '[';
+      bool first = true;
+      for (const auto& target : sample.targets) {
+        if (!first) out += ',';
+        first = false;
+        out += "{\"distance_m\":";
+        append_metres(out, target.distance_m);
+        out += ",\"strength\":";
+        append_u32(out, target.strength);
+        out += '}';
+      }
+      out += ']';
+      break;
+    }
+    case SampleKind::uls_look_down:
+      append_json_key(out, "presence");
+      append_json_optional(out, sample.presence, append_bool);
+      append_json_key(out, "pulses_between_events");
+      append_json_optional(out, sample.pulses_between_events, append_u32);
+      break;
+    case SampleKind::uls_error:
+      append_json_key(out, "error");
+      append_json_optional(out, sample.device_error, append_int);
+      break;
+    case SampleKind::ls5_result:
+      append_json_key(out, "code");
+      append_json_optional(out, sample.code, append_u16);
+      append_json_key(out, "distance_mm");
+      append_json_optional(out, sample.distance_mm, append_millimetres);
+      append_json_key(out, "signal");
+      append_json_optional(out, sample.signal, append_signal_json);
+      break;
+  }
+  out += "}\n";
+}
+
+void append_jsonl(std::string& out, const StreamEvent& event) {
+  out += "{\"time\":\"";
+  append_iso_time(out, event.time);
+  out += '"';
+  append_json_key(out, "event");
+  out += '"';
+  out += stream_event_kind_name(event.kind);
+  out += '"';
+  append_json_key(out, "message");
+  append_json_string(out, event.message);
+  append_json_key(out, "count");
+  append_unsigned(out, event.count);
+  out += "}\n";
+}
+
+const char* csv_header() noexcept {
+  return "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,code,"
+         "distance_mm,signal\n";
+}
+
+void append_csv(std::string& out, const Sample& sample) {
+  append_iso_time(out, sample.time);
+  out += ',';
+  append_csv_text(out, sample.device);
+  out += ',';
+  if (sample.address >= 0) append_int(out, sample.address);
+  out += ',';
+  append_csv_text(out, sample.source);
+  out += ',';
+  out += sample_kind_name(sample.kind);
+  out += ',';
+  append_csv_optional(out, sample.distance_m, append_metres);
+  out += ',';
+  append_csv_optional(out, sample.pulse_width, append_u32);
+  out += ',';
+  bool first = true;
+  for (const auto& target : sample.targets) {
+    if (!first) out += ';';
+    first = false;
+    append_metres(out, target.distance_m);
+    out += ':';
+    append_u32(out, target.strength);
+  }
+  out += ',';
+  append_csv_optional(out, sample.presence, append_bool);
+  out += ',';
+  append_csv_optional(out, sample.pulses_between_events, append_u32);
+  out += ',';
+  append_csv_optional(out, sample.device_error, append_int);
+  out += ',';
+  append_csv_optional(out, sample.code, append_u16);
+  out += ',';
+  append_csv_optional(out, sample.distance_mm, append_millimetres);
+  out += ',';
+  append_csv_optional(out, sample.signal, append_signal_csv);
+  out += '\n';
+}
+
+void append_text(std::string& out, const Sample& sample) {
+  append_clock_time(out, sample.time);
+  out += ' ';
+  out += sample.device;
+  if (sample.address >= 0) {
+    out += " #";
+    append_int(out, sample.address);
+  }
+  switch (sample.kind) {
+    case SampleKind::uls_averaging:
+      if (sample.distance_m) append_printf(out, "  %.3f m", *sample.distance_m);
+      if (sample.pulse_width) append_printf(out, "  pw %" PRIu32, *sample.pulse_width);
+      break;
+    case SampleKind::uls_binning:
+      if (sample.targets.empty()) {
+        out += "  no targets";
+      }
+      for (const auto& target : sample.targets) {
+        append_printf(out, "  %.3f m (%" PRIu32 ")", target.distance_m, target.strength);
+      }
+      break;
+    case SampleKind::uls_look_down:
+      if (sample.presence) out += *sample.presence ? "  present" : "  absent";
+      if (sample.pulses_between_events) append_printf(out, "  pulses %" PRIu32, *sample.pulses_between_events);
+      break;
+    case SampleKind::uls_error:
+      out += "  error";
+      if (sample.device_error) append_printf(out, " %d", *sample.device_error);
+      break;
+    case SampleKind::ls5_result:
+      if (sample.distance_mm) {
+        append_printf(out, "  %.2f mm", *sample.distance_mm);
+      } else if (sample.signal == SignalState::none_yet) {
+        out += "  no measurement yet";
+      } else if (sample.signal == SignalState::lost) {
+        out += "  no signal";
+      }
+      if (sample.code) append_printf(out, "  code %u", static_cast<unsigned>(*sample.code));
+      break;
+  }
+  out += '\n';
+}
+
+void append_text(std::string& out, const StreamEvent& event) {
+  append_clock_time(out, event.time);
+  out += ' ';
+  out += stream_event_kind_name(event.kind);
+  if (!event.message.empty()) {
+    out += ": ";
+    out += event.message;
+  }
+  if (event.kind == StreamEventKind::lost_records) {
+    out += " (";
+    append_unsigned(out, event.count);
+    out += " lost)";
+  }
+  out += '\n';
+}
+
+}  // namespace rangekit::record

@@ -1,0 +1,87 @@
+#include "sqlite_handle.hpp"
+
+#include <string_view>
+
+#include "rangekit/record/capture.hpp"
+
+namespace rangekit::record {
+
+Error sqlite_error(const std::string& path, sqlite3* database, int code, const std::string& what) {
+  const int primary = code & 0xff;
+  const std::string detail = database != nullptr ? sqlite3_errmsg(database) : sqlite3_errstr(code);
+  if (primary == SQLITE_FULL) {
+    return make_error(Errc::io, "capture " + path + ": disk full while " + what + " (" + detail +
+                                    "); every batch committed before is kept");
+  }
+  if (primary == SQLITE_NOTADB || primary == SQLITE_CORRUPT) {
+    return make_error(Errc::io, "capture " + path + ": not a rangekit capture or corrupt (" + detail + ")");
+  }
+  return make_error(Errc::io, "capture " + path + ": " + what + " failed (" + detail + ")");
+}
+
+Status execute(const std::string& path, sqlite3* database, const char* sql) {
+  char* message = nullptr;
+  const int code = sqlite3_exec(database, sql, nullptr, nullptr, &message);
+  sqlite3_free(message);
+  if (code != SQLITE_OK) return sqlite_error(path, database, code, std::string("running \"") + sql + "\"");
+  return ok_status();
+}
+
+Result<Statement> prepare(const std::string& path, sqlite3* database, const char* sql) {
+  sqlite3_stmt* raw = nullptr;
+  const int code = sqlite3_prepare_v3(database, sql, -1, SQLITE_PREPARE_PERSISTENT, &raw, nullptr);
+  Statement statement(raw);
+  if (code != SQLITE_OK) return sqlite_error(path, database, code, std::string("preparing \"") + sql + "\"");
+  return statement;
+}
+
+namespace {
+
+// Reads the schema; a text file or a damaged header fails here (SQLITE_NOTADB),
+// a database of some other program is recognised by its missing meta row.
+Status check_is_capture(const std::string& path, sqlite3* database) {
+  auto tables = prepare(path, database, "SELECT count(*) FROM sqlite_master");
+  if (!tables) return std::move(tables).error();
+  int code = sqlite3_step(tables->get());
+  if (code != SQLITE_ROW) return sqlite_error(path, database, code, "reading the schema");
+  const auto table_count = sqlite3_column_int64(tables->get(), 0);
+  if (table_count == 0) return ok_status();  // empty database: becomes a capture
+
+  auto check = prepare(path, database, "PRAGMA quick_check");
+  if (!check) return std::move(check).error();
+  code = sqlite3_step(check->get());
+  if (code != SQLITE_ROW) return sqlite_error(path, database, code, "checking the file");
+  const auto* verdict = reinterpret_cast<const char*>(sqlite3_column_text(check->get(), 0));
+  if (verdict == nullptr || std::string_view(verdict) != "ok") {
+    return make_error(Errc::io, "capture " + path + ": corrupt (" + (verdict ? verdict : "?") + ")");
+  }
+
+  sqlite3_stmt* raw = nullptr;
+  code = sqlite3_prepare_v2(database, "SELECT value FROM meta WHERE key = 'format'", -1, &raw, nullptr);
+  Statement format(raw);
+  if (code != SQLITE_OK || sqlite3_step(format.get()) != SQLITE_ROW ||
+      std::string_view(reinterpret_cast<const char*>(sqlite3_column_text(format.get(), 0))) != "rangekit-capture") {
+    return make_error(Errc::io, "capture " + path + ": an SQLite database, but not a rangekit capture");
+  }
+  return ok_status();
+}
+
+}  // namespace
+
+Result<Database> open_database(const std::string& path, bool writable, bool may_create) {
+  int flags = writable ? SQLITE_OPEN_READWRITE : SQLITE_OPEN_READONLY;
+  if (may_create) flags |= SQLITE_OPEN_CREATE;
+  sqlite3* raw = nullptr;
+  const int code = sqlite3_open_v2(path.c_str(), &raw, flags | SQLITE_OPEN_NOMUTEX, nullptr);
+  Database database(raw);
+  if (code != SQLITE_OK) {
+    return make_error(Errc::io, "capture " + path + ": cannot open (" +
+                                    (raw != nullptr ? sqlite3_errmsg(raw) : sqlite3_errstr(code)) + ")");
+  }
+  sqlite3_extended_result_codes(database.get(), 1);
+  sqlite3_busy_timeout(database.get(), 5000);
+  if (auto checked = check_is_capture(path, database.get()); !checked) return std::move(checked).error();
+  return database;
+}
+
+}  // namespace rangekit::record

@@ -1,0 +1,34 @@
+// Small RAII holders for the SQLite C API, shared by the capture writer and the
+// replay reader.
+#pragma once
+
+#include <sqlite3.h>
+
+#include <memory>
+#include <string>
+
+#include "rangekit/core/result.hpp"
+
+namespace rangekit::record {
+
+struct DatabaseCloser {
+  void operator()(sqlite3* database) const noexcept { sqlite3_close_v2(database); }
+};
+using Database = std::unique_ptr<sqlite3, DatabaseCloser>;
+
+struct StatementFinalizer {
+  void operator()(sqlite3_stmt* statement) const noexcept { sqlite3_finalize(statement); }
+};
+using Statement = std::unique_ptr<sqlite3_stmt, StatementFinalizer>;
+
+// "capture FILE: <what> (<sqlite message>)", with disk-full spelled out.
+Error sqlite_error(const std::string& path, sqlite3* database, int code, const std::string& what);
+
+Status execute(const std::string& path, sqlite3* database, const char* sql);
+Result<Statement> prepare(const std::string& path, sqlite3* database, const char* sql);
+
+// Opens `path` and checks that it is a readable rangekit capture (or empty when
+// `may_create`). Nothing is written.
+Result<Database> open_database(const std::string& path, bool writable, bool may_create);
+
+}  // namespace rangekit::record
