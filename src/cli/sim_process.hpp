@@ -1,0 +1,39 @@
+// An emulator started as a child process (`rangekit sim ...` from this same
+// binary), for `rangekit demo`: waits for its ready line instead of sleeping and
+// stops it (SIGTERM, then SIGKILL) when destroyed.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "rangekit/core/result.hpp"
+
+namespace rangekit::cli {
+
+class SimProcess {
+ public:
+  // Runs `<this binary> sim <arguments...>` and waits up to `timeout` for the
+  // line containing "ready:". Its stderr is kept in `log_path` for messages.
+  static Result<SimProcess> start(const std::vector<std::string>& arguments, const std::string& log_path,
+                                  std::chrono::milliseconds timeout);
+
+  SimProcess(SimProcess&& other) noexcept;
+  SimProcess& operator=(SimProcess&& other) noexcept;
+  SimProcess(const SimProcess&) = delete;
+  SimProcess& operator=(const SimProcess&) = delete;
+  ~SimProcess();
+
+  [[nodiscard]] const std::string& ready_line() const { return ready_line_; }
+  // Sends SIGTERM and waits (SIGKILL after two seconds). Safe to call twice.
+  void stop() noexcept;
+
+ private:
+  SimProcess(pid_t pid, std::string ready_line) : pid_(pid), ready_line_(std::move(ready_line)) {}
+  pid_t pid_ = -1;
+  std::string ready_line_;
+};
+
+}  // namespace rangekit::cli
