@@ -33,13 +33,17 @@ class StreamLoop {
         if (now >= limit) return finish(StopReason::duration_reached);
         timeout = std::min(timeout, std::chrono::ceil<std::chrono::milliseconds>(limit - now));
       }
+      // Read before waiting: a source that was finished then has nothing left
+      // once next() comes back empty, while one that finishes during the wait
+      // may still hand over its last items.
+      const bool was_finished = source_.finished();
       auto item = source_.next(timeout);
       if (item) {
         if (auto written = std::visit([this](const auto& value) { return handle(value); }, *item); !written) {
           return finish(StopReason::write_failed, std::move(written).error());
         }
         if (options_.count && stats_.samples >= *options_.count) return finish(StopReason::count_reached);
-      } else if (source_.finished()) {
+      } else if (was_finished) {
         return finish(StopReason::source_finished);
       }
       if (auto flushed = flush_if_due(); !flushed) return finish(StopReason::write_failed, std::move(flushed).error());

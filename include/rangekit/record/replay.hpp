@@ -1,0 +1,25 @@
+// Replay of a SQLite capture as a SampleSource: the captured samples and events
+// in the order they were written, either at the recorded pace (the gaps between
+// receive times are kept, divided by `speed`) or as fast as the consumer reads.
+#pragma once
+
+#include <string>
+
+#include "rangekit/core/result.hpp"
+#include "rangekit/core/sample.hpp"
+
+namespace rangekit::record {
+
+struct ReplayOptions {
+  double speed = 1.0;  // 1 = recorded pace, 2 = twice as fast; <= 0 = full speed (no waiting)
+  std::string device;  // "" = every sample; "uls" or "ls5" = only that family (events always pass)
+};
+
+// Opens the capture read-only; a missing file, a non-capture or a corrupt file
+// is Errc::io naming it.
+Result<SampleSourcePtr> open_replay(const std::string& path, const ReplayOptions& options);
+inline Result<SampleSourcePtr> open_replay(const std::string& path, double speed) {
+  return open_replay(path, ReplayOptions{speed, {}});
+}
+
+}  // namespace rangekit::record

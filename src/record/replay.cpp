@@ -1,0 +1,231 @@
+#include "rangekit/record/replay.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <condition_variable>
+#include <mutex>
+#include <utility>
+
+#include "names.hpp"
+#include "sqlite_handle.hpp"
+
+namespace rangekit::record {
+namespace {
+
+using SystemTime = std::chrono::system_clock::time_point;
+
+constexpr const char* samples_sql =
+    "SELECT seq, time_ns, device, source, address, kind, distance_m, pulse_width, targets, presence, "
+    "pulses_between_events, device_error, code, distance_mm, signal FROM samples ORDER BY seq";
+constexpr const char* events_sql = "SELECT seq, time_ns, kind, message, count FROM events ORDER BY seq";
+
+SystemTime from_nanos(std::int64_t nanos) {
+  return SystemTime(std::chrono::duration_cast<SystemTime::duration>(std::chrono::nanoseconds(nanos)));
+}
+
+std::string column_text(sqlite3_stmt* statement, int column) {
+  const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(statement, column));
+  return text != nullptr ? std::string(text, static_cast<std::size_t>(sqlite3_column_bytes(statement, column)))
+                         : std::string();
+}
+
+bool is_null(sqlite3_stmt* statement, int column) { return sqlite3_column_type(statement, column) == SQLITE_NULL; }
+
+template <class T>
+std::optional<T> column_integer(sqlite3_stmt* statement, int column) {
+  if (is_null(statement, column)) return std::nullopt;
+  return static_cast<T>(sqlite3_column_int64(statement, column));
+}
+
+std::optional<double> column_real(sqlite3_stmt* statement, int column) {
+  if (is_null(statement, column)) return std::nullopt;
+  return sqlite3_column_double(statement, column);
+}
+
+std::vector<TargetHit> parse_targets(const std::string& text) {
+  std::vector<TargetHit> targets;
+  const auto array = nlohmann::json::parse(text, nullptr, false);
+  if (!array.is_array()) return targets;
+  for (const auto& entry : array) {
+    if (!entry.is_object()) continue;
+    TargetHit target;
+    if (const auto distance = entry.find("distance_m"); distance != entry.end() && distance->is_number()) {
+      target.distance_m = distance->get<double>();
+    }
+    if (const auto strength = entry.find("strength"); strength != entry.end() && strength->is_number_unsigned()) {
+      target.strength = strength->get<std::uint32_t>();
+    }
+    targets.push_back(target);
+  }
+  return targets;
+}
+
+Sample read_sample(sqlite3_stmt* row) {
+  Sample sample;
+  sample.time = from_nanos(sqlite3_column_int64(row, 1));
+  sample.device = column_text(row, 2);
+  sample.source = column_text(row, 3);
+  sample.address = column_integer<int>(row, 4).value_or(-1);
+  sample.kind = parse_sample_kind(column_text(row, 5)).value_or(SampleKind::uls_averaging);
+  sample.distance_m = column_real(row, 6);
+  sample.pulse_width = column_integer<std::uint32_t>(row, 7);
+  if (!is_null(row, 8)) sample.targets = parse_targets(column_text(row, 8));
+  if (!is_null(row, 9)) sample.presence = sqlite3_column_int64(row, 9) != 0;
+  sample.pulses_between_events = column_integer<std::uint32_t>(row, 10);
+  sample.device_error = column_integer<int>(row, 11);
+  sample.code = column_integer<std::uint16_t>(row, 12);
+  sample.distance_mm = column_real(row, 13);
+  if (!is_null(row, 14)) sample.signal = parse_signal_state(column_text(row, 14));
+  return sample;
+}
+
+StreamEvent read_event(sqlite3_stmt* row) {
+  StreamEvent event;
+  event.time = from_nanos(sqlite3_column_int64(row, 1));
+  event.kind = parse_stream_event_kind(column_text(row, 2)).value_or(StreamEventKind::bad_frame);
+  event.message = column_text(row, 3);
+  event.count = static_cast<std::uint64_t>(sqlite3_column_int64(row, 4));
+  return event;
+}
+
+// One ordered table read row by row, with the next row's sequence number at hand.
+class Cursor {
+ public:
+  explicit Cursor(Statement statement) : statement_(std::move(statement)) {}
+
+  // Steps to the next row; false at the end or on a read error (kept in error()).
+  bool advance() {
+    const int code = sqlite3_step(statement_.get());
+    has_row_ = code == SQLITE_ROW;
+    if (code != SQLITE_ROW && code != SQLITE_DONE) failed_code_ = code;
+    return has_row_;
+  }
+  [[nodiscard]] bool has_row() const { return has_row_; }
+  [[nodiscard]] std::int64_t seq() const { return sqlite3_column_int64(statement_.get(), 0); }
+  [[nodiscard]] sqlite3_stmt* row() const { return statement_.get(); }
+  [[nodiscard]] int failed_code() const { return failed_code_; }
+
+ private:
+  Statement statement_;
+  bool has_row_ = false;
+  int failed_code_ = 0;
+};
+
+class ReplaySource final : public SampleSource {
+ public:
+  ReplaySource(std::string path, Database database, Cursor samples, Cursor events, ReplayOptions options)
+      : path_(std::move(path)),
+        database_(std::move(database)),
+        samples_(std::move(samples)),
+        events_(std::move(events)),
+        options_(std::move(options)) {
+    samples_.advance();
+    events_.advance();
+    load_next();
+  }
+
+  std::optional<StreamItem> next(std::chrono::milliseconds timeout) override {
+    std::unique_lock lock(mutex_);
+    if (stopped_ || !pending_) return std::nullopt;
+    if (options_.speed > 0) {
+      const auto due = due_time(item_time(*pending_));
+      if (!wake_.wait_until(lock, std::min(due, std::chrono::steady_clock::now() + timeout),
+                            [this] { return stopped_; }) &&
+          std::chrono::steady_clock::now() < due) {
+        return std::nullopt;
+      }
+      if (stopped_) return std::nullopt;
+    }
+    auto item = std::move(pending_);
+    load_next();
+    return item;
+  }
+
+  [[nodiscard]] bool finished() const override {
+    std::lock_guard lock(mutex_);
+    return stopped_ || !pending_;
+  }
+
+  void stop() override {
+    {
+      std::lock_guard lock(mutex_);
+      stopped_ = true;
+    }
+    wake_.notify_all();
+  }
+
+ private:
+  static SystemTime item_time(const StreamItem& item) {
+    return std::visit([](const auto& value) { return value.time; }, item);
+  }
+
+  // Recorded pace: the first item comes at once, each later one when as much
+  // time (divided by speed) has passed since the first as between their receive times.
+  std::chrono::steady_clock::time_point due_time(SystemTime time) {
+    if (!first_time_) {
+      first_time_ = time;
+      started_ = std::chrono::steady_clock::now();
+    }
+    const auto recorded = std::chrono::duration<double>(time - *first_time_).count() / options_.speed;
+    return started_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                          std::chrono::duration<double>(recorded > 0 ? recorded : 0.0));
+  }
+
+  void load_next() {
+    pending_.reset();
+    while (samples_.has_row() || events_.has_row()) {
+      const bool take_sample = samples_.has_row() && (!events_.has_row() || samples_.seq() < events_.seq());
+      if (take_sample) {
+        Sample sample = read_sample(samples_.row());
+        samples_.advance();
+        if (!options_.device.empty() && sample.device != options_.device) continue;
+        pending_ = std::move(sample);
+      } else {
+        pending_ = read_event(events_.row());
+        events_.advance();
+      }
+      return;
+    }
+    report_read_error();
+  }
+
+  // A capture damaged after it was opened ends the replay with one event saying why.
+  void report_read_error() {
+    const int code = samples_.failed_code() != 0 ? samples_.failed_code() : events_.failed_code();
+    if (code == 0 || reported_error_) return;
+    reported_error_ = true;
+    StreamEvent event;
+    event.time = std::chrono::system_clock::now();
+    event.kind = StreamEventKind::bad_frame;
+    event.message = sqlite_error(path_, database_.get(), code, "reading").message;
+    pending_ = std::move(event);
+  }
+
+  std::string path_;
+  Database database_;
+  Cursor samples_;
+  Cursor events_;
+  ReplayOptions options_;
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::optional<StreamItem> pending_;
+  std::optional<SystemTime> first_time_;
+  std::chrono::steady_clock::time_point started_;
+  bool stopped_ = false;
+  bool reported_error_ = false;
+};
+
+}  // namespace
+
+Result<SampleSourcePtr> open_replay(const std::string& path, const ReplayOptions& options) {
+  auto database = open_database(path, false, false);
+  if (!database) return std::move(database).error();
+  auto samples = prepare(path, database->get(), samples_sql);
+  if (!samples) return make_error(Errc::io, "capture " + path + ": no samples table, not a rangekit capture");
+  auto events = prepare(path, database->get(), events_sql);
+  if (!events) return make_error(Errc::io, "capture " + path + ": no events table, not a rangekit capture");
+  return SampleSourcePtr(std::make_unique<ReplaySource>(path, std::move(*database), Cursor(std::move(*samples)),
+                                                        Cursor(std::move(*events)), options));
+}
+
+}  // namespace rangekit::record

@@ -1,0 +1,130 @@
+// Hand-built samples and a scripted SampleSource for the record tests.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <utility>
+#include <vector>
+
+#include "rangekit/core/sample.hpp"
+
+namespace rangekit::record::testing {
+
+using namespace std::chrono_literals;
+
+// 2026-11-26T01:02:03.456Z plus `offset`.
+inline std::chrono::system_clock::time_point at(std::chrono::milliseconds offset = 0ms) {
+  using namespace std::chrono;
+  return sys_days{year{2026} / November / 26} + 1h + 2min + 3s + 456ms + offset;
+}
+
+inline Sample uls_averaging(std::chrono::milliseconds offset = 0ms) {
+  Sample sample;
+  sample.time = at(offset);
+  sample.device = "uls";
+  sample.source = "/dev/ttyUSB0";
+  sample.address = 3;
+  sample.kind = SampleKind::uls_averaging;
+  sample.distance_m = 12.345;
+  sample.pulse_width = 18000;
+  return sample;
+}
+
+inline Sample uls_binning() {
+  Sample sample;
+  sample.time = at();
+  sample.device = "uls";
+  sample.source = "/dev/ttyUSB0";
+  sample.kind = SampleKind::uls_binning;
+  sample.targets = {{4.572, 42}, {7.1, 13}};
+  return sample;
+}
+
+inline Sample uls_look_down() {
+  Sample sample;
+  sample.time = at();
+  sample.device = "uls";
+  sample.source = "/dev/ttyUSB1";
+  sample.address = 0;
+  sample.kind = SampleKind::uls_look_down;
+  sample.presence = true;
+  sample.pulses_between_events = 250;
+  return sample;
+}
+
+inline Sample uls_error() {
+  Sample sample;
+  sample.time = at();
+  sample.device = "uls";
+  sample.source = "/dev/ttyUSB0";
+  sample.address = 3;
+  sample.kind = SampleKind::uls_error;
+  sample.device_error = 4;
+  return sample;
+}
+
+inline Sample ls5_result(std::uint16_t code, std::optional<double> distance_mm, SignalState signal) {
+  Sample sample;
+  sample.time = at();
+  sample.device = "ls5";
+  sample.source = "udp:127.0.0.1:5000";
+  sample.kind = SampleKind::ls5_result;
+  sample.code = code;
+  sample.distance_mm = distance_mm;
+  sample.signal = signal;
+  return sample;
+}
+
+inline StreamEvent event(StreamEventKind kind, std::string message, std::uint64_t count = 0) {
+  StreamEvent result;
+  result.time = at();
+  result.kind = kind;
+  result.message = std::move(message);
+  result.count = count;
+  return result;
+}
+
+// Hands out the scripted items in order; finished once they are all taken,
+// unless `endless`, in which case it waits (up to the timeout) for stop().
+class FakeSource final : public SampleSource {
+ public:
+  explicit FakeSource(std::vector<StreamItem> items, bool endless = false)
+      : items_(items.begin(), items.end()), endless_(endless) {}
+
+  std::optional<StreamItem> next(std::chrono::milliseconds timeout) override {
+    std::unique_lock lock(mutex_);
+    if (!items_.empty() && !stopped_) {
+      auto item = std::move(items_.front());
+      items_.pop_front();
+      return item;
+    }
+    if (endless_) wake_.wait_for(lock, timeout, [this] { return stopped_; });
+    return std::nullopt;
+  }
+  [[nodiscard]] bool finished() const override {
+    std::lock_guard lock(mutex_);
+    return stopped_ || (!endless_ && items_.empty());
+  }
+  void stop() override {
+    {
+      std::lock_guard lock(mutex_);
+      stopped_ = true;
+    }
+    wake_.notify_all();
+  }
+  [[nodiscard]] bool stopped() const {
+    std::lock_guard lock(mutex_);
+    return stopped_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<StreamItem> items_;
+  bool endless_;
+  bool stopped_ = false;
+};
+
+}  // namespace rangekit::record::testing

@@ -1,0 +1,141 @@
+// Golden lines for hand-built samples: every expected line below is typed by
+// hand from the field list in docs/capture.md, not produced by the code.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "rangekit/record/format.hpp"
+#include "record/fake_source.hpp"
+
+namespace rangekit::record {
+namespace {
+
+using namespace testing;
+
+template <class T>
+std::string jsonl(const T& item) {
+  std::string out;
+  append_jsonl(out, item);
+  return out;
+}
+std::string csv(const Sample& sample) {
+  std::string out;
+  append_csv(out, sample);
+  return out;
+}
+template <class T>
+std::string text(const T& item) {
+  std::string out;
+  append_text(out, item);
+  return out;
+}
+
+TEST(IsoTime, UtcWithMillisecondsTruncated) {
+  std::string out;
+  append_iso_time(out, at() + std::chrono::microseconds(999));
+  EXPECT_EQ(out, "2026-11-26T01:02:03.456Z");
+  out.clear();
+  append_iso_time(out, std::chrono::system_clock::time_point{});
+  EXPECT_EQ(out, "1970-01-01T00:00:00.000Z");
+}
+
+TEST(Jsonl, UlsAveraging) {
+  EXPECT_EQ(jsonl(uls_averaging()),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":3,\"source\":\"/dev/ttyUSB0\","
+            "\"kind\":\"averaging\",\"distance_m\":12.3450,\"pulse_width\":18000}\n");
+}
+
+TEST(Jsonl, UlsAveragingWithoutPulseWidthIsNull) {
+  auto sample = uls_averaging();
+  sample.pulse_width.reset();
+  EXPECT_EQ(jsonl(sample),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":3,\"source\":\"/dev/ttyUSB0\","
+            "\"kind\":\"averaging\",\"distance_m\":12.3450,\"pulse_width\":null}\n");
+}
+
+TEST(Jsonl, UlsBinningWithoutAddress) {
+  EXPECT_EQ(jsonl(uls_binning()),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":null,\"source\":\"/dev/ttyUSB0\","
+            "\"kind\":\"binning\",\"targets\":[{\"distance_m\":4.5720,\"strength\":42},"
+            "{\"distance_m\":7.1000,\"strength\":13}]}\n");
+}
+
+TEST(Jsonl, UlsLookDown) {
+  EXPECT_EQ(jsonl(uls_look_down()),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":0,\"source\":\"/dev/ttyUSB1\","
+            "\"kind\":\"look_down\",\"presence\":true,\"pulses_between_events\":250}\n");
+}
+
+TEST(Jsonl, UlsError) {
+  EXPECT_EQ(jsonl(uls_error()),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":3,\"source\":\"/dev/ttyUSB0\","
+            "\"kind\":\"error\",\"error\":4}\n");
+}
+
+TEST(Jsonl, Ls5DistanceAndNoSignal) {
+  EXPECT_EQ(jsonl(ls5_result(12345, 1234.5, SignalState::ok)),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"ls5\",\"address\":null,"
+            "\"source\":\"udp:127.0.0.1:5000\",\"kind\":\"result\",\"code\":12345,\"distance_mm\":1234.50,"
+            "\"signal\":\"ok\"}\n");
+  EXPECT_EQ(jsonl(ls5_result(65535, std::nullopt, SignalState::lost)),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"ls5\",\"address\":null,"
+            "\"source\":\"udp:127.0.0.1:5000\",\"kind\":\"result\",\"code\":65535,\"distance_mm\":null,"
+            "\"signal\":\"lost\"}\n");
+  EXPECT_EQ(jsonl(ls5_result(65534, std::nullopt, SignalState::none_yet)),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"ls5\",\"address\":null,"
+            "\"source\":\"udp:127.0.0.1:5000\",\"kind\":\"result\",\"code\":65534,\"distance_mm\":null,"
+            "\"signal\":\"none_yet\"}\n");
+}
+
+TEST(Jsonl, EventsAndEscapedStrings) {
+  EXPECT_EQ(jsonl(event(StreamEventKind::lost_records, "UDP counter gap", 3)),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"event\":\"lost_records\",\"message\":\"UDP counter gap\","
+            "\"count\":3}\n");
+  EXPECT_EQ(jsonl(event(StreamEventKind::bad_frame, "got \"$BM\\x\"\n\x01")),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"event\":\"bad_frame\",\"message\":"
+            "\"got \\\"$BM\\\\x\\\"\\n\\u0001\",\"count\":0}\n");
+}
+
+TEST(Csv, HeaderNamesTheJsonKeys) {
+  EXPECT_STREQ(csv_header(),
+               "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
+               "code,distance_mm,signal\n");
+}
+
+TEST(Csv, OneRowPerFamily) {
+  EXPECT_EQ(csv(uls_averaging()), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,\n");
+  EXPECT_EQ(csv(uls_binning()), "2026-11-26T01:02:03.456Z,uls,,/dev/ttyUSB0,binning,,,4.5720:42;7.1000:13,,,,,,\n");
+  EXPECT_EQ(csv(uls_look_down()), "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,250,,,,\n");
+  EXPECT_EQ(csv(uls_error()), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,\n");
+  EXPECT_EQ(csv(ls5_result(12345, 1234.5, SignalState::ok)),
+            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok\n");
+  EXPECT_EQ(csv(ls5_result(65535, std::nullopt, SignalState::lost)),
+            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,65535,,lost\n");
+}
+
+TEST(Csv, QuotesFieldsWithCommasOrQuotes) {
+  auto sample = uls_averaging();
+  sample.source = "a,\"b\"";
+  EXPECT_EQ(csv(sample), "2026-11-26T01:02:03.456Z,uls,3,\"a,\"\"b\"\"\",averaging,12.3450,18000,,,,,,,\n");
+}
+
+TEST(Text, ReadableLinePerFamily) {
+  EXPECT_EQ(text(uls_averaging()), "01:02:03.456 uls #3  12.345 m  pw 18000\n");
+  EXPECT_EQ(text(uls_binning()), "01:02:03.456 uls  4.572 m (42)  7.100 m (13)\n");
+  EXPECT_EQ(text(uls_look_down()), "01:02:03.456 uls #0  present  pulses 250\n");
+  EXPECT_EQ(text(uls_error()), "01:02:03.456 uls #3  error 4\n");
+  EXPECT_EQ(text(ls5_result(12345, 1234.5, SignalState::ok)), "01:02:03.456 ls5  1234.50 mm  code 12345\n");
+  EXPECT_EQ(text(ls5_result(65535, std::nullopt, SignalState::lost)), "01:02:03.456 ls5  no signal  code 65535\n");
+  EXPECT_EQ(text(ls5_result(65534, std::nullopt, SignalState::none_yet)),
+            "01:02:03.456 ls5  no measurement yet  code 65534\n");
+}
+
+TEST(Text, Events) {
+  EXPECT_EQ(text(event(StreamEventKind::disconnected, "/dev/ttyUSB0 went away")),
+            "01:02:03.456 disconnected: /dev/ttyUSB0 went away\n");
+  EXPECT_EQ(text(event(StreamEventKind::lost_records, "UDP counter gap", 3)),
+            "01:02:03.456 lost_records: UDP counter gap (3 lost)\n");
+}
+
+}  // namespace
+}  // namespace rangekit::record
