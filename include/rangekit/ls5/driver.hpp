@@ -1,0 +1,170 @@
+// Host driver for one Prizma LS5 on a serial line (RS-232, RS-485 adapter, pty):
+// typed calls for every command of table 9.1 and every parameter of table 9.2,
+// replies matched to requests, a timeout per call, one retry for reads, the
+// measurement stream (§8.13, ST/SB, thinning n) as a SampleSource with reconnect.
+// docs/host-ls5.md has one section per call with its errors.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rangekit/core/framer.hpp"
+#include "rangekit/core/result.hpp"
+#include "rangekit/core/sample.hpp"
+#include "rangekit/core/transport.hpp"
+#include "rangekit/ls5/host_settings.hpp"
+#include "rangekit/ls5/identification.hpp"
+#include "rangekit/ls5/reply.hpp"
+#include "rangekit/ls5/request.hpp"
+
+namespace rangekit::ls5 {
+
+// Opens the transport again after the link went away (same path, same settings).
+using ReopenFunction = std::function<Result<TransportPtr>()>;
+
+struct DriverOptions {
+  std::uint8_t address = 0x01;                      // network address (parameter 01); 00 broadcasts
+  std::chrono::milliseconds timeout{500};           // per attempt, from the request's last byte
+  int read_retries = 1;                             // extra attempts for ID, R, LR, FR (no side effects)
+  std::optional<FirmwareVersion> assumed_firmware;  // skips ID for version checks (tests, old sensors)
+};
+
+// Identification decoded (§9.2), plus whether the sensor has Ethernet (it answered R70).
+struct SensorInfo {
+  std::uint8_t address = 0x01;
+  Identification identification;
+  bool ethernet = false;
+};
+
+// One result read by LR or FR, or one stream record.
+struct Measurement {
+  ResultCode code;
+  std::optional<double> distance_mm;  // formula 8.1 with the ID range; none for 65534/65535
+};
+
+// A parameter's bytes as read from the sensor.
+struct SettingReading {
+  const HostSetting* setting = nullptr;
+  std::vector<std::uint8_t> bytes;  // in the order of setting->addresses()
+  std::string text;                 // format_setting
+};
+
+class MeasurementStream;
+
+class Driver {
+ public:
+  Driver(TransportPtr transport, DriverOptions options, ReopenFunction reopen = {});
+  ~Driver();
+  Driver(const Driver&) = delete;
+  Driver& operator=(const Driver&) = delete;
+
+  // ---- table 9.1 ----
+  Result<Identification> identify();                                   // ID
+  Result<std::uint8_t> read_parameter(std::uint8_t parameter);         // R (table 9.2 range not checked on read)
+  Status write_parameter(std::uint8_t parameter, std::uint8_t value);  // W, checked before sending
+  Status store_to_flash();                                             // FL
+  Status turn_on();                                                    // ON
+  Status turn_off();                                                   // OF
+  Status latch();                                                      // FX
+  Status stop_stream();                                                // SB
+  Result<Measurement> read_latched();                                  // FR
+  Result<Measurement> read_last();                                     // LR
+  Status restore_defaults();                                           // DF (RAM only until FL, L27)
+  // ST is start_stream below: its records are the reply.
+
+  // ---- table 9.2 by readable name ----
+  Result<SettingReading> get(const HostSetting& setting);
+  Result<SettingReading> get(std::string_view name);
+  // Every value checked (range, firmware) before the first byte is sent; then each byte written and echoed.
+  Status set(const HostSetting& setting, std::string_view text);
+  Status set(std::string_view name, std::string_view text);
+
+  // ID once, then R70 on LS5.12+ to learn whether the sensor has Ethernet.
+  Result<SensorInfo> info();
+  // What set/get check against: firmware from ID (or assumed), range for the *-mm settings.
+  Result<SettingContext> context();
+
+  // Starts the stream (optionally writing thinning n, 08, first) and hands the line
+  // to a reader thread until the stream is destroyed or stopped; no other call may
+  // be made on the driver meanwhile.
+  struct StreamOptions {
+    std::optional<std::uint8_t> thinning;  // n of §8.4; unchanged when empty
+    std::size_t queue_capacity = 65536;
+    std::chrono::milliseconds reconnect_interval{500};
+    // No record for this long while streaming: the sensor is taken for power-cycled
+    // (disconnected) and is asked again (ID, ST) every reconnect_interval.
+    std::chrono::milliseconds silence_timeout{3000};
+  };
+  Result<std::unique_ptr<MeasurementStream>> start_stream(const StreamOptions& options);
+
+  [[nodiscard]] std::uint8_t address() const noexcept { return options_.address; }
+  void set_address(std::uint8_t address) noexcept { options_.address = address; }
+  [[nodiscard]] const DriverOptions& options() const noexcept { return options_; }
+  [[nodiscard]] std::string transport_name() const;
+  // Frames that did not decode while waiting for replies (garbage, half frames).
+  [[nodiscard]] std::uint64_t rejected_frames() const noexcept { return rejected_frames_; }
+
+  // For the stream reader and probe: one request, its matched reply.
+  Result<Reply> transact(const Request& request);
+  // Opens the link again with the reopen function; Errc::unsupported without one.
+  Status reopen();
+
+ private:
+  friend class MeasurementStream;
+  Result<Reply> transact_once(const Request& request);
+  Status expect_echo(const Request& request);
+  Result<Measurement> to_measurement(ResultCode code);
+
+  TransportPtr transport_;
+  DriverOptions options_;
+  ReopenFunction reopen_;
+  std::unique_ptr<FrameAssembler> assembler_;
+  std::optional<Identification> identification_;
+  std::optional<bool> ethernet_;
+  std::uint64_t rejected_frames_ = 0;
+};
+
+// Measurement records !ddddd as rangekit::Sample (device "ls5", code, distance_mm,
+// signal), pushed by a reader thread into a StreamQueue that never blocks it. On a
+// closed link or silence: StreamEvent disconnected, reopen/ask every
+// reconnect_interval, StreamEvent reconnected and ST again.
+class MeasurementStream final : public SampleSource {
+ public:
+  ~MeasurementStream() override;
+  std::optional<StreamItem> next(std::chrono::milliseconds timeout) override;
+  [[nodiscard]] bool finished() const override;
+  void stop() override;  // joins the reader, sends SB (best effort)
+  [[nodiscard]] std::uint64_t lost() const override;
+  [[nodiscard]] std::uint64_t records() const noexcept { return records_.load(); }
+
+ private:
+  friend class Driver;
+  struct Shared;
+  MeasurementStream(Driver& driver, const Driver::StreamOptions& options);
+  void run();
+  Driver& driver_;
+  Driver::StreamOptions options_;
+  std::shared_ptr<Shared> shared_;
+  std::atomic<std::uint64_t> records_{0};
+};
+
+// Decodes one stream record or LR/FR result into a Sample (for the driver and tests).
+Sample make_ls5_sample(ResultCode code, std::optional<double> range_mm, std::string source, int address);
+
+// For `rangekit detect`: does an LS5 answer on this transport? Listens first; a
+// running stream is reported, not stopped (any byte would stop it, L37). Otherwise
+// sends ID only (no state change). Errc::timeout when nothing answers.
+struct ProbeResult {
+  bool streaming = false;  // records were arriving: address and ID unknown
+  std::uint8_t address = 0x01;
+  std::optional<Identification> identification;
+};
+Result<ProbeResult> probe(Transport& transport, std::uint8_t address, std::chrono::milliseconds timeout);
+
+}  // namespace rangekit::ls5

@@ -1,0 +1,243 @@
+// Request/reply side of the LS5 driver: one request at a time, the reply matched
+// by address, command and parameter (check_reply_answers), stray frames skipped.
+#include "rangekit/ls5/driver.hpp"
+
+#include <array>
+
+#include "rangekit/ls5/frame.hpp"
+#include "rangekit/ls5/settings.hpp"
+
+namespace rangekit::ls5 {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+bool is_read(CommandId command) noexcept {
+  return command == CommandId::identification || command == CommandId::read_parameter ||
+         command == CommandId::read_last || command == CommandId::read_latched;
+}
+
+std::string wire_text(const Request& request) {
+  auto encoded = encode_request(request);
+  if (!encoded) return "(unencodable request)";
+  std::string text(encoded->view());
+  if (!text.empty() && text.back() == '\r') text.pop_back();
+  return text;
+}
+
+}  // namespace
+
+Driver::Driver(TransportPtr transport, DriverOptions options, ReopenFunction reopen)
+    : transport_(std::move(transport)),
+      options_(options),
+      reopen_(std::move(reopen)),
+      assembler_(std::make_unique<FrameAssembler>(&scan_reply_frame, 4096)) {}
+
+Driver::~Driver() = default;
+
+std::string Driver::transport_name() const { return transport_ ? transport_->name() : "(no transport)"; }
+
+Status Driver::reopen() {
+  if (!reopen_) return make_error(Errc::unsupported, "no way to reopen " + transport_name());
+  if (transport_) transport_->close();
+  auto opened = reopen_();
+  if (!opened) return opened.error();
+  transport_ = std::move(*opened);
+  assembler_->clear();
+  return ok_status();
+}
+
+Result<Reply> Driver::transact_once(const Request& request) {
+  auto encoded = encode_request(request);
+  if (!encoded) return encoded.error();
+  if (!transport_) return make_error(Errc::closed, "LS5: no transport");
+  Status written = transport_->write_all(encoded->bytes());
+  if (!written) return written.error();
+  if (!request.expects_reply()) return Reply::echo(request);
+
+  const auto deadline = Clock::now() + options_.timeout;
+  std::array<std::uint8_t, 256> buffer{};
+  for (;;) {
+    FrameAssembler::Event event;
+    while (assembler_->next(event)) {
+      if (event.kind == FrameAssembler::Event::Kind::rejected) {
+        if (event.reason != nullptr) ++rejected_frames_;
+        continue;
+      }
+      auto reply = parse_reply(event.frame);
+      if (!reply) {
+        ++rejected_frames_;
+        continue;
+      }
+      if (check_reply_answers(request, *reply)) return *reply;
+      // Anything else (a stream record still in flight, another sensor's reply) is not ours.
+    }
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+    if (left.count() <= 0) break;
+    auto got = transport_->read_some(buffer, left);
+    if (!got) {
+      if (got.error().code == Errc::timeout) break;
+      return got.error();
+    }
+    assembler_->push(Bytes(buffer.data(), *got));
+  }
+  return make_error(Errc::timeout, "LS5 at address " + hex_byte(request.address) + " on " + transport_name() +
+                                       " did not answer " + wire_text(request) + " within " +
+                                       std::to_string(options_.timeout.count()) +
+                                       " ms: check the port, the baud rate and byte format, and the address");
+}
+
+Result<Reply> Driver::transact(const Request& request) {
+  const int attempts = 1 + (is_read(request.command) ? options_.read_retries : 0);
+  Result<Reply> reply = make_error(Errc::timeout, "not sent");
+  for (int attempt = 0; attempt < attempts; ++attempt) {
+    reply = transact_once(request);
+    if (reply || reply.error().code != Errc::timeout) return reply;
+  }
+  return reply;
+}
+
+Status Driver::expect_echo(const Request& request) {
+  auto reply = transact(request);
+  if (!reply) return reply.error();
+  return ok_status();
+}
+
+Result<Identification> Driver::identify() {
+  auto reply = transact(Request::simple(options_.address, CommandId::identification));
+  if (!reply) return reply.error();
+  identification_ = reply->identification;
+  return reply->identification;
+}
+
+Result<std::uint8_t> Driver::read_parameter(std::uint8_t parameter) {
+  if (find_parameter(parameter) == nullptr) {
+    return make_error(Errc::unknown_parameter, "LS5 parameter " + hex_byte(parameter) + " is not in table 9.2");
+  }
+  auto reply = transact(Request::read(options_.address, parameter));
+  if (!reply) return reply.error();
+  return reply->value;
+}
+
+Status Driver::write_parameter(std::uint8_t parameter, std::uint8_t value) {
+  const ParameterInfo* info = find_parameter(parameter);
+  if (info == nullptr) {
+    return make_error(Errc::unknown_parameter, "LS5 parameter " + hex_byte(parameter) + " is not in table 9.2");
+  }
+  auto sensor = context();
+  if (!sensor) return sensor.error();
+  SensorModel model = sensor->model;
+  if (info->ethernet_only && model.firmware.at_least(firmware_12_x)) {
+    model.ethernet = true;  // raw writes: let the sensor decide whether it has Ethernet
+  }
+  Status accepted = check_parameter_byte(parameter, value, model);
+  if (!accepted) return accepted.error();
+  return expect_echo(Request::write(options_.address, parameter, value));
+}
+
+Status Driver::store_to_flash() { return expect_echo(Request::simple(options_.address, CommandId::store_to_flash)); }
+Status Driver::turn_on() { return expect_echo(Request::simple(options_.address, CommandId::turn_on)); }
+Status Driver::turn_off() { return expect_echo(Request::simple(options_.address, CommandId::turn_off)); }
+Status Driver::latch() { return expect_echo(Request::simple(options_.address, CommandId::latch_result)); }
+Status Driver::stop_stream() { return expect_echo(Request::simple(options_.address, CommandId::stop_stream)); }
+Status Driver::restore_defaults() {
+  return expect_echo(Request::simple(options_.address, CommandId::restore_defaults));
+}
+
+Result<Measurement> Driver::to_measurement(ResultCode code) {
+  Measurement measurement{code, std::nullopt};
+  if (code.is_result() && identification_ && identification_->range_mm > 0) {
+    measurement.distance_mm = distance_mm(code.value, identification_->range_mm);
+  }
+  return measurement;
+}
+
+Result<Measurement> Driver::read_latched() {
+  auto reply = transact(Request::simple(options_.address, CommandId::read_latched));
+  if (!reply) return reply.error();
+  return to_measurement(reply->result);
+}
+
+Result<Measurement> Driver::read_last() {
+  auto reply = transact(Request::simple(options_.address, CommandId::read_last));
+  if (!reply) return reply.error();
+  return to_measurement(reply->result);
+}
+
+Result<SettingContext> Driver::context() {
+  SettingContext context;
+  if (options_.assumed_firmware) {
+    context.model.firmware = *options_.assumed_firmware;
+  } else {
+    if (!identification_) {
+      auto identified = identify();
+      if (!identified) return identified.error();
+    }
+    context.model.firmware = identification_->version.value_or(any_firmware);
+  }
+  if (identification_) context.range_mm = identification_->range_mm;
+  context.model.ethernet = ethernet_.value_or(context.model.firmware.at_least(firmware_12_x));
+  return context;
+}
+
+Result<SensorInfo> Driver::info() {
+  auto identified = identify();
+  if (!identified) return identified.error();
+  SensorInfo info{options_.address, *identified, false};
+  if (identified->version && identified->version->at_least(firmware_12_x)) {
+    // R70 (UDP auto-stream) exists only on Ethernet sensors: no reply means none (L26).
+    auto udp = transact(Request::read(options_.address, address::udp_auto_stream));
+    if (!udp && udp.error().code != Errc::timeout) return udp.error();
+    info.ethernet = udp.ok();
+    ethernet_ = info.ethernet;
+  }
+  return info;
+}
+
+Result<SettingReading> Driver::get(const HostSetting& setting) {
+  auto sensor = context();
+  if (!sensor) return sensor.error();
+  Status available = check_setting_available(setting, sensor->model);
+  if (!available) return available.error();
+  SettingReading reading{&setting, {}, {}};
+  for (const std::uint8_t parameter : setting.addresses()) {
+    auto value = read_parameter(parameter);
+    if (!value) return value.error();
+    reading.bytes.push_back(*value);
+  }
+  auto text = format_setting(setting, reading.bytes, *sensor);
+  if (!text) return text.error();
+  reading.text = std::move(*text);
+  return reading;
+}
+
+Result<SettingReading> Driver::get(std::string_view name) {
+  const HostSetting* setting = find_host_setting(name);
+  if (setting == nullptr)
+    return make_error(Errc::unknown_parameter, "no LS5 setting named '" + std::string(name) + "'");
+  return get(*setting);
+}
+
+Status Driver::set(const HostSetting& setting, std::string_view text) {
+  auto sensor = context();
+  if (!sensor) return sensor.error();
+  auto writes = encode_setting(setting, text, *sensor);  // every byte checked before the first is sent
+  if (!writes) return writes.error();
+  for (const ParameterWrite& write : writes->view()) {
+    Status written = expect_echo(Request::write(options_.address, write.address, write.value));
+    if (!written) return written.error();
+  }
+  if (setting.parameter == address::network_address && setting.value == LogicalValueId::none) {
+    options_.address = writes->items[0].value;  // L28: the next request goes to the new address
+  }
+  return ok_status();
+}
+
+Status Driver::set(std::string_view name, std::string_view text) {
+  const HostSetting* setting = find_host_setting(name);
+  if (setting == nullptr)
+    return make_error(Errc::unknown_parameter, "no LS5 setting named '" + std::string(name) + "'");
+  return set(*setting, text);
+}
+
+}  // namespace rangekit::ls5

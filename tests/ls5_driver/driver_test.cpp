@@ -1,0 +1,261 @@
+// The driver's request/reply side against scripted device bytes on the in-memory
+// loopback: every table 9.1 command, readable settings, checks before sending,
+// reply matching through garbage, half frames and other sensors' replies, retries.
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "rangekit/ls5/settings.hpp"
+#include "scripted_device.hpp"
+
+using namespace rangekit;
+using namespace rangekit::ls5;
+using namespace ls5_driver_test;
+
+namespace {
+
+struct Fixture {
+  explicit Fixture(DriverOptions options = fast_options()) {
+    auto pair = make_loopback_pair("driver", "device");
+    device = std::make_unique<ScriptedDevice>(std::move(pair.b));
+    driver = std::make_unique<Driver>(std::move(pair.a), options);
+  }
+  std::unique_ptr<ScriptedDevice> device;
+  std::unique_ptr<Driver> driver;
+};
+
+DriverOptions with_firmware(FirmwareVersion firmware, std::uint8_t address = 0x01) {
+  DriverOptions options = fast_options(address);
+  options.assumed_firmware = firmware;
+  return options;
+}
+
+}  // namespace
+
+TEST(Ls5Driver, IdentifyDecodesTheSection92Example) {
+  Fixture f;
+  f.device->send(id_reply_01);
+  auto id = f.driver->identify();
+  ASSERT_TRUE(id) << id.error().message;
+  EXPECT_EQ(f.device->receive_until("\r"), "#01ID\r");
+  ASSERT_TRUE(id->version.has_value());
+  EXPECT_EQ(*id->version, (FirmwareVersion{6, 0}));
+  EXPECT_DOUBLE_EQ(id->lower_boundary_mm, 8.1234);
+  EXPECT_DOUBLE_EQ(id->range_mm, 40.001);
+  EXPECT_EQ(id->serial_number, 157U);
+}
+
+TEST(Ls5Driver, SetMedianFilterIsTheSection94Session) {
+  Fixture f(with_firmware(firmware_6_0, 0x02));
+  f.device->send("!02W0B01\r");  // §9.4: response to #02W0B01
+  auto status = f.driver->set("pre-filter", "median");
+  ASSERT_TRUE(status) << status.error().message;
+  EXPECT_EQ(f.device->receive_until("\r"), "#02W0B01\r");
+}
+
+TEST(Ls5Driver, TurnOnIsTheSection94Session) {
+  Fixture f;
+  f.device->send("!01ON\r");
+  ASSERT_TRUE(f.driver->turn_on());
+  EXPECT_EQ(f.device->receive_until("\r"), "#01ON\r");
+}
+
+TEST(Ls5Driver, EveryEchoedCommandSendsItsCode) {
+  Fixture f;
+  struct Case {
+    Status (Driver::*call)();
+    const char* code;
+  };
+  const Case cases[] = {{&Driver::store_to_flash, "FL"},
+                        {&Driver::turn_off, "OF"},
+                        {&Driver::latch, "FX"},
+                        {&Driver::stop_stream, "SB"},
+                        {&Driver::restore_defaults, "DF"}};
+  for (const Case& c : cases) {
+    f.device->send(std::string("!01") + c.code + "\r");
+    Status status = (f.driver.get()->*c.call)();
+    EXPECT_TRUE(status) << c.code << ": " << status.error().message;
+    EXPECT_EQ(f.device->receive_until("\r"), std::string("#01") + c.code + "\r");
+  }
+}
+
+TEST(Ls5Driver, SwingsOfTable93AreWrittenLowByteFirst) {
+  Fixture f(with_firmware(firmware_6_0));
+  // Table 9.3: first swing of output 1 = 20000 (0x4E20): #01W1620, #01W174E.
+  f.device->send("!01W1620\r!01W174E\r");
+  auto status = f.driver->set("output1-first-swing", "20000");
+  ASSERT_TRUE(status) << status.error().message;
+  EXPECT_EQ(f.device->receive_until("#01W174E\r"), "#01W1620\r#01W174E\r");
+}
+
+TEST(Ls5Driver, GetCombinesBytesAndFormatsUnits) {
+  Fixture f(with_firmware(firmware_6_0));
+  // Table 9.2: period 0x0034 = 5.2 ms.
+  f.device->send("!01R0634\r!01R0700\r");
+  auto reading = f.driver->get("period-ms");
+  ASSERT_TRUE(reading) << reading.error().message;
+  EXPECT_EQ(reading->text, "5.2");
+  EXPECT_EQ(f.device->receive_until("#01R07\r"), "#01R06\r#01R07\r");
+}
+
+TEST(Ls5Driver, MillimetreSettingsUseTheRangeFromIdentification) {
+  Fixture f;
+  f.device->send(id_reply_01);
+  // Half the 40.001 mm range is code 25000 = 0x61A8 (formula 8.5).
+  f.device->send("!01W11A8\r!01W1261\r");
+  auto status = f.driver->set("analog-lower-mm", "20.0005");
+  ASSERT_TRUE(status) << status.error().message;
+  EXPECT_EQ(f.device->receive_until("#01W1261\r"), "#01ID\r#01W11A8\r#01W1261\r");
+}
+
+TEST(Ls5Driver, OutOfRangeValuesAreRefusedBeforeAnythingIsSent) {
+  Fixture f(with_firmware(firmware_12_x));
+  struct Case {
+    const char* name;
+    const char* value;
+    const char* allowed;
+  };
+  const Case cases[] = {
+      {"median-points", "4", "1, 3, ..., 49 (odd)"},  // L4
+      {"median-points", "51", "1, 3, ..., 49 (odd)"},
+      {"thinning", "0", "1-255"},
+      {"analog-upper", "50001", "0-50000"},
+      {"period-ms", "0.05", "0.1-6553.5 ms"},  // not a whole number of 0.1 ms (L21)
+      {"baud-rate", "14400", "9600 | 19200"},
+      {"pre-filter", "mean", "average | median"},
+      {"ip-address", "192.168.0", "IPv4"},
+  };
+  for (const Case& c : cases) {
+    Status status = f.driver->set(c.name, c.value);
+    ASSERT_FALSE(status) << c.name << "=" << c.value;
+    EXPECT_NE(status.error().message.find(c.name), std::string::npos) << status.error().message;
+    EXPECT_NE(status.error().message.find(c.allowed), std::string::npos) << status.error().message;
+  }
+  EXPECT_EQ(f.device->receive_all(), "") << "nothing may reach the sensor";
+}
+
+TEST(Ls5Driver, NewerParametersAreRefusedWithTheFirmwareTheyNeed) {
+  Fixture f;
+  f.device->send(id_reply_01);  // LS5.6.0
+  Status exposure = f.driver->set("max-exposure-us", "100");
+  ASSERT_FALSE(exposure);
+  EXPECT_EQ(exposure.error().code, Errc::unsupported);
+  EXPECT_NE(exposure.error().message.find("LS5.7.0"), std::string::npos) << exposure.error().message;
+  Status latching = f.driver->set("latching", "analog");  // value 02 needs LS5.9.0 (§8.14)
+  ASSERT_FALSE(latching);
+  EXPECT_NE(latching.error().message.find("LS5.9.0"), std::string::npos) << latching.error().message;
+  auto udp = f.driver->get("udp-auto-stream");
+  ASSERT_FALSE(udp);
+  EXPECT_EQ(f.device->receive_all(), "#01ID\r") << "only the identification went out";
+}
+
+TEST(Ls5Driver, ReadsAreRetriedOnceThenTimeOutWithAHint) {
+  Fixture f;
+  auto value = f.driver->read_parameter(0x0D);
+  ASSERT_FALSE(value);
+  EXPECT_EQ(value.error().code, Errc::timeout);
+  for (const char* hint : {"did not answer #01R0D", "port", "baud", "address"}) {
+    EXPECT_NE(value.error().message.find(hint), std::string::npos) << value.error().message;
+  }
+  EXPECT_EQ(f.device->receive_all(), "#01R0D\r#01R0D\r");
+}
+
+TEST(Ls5Driver, WritesAreNotRetried) {
+  Fixture f(with_firmware(firmware_6_0));
+  Status status = f.driver->write_parameter(0x0C, 0x04);
+  ASSERT_FALSE(status);
+  EXPECT_EQ(status.error().code, Errc::timeout);
+  EXPECT_EQ(f.device->receive_all(), "#01W0C04\r");
+}
+
+TEST(Ls5Driver, ReplyIsFoundBehindGarbageHalfFramesRecordsAndOtherSensors) {
+  Fixture f;
+  // Garbage, a half frame cut by a new start (F3), a stream record still in flight,
+  // a reply from sensor 02, a reply with bad hex, then the answer.
+  f.device->send("\x7fzz!01R0!12345\r!02R0D07\r!01R0DZZ\r!01R0D09\r");
+  auto value = f.driver->read_parameter(0x0D);
+  ASSERT_TRUE(value) << value.error().message;
+  EXPECT_EQ(*value, 0x09);
+  EXPECT_GE(f.driver->rejected_frames(), 3U);
+  EXPECT_EQ(f.device->receive_all(), "#01R0D\r") << "answered at the first attempt";
+}
+
+TEST(Ls5Driver, ReplyForAnotherParameterDoesNotAnswer) {
+  Fixture f;
+  f.device->send("!01R0C07\r");
+  auto value = f.driver->read_parameter(0x0D);
+  ASSERT_FALSE(value);
+  EXPECT_EQ(value.error().code, Errc::timeout);
+}
+
+TEST(Ls5Driver, LastAndLatchedResultsWithSpecialCodes) {
+  Fixture f;
+  f.device->send(id_reply_01);
+  ASSERT_TRUE(f.driver->identify());
+  f.device->send("!01LR25000\r");
+  auto last = f.driver->read_last();
+  ASSERT_TRUE(last) << last.error().message;
+  EXPECT_EQ(last->code.value, 25000);
+  ASSERT_TRUE(last->distance_mm.has_value());
+  EXPECT_DOUBLE_EQ(*last->distance_mm, 40.001 * 25000 / 50000);  // formula 8.1
+  f.device->send("!01FR65535\r");                                // §8.9 no signal
+  auto latched = f.driver->read_latched();
+  ASSERT_TRUE(latched) << latched.error().message;
+  EXPECT_EQ(latched->code.kind, CodeKind::no_signal);
+  EXPECT_FALSE(latched->distance_mm.has_value());
+  EXPECT_EQ(f.device->receive_until("#01FR\r"), "#01ID\r#01LR\r#01FR\r");
+}
+
+TEST(Ls5Driver, ClosedLinkIsReportedAsClosed) {
+  Fixture f;
+  f.device->close();
+  auto value = f.driver->read_parameter(0x01);
+  ASSERT_FALSE(value);
+  EXPECT_EQ(value.error().code, Errc::closed);
+}
+
+TEST(Ls5Driver, NetworkAddressChangeMovesTheDriver) {
+  Fixture f(with_firmware(firmware_6_0));
+  f.device->send("!01W0105\r");  // L28: echoed from the old address
+  ASSERT_TRUE(f.driver->set("network-address", "5"));
+  EXPECT_EQ(f.driver->address(), 5);
+  f.device->send("!05R0105\r");
+  auto value = f.driver->read_parameter(0x01);
+  ASSERT_TRUE(value) << value.error().message;
+  EXPECT_EQ(f.device->receive_until("#05R01\r"), "#01W0105\r#05R01\r");
+}
+
+TEST(Ls5Driver, InfoAsksR70OnLs512ToLearnAboutEthernet) {
+  Fixture f;
+  f.device->send("%01LS5.12.0  b0,0000d100,000s/n0000157\r!01R7001\r");
+  auto info = f.driver->info();
+  ASSERT_TRUE(info) << info.error().message;
+  EXPECT_TRUE(info->ethernet);
+  EXPECT_DOUBLE_EQ(info->identification.range_mm, 100.0);
+  EXPECT_EQ(f.device->receive_until("#01R70\r"), "#01ID\r#01R70\r");
+}
+
+TEST(Ls5Driver, ProbeReportsAStreamWithoutSpeakingAndIdentifiesOtherwise) {
+  auto pair = make_loopback_pair();
+  ScriptedDevice device(std::move(pair.b));
+  device.send("!25000\r!25001\r");
+  auto streaming = probe(*pair.a, 0x01, 400ms);
+  ASSERT_TRUE(streaming) << streaming.error().message;
+  EXPECT_TRUE(streaming->streaming);
+  EXPECT_EQ(device.receive_all(), "") << "a byte would have stopped the stream (L37)";
+
+  // The sensor answers the ID only after it was asked.
+  std::thread sensor([&device] {
+    if (device.receive_until("#01ID\r") == "#01ID\r") device.send(id_reply_01);
+  });
+  auto identified = probe(*pair.a, 0x01, 2000ms);
+  sensor.join();
+  ASSERT_TRUE(identified) << identified.error().message;
+  EXPECT_FALSE(identified->streaming);
+  ASSERT_TRUE(identified->identification.has_value());
+  EXPECT_EQ(identified->identification->serial_number, 157U);
+
+  auto silent = probe(*pair.a, 0x03, 200ms);
+  ASSERT_FALSE(silent);
+  EXPECT_EQ(silent.error().code, Errc::timeout);
+}

@@ -1,0 +1,217 @@
+// The measurement stream against scripted bytes: records become Samples (§8.9),
+// bad records become bad_frame events, a link that closes mid-frame gives
+// disconnected, and the stream comes back (reconnected, ST again) on a new link.
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "rangekit/ls5/settings.hpp"
+#include "scripted_device.hpp"
+
+using namespace rangekit;
+using namespace rangekit::ls5;
+using namespace ls5_driver_test;
+
+namespace {
+
+// Next item that is a Sample (events before it are collected), within 5 s.
+struct Collected {
+  std::vector<Sample> samples;
+  std::vector<StreamEvent> events;
+};
+
+// Pops until `want` returns true for what was collected so far, or 10 s pass.
+template <class Want>
+Collected collect(SampleSource& source, Want want) {
+  Collected collected;
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  while (!want(collected) && std::chrono::steady_clock::now() < deadline) {
+    auto item = source.next(200ms);
+    if (!item) continue;
+    if (auto* sample = std::get_if<Sample>(&*item)) {
+      collected.samples.push_back(*sample);
+    } else {
+      collected.events.push_back(std::get<StreamEvent>(*item));
+    }
+  }
+  return collected;
+}
+
+bool has_event(const Collected& c, StreamEventKind kind) {
+  for (const auto& event : c.events) {
+    if (event.kind == kind) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+TEST(Ls5Stream, RecordsBecomeSamplesWithThinningWrittenFirst) {
+  auto pair = make_loopback_pair("ls5 line", "device");
+  ScriptedDevice device(std::move(pair.b));
+  Driver driver(std::move(pair.a), fast_options());
+  device.send(id_reply_01);
+  device.send("!01W0804\r");  // n = 4 (§8.4)
+  Driver::StreamOptions options;
+  options.thinning = 4;
+  auto stream = driver.start_stream(options);
+  ASSERT_TRUE(stream) << stream.error().message;
+  EXPECT_EQ(device.receive_until("#01ST\r"), "#01ID\r#01W0804\r#01ST\r");
+
+  device.send("!25000\r!65534\r!65535\r!00000\r");  // §8.9
+  auto got = collect(**stream, [](const Collected& c) { return c.samples.size() >= 4; });
+  ASSERT_EQ(got.samples.size(), 4U);
+  EXPECT_EQ(got.samples[0].device, "ls5");
+  EXPECT_EQ(got.samples[0].address, 1);
+  EXPECT_EQ(got.samples[0].source, "ls5 line");
+  EXPECT_EQ(got.samples[0].code, 25000);
+  EXPECT_EQ(got.samples[0].signal, SignalState::ok);
+  ASSERT_TRUE(got.samples[0].distance_mm.has_value());
+  EXPECT_DOUBLE_EQ(*got.samples[0].distance_mm, 40.001 * 25000 / 50000);  // formula 8.1
+  EXPECT_EQ(got.samples[1].signal, SignalState::none_yet);
+  EXPECT_FALSE(got.samples[1].distance_mm.has_value());
+  EXPECT_EQ(got.samples[2].signal, SignalState::lost);
+  EXPECT_FALSE(got.samples[2].distance_mm.has_value());
+  EXPECT_DOUBLE_EQ(got.samples[3].distance_mm.value_or(-1), 0.0);
+  EXPECT_TRUE(got.events.empty());
+
+  device.send("!01SB\r");
+  (*stream)->stop();
+  EXPECT_TRUE((*stream)->finished());
+  EXPECT_EQ(device.receive_until("#01SB\r"), "#01SB\r");
+}
+
+TEST(Ls5Stream, MalformedRecordsAreReportedAndTheStreamGoesOn) {
+  auto pair = make_loopback_pair();
+  ScriptedDevice device(std::move(pair.b));
+  Driver driver(std::move(pair.a), fast_options());
+  device.send(id_reply_01);
+  auto stream = driver.start_stream({});
+  ASSERT_TRUE(stream) << stream.error().message;
+  // A code above 50000 and not special (L7), bad digits, garbage, a record cut by the next (F3).
+  device.send("!50001\r!2A000\r\x01\x02!123!10000\r");
+  auto got = collect(**stream, [](const Collected& c) { return !c.samples.empty() && c.events.size() >= 4; });
+  ASSERT_EQ(got.samples.size(), 1U);
+  EXPECT_EQ(got.samples[0].code, 10000);
+  ASSERT_GE(got.events.size(), 4U);
+  for (const auto& event : got.events) EXPECT_EQ(event.kind, StreamEventKind::bad_frame) << event.message;
+}
+
+TEST(Ls5Stream, SlowConsumerNeverBlocksTheReaderAndLossesAreCounted) {
+  auto pair = make_loopback_pair();
+  ScriptedDevice device(std::move(pair.b));
+  Driver driver(std::move(pair.a), fast_options());
+  device.send(id_reply_01);
+  Driver::StreamOptions options;
+  options.queue_capacity = 4;
+  auto stream = driver.start_stream(options);
+  ASSERT_TRUE(stream) << stream.error().message;
+  std::string records;
+  for (int i = 0; i < 10; ++i) records += "!0000" + std::to_string(i) + "\r";
+  device.send(records);
+  // Nobody consumes: the reader keeps reading, the queue drops the oldest.
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  while ((*stream)->records() < 10 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::yield();
+  }
+  EXPECT_EQ((*stream)->records(), 10U);
+  EXPECT_EQ((*stream)->lost(), 6U);
+  auto first = (*stream)->next(1000ms);
+  ASSERT_TRUE(first.has_value());
+  EXPECT_EQ(std::get<Sample>(*first).code, 6) << "the newest four are kept";
+}
+
+TEST(Ls5Stream, MidFrameDisconnectThenReconnectOnANewLink) {
+  auto pair = make_loopback_pair("first link", "device");
+  ScriptedDevice device(std::move(pair.b));
+  std::mutex mutex;
+  std::unique_ptr<ScriptedDevice> second_device;
+  int reopen_calls = 0;
+  // The first reopen fails (port not back yet), the second gives a new link.
+  ReopenFunction reopen = [&]() -> Result<TransportPtr> {
+    std::lock_guard lock(mutex);
+    if (++reopen_calls == 1) return make_error(Errc::io, "no such port yet");
+    auto next = make_loopback_pair("second link", "device 2");
+    second_device = std::make_unique<ScriptedDevice>(std::move(next.b));
+    return std::move(next.a);
+  };
+  DriverOptions driver_options = fast_options();
+  driver_options.timeout = 2000ms;
+  Driver driver(std::move(pair.a), driver_options, reopen);
+  device.send(id_reply_01);
+  Driver::StreamOptions options;
+  options.reconnect_interval = 20ms;
+  auto stream = driver.start_stream(options);
+  ASSERT_TRUE(stream) << stream.error().message;
+  device.send("!25000\r!250");  // the cable is pulled inside the second record
+  device.close();
+
+  auto lost = collect(**stream, [](const Collected& c) { return has_event(c, StreamEventKind::disconnected); });
+  ASSERT_EQ(lost.samples.size(), 1U);
+  ASSERT_TRUE(has_event(lost, StreamEventKind::bad_frame)) << "the half record is reported";
+  ASSERT_TRUE(has_event(lost, StreamEventKind::disconnected));
+
+  // The new link: the driver asks ID, then ST.
+  ScriptedDevice* again = nullptr;
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  while (again == nullptr && std::chrono::steady_clock::now() < deadline) {
+    {
+      std::lock_guard lock(mutex);
+      again = second_device.get();
+    }
+    if (again == nullptr) (void)(*stream)->next(20ms);
+  }
+  ASSERT_NE(again, nullptr);
+  EXPECT_EQ(again->receive_until("#01ID\r"), "#01ID\r");
+  again->send(id_reply_01);
+  EXPECT_EQ(again->receive_until("#01ST\r"), "#01ST\r");
+  again->send("!30000\r");
+  auto back = collect(**stream, [](const Collected& c) { return !c.samples.empty(); });
+  EXPECT_TRUE(has_event(back, StreamEventKind::reconnected));
+  ASSERT_EQ(back.samples.size(), 1U);
+  EXPECT_EQ(back.samples[0].code, 30000);
+  EXPECT_GE(reopen_calls, 2);
+  (*stream)->stop();
+}
+
+TEST(Ls5Stream, SilenceIsTakenForAPowerCycleAndTheStreamIsRestarted) {
+  auto pair = make_loopback_pair();
+  ScriptedDevice device(std::move(pair.b));
+  DriverOptions driver_options = fast_options();
+  driver_options.timeout = 2000ms;
+  Driver driver(std::move(pair.a), driver_options);
+  device.send(id_reply_01);
+  Driver::StreamOptions options;
+  options.silence_timeout = 200ms;
+  options.reconnect_interval = 20ms;
+  auto stream = driver.start_stream(options);
+  ASSERT_TRUE(stream) << stream.error().message;
+  EXPECT_EQ(device.receive_until("#01ST\r"), "#01ID\r#01ST\r");
+  device.send("!10000\r");
+  auto quiet = collect(**stream, [](const Collected& c) { return has_event(c, StreamEventKind::disconnected); });
+  ASSERT_TRUE(has_event(quiet, StreamEventKind::disconnected));
+  // The sensor is back after its power cycle: it answers ID and streams again.
+  EXPECT_EQ(device.receive_until("#01ID\r"), "#01ID\r");
+  device.send(id_reply_01);
+  EXPECT_EQ(device.receive_until("#01ST\r"), "#01ST\r");
+  device.send("!20000\r");
+  auto back = collect(**stream, [](const Collected& c) { return !c.samples.empty(); });
+  EXPECT_TRUE(has_event(back, StreamEventKind::reconnected));
+  ASSERT_FALSE(back.samples.empty());
+  EXPECT_EQ(back.samples.back().code, 20000);
+}
+
+TEST(Ls5Stream, WithoutAReopenFunctionAClosedLinkEndsTheStream) {
+  auto pair = make_loopback_pair();
+  ScriptedDevice device(std::move(pair.b));
+  Driver driver(std::move(pair.a), fast_options());
+  device.send(id_reply_01);
+  Driver::StreamOptions options;
+  options.reconnect_interval = 10ms;
+  auto stream = driver.start_stream(options);
+  ASSERT_TRUE(stream) << stream.error().message;
+  device.close();
+  auto got = collect(**stream, [&stream](const Collected&) { return (*stream)->finished(); });
+  EXPECT_TRUE((*stream)->finished());
+  EXPECT_TRUE(has_event(got, StreamEventKind::disconnected));
+}
