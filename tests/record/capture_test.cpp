@@ -1,0 +1,253 @@
+#include <gtest/gtest.h>
+#include <poll.h>
+#include <signal.h>
+#include <sqlite3.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <variant>
+
+#include "rangekit/record/capture.hpp"
+#include "rangekit/record/replay.hpp"
+#include "record/fake_source.hpp"
+#include "record/temp_dir.hpp"
+
+namespace rangekit::record {
+namespace {
+
+using namespace testing;
+
+std::vector<StreamItem> replay_all(const std::string& path, ReplayOptions options = {0.0, {}}) {
+  std::vector<StreamItem> items;
+  auto source = open_replay(path, options);
+  EXPECT_TRUE(source.ok()) << (source.ok() ? "" : source.error().message);
+  if (!source.ok()) return items;
+  while (!(*source)->finished()) {
+    if (auto item = (*source)->next(std::chrono::milliseconds(1000))) items.push_back(std::move(*item));
+  }
+  return items;
+}
+
+// Runs one query returning a single value as text.
+std::string query(const std::string& path, const std::string& sql) {
+  sqlite3* database = nullptr;
+  std::string result = "<error>";
+  if (sqlite3_open_v2(path.c_str(), &database, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
+    sqlite3_stmt* statement = nullptr;
+    if (sqlite3_prepare_v2(database, sql.c_str(), -1, &statement, nullptr) == SQLITE_OK &&
+        sqlite3_step(statement) == SQLITE_ROW) {
+      const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(statement, 0));
+      result = text != nullptr ? text : "<null>";
+    }
+    sqlite3_finalize(statement);
+  }
+  sqlite3_close(database);
+  return result;
+}
+
+std::vector<StreamItem> every_kind() {
+  return {uls_averaging(),
+          uls_binning(),
+          event(StreamEventKind::disconnected, "/dev/ttyUSB0 went away"),
+          uls_look_down(),
+          uls_error(),
+          event(StreamEventKind::lost_records, "UDP counter gap", 3),
+          ls5_result(12345, 1234.5, SignalState::ok),
+          ls5_result(65535, std::nullopt, SignalState::lost)};
+}
+
+void write_items(CaptureSink& capture, const std::vector<StreamItem>& items) {
+  for (const auto& item : items) {
+    const auto status = std::holds_alternative<Sample>(item) ? capture.write(std::get<Sample>(item))
+                                                             : capture.write_event(std::get<StreamEvent>(item));
+    ASSERT_TRUE(status.ok()) << status.error().message;
+  }
+}
+
+void expect_same_items(const std::vector<StreamItem>& got, const std::vector<StreamItem>& expected) {
+  ASSERT_EQ(got.size(), expected.size());
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    ASSERT_EQ(got[i].index(), expected[i].index()) << "item " << i;
+    if (const auto* sample = std::get_if<Sample>(&expected[i])) {
+      EXPECT_EQ(std::get<Sample>(got[i]), *sample) << "item " << i;
+    } else {
+      const auto& want = std::get<StreamEvent>(expected[i]);
+      const auto& have = std::get<StreamEvent>(got[i]);
+      EXPECT_EQ(have.time, want.time);
+      EXPECT_EQ(have.kind, want.kind);
+      EXPECT_EQ(have.message, want.message);
+      EXPECT_EQ(have.count, want.count);
+    }
+  }
+}
+
+TEST(Capture, RoundTripGivesEqualSamplesAndEventsInOrder) {
+  TempDir dir;
+  const auto path = dir.file("round.sqlite");
+  const auto items = every_kind();
+  {
+    auto capture = open_capture(path);
+    ASSERT_TRUE(capture.ok()) << capture.error().message;
+    write_items(**capture, items);
+  }
+  expect_same_items(replay_all(path), items);
+  EXPECT_EQ(query(path, "PRAGMA journal_mode"), "wal");
+  EXPECT_EQ(query(path, "SELECT count(*) FROM samples"), "6");
+  EXPECT_EQ(query(path, "SELECT count(*) FROM events"), "2");
+  EXPECT_EQ(query(path, "SELECT rangekit_version FROM sessions"), "0.1.0");
+  EXPECT_EQ(query(path, "SELECT sources FROM sessions"), "ls5 udp:127.0.0.1:5000, uls /dev/ttyUSB0, uls /dev/ttyUSB1");
+  EXPECT_EQ(query(path, "SELECT targets FROM samples WHERE kind = 'binning'"),
+            "[{\"distance_m\":4.572,\"strength\":42},{\"distance_m\":7.1,\"strength\":13}]");
+}
+
+TEST(Capture, OpeningAgainAppendsANewSession) {
+  TempDir dir;
+  const auto path = dir.file("twice.sqlite");
+  const std::vector<StreamItem> first{uls_averaging(0ms), uls_averaging(10ms)};
+  const std::vector<StreamItem> second{ls5_result(1, 0.5, SignalState::ok)};
+  for (const auto* items : {&first, &second}) {
+    auto capture = open_capture(path);
+    ASSERT_TRUE(capture.ok()) << capture.error().message;
+    write_items(**capture, *items);
+  }
+  auto all = first;
+  all.insert(all.end(), second.begin(), second.end());
+  expect_same_items(replay_all(path), all);
+  EXPECT_EQ(query(path, "SELECT count(*) FROM sessions"), "2");
+  EXPECT_EQ(query(path, "SELECT count(*) FROM samples WHERE session = 2"), "1");
+}
+
+void expect_refused_untouched(const std::string& path, const std::string& content, const std::string& why) {
+  auto capture = open_capture(path);
+  ASSERT_FALSE(capture.ok());
+  EXPECT_EQ(capture.error().code, Errc::io);
+  EXPECT_NE(capture.error().message.find(path), std::string::npos) << capture.error().message;
+  EXPECT_NE(capture.error().message.find(why), std::string::npos) << capture.error().message;
+  EXPECT_EQ(read_file(path), content);
+  EXPECT_FALSE(std::filesystem::exists(path + "-wal"));
+  const auto replay = open_replay(path, 0.0);
+  ASSERT_FALSE(replay.ok());
+  EXPECT_NE(replay.error().message.find(path), std::string::npos) << replay.error().message;
+}
+
+TEST(Capture, TextFileIsRefusedAndLeftUntouched) {
+  TempDir dir;
+  const auto path = dir.file("notes.sqlite");
+  const std::string content = "these are my notes, not a database\n" + std::string(2000, 'x');
+  write_file(path, content);
+  expect_refused_untouched(path, content, "not a rangekit capture");
+}
+
+TEST(Capture, OtherSqliteDatabaseIsRefusedAndLeftUntouched) {
+  TempDir dir;
+  const auto path = dir.file("other.sqlite");
+  sqlite3* database = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &database), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(database, "CREATE TABLE accounts(id INTEGER); INSERT INTO accounts VALUES (1);", nullptr,
+                         nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(database);
+  expect_refused_untouched(path, read_file(path), "not a rangekit capture");
+}
+
+TEST(Capture, CorruptCaptureIsRefusedAndLeftUntouched) {
+  TempDir dir;
+  const auto path = dir.file("corrupt.sqlite");
+  {
+    auto capture = open_capture(path);
+    ASSERT_TRUE(capture.ok());
+    for (int i = 0; i < 500; ++i) write_items(**capture, {uls_averaging(std::chrono::milliseconds(i))});
+  }
+  auto content = read_file(path);
+  ASSERT_GT(content.size(), 4 * 4096u);
+  // Garbage over the third page (a b-tree page of the samples table).
+  for (std::size_t i = 2 * 4096; i < 3 * 4096; ++i) content[i] = static_cast<char>(0xA5);
+  write_file(path, content);
+  expect_refused_untouched(path, content, "corrupt");
+}
+
+TEST(Capture, DiskFullIsAClearErrorAndKeepsCommittedBatches) {
+  TempDir dir;
+  const auto path = dir.file("full.sqlite");
+  CaptureOptions options;
+  options.batch_samples = 10;
+  options.batch_interval = std::chrono::hours(1);  // commit by count only, so the test is deterministic
+  options.max_page_count = 40;                     // about 160 KiB: a disk that fills up quickly
+  std::uint64_t committed = 0;
+  {
+    auto capture = open_capture(path, options);
+    ASSERT_TRUE(capture.ok()) << capture.error().message;
+    Status status = ok_status();
+    int written = 0;
+    for (; written < 100000 && status.ok(); ++written) {
+      status = (*capture)->write(uls_averaging(std::chrono::milliseconds(written)));
+    }
+    ASSERT_FALSE(status.ok()) << "the page limit was never reached";
+    EXPECT_EQ(status.error().code, Errc::io);
+    EXPECT_NE(status.error().message.find("capture " + path + ": disk full"), std::string::npos)
+        << status.error().message;
+    committed = (*capture)->committed_samples();
+    EXPECT_GT(committed, 0u);
+    EXPECT_LT(committed, static_cast<std::uint64_t>(written));
+    EXPECT_FALSE((*capture)->write(uls_averaging()).ok());  // stays failed
+  }
+  EXPECT_EQ(query(path, "PRAGMA integrity_check"), "ok");
+  EXPECT_EQ(query(path, "SELECT count(*) FROM samples"), std::to_string(committed));
+  EXPECT_EQ(replay_all(path).size(), committed);
+}
+
+// The child writes continuously and reports through a pipe how many samples
+// are committed; it is killed mid-batch. Everything it reported must be there.
+TEST(Capture, KillNineLosesAtMostTheOpenBatch) {
+  TempDir dir;
+  const auto path = dir.file("killed.sqlite");
+  int report[2];
+  ASSERT_EQ(::pipe(report), 0);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    ::close(report[0]);
+    CaptureOptions options;
+    options.batch_samples = 50;
+    auto capture = open_capture(path, options);
+    if (!capture.ok()) ::_exit(3);
+    std::uint64_t reported = 0;
+    for (std::int64_t i = 0;; ++i) {
+      if (!(*capture)->write(uls_averaging(std::chrono::milliseconds(i))).ok()) ::_exit(4);
+      const auto committed = (*capture)->committed_samples();
+      if (committed != reported) {
+        reported = committed;
+        if (::write(report[1], &reported, sizeof reported) != sizeof reported) ::_exit(5);
+      }
+    }
+  }
+  ::close(report[1]);
+  std::uint64_t last_reported = 0;
+  int reports = 0;
+  while (reports < 20) {
+    pollfd readable{report[0], POLLIN, 0};
+    ASSERT_GT(::poll(&readable, 1, 10000), 0) << "no progress from the writing child";
+    std::uint64_t value = 0;
+    ASSERT_EQ(::read(report[0], &value, sizeof value), static_cast<ssize_t>(sizeof value));
+    last_reported = value;
+    ++reports;
+  }
+  ASSERT_EQ(::kill(child, SIGKILL), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+  std::uint64_t value = 0;  // reports written before the kill landed
+  while (::read(report[0], &value, sizeof value) == static_cast<ssize_t>(sizeof value)) last_reported = value;
+  ::close(report[0]);
+
+  EXPECT_EQ(query(path, "PRAGMA integrity_check"), "ok");
+  EXPECT_GE(std::stoull(query(path, "SELECT count(*) FROM samples")), last_reported);
+  auto reopened = open_capture(path);  // still a capture that takes a new session
+  ASSERT_TRUE(reopened.ok()) << reopened.error().message;
+  reopened->reset();
+  EXPECT_GE(replay_all(path).size(), last_reported);
+}
+
+}  // namespace
+}  // namespace rangekit::record
