@@ -1,0 +1,148 @@
+#include "rangekit/record/replay.hpp"
+
+#include <gtest/gtest.h>
+
+#include "rangekit/record/capture.hpp"
+#include "rangekit/record/stream_loop.hpp"
+#include "record/fake_source.hpp"
+#include "record/temp_dir.hpp"
+
+namespace rangekit::record {
+namespace {
+
+using namespace testing;
+using SteadyTime = std::chrono::steady_clock::time_point;
+
+void capture_samples(const std::string& path, const std::vector<Sample>& samples) {
+  auto capture = open_capture(path);
+  ASSERT_TRUE(capture.ok()) << capture.error().message;
+  for (const auto& sample : samples) ASSERT_TRUE((*capture)->write(sample).ok());
+}
+
+// When each item came out of the replay, on the steady clock.
+std::vector<SteadyTime> arrival_times(SampleSource& source) {
+  std::vector<SteadyTime> times;
+  const auto deadline = std::chrono::steady_clock::now() + 20s;
+  while (!source.finished() && std::chrono::steady_clock::now() < deadline) {
+    if (source.next(50ms)) times.push_back(std::chrono::steady_clock::now());
+  }
+  return times;
+}
+
+TEST(Replay, RecordedPaceKeepsTheGapsBetweenReceiveTimes) {
+  TempDir dir;
+  const auto path = dir.file("paced.sqlite");
+  capture_samples(path, {uls_averaging(0ms), uls_averaging(300ms), uls_averaging(600ms), uls_averaging(1200ms)});
+  auto source = open_replay(path, 1.0);
+  ASSERT_TRUE(source.ok());
+  const auto times = arrival_times(**source);
+  ASSERT_EQ(times.size(), 4u);
+  // Never early (small slack for clock rounding), late only within a generous bound.
+  EXPECT_GE(times[1] - times[0], 290ms);
+  EXPECT_GE(times[2] - times[0], 590ms);
+  EXPECT_GE(times[3] - times[0], 1190ms);
+  EXPECT_GE(times[3] - times[2], 500ms);  // the longer gap stays longer
+  EXPECT_LT(times[3] - times[0], 6s);
+}
+
+TEST(Replay, SpeedDividesTheGaps) {
+  TempDir dir;
+  const auto path = dir.file("fast.sqlite");
+  capture_samples(path, {uls_averaging(0ms), uls_averaging(1000ms)});
+  auto source = open_replay(path, 4.0);
+  ASSERT_TRUE(source.ok());
+  const auto times = arrival_times(**source);
+  ASSERT_EQ(times.size(), 2u);
+  EXPECT_GE(times[1] - times[0], 240ms);
+  EXPECT_LT(times[1] - times[0], 900ms);
+}
+
+TEST(Replay, FullSpeedDoesNotWait) {
+  TempDir dir;
+  const auto path = dir.file("full.sqlite");
+  capture_samples(path, {uls_averaging(0ms), uls_averaging(30s), uls_averaging(60s)});
+  auto source = open_replay(path, 0.0);
+  ASSERT_TRUE(source.ok());
+  const auto started = std::chrono::steady_clock::now();
+  EXPECT_EQ(arrival_times(**source).size(), 3u);
+  EXPECT_LT(std::chrono::steady_clock::now() - started, 10s);
+}
+
+TEST(Replay, StopEndsAWaitAtOnce) {
+  TempDir dir;
+  const auto path = dir.file("stop.sqlite");
+  capture_samples(path, {uls_averaging(0ms), uls_averaging(3600s)});
+  auto source = open_replay(path, 1.0);
+  ASSERT_TRUE(source.ok());
+  ASSERT_TRUE((*source)->next(1000ms).has_value());
+  EXPECT_FALSE((*source)->next(10ms).has_value());  // an hour away
+  EXPECT_FALSE((*source)->finished());
+  (*source)->stop();
+  EXPECT_TRUE((*source)->finished());
+  EXPECT_FALSE((*source)->next(10s).has_value());
+}
+
+TEST(Replay, DeviceFilterKeepsOneFamilyAndEveryEvent) {
+  TempDir dir;
+  const auto path = dir.file("filter.sqlite");
+  {
+    auto capture = open_capture(path);
+    ASSERT_TRUE(capture.ok());
+    ASSERT_TRUE((*capture)->write(uls_averaging()).ok());
+    ASSERT_TRUE((*capture)->write_event(event(StreamEventKind::disconnected, "gone")).ok());
+    ASSERT_TRUE((*capture)->write(ls5_result(7, 1.0, SignalState::ok)).ok());
+  }
+  auto source = open_replay(path, ReplayOptions{0.0, "ls5"});
+  ASSERT_TRUE(source.ok());
+  auto first = (*source)->next(1s);
+  auto second = (*source)->next(1s);
+  ASSERT_TRUE(first && second);
+  EXPECT_TRUE(std::holds_alternative<StreamEvent>(*first));
+  EXPECT_EQ(std::get<Sample>(*second).device, "ls5");
+  EXPECT_FALSE((*source)->next(10ms).has_value());
+  EXPECT_TRUE((*source)->finished());
+}
+
+TEST(Replay, MissingFileIsAnIoErrorNamingIt) {
+  const auto source = open_replay("/nonexistent-dir/capture.sqlite", 0.0);
+  ASSERT_FALSE(source.ok());
+  EXPECT_EQ(source.error().code, Errc::io);
+  EXPECT_NE(source.error().message.find("/nonexistent-dir/capture.sqlite"), std::string::npos);
+}
+
+// The live stream written to a file and captured, then the capture replayed
+// into another file: the two must be the same bytes.
+void expect_replay_identical_to_live(OutputFormat format) {
+  TempDir dir;
+  const auto live = dir.file("live.out");
+  const auto replayed = dir.file("replayed.out");
+  const auto capture = dir.file("capture.sqlite");
+  auto binning_with_odd_values = uls_binning();
+  binning_with_odd_values.targets.push_back({0.1 + 0.2, 4294967295u});
+  auto averaging = uls_averaging(1ms);
+  averaging.distance_m = 1.0 / 3.0;
+  FakeSource source({averaging, binning_with_odd_values, event(StreamEventKind::bad_frame, "half \"frame\""),
+                     uls_look_down(), uls_error(), ls5_result(12345, 1234.5, SignalState::ok),
+                     ls5_result(65534, std::nullopt, SignalState::none_yet)});
+  const std::atomic<bool> stop{false};
+  StreamLoopOptions options;
+  options.format = format;
+  options.out = live;
+  options.capture = capture;
+  ASSERT_EQ(run_stream_loop(source, options, stop).reason, StopReason::source_finished);
+
+  auto replay = open_replay(capture, 0.0);
+  ASSERT_TRUE(replay.ok());
+  options.out = replayed;
+  options.capture.clear();
+  ASSERT_EQ(run_stream_loop(**replay, options, stop).reason, StopReason::source_finished);
+  const auto live_bytes = read_file(live);
+  EXPECT_GT(live_bytes.size(), 100u);
+  EXPECT_EQ(read_file(replayed), live_bytes);
+}
+
+TEST(Replay, JsonlIsByteIdenticalToTheLiveStream) { expect_replay_identical_to_live(OutputFormat::jsonl); }
+TEST(Replay, CsvIsByteIdenticalToTheLiveStream) { expect_replay_identical_to_live(OutputFormat::csv); }
+
+}  // namespace
+}  // namespace rangekit::record

@@ -1,0 +1,138 @@
+#include "rangekit/record/stream_loop.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "rangekit/record/replay.hpp"
+#include "record/fake_source.hpp"
+#include "record/temp_dir.hpp"
+
+namespace rangekit::record {
+namespace {
+
+using namespace testing;
+
+std::size_t line_count(const std::string& text) {
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
+
+StreamLoopOptions to_file(const std::string& path, OutputFormat format = OutputFormat::jsonl) {
+  StreamLoopOptions options;
+  options.format = format;
+  options.out = path;
+  return options;
+}
+
+TEST(StreamLoop, SourceFinishedWritesEveryItemAsJsonLines) {
+  TempDir dir;
+  const auto path = dir.file("out.jsonl");
+  FakeSource source(
+      {uls_error(), event(StreamEventKind::reconnected, "back"), ls5_result(65535, std::nullopt, SignalState::lost)});
+  const std::atomic<bool> stop{false};
+  const auto outcome = run_stream_loop(source, to_file(path), stop);
+  EXPECT_EQ(outcome.reason, StopReason::source_finished);
+  EXPECT_EQ(outcome.stats.samples, 2u);
+  EXPECT_EQ(outcome.stats.events, 1u);
+  EXPECT_EQ(outcome.stats.errors, 1u);  // the ULS error sample
+  EXPECT_EQ(read_file(path),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":3,\"source\":\"/dev/ttyUSB0\","
+            "\"kind\":\"error\",\"error\":4}\n"
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"event\":\"reconnected\",\"message\":\"back\",\"count\":0}\n"
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"ls5\",\"address\":null,"
+            "\"source\":\"udp:127.0.0.1:5000\",\"kind\":\"result\",\"code\":65535,\"distance_mm\":null,"
+            "\"signal\":\"lost\"}\n");
+}
+
+TEST(StreamLoop, StopsAfterCountSamplesAndStopsTheSource) {
+  TempDir dir;
+  const auto path = dir.file("out.csv");
+  std::vector<StreamItem> items;
+  for (int i = 0; i < 10; ++i) items.emplace_back(uls_averaging(std::chrono::milliseconds(i)));
+  FakeSource source(items, true);
+  auto options = to_file(path, OutputFormat::csv);
+  options.count = 3;
+  const std::atomic<bool> stop{false};
+  const auto outcome = run_stream_loop(source, options, stop);
+  EXPECT_EQ(outcome.reason, StopReason::count_reached);
+  EXPECT_EQ(outcome.stats.samples, 3u);
+  EXPECT_TRUE(source.stopped());
+  EXPECT_EQ(line_count(read_file(path)), 4u);  // header + 3 rows
+}
+
+TEST(StreamLoop, StopsAfterDurationOnAQuietSource) {
+  FakeSource source({}, true);
+  StreamLoopOptions options;
+  options.write_output = false;
+  options.duration_s = 0.3;
+  const std::atomic<bool> stop{false};
+  const auto started = std::chrono::steady_clock::now();
+  const auto outcome = run_stream_loop(source, options, stop);
+  const auto took = std::chrono::steady_clock::now() - started;
+  EXPECT_EQ(outcome.reason, StopReason::duration_reached);
+  EXPECT_GE(took, 300ms);
+  EXPECT_LT(took, 10s);
+  EXPECT_TRUE(source.stopped());
+}
+
+TEST(StreamLoop, StopRequestEndsTheRunAsInterrupted) {
+  TempDir dir;
+  FakeSource source({uls_averaging(), event(StreamEventKind::disconnected, "cable"), uls_averaging()}, true);
+  std::atomic<bool> stop{false};
+  StreamObserver observer;
+  observer.on_event = [&stop](const StreamEvent&) { stop = true; };  // as if Ctrl-C came with the event
+  const auto outcome = run_stream_loop(source, to_file(dir.file("out.jsonl")), stop, observer);
+  EXPECT_EQ(outcome.reason, StopReason::interrupted);
+  EXPECT_EQ(outcome.stats.samples, 1u);
+  EXPECT_EQ(outcome.stats.disconnects, 1u);
+  EXPECT_TRUE(outcome.stats.link_down);
+  EXPECT_TRUE(source.stopped());
+  EXPECT_EQ(line_count(read_file(dir.file("out.jsonl"))), 2u);  // the sample and the event, flushed on close
+}
+
+TEST(StreamLoop, WriteFailureNamesTheFileAndKeepsTheCapture) {
+  TempDir dir;
+  const auto capture = dir.file("kept.sqlite");
+  std::vector<StreamItem> items;
+  for (int i = 0; i < 5; ++i) items.emplace_back(uls_averaging(std::chrono::milliseconds(i)));
+  FakeSource source(items);
+  auto options = to_file("/dev/full");
+  options.capture = capture;
+  const std::atomic<bool> stop{false};
+  const auto outcome = run_stream_loop(source, options, stop);
+  EXPECT_EQ(outcome.reason, StopReason::write_failed);
+  ASSERT_TRUE(outcome.error.has_value());
+  EXPECT_NE(outcome.error->message.find("/dev/full"), std::string::npos) << outcome.error->message;
+  auto replay = open_replay(capture, 0.0);
+  ASSERT_TRUE(replay.ok());
+  int replayed = 0;
+  while ((*replay)->next(1000ms)) ++replayed;
+  EXPECT_EQ(replayed, 5);
+}
+
+TEST(StreamLoop, UnopenableOutputFailsBeforeReading) {
+  FakeSource source({uls_averaging()});
+  const std::atomic<bool> stop{false};
+  const auto outcome = run_stream_loop(source, to_file("/nonexistent-dir/out.jsonl"), stop);
+  EXPECT_EQ(outcome.reason, StopReason::open_failed);
+  EXPECT_EQ(outcome.stats.samples, 0u);
+}
+
+TEST(StreamLoop, StatusReportsComeWhileStreaming) {
+  FakeSource source({event(StreamEventKind::lost_records, "gap", 7)}, true);
+  StreamLoopOptions options;
+  options.write_output = false;
+  options.duration_s = 0.5;
+  StreamObserver observer;
+  observer.status_interval = 100ms;
+  std::vector<StreamStats> reports;
+  observer.on_status = [&reports](const StreamStats& stats) { reports.push_back(stats); };
+  const std::atomic<bool> stop{false};
+  const auto outcome = run_stream_loop(source, options, stop, observer);
+  ASSERT_FALSE(reports.empty());
+  EXPECT_EQ(reports.back().lost, 7u);
+  EXPECT_EQ(outcome.stats.lost, 7u);
+}
+
+}  // namespace
+}  // namespace rangekit::record
