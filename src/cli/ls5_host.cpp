@@ -1,16 +1,113 @@
-// Placeholder while the host side of issue 6 is written; replaced by the real subcommand.
+// `rangekit ls5 ...`: configure, read and stream a Prizma LS5 (issue 6). The
+// subcommands live in ls5_*.cpp; this file registers them and holds what they share.
 #include <fmt/core.h>
 
+#include <charconv>
+
 #include "cli/commands.hpp"
+#include "cli/ls5_cli.hpp"
+#include "rangekit/core/serial_port.hpp"
+#include "rangekit/ls5/settings.hpp"
 
 namespace rangekit::cli {
+namespace {
+
+Result<SerialSettings> serial_settings(const Ls5Connection& connection) {
+  SerialSettings settings;
+  settings.baud = connection.baud;
+  for (const ls5::ByteFormat& format : ls5::byte_format_table()) {
+    if (format.name != connection.byte_format) continue;
+    settings.parity = format.parity == ls5::Parity::none   ? Parity::none
+                      : format.parity == ls5::Parity::even ? Parity::even
+                                                           : Parity::odd;
+    settings.stop_bits = format.stop_bits;
+    return settings;
+  }
+  return make_error(Errc::out_of_range, "--byte-format " + connection.byte_format +
+                                            " is not one of 8N1 8E1 8O1 8N2 8E2 8O2 (table 9.2, 04)");
+}
+
+}  // namespace
+
+void add_ls5_connection_options(CLI::App& command, Ls5Connection& connection) {
+  command.add_option("--port", connection.port, "serial port or pty of the sensor (e.g. /dev/ttyUSB0)")->required();
+  command.add_option("--baud", connection.baud, "baud rate (default 115200, the sensor's default)");
+  command.add_option("--byte-format", connection.byte_format, "8N1 8E1 8O1 8N2 8E2 8O2 (default 8N1)");
+  command.add_option("--address", connection.address, "network address 1-255, decimal or 0x.. (default 1)");
+  command.add_option("--timeout-ms", connection.timeout_ms, "reply timeout per request (default 500)")
+      ->check(CLI::Range(1, 60000));
+}
+
+Result<std::uint8_t> parse_ls5_address(std::string_view text, bool allow_broadcast) {
+  int base = 10;
+  if (text.size() > 2 && (text.substr(0, 2) == "0x" || text.substr(0, 2) == "0X")) {
+    text.remove_prefix(2);
+    base = 16;
+  }
+  unsigned value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value, base);
+  const unsigned lowest = allow_broadcast ? 0 : 1;
+  if (text.empty() || error != std::errc{} || end != text.data() + text.size() || value < lowest || value > 255) {
+    return make_error(Errc::out_of_range, "--address '" + std::string(text) + "' must be " + std::to_string(lowest) +
+                                              "-255 (decimal, or hex as 0x1A) (§8.1)");
+  }
+  return static_cast<std::uint8_t>(value);
+}
+
+Result<std::unique_ptr<ls5::Driver>> open_ls5_driver(const Ls5Connection& connection) {
+  auto address = parse_ls5_address(connection.address);
+  if (!address) return address.error();
+  auto settings = serial_settings(connection);
+  if (!settings) return settings.error();
+  auto port = SerialPort::open(connection.port, *settings);
+  if (!port) return port.error();
+  ls5::DriverOptions options;
+  options.address = *address;
+  options.timeout = std::chrono::milliseconds(connection.timeout_ms);
+  const std::string path = connection.port;
+  const SerialSettings line = *settings;
+  ls5::ReopenFunction reopen = [path, line]() -> Result<TransportPtr> {
+    auto again = SerialPort::open(path, line);
+    if (!again) return again.error();
+    return TransportPtr(std::move(*again));
+  };
+  return std::make_unique<ls5::Driver>(TransportPtr(std::move(*port)), options, std::move(reopen));
+}
+
+int report_ls5_failure(std::string_view command, const Error& error, const Ls5Connection& connection) {
+  fmt::print(stderr, "rangekit ls5 {}: {}\n", command, error.message);
+  switch (error.code) {
+    case Errc::timeout:
+      fmt::print(stderr,
+                 "  hint: is --port {} the sensor's port, does it run at --baud {} --byte-format {}, and is its "
+                 "--address {}? (factory settings: 115200 8N1, address 1)\n",
+                 connection.port, connection.baud, connection.byte_format, connection.address);
+      return exit_no_reply;
+    case Errc::io:
+      return exit_io;
+    case Errc::closed:
+      return exit_link_lost;
+    case Errc::device_error:
+      return exit_device_error;
+    case Errc::out_of_range:
+    case Errc::bad_number:
+    case Errc::bad_hex:
+    case Errc::unknown_parameter:
+    case Errc::unknown_command:
+    case Errc::unsupported:
+    case Errc::wrong_form:
+      return exit_usage;
+    default:
+      return exit_bad_input;
+  }
+}
 
 void add_ls5_command(CLI::App& app, int& exit_code) {
-  auto* command = app.add_subcommand("ls5", "(not yet available)");
-  command->callback([&exit_code] {
-    fmt::print(stderr, "rangekit ls5: not yet available\n");
-    exit_code = 70;
-  });
+  auto* ls5 = app.add_subcommand("ls5", "configure, read and stream a Prizma LS5 laser triangulation sensor");
+  ls5->require_subcommand(1);
+  add_ls5_device_commands(*ls5, exit_code);
+  add_ls5_stream_commands(*ls5, exit_code);
+  add_ls5_config_command(*ls5, exit_code);
 }
 
 }  // namespace rangekit::cli

@@ -1,0 +1,43 @@
+// Shared pieces of the `rangekit ls5` subcommands: the connection options every
+// one takes, opening the driver (with a reopen function for reconnects), and the
+// mapping of library errors to messages and exit codes (docs/cli.md).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "rangekit/core/result.hpp"
+#include "rangekit/ls5/driver.hpp"
+
+namespace rangekit::cli {
+
+struct Ls5Connection {
+  std::string port;
+  std::uint32_t baud = 115200;
+  std::string byte_format = "8N1";
+  std::string address = "1";
+  int timeout_ms = 500;
+};
+
+// --port, --baud, --byte-format, --address, --timeout-ms.
+void add_ls5_connection_options(CLI::App& command, Ls5Connection& connection);
+
+// "5", "0x1A", "1A" (hex when it has hex letters) -> 1..255; 0 only with allow_broadcast.
+Result<std::uint8_t> parse_ls5_address(std::string_view text, bool allow_broadcast = false);
+
+// Opens the port at the given baud and byte format and makes a driver on it.
+Result<std::unique_ptr<ls5::Driver>> open_ls5_driver(const Ls5Connection& connection);
+
+// Prints "rangekit ls5 <command>: <message>" (plus a hint naming --port/--baud/--address
+// when the sensor did not answer) and returns the exit code for the error.
+int report_ls5_failure(std::string_view command, const Error& error, const Ls5Connection& connection);
+
+// Registration, one file each.
+void add_ls5_device_commands(CLI::App& ls5, int& exit_code);  // info get set latch measure on off save defaults
+void add_ls5_stream_commands(CLI::App& ls5, int& exit_code);  // stream udp
+void add_ls5_config_command(CLI::App& ls5, int& exit_code);   // config save|load|diff
+
+}  // namespace rangekit::cli

@@ -1,0 +1,229 @@
+// `rangekit ls5 info|get|set|latch|measure|on|off|save|defaults`: one request
+// (or a few) each, through ls5::Driver; values by readable name or raw address.
+#include <fmt/core.h>
+
+#include <charconv>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "cli/ls5_cli.hpp"
+#include "rangekit/ls5/parameters.hpp"
+
+namespace rangekit::cli {
+namespace {
+
+struct DeviceCommand {
+  Ls5Connection connection;
+  std::vector<std::string> items;  // get: names; set: NAME=VALUE
+  bool read_only = false;          // latch --read-only
+};
+
+// "0B" -> parameter 0B when it is a table 9.2 address.
+const ls5::ParameterInfo* raw_parameter(std::string_view text) {
+  if (text.size() != 2) return nullptr;
+  unsigned value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + 2, value, 16);
+  if (error != std::errc{} || end != text.data() + 2) return nullptr;
+  return ls5::find_parameter(static_cast<std::uint8_t>(value));
+}
+
+Error unknown_name(std::string_view name) {
+  return make_error(Errc::unknown_parameter, "'" + std::string(name) +
+                                                 "' is neither an LS5 setting nor a table 9.2 address (see `rangekit "
+                                                 "ls5 get --help` and `rangekit tables ls5-parameters`)");
+}
+
+std::string measurement_text(const ls5::Measurement& measurement) {
+  switch (measurement.code.kind) {
+    case ls5::CodeKind::no_measurement_yet:
+      return fmt::format("code={} signal=none_yet", measurement.code.value);
+    case ls5::CodeKind::no_signal:
+      return fmt::format("code={} signal=lost", measurement.code.value);
+    case ls5::CodeKind::result:
+      break;
+  }
+  if (measurement.distance_mm) {
+    return fmt::format("code={} distance_mm={:.4f} signal=ok", measurement.code.value, *measurement.distance_mm);
+  }
+  return fmt::format("code={} signal=ok", measurement.code.value);
+}
+
+Status run_info(ls5::Driver& driver) {
+  auto info = driver.info();
+  if (!info) return info.error();
+  const auto& id = info->identification;
+  fmt::print("address={}\nversion={}\nlower_boundary_mm={}\nrange_mm={}\nserial={}\nethernet={}\n", info->address,
+             id.version_text.view(), id.lower_boundary_mm, id.range_mm, id.serial_number,
+             info->ethernet ? "yes" : "no");
+  return ok_status();
+}
+
+Status print_all(ls5::Driver& driver) {
+  auto info = driver.info();  // firmware, range and Ethernet decide what exists
+  if (!info) return info.error();
+  auto context = driver.context();
+  if (!context) return context.error();
+  for (const ls5::HostSetting& setting : ls5::host_setting_table()) {
+    if (!setting.canonical || !ls5::check_setting_available(setting, context->model)) continue;
+    auto reading = driver.get(setting);
+    if (!reading) return reading.error();
+    fmt::print("{}={}\n", setting.name, reading->text);
+    // The mm form of a code value, from the same bytes.
+    const ls5::HostSetting* in_mm = ls5::find_host_setting(std::string(setting.name) + "-mm");
+    if (in_mm != nullptr) {
+      auto mm = ls5::format_setting(*in_mm, reading->bytes, *context);
+      if (mm) fmt::print("{}={}\n", in_mm->name, *mm);
+    }
+  }
+  return ok_status();
+}
+
+Status run_get(ls5::Driver& driver, const std::vector<std::string>& names) {
+  if (names.empty()) return print_all(driver);
+  for (const std::string& name : names) {
+    if (const ls5::ParameterInfo* parameter = raw_parameter(name)) {
+      auto value = driver.read_parameter(parameter->address);
+      if (!value) return value.error();
+      fmt::print("{}={}\n", ls5::hex_byte(parameter->address), ls5::hex_byte(*value));
+      continue;
+    }
+    if (ls5::find_host_setting(name) == nullptr) return unknown_name(name);
+    auto reading = driver.get(name);
+    if (!reading) return reading.error();
+    fmt::print("{}={}\n", name, reading->text);
+  }
+  return ok_status();
+}
+
+// Every item is parsed and checked before the first byte goes out.
+Status run_set(ls5::Driver& driver, const std::vector<std::string>& items) {
+  struct Planned {
+    std::string name, value;
+    const ls5::ParameterInfo* raw = nullptr;
+    std::uint8_t raw_value = 0;
+  };
+  std::vector<Planned> plan;
+  auto context = driver.context();
+  if (!context) return context.error();
+  for (const std::string& item : items) {
+    const std::size_t equals = item.find('=');
+    if (equals == std::string::npos) {
+      return make_error(Errc::wrong_form, "'" + item + "' is not NAME=VALUE (e.g. median-points=5, 0B=01)");
+    }
+    Planned planned{item.substr(0, equals), item.substr(equals + 1)};
+    if ((planned.raw = raw_parameter(planned.name)) != nullptr) {
+      unsigned byte = 0;
+      const auto [end, error] =
+          std::from_chars(planned.value.data(), planned.value.data() + planned.value.size(), byte, 16);
+      if (planned.value.empty() || planned.value.size() > 2 || error != std::errc{} ||
+          end != planned.value.data() + planned.value.size()) {
+        return make_error(Errc::bad_hex, item + ": a raw parameter value is two hex digits (e.g. 0B=01)");
+      }
+      planned.raw_value = static_cast<std::uint8_t>(byte);
+      ls5::SensorModel model = context->model;
+      model.ethernet = model.ethernet || model.firmware.at_least(ls5::firmware_12_x);
+      Status accepted = ls5::check_parameter_byte(planned.raw->address, planned.raw_value, model);
+      if (!accepted) return accepted.error();
+    } else {
+      const ls5::HostSetting* setting = ls5::find_host_setting(planned.name);
+      if (setting == nullptr) return unknown_name(planned.name);
+      auto writes = ls5::encode_setting(*setting, planned.value, *context);
+      if (!writes) return writes.error();
+    }
+    plan.push_back(std::move(planned));
+  }
+  for (const Planned& planned : plan) {
+    Status written = planned.raw != nullptr ? driver.write_parameter(planned.raw->address, planned.raw_value)
+                                            : driver.set(planned.name, planned.value);
+    if (!written) return written.error();
+    fmt::print("{}={}\n", planned.name, planned.value);
+  }
+  return ok_status();
+}
+
+using Action = std::function<Status(ls5::Driver&, DeviceCommand&)>;
+
+CLI::App* add_device_command(CLI::App& ls5, int& exit_code, const std::string& name, const std::string& help,
+                             Action action, std::shared_ptr<DeviceCommand> state = nullptr) {
+  if (!state) state = std::make_shared<DeviceCommand>();
+  auto* command = ls5.add_subcommand(name, help);
+  add_ls5_connection_options(*command, state->connection);
+  command->callback([&exit_code, state, action, name] {
+    auto driver = open_ls5_driver(state->connection);
+    if (!driver) {
+      exit_code = report_ls5_failure(name, driver.error(), state->connection);
+      return;
+    }
+    Status done = action(**driver, *state);
+    exit_code = done ? exit_ok : report_ls5_failure(name, done.error(), state->connection);
+  });
+  return command;
+}
+
+Status echo_done(Status status, std::string_view what) {
+  if (status) fmt::print("{}\n", what);
+  return status;
+}
+
+}  // namespace
+
+void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
+  add_device_command(ls5, exit_code, "info", "identification (ID, §9.2): version, lower boundary, range, serial",
+                     [](ls5::Driver& driver, DeviceCommand&) { return run_info(driver); });
+
+  auto get_state = std::make_shared<DeviceCommand>();
+  auto* get = add_device_command(
+      ls5, exit_code, "get", "read settings by name (median-points, period-ms, ...) or address (0B); all without names",
+      [](ls5::Driver& driver, DeviceCommand& state) { return run_get(driver, state.items); }, get_state);
+  get->add_option("names", get_state->items, "setting names or two-digit parameter addresses");
+
+  auto set_state = std::make_shared<DeviceCommand>();
+  auto* set = add_device_command(
+      ls5, exit_code, "set", "write settings NAME=VALUE (median-points=5, analog-lower-mm=12.5, 0B=01), checked first",
+      [](ls5::Driver& driver, DeviceCommand& state) { return run_set(driver, state.items); }, set_state);
+  set->add_option("settings", set_state->items, "NAME=VALUE or AA=DD (hex)")->required();
+
+  auto latch_state = std::make_shared<DeviceCommand>();
+  auto* latch = add_device_command(
+      ls5, exit_code, "latch", "latch the current result (FX) and read it back (FR)",
+      [](ls5::Driver& driver, DeviceCommand& state) -> Status {
+        auto identified = driver.identify();  // the range turns the code into mm
+        if (!identified) return identified.error();
+        if (!state.read_only) {
+          Status latched = driver.latch();
+          if (!latched) return latched;
+        }
+        auto result = driver.read_latched();
+        if (!result) return result.error();
+        fmt::print("{}\n", measurement_text(*result));
+        return ok_status();
+      },
+      latch_state);
+  latch->add_flag("--read-only", latch_state->read_only, "only read the latched result (FR), do not latch");
+
+  add_device_command(ls5, exit_code, "measure", "read the last result (LR)",
+                     [](ls5::Driver& driver, DeviceCommand&) -> Status {
+                       auto identified = driver.identify();
+                       if (!identified) return identified.error();
+                       auto result = driver.read_last();
+                       if (!result) return result.error();
+                       fmt::print("{}\n", measurement_text(*result));
+                       return ok_status();
+                     });
+  add_device_command(ls5, exit_code, "on", "turn the sensor on (ON): laser and measurements",
+                     [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver.turn_on(), "on"); });
+  add_device_command(ls5, exit_code, "off", "turn the sensor off (OF): no measurements (§8.2)",
+                     [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver.turn_off(), "off"); });
+  add_device_command(ls5, exit_code, "save", "store the current parameters to non-volatile memory (FL)",
+                     [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver.store_to_flash(), "saved"); });
+  add_device_command(ls5, exit_code, "defaults",
+                     "restore the table 9.2 defaults in RAM (DF); `save` keeps them over a power cycle",
+                     [](ls5::Driver& driver, DeviceCommand&) {
+                       return echo_done(driver.restore_defaults(), "defaults restored (RAM only until `save`)");
+                     });
+}
+
+}  // namespace rangekit::cli

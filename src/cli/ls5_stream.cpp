@@ -1,0 +1,105 @@
+// `rangekit ls5 stream` (serial ST/SB records, §8.13) and `rangekit ls5 udp`
+// (Ethernet packets, §10.1): both hand a SampleSource to the shared run_stream.
+#include <fmt/core.h>
+
+#include <memory>
+
+#include "cli/commands.hpp"
+#include "cli/ls5_cli.hpp"
+#include "cli/stream_runner.hpp"
+#include "rangekit/core/udp.hpp"
+#include "rangekit/ls5/udp_receiver.hpp"
+
+namespace rangekit::cli {
+namespace {
+
+struct SerialStreamCommand {
+  Ls5Connection connection;
+  StreamOptions stream;
+  int thinning = 0;  // 0: leave parameter 08 as it is
+  int reconnect_ms = 500;
+  int silence_ms = 3000;
+};
+
+struct UdpStreamCommand {
+  std::string listen;
+  std::string address;
+  StreamOptions stream;
+};
+
+}  // namespace
+
+void add_ls5_stream_commands(CLI::App& ls5, int& exit_code) {
+  auto serial = std::make_shared<SerialStreamCommand>();
+  auto* stream = ls5.add_subcommand(
+      "stream", "start the result stream (ST) and print or capture the records; reconnects when the link returns");
+  add_ls5_connection_options(*stream, serial->connection);
+  add_stream_options(*stream, serial->stream);
+  stream->add_option("--thinning", serial->thinning, "write thinning n (parameter 08, §8.4: every n-th result) first")
+      ->check(CLI::Range(1, 255));
+  stream->add_option("--reconnect-ms", serial->reconnect_ms, "retry interval after the link went away (default 500)")
+      ->check(CLI::Range(10, 60000));
+  stream
+      ->add_option("--silence-ms", serial->silence_ms,
+                   "no record for this long counts as a lost sensor (power cycle); default 3000")
+      ->check(CLI::Range(100, 3600000));
+  stream->callback([&exit_code, serial] {
+    auto driver = open_ls5_driver(serial->connection);
+    if (!driver) {
+      exit_code = report_ls5_failure("stream", driver.error(), serial->connection);
+      return;
+    }
+    ls5::Driver::StreamOptions options;
+    if (serial->thinning > 0) options.thinning = static_cast<std::uint8_t>(serial->thinning);
+    options.reconnect_interval = std::chrono::milliseconds(serial->reconnect_ms);
+    options.silence_timeout = std::chrono::milliseconds(serial->silence_ms);
+    auto source = (*driver)->start_stream(options);
+    if (!source) {
+      exit_code = report_ls5_failure("stream", source.error(), serial->connection);
+      return;
+    }
+    exit_code = run_stream(**source, serial->stream);
+    (*source)->stop();  // SB, so the sensor is quiet for the next program
+  });
+
+  auto udp = std::make_shared<UdpStreamCommand>();
+  auto* udp_command =
+      ls5.add_subcommand("udp", "receive the Ethernet stream (§10.1 UDP packets), checksum and counter checked");
+  udp_command->add_option("--udp-listen", udp->listen, "HOST:PORT to bind (the sensor's destination, default port 603)")
+      ->required();
+  udp_command->add_option("--address", udp->address, "network address to put in the samples (packets carry none)");
+  add_stream_options(*udp_command, udp->stream);
+  udp_command->callback([&exit_code, udp] {
+    auto endpoint = parse_endpoint(udp->listen);
+    if (!endpoint) {
+      fmt::print(stderr, "rangekit ls5 udp: --udp-listen {}: {}\n", udp->listen, endpoint.error().message);
+      exit_code = exit_usage;
+      return;
+    }
+    ls5::UdpReceiverOptions options;
+    if (!udp->address.empty()) {
+      auto address = parse_ls5_address(udp->address);
+      if (!address) {
+        fmt::print(stderr, "rangekit ls5 udp: {}\n", address.error().message);
+        exit_code = exit_usage;
+        return;
+      }
+      options.address = *address;
+    }
+    auto receiver = ls5::UdpReceiver::start(*endpoint, options);
+    if (!receiver) {
+      fmt::print(stderr, "rangekit ls5 udp: cannot listen on {}: {}\n", udp->listen, receiver.error().message);
+      exit_code = exit_io;
+      return;
+    }
+    exit_code = run_stream(**receiver, udp->stream);
+    (*receiver)->stop();
+    const auto counters = (*receiver)->counters();
+    if (counters.bad_packets > 0 || counters.lost_packets > 0) {
+      fmt::print(stderr, "rangekit ls5 udp: {} packets, {} bad (checksum/size), {} lost ({} records)\n",
+                 counters.packets, counters.bad_packets, counters.lost_packets, counters.lost_records);
+    }
+  });
+}
+
+}  // namespace rangekit::cli

@@ -1,0 +1,151 @@
+// §10.1 receiver: one thread reads datagrams, decodes them with the codec and
+// queues one Sample per record; checksum failures and counter gaps become events.
+#include "rangekit/ls5/udp_receiver.hpp"
+
+#include <array>
+#include <mutex>
+#include <thread>
+
+#include "rangekit/core/stream_queue.hpp"
+#include "rangekit/ls5/udp_packet.hpp"
+
+namespace rangekit::ls5 {
+namespace {
+
+constexpr std::chrono::milliseconds receive_slice{100};  // how often the reader looks at the stop flag
+
+Sample record_sample(const UdpRecord& record, const UdpPacket& packet, const std::string& source, int address,
+                     std::chrono::system_clock::time_point time) {
+  Sample sample;
+  sample.time = time;
+  sample.device = "ls5";
+  sample.source = source;
+  sample.address = address;
+  sample.kind = SampleKind::ls5_result;
+  sample.code = record.code;  // the §10.1 code, 0-0x4000 (L45)
+  if (!record.measured()) {
+    sample.signal = SignalState::none_yet;
+  } else if (!record.in_range()) {
+    sample.signal = SignalState::lost;
+  } else {
+    sample.signal = SignalState::ok;
+    auto distance = udp_distance_mm(record, packet.range_mm);  // formula 10.1; none for derivatives (L19)
+    if (distance) sample.distance_mm = *distance;
+  }
+  return sample;
+}
+
+StreamEvent make_event(StreamEventKind kind, std::string message, std::uint64_t count = 0) {
+  return StreamEvent{std::chrono::system_clock::now(), kind, std::move(message), count};
+}
+
+}  // namespace
+
+struct UdpReceiver::State {
+  State(UdpSocket bound, UdpReceiverOptions receiver_options)
+      : socket(std::move(bound)), options(receiver_options), queue(receiver_options.queue_capacity) {}
+  UdpSocket socket;
+  UdpReceiverOptions options;
+  StreamQueue<StreamItem> queue;
+  std::atomic<bool> stop_requested{false};
+  std::atomic<bool> finished{false};
+  mutable std::mutex counters_mutex;
+  UdpReceiverCounters counters;
+  std::optional<std::uint8_t> last_counter;
+  std::thread reader;
+
+  void handle(Bytes datagram, const std::string& source) {
+    const auto now = std::chrono::system_clock::now();
+    auto packet = decode_udp_packet(datagram);
+    if (!packet) {
+      {
+        std::lock_guard lock(counters_mutex);
+        ++counters.bad_packets;
+      }
+      queue.push(make_event(StreamEventKind::bad_frame, "UDP packet from " + source + ": " + packet.error().message));
+      return;
+    }
+    if (last_counter) {
+      // udp_packets_lost gives 255 for a repeated counter (L19): reported, never merged.
+      const std::uint8_t missing = udp_packets_lost(*last_counter, packet->counter);
+      if (missing > 0) {
+        const std::uint64_t records = std::uint64_t{missing} * udp_record_count;
+        {
+          std::lock_guard lock(counters_mutex);
+          counters.lost_packets += missing;
+          counters.lost_records += records;
+        }
+        queue.push(make_event(StreamEventKind::lost_records,
+                              std::to_string(missing) + " UDP packet(s) lost before counter " +
+                                  std::to_string(packet->counter) + " (" + std::to_string(records) + " records)",
+                              records));
+      }
+    }
+    last_counter = packet->counter;
+    {
+      std::lock_guard lock(counters_mutex);
+      ++counters.packets;
+    }
+    for (const UdpRecord& record : packet->records) {
+      queue.push(record_sample(record, *packet, source, options.address, now));
+    }
+  }
+
+  void run() {
+    std::array<std::uint8_t, 2048> buffer{};
+    while (!stop_requested.load()) {
+      auto got = socket.receive(buffer, receive_slice);
+      if (!got) {
+        if (got.error().code == Errc::timeout) continue;
+        if (got.error().code == Errc::overlong) {  // larger than 512 bytes: not an LS5 packet
+          {
+            std::lock_guard lock(counters_mutex);
+            ++counters.bad_packets;
+          }
+          queue.push(make_event(StreamEventKind::bad_frame, got.error().message));
+          continue;
+        }
+        queue.push(make_event(StreamEventKind::disconnected, "UDP socket: " + got.error().message));
+        break;
+      }
+      handle(Bytes(buffer.data(), got->size), got->from.to_string());
+    }
+    finished = true;
+    queue.close();
+  }
+};
+
+Result<std::unique_ptr<UdpReceiver>> UdpReceiver::start(const Endpoint& local, UdpReceiverOptions options) {
+  auto socket = UdpSocket::bind(local);
+  if (!socket) return socket.error();
+  std::unique_ptr<UdpReceiver> receiver(new UdpReceiver(std::make_unique<State>(std::move(*socket), options)));
+  State* state = receiver->state_.get();
+  state->reader = std::thread([state] { state->run(); });
+  return receiver;
+}
+
+UdpReceiver::UdpReceiver(std::unique_ptr<State> state) : state_(std::move(state)) {}
+
+UdpReceiver::~UdpReceiver() { stop(); }
+
+std::optional<StreamItem> UdpReceiver::next(std::chrono::milliseconds timeout) { return state_->queue.pop(timeout); }
+
+bool UdpReceiver::finished() const { return state_->finished.load(); }
+
+void UdpReceiver::stop() {
+  state_->stop_requested = true;
+  if (state_->reader.joinable()) state_->reader.join();
+  state_->finished = true;
+  state_->queue.close();
+}
+
+std::uint64_t UdpReceiver::lost() const { return counters().lost_records + state_->queue.dropped(); }
+
+Endpoint UdpReceiver::local_endpoint() const { return state_->socket.local_endpoint(); }
+
+UdpReceiverCounters UdpReceiver::counters() const {
+  std::lock_guard lock(state_->counters_mutex);
+  return state_->counters;
+}
+
+}  // namespace rangekit::ls5
