@@ -29,7 +29,9 @@ int run_replay(const ReplayArguments& arguments) {
     fmt::print(stderr, "rangekit replay: {}\n", source.error().message);
     return exit_io;
   }
-  return run_stream_as(**source, arguments.stream, "replay");
+  auto stream = arguments.stream;
+  stream.link_lost_is_failure = false;
+  return run_stream_as(**source, stream, "replay");
 }
 
 }  // namespace

@@ -74,13 +74,13 @@ class StatusLine {
   bool shown_ = false;
 };
 
-int exit_code_for(const record::StreamOutcome& outcome, const std::string& command_name) {
+int exit_code_for(const record::StreamOutcome& outcome, const StreamOptions& options, const std::string& command_name) {
   switch (outcome.reason) {
     case record::StopReason::count_reached:
     case record::StopReason::duration_reached:
       return exit_ok;
     case record::StopReason::source_finished:
-      if (outcome.stats.link_down) {
+      if (outcome.stats.link_down && options.link_lost_is_failure) {
         fmt::print(stderr, "rangekit {}: the link went away and did not come back\n", command_name);
         return exit_link_lost;
       }
@@ -148,7 +148,7 @@ int run_stream_as(SampleSource& source, const StreamOptions& options, const std:
   const auto outcome = record::run_stream_loop(source, loop, stop_signalled, observer);
   status.clear();
   if (status.enabled()) fmt::print(stderr, "{}\n", status_text(outcome.stats));
-  return exit_code_for(outcome, command_name);
+  return exit_code_for(outcome, options, command_name);
 }
 
 }  // namespace rangekit::cli

@@ -20,6 +20,9 @@ struct StreamOptions {
   std::string out;                     // file for the formatted stream ("" = stdout)
   std::string capture;                 // SQLite capture file ("" = none)
   bool quiet = false;                  // no live status line even on a tty
+  // A live source that ends after a disconnect exits with exit_link_lost; a
+  // replay only shows the recorded disconnect.
+  bool link_lost_is_failure = true;
 };
 
 // Adds --format, --count, --duration, --out, --capture, --quiet to a subcommand.

@@ -1,0 +1,124 @@
+// End-to-end: `rangekit replay` on captures written by the library.
+#include <gtest/gtest.h>
+
+#include "rangekit/record/capture.hpp"
+#include "record/cli_process.hpp"
+#include "record/fake_source.hpp"
+#include "record/temp_dir.hpp"
+
+namespace rangekit::record {
+namespace {
+
+using namespace testing;
+
+std::string make_capture(const TempDir& dir, const std::vector<StreamItem>& items) {
+  const auto path = dir.file("capture.sqlite");
+  auto capture = open_capture(path);
+  EXPECT_TRUE(capture.ok());
+  if (!capture.ok()) return path;
+  for (const auto& item : items) {
+    if (const auto* sample = std::get_if<Sample>(&item)) {
+      EXPECT_TRUE((*capture)->write(*sample).ok());
+    } else {
+      EXPECT_TRUE((*capture)->write_event(std::get<StreamEvent>(item)).ok());
+    }
+  }
+  return path;
+}
+
+struct Finished {
+  int exit_code;
+  std::string out;
+  std::string err;
+};
+
+Finished run(const std::vector<std::string>& arguments) {
+  CliProcess process(arguments);
+  const int code = process.finish();
+  return {code, process.out(), process.err()};
+}
+
+TEST(ReplayCli, JsonlAtFullSpeedWithEventsOnStderr) {
+  TempDir dir;
+  const auto capture = make_capture(
+      dir, {uls_error(), event(StreamEventKind::disconnected, "gone"), ls5_result(12345, 1234.5, SignalState::ok)});
+  const auto result = run({"replay", capture, "--format", "jsonl", "--full-speed"});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.out,
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":3,\"source\":\"/dev/ttyUSB0\","
+            "\"kind\":\"error\",\"error\":4}\n"
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"event\":\"disconnected\",\"message\":\"gone\",\"count\":0}\n"
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"ls5\",\"address\":null,"
+            "\"source\":\"udp:127.0.0.1:5000\",\"kind\":\"result\",\"code\":12345,\"distance_mm\":1234.50,"
+            "\"signal\":\"ok\"}\n");
+  // Not a terminal: no status line, only the event.
+  EXPECT_EQ(result.err, "rangekit replay: 01:02:03.456 disconnected: gone\n");
+}
+
+TEST(ReplayCli, CsvCountAndDeviceFilter) {
+  TempDir dir;
+  const auto capture =
+      make_capture(dir, {uls_error(), ls5_result(12345, 1234.5, SignalState::ok), ls5_result(1, 2.0, SignalState::ok)});
+  const auto result = run({"replay", capture, "--format", "csv", "--full-speed", "--count", "1", "--device", "ls5"});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.out,
+            "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
+            "code,distance_mm,signal\n"
+            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok\n");
+}
+
+TEST(ReplayCli, TextToAFile) {
+  TempDir dir;
+  const auto capture = make_capture(dir, {uls_averaging()});
+  const auto out = dir.file("out.txt");
+  const auto result = run({"replay", capture, "--full-speed", "--out", out});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.out, "");
+  EXPECT_EQ(read_file(out), "01:02:03.456 uls #3  12.345 m  pw 18000\n");
+}
+
+TEST(ReplayCli, NotACaptureIsExitFourNamingTheFile) {
+  TempDir dir;
+  const auto path = dir.file("notes.txt");
+  write_file(path, std::string(3000, 'n'));
+  const auto result = run({"replay", path});
+  EXPECT_EQ(result.exit_code, 4);  // docs/cli.md: cannot open or read a file
+  EXPECT_NE(result.err.find(path), std::string::npos) << result.err;
+  EXPECT_EQ(read_file(path), std::string(3000, 'n'));
+}
+
+TEST(ReplayCli, DiskFullIsExitSeven) {
+  TempDir dir;
+  const auto capture = make_capture(dir, {uls_averaging()});
+  const auto result = run({"replay", capture, "--full-speed", "--out", "/dev/full"});
+  EXPECT_EQ(result.exit_code, 7);  // docs/cli.md: output could not be written
+  EXPECT_NE(result.err.find("/dev/full"), std::string::npos) << result.err;
+}
+
+TEST(ReplayCli, FullSpeedAndSpeedTogetherIsAUsageError) {
+  TempDir dir;
+  const auto capture = make_capture(dir, {uls_averaging()});
+  EXPECT_EQ(run({"replay", capture, "--full-speed", "--speed", "2"}).exit_code, 2);
+  EXPECT_EQ(run({"replay", capture, "--format", "xml"}).exit_code, 2);
+}
+
+TEST(ReplayCli, SigintClosesCleanlyWithExit130) {
+  TempDir dir;
+  const auto capture = make_capture(dir, {uls_averaging(0ms), uls_averaging(3600s)});  // an hour apart
+  const auto copy = dir.file("copy.sqlite");
+  CliProcess process({"replay", capture, "--format", "jsonl", "--capture", copy});
+  ASSERT_TRUE(process.wait_for_stdout("\"pulse_width\":18000}\n", 10s)) << process.err();
+  process.signal(SIGINT);
+  EXPECT_EQ(process.finish(), 130);
+  EXPECT_NE(process.err().find("interrupted after 1 samples"), std::string::npos) << process.err();
+  // The capture written on the way was closed cleanly and holds the sample.
+  auto replay_copy = CliProcess({"replay", copy, "--format", "csv", "--full-speed"});
+  EXPECT_EQ(replay_copy.finish(), 0);
+  EXPECT_EQ(replay_copy.out(),
+            "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
+            "code,distance_mm,signal\n"
+            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,\n");
+}
+
+}  // namespace
+}  // namespace rangekit::record
