@@ -1,0 +1,141 @@
+// The §10.1 receiver on loopback UDP with packets built byte by byte from the
+// table in §10.1: records, checksum failures, counter gaps and the 8-bit wrap.
+#include <gtest/gtest.h>
+
+#include <array>
+
+#include "rangekit/ls5/udp_receiver.hpp"
+
+using namespace rangekit;
+using namespace rangekit::ls5;
+using namespace std::chrono_literals;
+
+namespace {
+
+using Packet = std::array<std::uint8_t, 512>;
+
+// §10.1: 168 × (code low, code high, state), serial, lower boundary, range (low byte
+// first), counter at 510, checksum at 511 = XOR of every byte but the counter and itself.
+Packet build_packet(std::uint8_t counter, std::uint16_t code = 0x2000, std::uint8_t state = 0x07) {
+  Packet packet{};
+  for (std::size_t record = 0; record < 168; ++record) {
+    packet[record * 3] = static_cast<std::uint8_t>(code & 0xFF);
+    packet[record * 3 + 1] = static_cast<std::uint8_t>(code >> 8);
+    packet[record * 3 + 2] = state;
+  }
+  packet[504] = 157;  // serial 157
+  packet[505] = 0;
+  packet[506] = 10;  // lower boundary 10 mm
+  packet[507] = 0;
+  packet[508] = 100;  // range 100 mm
+  packet[509] = 0;
+  packet[510] = counter;
+  std::uint8_t checksum = 0;
+  for (std::size_t i = 0; i < 510; ++i) checksum = static_cast<std::uint8_t>(checksum ^ packet[i]);
+  packet[511] = checksum;
+  return packet;
+}
+
+struct Rig {
+  std::unique_ptr<UdpReceiver> receiver;
+  std::optional<UdpSocket> sender;
+  Rig() {
+    auto started = UdpReceiver::start(Endpoint{"127.0.0.1", 0}, UdpReceiverOptions{65536, 1});
+    EXPECT_TRUE(started) << started.error().message;
+    if (started) receiver = std::move(*started);
+    auto socket = UdpSocket::bind(Endpoint{"127.0.0.1", 0});
+    EXPECT_TRUE(socket) << socket.error().message;
+    if (socket) sender.emplace(std::move(*socket));
+  }
+  void send(const Packet& packet) { ASSERT_TRUE(sender->send_to(packet, receiver->local_endpoint())); }
+  void send_bytes(Bytes bytes) { ASSERT_TRUE(sender->send_to(bytes, receiver->local_endpoint())); }
+  // Next item within 5 s.
+  StreamItem next() {
+    auto item = receiver->next(5000ms);
+    EXPECT_TRUE(item.has_value()) << "nothing arrived";
+    return item.value_or(StreamItem{StreamEvent{}});
+  }
+  Sample next_sample() {
+    StreamItem item = next();
+    EXPECT_TRUE(std::holds_alternative<Sample>(item)) << std::get<StreamEvent>(item).message;
+    return std::holds_alternative<Sample>(item) ? std::get<Sample>(item) : Sample{};
+  }
+  void skip_samples(std::size_t count) {
+    for (std::size_t i = 0; i < count; ++i) (void)next_sample();
+  }
+};
+
+}  // namespace
+
+TEST(Ls5UdpReceiver, RecordsBecomeSamplesWithFormula101) {
+  Rig rig;
+  ASSERT_TRUE(rig.receiver && rig.sender);
+  Packet packet = build_packet(7);
+  // Record 2: not measured yet (bit 0 clear); record 3: out of range (bit 2 clear).
+  packet[2 * 3 + 2] = 0x02;
+  packet[3 * 3 + 2] = 0x03;
+  std::uint8_t checksum = 0;
+  for (std::size_t i = 0; i < 510; ++i) checksum = static_cast<std::uint8_t>(checksum ^ packet[i]);
+  packet[511] = checksum;
+  rig.send(packet);
+  const Sample first = rig.next_sample();
+  EXPECT_EQ(first.device, "ls5");
+  EXPECT_EQ(first.address, 1);
+  EXPECT_EQ(first.code, 0x2000);
+  EXPECT_EQ(first.signal, SignalState::ok);
+  EXPECT_DOUBLE_EQ(first.distance_mm.value_or(-1), 100.0 * 0x2000 / 0x4000);  // formula 10.1
+  (void)rig.next_sample();
+  const Sample unmeasured = rig.next_sample();
+  EXPECT_EQ(unmeasured.signal, SignalState::none_yet);
+  EXPECT_FALSE(unmeasured.distance_mm.has_value());
+  const Sample out_of_range = rig.next_sample();
+  EXPECT_EQ(out_of_range.signal, SignalState::lost);
+  EXPECT_FALSE(out_of_range.distance_mm.has_value());
+  rig.skip_samples(168 - 4);
+  EXPECT_EQ(rig.receiver->counters().packets, 1U);
+  EXPECT_EQ(rig.receiver->lost(), 0U);
+}
+
+TEST(Ls5UdpReceiver, ChecksumErrorsAreCountedAndReportedNotDecoded) {
+  Rig rig;
+  ASSERT_TRUE(rig.receiver && rig.sender);
+  Packet bad = build_packet(1);
+  bad[100] ^= 0x10;  // a bit flipped in transit
+  rig.send(bad);
+  StreamItem item = rig.next();
+  ASSERT_TRUE(std::holds_alternative<StreamEvent>(item));
+  EXPECT_EQ(std::get<StreamEvent>(item).kind, StreamEventKind::bad_frame);
+  EXPECT_NE(std::get<StreamEvent>(item).message.find("checksum"), std::string::npos)
+      << std::get<StreamEvent>(item).message;
+  const std::array<std::uint8_t, 100> short_datagram{};
+  rig.send_bytes(short_datagram);
+  item = rig.next();
+  ASSERT_TRUE(std::holds_alternative<StreamEvent>(item));
+  EXPECT_EQ(std::get<StreamEvent>(item).kind, StreamEventKind::bad_frame);
+  // The next good packet decodes (a changed counter byte is not part of the checksum).
+  rig.send(build_packet(2));
+  EXPECT_EQ(rig.next_sample().code, 0x2000);
+  EXPECT_EQ(rig.receiver->counters().bad_packets, 2U);
+  EXPECT_EQ(rig.receiver->counters().packets, 1U);
+}
+
+TEST(Ls5UdpReceiver, CounterGapsAreLostRecordsAndTheWrapIsNotAGap) {
+  Rig rig;
+  ASSERT_TRUE(rig.receiver && rig.sender);
+  rig.send(build_packet(254));
+  rig.skip_samples(168);
+  rig.send(build_packet(255));
+  rig.skip_samples(168);
+  rig.send(build_packet(0));  // 8-bit wrap: the next packet, nothing lost
+  rig.skip_samples(168);
+  rig.send(build_packet(3));  // 1 and 2 are missing
+  StreamItem item = rig.next();
+  ASSERT_TRUE(std::holds_alternative<StreamEvent>(item));
+  const auto& event = std::get<StreamEvent>(item);
+  EXPECT_EQ(event.kind, StreamEventKind::lost_records);
+  EXPECT_EQ(event.count, 2U * 168U);
+  rig.skip_samples(168);
+  EXPECT_EQ(rig.receiver->counters().lost_packets, 2U);
+  EXPECT_EQ(rig.receiver->lost(), 2U * 168U);
+  EXPECT_EQ(rig.receiver->counters().packets, 4U);
+}
