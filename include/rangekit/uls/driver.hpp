@@ -1,0 +1,272 @@
+// Host driver for one ULS unit (issue 6): typed calls for every §8 command,
+// replies matched to requests, per-call timeouts, one retry for gets, and a
+// measurement stream (a SampleSource) read by a thread that never waits on the
+// consumer and that reconnects when the link comes back. Documented call by
+// call in docs/host-uls.md.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <vector>
+
+#include "rangekit/core/framer.hpp"
+#include "rangekit/core/result.hpp"
+#include "rangekit/core/sample.hpp"
+#include "rangekit/core/stream_queue.hpp"
+#include "rangekit/core/transport.hpp"
+#include "rangekit/uls/commands.hpp"
+#include "rangekit/uls/measurement.hpp"
+#include "rangekit/uls/types.hpp"
+
+namespace rangekit::uls {
+
+// Opens the link again after it went away (the same port path, the same baud).
+using ReopenFunction = std::function<Result<TransportPtr>()>;
+
+struct DriverOptions {
+  // RS-485 unit address (0x30-0xEF): requests are `#a` frames; none: `$` frames.
+  std::optional<std::uint8_t> address;
+  std::chrono::milliseconds timeout{1000};          // per call, waiting for the reply
+  std::chrono::milliseconds measure_timeout{5000};  // a polled BM: a whole measurement period
+  int get_retries = 1;                              // gets are idempotent: sent again once on no reply
+  std::chrono::milliseconds reconnect_interval{250};
+  std::optional<std::chrono::milliseconds> give_up_after;  // none: retry the reopen forever
+  std::size_t queue_capacity = 65536;
+  std::string source;  // Sample::source; defaults to the transport's name
+};
+
+// How a stream gets its measurements (§2 Continuous Output, ULS Autostart).
+enum class StreamMode {
+  automatic,   // CO on: GO and read the continuous lines, falling back to polling if none arrive here
+  continuous,  // GO, then read what the unit sends
+  polled,      // BM at the output period (PPM / PRF), as the Interface Program's Single Measurement
+};
+
+// Counters of what the reader saw besides replies.
+struct DriverCounters {
+  std::uint64_t replies = 0;
+  std::uint64_t measurements = 0;  // measurement lines decoded
+  std::uint64_t rejected_bytes = 0;
+  std::uint64_t bad_frames = 0;  // framer rejections and lines that did not decode
+  std::uint64_t unexpected = 0;  // replies nobody asked for
+  std::uint64_t retries = 0;
+};
+
+// US decoded into its bits (§8 Get Unit Status, U6).
+struct StatusInfo {
+  std::uint8_t value = 0;
+  bool active = false;
+  bool laser_firing = false;
+  bool averaging_calc = false;
+  bool binning_calc = false;
+  std::optional<Mode> mode;  // the mode it is measuring in; none when idle or in error
+  [[nodiscard]] bool measuring() const noexcept { return laser_firing; }
+};
+StatusInfo decode_status(std::uint8_t value) noexcept;
+
+// A unit's identity as `info` and `probe` report it.
+struct UnitInfo {
+  std::string version;  // ID reply, fields joined by ','
+  StatusInfo status;
+  std::optional<std::uint8_t> address;  // the `#a` address used, if any
+};
+
+class Driver final : public SampleSource {
+ public:
+  explicit Driver(TransportPtr transport, DriverOptions options = {}, ReopenFunction reopen = {});
+  ~Driver() override;
+
+  // --- Generic requests, driven by the codec's command table (§8) -------------
+  // Values are checked with validate_request before anything is sent
+  // (Errc::out_of_range / wrong_form / unknown_command naming the allowed range).
+  Result<std::vector<std::string>> get(std::string_view mnemonic, std::span<const std::string_view> arguments = {});
+  Status set(std::string_view mnemonic, std::span<const std::string_view> values);
+  Status set(std::string_view mnemonic, std::string_view value);
+  Status action(std::string_view mnemonic);  // GO, ST, SU
+  // Broadcast (0xF0-0xFF): every unit acts, none replies (U4).
+  Status broadcast(std::string_view mnemonic, std::span<const std::string_view> values = {},
+                   std::uint8_t address = first_broadcast_address);
+
+  // --- Typed calls (§8), distances in metres whatever MU is -------------------
+  Result<std::string> version();  // ID
+  Result<StatusInfo> status();    // US
+  Result<UnitInfo> info();        // ID + US
+  Status start_measuring();       // GO
+  Status stop_measuring();        // ST (ends the stream's reader first when streaming)
+  Status save();                  // SU: user settings into non-volatile memory
+  Result<Sample> measure();       // BM: one reading (a whole target array in binning)
+
+  Result<Mode> mode();
+  Status set_mode(Mode mode);
+  Result<DisplayMode> display_mode();
+  Status set_display_mode(DisplayMode display);
+  Result<Units> units();
+  Status set_units(Units units);
+  Result<PowerLevel> power();
+  Status set_power(PowerLevel level);
+  Result<OutputPort> output_port();
+  Status set_output_port(OutputPort port);
+  Result<BinSize> bin_size();
+  Status set_bin_size(BinSize size);
+  // PF: the three PRFs (averaging, binning, look down); set_prf sets the current mode's (U14).
+  Result<std::array<std::uint32_t, 3>> prf();
+  Status set_prf(std::uint32_t hz);
+  Status set_prf(std::uint32_t averaging_hz, std::uint32_t binning_hz, std::uint32_t look_down_hz);
+  // PO: averaging and binning pulses per measurement (U15).
+  Result<std::array<std::uint32_t, 2>> pulses_per_measurement();
+  Status set_pulses_per_measurement(std::uint32_t pulses);
+  Status set_pulses_per_measurement(std::uint32_t averaging, std::uint32_t binning);
+  Result<std::uint32_t> averaging_weight();  // AW
+  Status set_averaging_weight(std::uint32_t pulses);
+  Result<std::uint32_t> bin_threshold();  // BH
+  Status set_bin_threshold(std::uint32_t hits);
+  Result<std::uint32_t> baud(BaudPort port);  // BR; the port switches after the $OK (U36)
+  Status set_baud(BaudPort port, std::uint32_t baud);
+  Result<std::uint8_t> unit_address();  // UA (Errc::device_error 82 when unassigned)
+  Status set_unit_address(std::uint8_t address);
+  Result<std::uint64_t> trip_timeout_pulses();  // TT (hex pulse count, U21)
+  Status set_trip_timeout_pulses(std::uint64_t pulses);
+
+  // Flags: DD, MA, PA, CL, CO, FL, TE, TB; PT is set-only.
+  Result<bool> flag(std::string_view mnemonic);
+  Status set_flag(std::string_view mnemonic, bool on);
+  Result<bool> dither() { return flag("DD"); }
+  Status set_dither(bool on) { return set_flag("DD", on); }
+  Result<bool> autostart() { return flag("MA"); }
+  Status set_autostart(bool on) { return set_flag("MA", on); }
+  Result<bool> pointer_autostart() { return flag("PA"); }
+  Status set_pointer_autostart(bool on) { return set_flag("PA", on); }
+  Status set_pointer(bool on) { return set_flag("PT", on); }
+  Result<bool> current_loop() { return flag("CL"); }
+  Status set_current_loop(bool on) { return set_flag("CL", on); }
+  Result<bool> continuous() { return flag("CO"); }
+  Status set_continuous(bool on) { return set_flag("CO", on); }
+  Result<bool> cooperative_filter() { return flag("FL"); }
+  Status set_cooperative_filter(bool on) { return set_flag("FL", on); }
+  Result<bool> termination() { return flag("TE"); }
+  Status set_termination(bool on) { return set_flag("TE", on); }
+  Result<bool> time_between_events() { return flag("TB"); }
+  Status set_time_between_events(bool on) { return set_flag("TB", on); }
+
+  // Distances SG, LG, TP, OF, AL, AH in metres (sent in the unit's MU).
+  Result<double> distance_m(std::string_view mnemonic);
+  Status set_distance_m(std::string_view mnemonic, double metres);
+  Result<double> short_gate_m() { return distance_m("SG"); }
+  Status set_short_gate_m(double m) { return set_distance_m("SG", m); }
+  Result<double> long_gate_m() { return distance_m("LG"); }
+  Status set_long_gate_m(double m) { return set_distance_m("LG", m); }
+  Result<double> trip_point_m() { return distance_m("TP"); }
+  Status set_trip_point_m(double m) { return set_distance_m("TP", m); }
+  Result<double> offset_m() { return distance_m("OF"); }
+  Status set_offset_m(double m) { return set_distance_m("OF", m); }
+  Result<double> range_at_4ma_m() { return distance_m("AL"); }
+  Status set_range_at_4ma_m(double m) { return set_distance_m("AL", m); }
+  Result<double> range_at_20ma_m() { return distance_m("AH"); }
+  Status set_range_at_20ma_m(double m) { return set_distance_m("AH", m); }
+  // AF milliamps, AT seconds.
+  Result<double> fault_current_ma();
+  Status set_fault_current_ma(double milliamps);
+  Result<double> fault_timeout_s();
+  Status set_fault_timeout_s(double seconds);
+
+  // What decode_measurement needs (MM, DM, MU, TB).
+  Result<MeasurementContext> read_context();
+
+  // --- Stream (SampleSource) -------------------------------------------------
+  // Reads the context, starts measuring and a reader thread. Samples and link
+  // events are queued; a full queue drops the oldest (counted in lost()).
+  Status start_stream(StreamMode mode = StreamMode::automatic);
+  // Stops the reader (and, with stop_measuring, sends ST).
+  void stop_stream(bool stop_measuring = true);
+  std::optional<StreamItem> next(std::chrono::milliseconds timeout) override;
+  [[nodiscard]] bool finished() const override;
+  void stop() override;
+  [[nodiscard]] std::uint64_t lost() const override;
+  [[nodiscard]] bool streaming() const noexcept { return streaming_.load(); }
+  [[nodiscard]] StreamMode active_stream_mode() const noexcept { return active_mode_.load(); }
+
+  [[nodiscard]] DriverCounters counters() const;
+  [[nodiscard]] const DriverOptions& options() const noexcept { return options_; }
+  [[nodiscard]] Address request_address() const noexcept;
+  // Talks to another unit from now on (a bus); refused while streaming.
+  Status set_address(std::optional<std::uint8_t> address);
+  // Replaces the link (after the caller reopened the port at another baud).
+  void replace_transport(TransportPtr transport);
+  [[nodiscard]] bool connected() const;
+
+ private:
+  struct Pending;
+  enum class Expect { value, ok, measurement };
+
+  Result<std::vector<std::string>> transact(const CommandInfo& command, std::span<const std::string_view> fields,
+                                            Expect expect, int attempts, std::chrono::milliseconds timeout,
+                                            Sample* measurement = nullptr);
+  Status check_locally(const CommandInfo& command, std::span<const std::string_view> fields);
+  Status write_frame(Bytes bytes);
+  // Reads once (up to `wait`) and dispatches every complete frame.
+  Status pump(std::chrono::milliseconds wait);
+  void dispatch(Bytes frame);
+  void handle_measurement(const Measurement& measurement);
+  void emit_sample(Sample sample);
+  void emit_event(StreamEventKind kind, std::string message);
+  void reader_loop();
+  bool reconnect();
+  Status begin_measuring(bool reconnecting);
+  Result<Units> cached_units();
+  [[nodiscard]] bool on_reader_thread() const;
+
+  DriverOptions options_;
+  ReopenFunction reopen_;
+  mutable std::mutex transport_mutex_;  // guards the pointer and writes
+  TransportPtr transport_;
+  FrameAssembler assembler_;
+
+  std::mutex request_mutex_;  // one request at a time
+  std::mutex state_mutex_;    // pending, counters, context
+  std::condition_variable reply_ready_;
+  Pending* pending_ = nullptr;
+  DriverCounters counters_;
+  MeasurementContext context_;
+  std::optional<Units> units_;
+  std::vector<TargetHit> partial_targets_;
+  std::uint8_t partial_count_ = 0;
+
+  StreamQueue<StreamItem> queue_;
+  std::thread reader_;
+  std::atomic<std::thread::id> reader_id_{};
+  std::atomic<bool> streaming_{false};
+  std::atomic<bool> collecting_{false};  // measurements go to the queue
+  std::atomic<bool> stop_requested_{false};
+  std::atomic<bool> finished_{false};
+  std::atomic<StreamMode> active_mode_{StreamMode::continuous};
+  StreamMode requested_mode_ = StreamMode::automatic;
+  std::chrono::milliseconds poll_period_{100};
+  std::chrono::steady_clock::time_point last_measurement_{};
+};
+
+// --- Probe (used by `rangekit detect`) ---------------------------------------
+// Asks ID and US over `transport` without changing anything: with `address`
+// the `#a` protocol, else `$`. Errc::timeout when nothing answers.
+struct ProbeResult {
+  bool addressed = false;
+  std::optional<std::uint8_t> address;
+  std::string version;
+  StatusInfo status;
+};
+Result<ProbeResult> probe(Transport& transport, std::optional<std::uint8_t> address = std::nullopt,
+                          std::chrono::milliseconds timeout = std::chrono::milliseconds(500));
+
+// Builds a Sample (device "uls") from a decoded reading; binning targets are
+// collected by the driver into one sample per array.
+Sample sample_from_reading(const Reading& reading, int address, const std::string& source);
+
+}  // namespace rangekit::uls

@@ -1,0 +1,144 @@
+#include "rangekit/uls/bus.hpp"
+
+#include <cstdio>
+
+#include "rangekit/core/text.hpp"
+
+namespace rangekit::uls {
+
+namespace {
+
+DriverOptions bus_driver_options(const BusOptions& options) {
+  DriverOptions driver;
+  driver.timeout = options.timeout;
+  driver.measure_timeout = options.measure_timeout;
+  driver.get_retries = 0;  // a silent address is the common case on a scan
+  return driver;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> typable_addresses() {
+  std::vector<std::uint8_t> list;
+  for (char c = '0'; c <= '9'; ++c) list.push_back(static_cast<std::uint8_t>(c));
+  for (char c = 'A'; c <= 'Z'; ++c) list.push_back(static_cast<std::uint8_t>(c));
+  for (char c = 'a'; c <= 'z'; ++c) list.push_back(static_cast<std::uint8_t>(c));
+  return list;
+}
+
+std::vector<std::uint8_t> all_unit_addresses() {
+  std::vector<std::uint8_t> list;
+  for (int a = first_unit_address; a <= last_unit_address; ++a) list.push_back(static_cast<std::uint8_t>(a));
+  return list;
+}
+
+std::string address_text(std::uint8_t address) {
+  if (address >= 0x21 && address < 0x7F) return std::string(1, static_cast<char>(address));
+  char buffer[8];
+  std::snprintf(buffer, sizeof buffer, "0x%02X", address);
+  return buffer;
+}
+
+std::optional<std::uint8_t> parse_unit_address(std::string_view text) {
+  std::optional<std::uint64_t> value;
+  if (text.size() == 1) {
+    value = static_cast<unsigned char>(text[0]);
+  } else if (text.size() > 2 && text[0] == '0' && (text[1] == 'x' || text[1] == 'X')) {
+    value = text::parse_hex(text.substr(2), 2);
+  } else {
+    value = text::parse_unsigned(text, 3);
+  }
+  if (!value || *value < first_unit_address || *value > last_unit_address) return std::nullopt;
+  return static_cast<std::uint8_t>(*value);
+}
+
+Bus::Bus(TransportPtr transport, BusOptions options)
+    : options_(options), driver_(std::move(transport), bus_driver_options(options)) {}
+
+std::vector<BusUnit> Bus::scan(const std::vector<std::uint8_t>& addresses) {
+  std::vector<BusUnit> found;
+  for (const std::uint8_t address : addresses) {
+    BusUnit unit;
+    unit.address = address;
+    (void)driver_.set_address(address);
+    const auto before = driver_.counters();
+    auto version = driver_.version();
+    const auto after = driver_.counters();
+    // Garbled bytes while waiting at this address: two units answered at once (U66).
+    const bool garbled = after.bad_frames > before.bad_frames || after.unexpected > before.unexpected;
+    if (version) {
+      unit.answered = true;
+      unit.version = *version;
+      auto status = driver_.status();
+      if (status) unit.status = *status;
+    }
+    if (garbled) {
+      unit.answered = true;
+      unit.duplicate = true;
+      unit.problem = "replies collided: more than one unit has this address";
+    }
+    if (unit.answered) found.push_back(std::move(unit));
+  }
+  return found;
+}
+
+Status Bus::assign(std::optional<std::uint8_t> from, std::uint8_t to) {
+  if (!Address::unit(to).is_unit())
+    return make_error(Errc::out_of_range, "unit addresses are 0x30..0xEF (§8 RS485 Protocol)");
+  if (from && *from == to) return ok_status();
+  // Refuse an address in use (§7: "will not function correctly with same address assigned to 2 or more units").
+  const auto taken = scan({to});
+  if (!taken.empty())
+    return make_error(Errc::out_of_range, "address '" + address_text(to) + "' is already in use on the bus" +
+                                              (taken[0].version.empty() ? "" : " (" + taken[0].version + ")"));
+  if (auto set = driver_.set_address(from); !set) return set;
+  if (from) {
+    if (auto present = driver_.version(); !present)
+      return make_error(present.error().code == Errc::timeout ? Errc::timeout : present.error().code,
+                        "no unit answers at '" + address_text(*from) + "': " + present.error().message);
+  }
+  auto assigned = driver_.set_unit_address(to);
+  if (!assigned) return assigned;
+  // Check the unit now answers at its new address.
+  (void)driver_.set_address(to);
+  auto check = driver_.unit_address();
+  if (!check)
+    return make_error(check.error().code,
+                      "assigned, but '" + address_text(to) + "' does not answer: " + check.error().message);
+  if (*check != to) return make_error(Errc::invalid_frame, "the unit reports address " + address_text(*check));
+  return ok_status();
+}
+
+std::vector<PollResult> Bus::poll(const std::vector<std::uint8_t>& addresses, bool measure) {
+  std::vector<PollResult> results;
+  for (const std::uint8_t address : addresses) {
+    PollResult result;
+    result.address = address;
+    (void)driver_.set_address(address);
+    const auto before = driver_.counters();
+    auto status = driver_.status();
+    if (status) {
+      result.answered = true;
+      result.status = *status;
+      if (measure) {
+        auto sample = driver_.measure();
+        if (sample) {
+          result.sample = std::move(*sample);
+        } else {
+          result.problem = sample.error().message;
+        }
+      }
+    } else {
+      result.problem = status.error().message;
+    }
+    if (driver_.counters().bad_frames > before.bad_frames) result.problem = "garbled replies (duplicate address?)";
+    results.push_back(std::move(result));
+  }
+  return results;
+}
+
+Status Bus::broadcast(std::string_view mnemonic, std::span<const std::string_view> values, std::uint8_t address) {
+  return driver_.broadcast(mnemonic, values, address);
+}
+
+}  // namespace rangekit::uls

@@ -1,0 +1,346 @@
+// Config files: every setting of a unit as readable TOML (the Interface
+// Program's .uls file, §2), loading with read-back verification, and diff.
+#include "rangekit/uls/host_config.hpp"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "rangekit/core/text.hpp"
+#include "rangekit/uls/errors.hpp"
+#include "rangekit/uls/formulas.hpp"
+#include "uls/driver/describe.hpp"
+
+namespace rangekit::uls {
+
+namespace {
+
+bool is_distance(const CommandInfo& command) {
+  return command.kind == ValueKind::distance || command.kind == ValueKind::signed_distance;
+}
+
+// "look down" -> "look-down", "off (polled)" -> "off"; how names are written and typed.
+std::string key_name(std::string_view name) {
+  std::string text;
+  for (const char c : name) {
+    if (c == '(') break;
+    if (c == ' ' || c == '_') {
+      text.push_back('-');
+    } else {
+      text.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+    }
+  }
+  while (!text.empty() && text.back() == '-') text.pop_back();
+  return text;
+}
+
+std::string integer_text(double value) { return std::to_string(static_cast<std::uint64_t>(std::llround(value))); }
+
+std::string unit_comment(const CommandInfo& command) {
+  std::string text = "# " + std::string(command.mnemonic) + ", " + std::string(command.title);
+  if (is_distance(command))
+    text += ", metres";
+  else if (command.kind == ValueKind::hex_pulses)
+    text += ", pulses (seconds x 3000)";
+  else if (!command.unit.empty())
+    text += ", " + std::string(command.unit);
+  if (!command.value_names.empty() && command.kind == ValueKind::enumeration) {
+    text += ":";
+    for (const auto& entry : command.value_names) text += " " + key_name(entry.name);
+  }
+  return text;
+}
+
+Error toml_error(std::string_view file, std::size_t line, std::string_view key, std::string_view what) {
+  return make_error(Errc::bad_number, std::string(file) + ":" + std::to_string(line) + ": '" + std::string(key) + "' " +
+                                          std::string(what));
+}
+
+}  // namespace
+
+std::vector<const CommandInfo*> config_commands() {
+  std::vector<const CommandInfo*> list{find_command("MU")};
+  for (const CommandInfo& command : command_table()) {
+    if (command.access != Access::get_set) continue;
+    if (command.mnemonic == "MU" || command.mnemonic == "BR" || command.mnemonic == "UA") continue;
+    list.push_back(&command);
+  }
+  return list;
+}
+
+std::vector<std::string> to_wire(const Setting& setting, Units units) {
+  std::vector<std::string> wire;
+  for (const double value : setting.values) {
+    switch (setting.command->kind) {
+      case ValueKind::distance:
+      case ValueKind::signed_distance: {
+        auto text = format_distance(from_metres(value, units), units);
+        wire.emplace_back(text ? std::string(text->view()) : "nan");
+        break;
+      }
+      case ValueKind::milliamps:
+      case ValueKind::seconds:
+        wire.push_back(driver_detail::decimal_text(value));
+        break;
+      case ValueKind::hex_pulses:
+        wire.emplace_back(to_hex_text(static_cast<std::uint64_t>(std::llround(value))).view());
+        break;
+      default:
+        wire.push_back(integer_text(value));
+    }
+  }
+  return wire;
+}
+
+Result<Setting> from_wire(const CommandInfo& command, const std::vector<std::string>& values, Units units) {
+  Setting setting;
+  setting.command = &command;
+  for (const auto& text : values) {
+    std::optional<double> value;
+    if (is_distance(command)) {
+      if (auto number = text::parse_decimal(text)) value = to_metres(*number, units);
+    } else if (command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
+      value = text::parse_decimal(text);
+    } else if (command.kind == ValueKind::hex_pulses) {
+      if (auto pulses = parse_trip_timeout(text)) value = static_cast<double>(*pulses);
+    } else if (auto number = text::parse_unsigned(text)) {
+      value = static_cast<double>(*number);
+    }
+    if (!value)
+      return make_error(Errc::invalid_frame,
+                        "$" + std::string(command.mnemonic) + " value '" + text + "' does not read");
+    setting.values.push_back(*value);
+  }
+  return setting;
+}
+
+std::string readable(const Setting& setting) {
+  const CommandInfo& command = *setting.command;
+  std::string text;
+  for (const double value : setting.values) {
+    if (!text.empty()) text += ",";
+    if (command.kind == ValueKind::flag) {
+      text += value != 0 ? "on" : "off";
+    } else if (command.kind == ValueKind::enumeration) {
+      const auto name = command.value_name(static_cast<std::uint32_t>(value));
+      text += name.empty() ? integer_text(value) : key_name(name);
+    } else if (is_distance(command)) {
+      text += driver_detail::decimal_text(value);
+    } else if (command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
+      text += driver_detail::decimal_text(value);
+    } else {
+      text += integer_text(value);
+    }
+  }
+  if (is_distance(command))
+    text += " m";
+  else if (command.kind == ValueKind::milliamps)
+    text += " mA";
+  else if (command.kind == ValueKind::seconds)
+    text += " s";
+  else if (command.kind == ValueKind::prf_list)
+    text += " Hz";
+  else if (command.kind == ValueKind::hex_pulses)
+    text += " pulses";
+  return text;
+}
+
+Result<DeviceConfig> read_config(Driver& driver) {
+  DeviceConfig config;
+  auto version = driver.version();
+  if (!version) return version.error();
+  config.version = *version;
+  auto units = driver.units();
+  if (!units) return units.error();
+  for (const CommandInfo* command : config_commands()) {
+    auto values = driver.get(command->mnemonic);
+    if (!values) return values.error();
+    auto setting = from_wire(*command, *values, *units);
+    if (!setting) return setting.error();
+    config.settings.push_back(std::move(*setting));
+  }
+  return config;
+}
+
+std::string config_to_toml(const DeviceConfig& config, std::string_view origin) {
+  std::ostringstream out;
+  out << "# ULS settings, saved by rangekit (the Interface Program's .uls file as TOML).\n";
+  out << "# " << origin << "\n";
+  if (!config.version.empty()) out << "# unit: " << config.version << "\n";
+  out << "# Keys are the names of `rangekit uls get`; each comment gives the mnemonic (spec §8).\n";
+  out << "# Distances are metres whatever `units` is. Load with `rangekit uls config load FILE`.\n\n";
+  out << "[settings]\n";
+  for (const Setting& setting : config.settings) {
+    const CommandInfo& command = *setting.command;
+    std::string value;
+    if (command.kind == ValueKind::flag) {
+      value = setting.values.at(0) != 0 ? "true" : "false";
+    } else if (command.kind == ValueKind::enumeration) {
+      const auto name = command.value_name(static_cast<std::uint32_t>(setting.values.at(0)));
+      value = "\"" + (name.empty() ? integer_text(setting.values.at(0)) : key_name(name)) + "\"";
+    } else if (command.kind == ValueKind::prf_list || command.kind == ValueKind::ppm_list) {
+      value = "[";
+      for (std::size_t i = 0; i < setting.values.size(); ++i)
+        value += (i == 0 ? "" : ", ") + integer_text(setting.values[i]);
+      value += "]";
+    } else if (is_distance(command) || command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
+      value = driver_detail::decimal_text(setting.values.at(0));
+      if (value.find('.') == std::string::npos) value += ".0";
+    } else {
+      value = integer_text(setting.values.at(0));
+    }
+    out << command.cli_name << " = " << value << "  " << unit_comment(command) << "\n";
+  }
+  return out.str();
+}
+
+Result<DeviceConfig> config_from_toml(std::string_view text, std::string_view file_name) {
+  toml::table root;
+  try {
+    root = toml::parse(text, file_name);
+  } catch (const toml::parse_error& error) {
+    return make_error(Errc::invalid_frame, std::string(file_name) + ":" + std::to_string(error.source().begin.line) +
+                                               ": " + std::string(error.description()));
+  }
+  const toml::table* table = root["settings"].as_table();
+  if (table == nullptr) return make_error(Errc::invalid_frame, std::string(file_name) + ": no [settings] table");
+  DeviceConfig config;
+  const auto commands = config_commands();
+  for (const auto& [key, node] : *table) {
+    const std::size_t line = node.source().begin.line;
+    const CommandInfo* command = nullptr;
+    for (const CommandInfo* candidate : commands)
+      if (candidate->cli_name == key.str()) command = candidate;
+    if (command == nullptr)
+      return toml_error(file_name, line, key.str(), "is not a ULS setting (see `rangekit uls get`)");
+    Setting setting;
+    setting.command = command;
+    if (command->kind == ValueKind::flag) {
+      auto value = node.value<bool>();
+      if (!value) return toml_error(file_name, line, key.str(), "must be true or false");
+      setting.values.push_back(*value ? 1 : 0);
+    } else if (command->kind == ValueKind::enumeration) {
+      std::optional<double> number;
+      if (auto name = node.value<std::string>()) {
+        for (const auto& entry : command->value_names)
+          if (key_name(entry.name) == *name) number = entry.value;
+      } else if (auto integer = node.value<std::int64_t>()) {
+        number = static_cast<double>(*integer);
+      }
+      if (!number)
+        return toml_error(file_name, line, key.str(),
+                          "must be one of: " + driver_detail::allowed_values(*command, Units::metres));
+      setting.values.push_back(*number);
+    } else if (const toml::array* array = node.as_array()) {
+      for (const auto& element : *array) {
+        auto integer = element.value<std::int64_t>();
+        if (!integer) return toml_error(file_name, line, key.str(), "must be a list of integers");
+        setting.values.push_back(static_cast<double>(*integer));
+      }
+    } else if (auto number = node.value<double>()) {
+      setting.values.push_back(*number);
+    } else {
+      return toml_error(file_name, line, key.str(), "must be a number");
+    }
+    // Values are checked against the table as the unit would (metres).
+    const auto wire = to_wire(setting, Units::metres);
+    std::vector<std::string_view> fields(wire.begin(), wire.end());
+    const Verdict verdict = validate_request(*command, fields, Units::metres);
+    if (!verdict.ok())
+      return toml_error(file_name, line, key.str(),
+                        "is outside the allowed values: " + driver_detail::allowed_values(*command, Units::metres));
+    config.settings.push_back(std::move(setting));
+  }
+  // Keep the order config_commands() gives (MU first).
+  DeviceConfig ordered;
+  for (const CommandInfo* command : commands)
+    for (auto& setting : config.settings)
+      if (setting.command == command) ordered.settings.push_back(std::move(setting));
+  return ordered;
+}
+
+std::vector<ConfigDifference> diff_config(const DeviceConfig& wanted, const DeviceConfig& actual) {
+  std::vector<ConfigDifference> differences;
+  for (const Setting& want : wanted.settings) {
+    for (const Setting& have : actual.settings) {
+      if (have.command != want.command) continue;
+      // Compared as the unit would send them, in metres (3 decimals).
+      if (to_wire(want, Units::metres) != to_wire(have, Units::metres))
+        differences.push_back({want.command, readable(want), readable(have)});
+    }
+  }
+  return differences;
+}
+
+Result<LoadReport> load_config(Driver& driver, const DeviceConfig& config) {
+  auto status = driver.status();
+  if (!status) return status.error();
+  const bool was_measuring = status->measuring();
+  if (was_measuring) {
+    if (auto stopped = driver.stop_measuring(); !stopped) return stopped.error();
+  }
+  LoadReport report;
+  std::vector<const Setting*> later;
+  Units units = Units::metres;
+  for (const Setting& setting : config.settings) {
+    if (setting.command->mnemonic == "MU") units = static_cast<Units>(static_cast<std::uint8_t>(setting.values.at(0)));
+  }
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<const Setting*> list;
+    if (pass == 0) {
+      for (const Setting& setting : config.settings) list.push_back(&setting);
+    } else {
+      list = later;
+    }
+    for (const Setting* setting : list) {
+      const auto wire = to_wire(*setting, setting->command->mnemonic == "MU" ? Units::metres : units);
+      const std::vector<std::string_view> fields(wire.begin(), wire.end());
+      auto sent = driver.set(setting->command->mnemonic, fields);
+      ++report.sent;
+      if (sent) continue;
+      const int code = sent.error().device_code;
+      // Order rules: PPM must exceed AW (49), the 4 mA and 20 mA ranges must differ (83).
+      if (pass == 0 &&
+          (code == error_number::ppo_not_greater_than_weight || code == error_number::invalid_current_loop_range)) {
+        later.push_back(setting);
+        continue;
+      }
+      return sent.error();
+    }
+  }
+  auto back = read_config(driver);
+  if (!back) return back.error();
+  report.mismatches = diff_config(config, *back);
+  if (was_measuring) {
+    if (auto started = driver.start_measuring(); !started) return started.error();
+  }
+  return report;
+}
+
+DeviceConfig factory_config() {
+  // U35: the emulator's factory settings, read off the §2 screenshots.
+  const std::vector<std::pair<std::string_view, std::vector<double>>> values{
+      {"MU", {1}},          {"DD", {0}},
+      {"MA", {0}},          {"PA", {0}},
+      {"CL", {0}},          {"AW", {992}},
+      {"BS", {0}},          {"BH", {128}},
+      {"CO", {1}},          {"FL", {0}},
+      {"DM", {2}},          {"AF", {3.0}},
+      {"AT", {0}},          {"LG", {0}},
+      {"MM", {1}},          {"MO", {0}},
+      {"PL", {0}},          {"PF", {2000, 2000, 2000}},
+      {"PO", {1024, 1024}}, {"AH", {10}},
+      {"AL", {0}},          {"TE", {0}},
+      {"SG", {0}},          {"TB", {0}},
+      {"TP", {0.2}},        {"TT", {static_cast<double>(rereference_pulses)}},
+      {"OF", {0}}};
+  DeviceConfig config;
+  for (const CommandInfo* command : config_commands())
+    for (const auto& [mnemonic, numbers] : values)
+      if (command->mnemonic == mnemonic) config.settings.push_back(Setting{command, numbers});
+  return config;
+}
+
+}  // namespace rangekit::uls

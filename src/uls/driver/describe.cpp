@@ -1,0 +1,79 @@
+#include "uls/driver/describe.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "rangekit/uls/errors.hpp"
+#include "rangekit/uls/formulas.hpp"
+
+namespace rangekit::uls::driver_detail {
+
+std::string decimal_text(double value) {
+  char buffer[48];
+  std::snprintf(buffer, sizeof buffer, "%.3f", value);
+  std::string text = buffer;
+  while (!text.empty() && text.back() == '0') text.pop_back();
+  if (!text.empty() && text.back() == '.') text.pop_back();
+  if (text == "-0") text = "0";
+  return text;
+}
+
+std::string allowed_values(const CommandInfo& command, Units units) {
+  if (!command.value_names.empty()) {
+    std::string text;
+    for (const ValueName& entry : command.value_names) {
+      if (!text.empty()) text += ", ";
+      text += std::to_string(entry.value) + " " + std::string(entry.name);
+    }
+    return text;
+  }
+  switch (command.kind) {
+    case ValueKind::distance:
+    case ValueKind::signed_distance:
+      return decimal_text(from_metres(command.min, units)) + ".." + decimal_text(from_metres(command.max, units)) +
+             (units == Units::feet ? " feet" : " metres");
+    case ValueKind::baud_with_port: {
+      std::string text = "port 0 or 1, baud one of";
+      for (const std::uint32_t baud : baud_choices()) text += " " + std::to_string(baud);
+      return text;
+    }
+    case ValueKind::hex_pulses:
+      return "1 to 8 hex digits (pulses = seconds x 3000)";
+    case ValueKind::address_char:
+      return "one character 0x30..0xEF ('0'..'9', 'A'..'Z', 'a'..'z', ...)";
+    case ValueKind::prf_list:
+      return "10..5000 Hz, one value (current mode) or three (averaging, binning, look down)";
+    case ValueKind::ppm_list:
+      return "1..65535 pulses, one value (current mode) or two (averaging, binning)";
+    default:
+      return decimal_text(command.min) + ".." + decimal_text(command.max) +
+             (command.unit.empty() ? "" : " " + std::string(command.unit));
+  }
+}
+
+Error device_error(int number, std::string_view context) {
+  const ErrorInfo* info = find_error(number);
+  std::string text = "device error " + std::to_string(number) + ": " +
+                     (info != nullptr ? std::string(info->explanation) : std::string("(not listed in §10)"));
+  if (info != nullptr && info->service_required) text += " (must be resolved by LTI)";
+  if (!context.empty()) text = std::string(context) + ": " + text;
+  Error error = make_error(Errc::device_error, text);
+  error.device_code = number;
+  return error;
+}
+
+Error local_refusal(const CommandInfo& command, std::string_view shown_values, int verdict_error, Units units) {
+  const std::string name = std::string(command.cli_name) + " (" + std::string(command.mnemonic) + ")";
+  if (shown_values.empty() && !command.has_get())
+    return make_error(Errc::wrong_form, name + " cannot be read, only set");
+  if (!command.has_set() && !shown_values.empty())
+    return make_error(Errc::wrong_form, name + " cannot be set, only read");
+  std::string text =
+      name + ": '" + std::string(shown_values) + "' refused before sending; allowed: " + allowed_values(command, units);
+  if (const ErrorInfo* info = find_error(verdict_error); info != nullptr && verdict_error != 1)
+    text +=
+        " (the unit would answer error " + std::to_string(verdict_error) + ", " + std::string(info->explanation) + ")";
+  return make_error(Errc::out_of_range, text);
+}
+
+}  // namespace rangekit::uls::driver_detail

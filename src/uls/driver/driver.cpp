@@ -1,0 +1,438 @@
+// The request/reply engine of the ULS driver: local validation, framing,
+// matching replies to the request in flight, and handing every other frame
+// (measurement lines, stream errors) to the measurement path.
+#include "rangekit/uls/driver.hpp"
+
+#include <array>
+
+#include "rangekit/core/text.hpp"
+#include "rangekit/uls/errors.hpp"
+#include "rangekit/uls/frame.hpp"
+#include "uls/driver/describe.hpp"
+
+namespace rangekit::uls {
+
+using namespace std::chrono_literals;
+using driver_detail::device_error;
+
+namespace {
+
+// Stream errors (U13) are never a command's answer (U60).
+bool is_stream_error(int number) {
+  return number == error_number::target_not_found || number == error_number::average_not_filled;
+}
+
+bool same_mnemonic(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (text::to_upper(a[i]) != text::to_upper(b[i])) return false;
+  return true;
+}
+
+std::string join(std::span<const std::string_view> fields) {
+  std::string text;
+  for (const auto field : fields) {
+    if (!text.empty()) text += ",";
+    text += field;
+  }
+  return text;
+}
+
+}  // namespace
+
+// Collects one binning target array `BM,i,m,...` into one list (U10).
+struct BinAssembly {
+  std::vector<TargetHit> targets;
+  // True when the array is complete; an out-of-order line drops what was collected.
+  bool add(const BinningTarget& target, bool& broken) {
+    broken = false;
+    if (target.index == 0) targets.clear();
+    if (target.index != targets.size()) {
+      targets.clear();
+      broken = true;
+      return false;
+    }
+    targets.push_back(TargetHit{target.range.metres, target.strength});
+    return targets.size() >= target.count;
+  }
+};
+
+struct Driver::Pending {
+  const CommandInfo* command = nullptr;
+  Expect expect = Expect::ok;
+  bool done = false;
+  std::optional<Error> error;
+  std::vector<std::string> values;
+  Sample* measurement = nullptr;
+  BinAssembly bins;
+};
+
+StatusInfo decode_status(std::uint8_t value) noexcept {
+  StatusInfo info;
+  info.value = value;
+  info.active = (value & status_bit::active) != 0;
+  info.laser_firing = (value & status_bit::laser_firing) != 0;
+  info.averaging_calc = (value & status_bit::averaging_calc) != 0;
+  info.binning_calc = (value & status_bit::binning_calc) != 0;
+  if (info.laser_firing)
+    info.mode = info.binning_calc ? Mode::binning : info.averaging_calc ? Mode::averaging : Mode::look_down;
+  return info;
+}
+
+Sample sample_from_reading(const Reading& reading, int address, const std::string& source) {
+  Sample sample;
+  sample.time = std::chrono::system_clock::now();
+  sample.device = "uls";
+  sample.source = source;
+  sample.address = address;
+  if (const auto* averaging = std::get_if<AveragingReading>(&reading)) {
+    sample.kind = SampleKind::uls_averaging;
+    if (averaging->range) sample.distance_m = averaging->range->metres;
+    sample.pulse_width = averaging->pulse_width_ps;
+  } else if (const auto* target = std::get_if<BinningTarget>(&reading)) {
+    sample.kind = SampleKind::uls_binning;
+    sample.targets.push_back(TargetHit{target->range.metres, target->strength});
+  } else if (const auto* look = std::get_if<LookDownReading>(&reading)) {
+    sample.kind = SampleKind::uls_look_down;
+    sample.presence = look->present;
+  } else if (const auto* event = std::get_if<TimeBetweenEvents>(&reading)) {
+    sample.kind = SampleKind::uls_look_down;
+    sample.presence = event->kind != TimeBetweenEvents::Kind::no_presence;
+    // U61: overflow keeps the wire's 0 ("more than 65535 pulses").
+    if (event->kind != TimeBetweenEvents::Kind::no_presence) sample.pulses_between_events = event->pulses;
+  } else if (const auto* error = std::get_if<MeasurementError>(&reading)) {
+    sample.kind = SampleKind::uls_error;
+    sample.device_error = error->number;
+  }
+  return sample;
+}
+
+Driver::Driver(TransportPtr transport, DriverOptions options, ReopenFunction reopen)
+    : options_(std::move(options)),
+      reopen_(std::move(reopen)),
+      transport_(std::move(transport)),
+      assembler_(&scan_frame),
+      queue_(options_.queue_capacity) {
+  if (options_.source.empty() && transport_) options_.source = transport_->name();
+}
+
+Driver::~Driver() {
+  stop_requested_ = true;
+  if (reader_.joinable()) reader_.join();
+}
+
+Address Driver::request_address() const noexcept {
+  return options_.address ? Address::unit(*options_.address) : Address::none();
+}
+
+Status Driver::set_address(std::optional<std::uint8_t> address) {
+  if (streaming_) return make_error(Errc::unsupported, "cannot change the address while streaming");
+  if (address && !Address::unit(*address).is_unit())
+    return make_error(Errc::out_of_range, "unit addresses are 0x30..0xEF (§8 RS485 Protocol)");
+  std::lock_guard request_lock(request_mutex_);
+  std::lock_guard lock(state_mutex_);
+  options_.address = address;
+  units_.reset();
+  return ok_status();
+}
+
+bool Driver::on_reader_thread() const { return std::this_thread::get_id() == reader_id_.load(); }
+
+bool Driver::connected() const {
+  std::lock_guard lock(transport_mutex_);
+  return transport_ != nullptr;
+}
+
+void Driver::replace_transport(TransportPtr transport) {
+  std::lock_guard lock(transport_mutex_);
+  transport_ = std::move(transport);
+  assembler_.clear();
+}
+
+DriverCounters Driver::counters() const {
+  std::lock_guard lock(const_cast<std::mutex&>(state_mutex_));
+  return counters_;
+}
+
+Status Driver::write_frame(Bytes bytes) {
+  std::lock_guard lock(transport_mutex_);
+  if (!transport_) return make_error(Errc::closed, options_.source + ": not connected");
+  return transport_->write_all(bytes);
+}
+
+Status Driver::pump(std::chrono::milliseconds wait) {
+  Transport* transport = nullptr;
+  {
+    std::lock_guard lock(transport_mutex_);
+    transport = transport_.get();
+  }
+  if (transport == nullptr) return make_error(Errc::closed, options_.source + ": not connected");
+  std::array<std::uint8_t, 512> buffer{};
+  auto got = transport->read_some(buffer, wait);
+  if (!got) {
+    if (got.error().code == Errc::timeout) return ok_status();
+    return got.error();
+  }
+  Bytes rest(buffer.data(), *got);
+  while (true) {
+    const std::size_t taken = assembler_.push(rest);
+    rest = rest.subspan(taken);
+    FrameAssembler::Event event;
+    while (assembler_.next(event)) {
+      if (event.kind == FrameAssembler::Event::Kind::frame) {
+        dispatch(event.frame);
+      } else if (event.reason != nullptr) {
+        {
+          std::lock_guard lock(state_mutex_);
+          counters_.rejected_bytes += event.rejected_bytes;
+          ++counters_.bad_frames;
+        }
+        if (collecting_) emit_event(StreamEventKind::bad_frame, event.reason);
+      }
+    }
+    if (rest.empty()) break;
+  }
+  return ok_status();
+}
+
+void Driver::dispatch(Bytes frame_bytes) {
+  auto parsed = parse_frame(frame_bytes);
+  if (!parsed) {
+    {
+      std::lock_guard lock(state_mutex_);
+      ++counters_.bad_frames;
+    }
+    if (collecting_) emit_event(StreamEventKind::bad_frame, parsed.error().message);
+    return;
+  }
+  const FrameView& frame = *parsed;
+  const bool ours = frame.address == request_address();
+  const bool measurement_line = frame.kind == FrameKind::time_between_events || frame.is("BM");
+  int error_number = 0;
+  if (frame.is("ER") && frame.field_count == 1) {
+    error_number = static_cast<int>(text::parse_unsigned(frame.field_slots[0], 3).value_or(0));
+  }
+  std::unique_lock lock(state_mutex_);
+  Pending* pending = (pending_ != nullptr && !pending_->done && ours) ? pending_ : nullptr;
+
+  if (measurement_line || is_stream_error(error_number)) {
+    auto decoded = decode_measurement(frame, context_);
+    if (!decoded) {
+      ++counters_.bad_frames;
+      lock.unlock();
+      if (collecting_) emit_event(StreamEventKind::bad_frame, decoded.error().message);
+      return;
+    }
+    ++counters_.measurements;
+    if (pending != nullptr && pending->expect == Expect::measurement) {
+      const int address = frame.address.addressed ? frame.address.byte : -1;
+      Sample sample = sample_from_reading(decoded->reading, address, options_.source);
+      if (const auto* target = std::get_if<BinningTarget>(&decoded->reading)) {
+        bool broken = false;
+        if (!pending->bins.add(*target, broken)) return;
+        sample.targets = pending->bins.targets;
+      }
+      *pending->measurement = std::move(sample);
+      pending->done = true;
+      lock.unlock();
+      reply_ready_.notify_all();
+      return;
+    }
+    lock.unlock();
+    handle_measurement(*decoded);
+    return;
+  }
+
+  if (pending == nullptr) {
+    ++counters_.unexpected;
+    return;
+  }
+  if (error_number != 0) {
+    pending->error = device_error(error_number, "$" + std::string(pending->command->mnemonic));
+  } else if (frame.is("OK") && frame.field_count == 0) {
+    if (pending->expect != Expect::ok) {
+      ++counters_.unexpected;
+      return;
+    }
+  } else if (pending->expect == Expect::value && same_mnemonic(frame.mnemonic, pending->command->mnemonic)) {
+    for (const auto field : frame.fields()) pending->values.emplace_back(field);
+  } else {
+    ++counters_.unexpected;
+    return;
+  }
+  ++counters_.replies;
+  pending->done = true;
+  lock.unlock();
+  reply_ready_.notify_all();
+}
+
+Status Driver::check_locally(const CommandInfo& command, std::span<const std::string_view> fields) {
+  const FormResult form = request_form(command, fields.size());
+  Units units = Units::metres;
+  const bool distance = command.kind == ValueKind::distance || command.kind == ValueKind::signed_distance;
+  if (form.verdict.ok() && form.form == RequestForm::set && distance) {
+    auto current = cached_units();
+    if (!current) return current.error();
+    units = *current;
+  }
+  Verdict verdict = form.verdict;
+  if (verdict.ok()) verdict = validate_request(command, fields, units);
+  if (verdict.ok()) return ok_status();
+  return driver_detail::local_refusal(command, join(fields), verdict.error, units);
+}
+
+Result<std::vector<std::string>> Driver::transact(const CommandInfo& command, std::span<const std::string_view> fields,
+                                                  Expect expect, int attempts, std::chrono::milliseconds timeout,
+                                                  Sample* measurement) {
+  const FormResult form = request_form(command, fields.size());
+  Result<FrameText> frame = form.form == RequestForm::action ? encode_action(request_address(), command.mnemonic)
+                            : form.form == RequestForm::get  ? encode_get(request_address(), command.mnemonic, fields)
+                                                             : encode_set(request_address(), command.mnemonic, fields);
+  if (!frame) return frame.error();
+
+  // The reader thread keeps pumping while it waits for a caller's request.
+  std::unique_lock request_lock(request_mutex_, std::defer_lock);
+  if (on_reader_thread()) {
+    while (!request_lock.try_lock()) {
+      auto pumped = pump(10ms);
+      if (!pumped) return pumped.error();
+    }
+  } else {
+    request_lock.lock();
+  }
+
+  for (int attempt = 0; attempt < attempts; ++attempt) {
+    Pending pending;
+    pending.command = &command;
+    pending.expect = expect;
+    pending.measurement = measurement;
+    {
+      std::lock_guard lock(state_mutex_);
+      pending_ = &pending;
+      if (attempt > 0) ++counters_.retries;
+    }
+    auto clear = [&] {
+      std::lock_guard lock(state_mutex_);
+      pending_ = nullptr;
+    };
+    if (auto written = write_frame(frame->bytes()); !written) {
+      clear();
+      return written.error();
+    }
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    std::optional<Error> link_error;
+    if (streaming_ && !on_reader_thread()) {
+      std::unique_lock lock(state_mutex_);
+      reply_ready_.wait_until(lock, deadline, [&] { return pending.done || !streaming_; });
+    } else {
+      while (true) {
+        {
+          std::lock_guard lock(state_mutex_);
+          if (pending.done) break;
+        }
+        const auto left =
+            std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+        if (left <= 0ms) break;
+        auto pumped = pump(std::min<std::chrono::milliseconds>(left, 50ms));
+        if (!pumped) {
+          link_error = pumped.error();
+          break;
+        }
+      }
+    }
+    clear();
+    if (pending.done) {
+      if (pending.error) return *pending.error;
+      return std::move(pending.values);
+    }
+    if (link_error) return *link_error;
+  }
+  const std::string who =
+      options_.address ? " at address '" + std::string(1, static_cast<char>(*options_.address)) + "'" : std::string();
+  return make_error(Errc::timeout, "no reply to $" + std::string(command.mnemonic) + " from " + options_.source + who +
+                                       " within " + std::to_string(timeout.count()) +
+                                       " ms (check the port, the baud rate and the address)");
+}
+
+Result<std::vector<std::string>> Driver::get(std::string_view mnemonic, std::span<const std::string_view> arguments) {
+  const CommandInfo* command = find_command(mnemonic);
+  if (command == nullptr)
+    return make_error(Errc::unknown_command, "unknown ULS command '" + std::string(mnemonic) + "'");
+  if (!command->has_get() || request_form(*command, arguments.size()).form != RequestForm::get)
+    return driver_detail::local_refusal(*command, "", 1, Units::metres);
+  if (auto checked = check_locally(*command, arguments); !checked) return checked.error();
+  if (command->mnemonic == "BM")
+    return make_error(Errc::wrong_form, "use measure() for BM: its reply is a measurement");
+  return transact(*command, arguments, Expect::value, 1 + options_.get_retries, options_.timeout);
+}
+
+Status Driver::set(std::string_view mnemonic, std::span<const std::string_view> values) {
+  const CommandInfo* command = find_command(mnemonic);
+  if (command == nullptr)
+    return make_error(Errc::unknown_command, "unknown ULS command '" + std::string(mnemonic) + "'");
+  if (!command->has_set()) return driver_detail::local_refusal(*command, join(values), 1, Units::metres);
+  if (values.empty()) return make_error(Errc::wrong_form, std::string(command->mnemonic) + ": a set needs a value");
+  if (auto checked = check_locally(*command, values); !checked) return checked.error();
+  if (command->mnemonic == "BR" && values.size() == 1)
+    return make_error(Errc::wrong_form, "BR: a set needs the port and the baud");
+  auto done = transact(*command, values, Expect::ok, 1, options_.timeout);
+  if (!done) return done.error();
+  if (command->mnemonic == "MU") {
+    std::lock_guard lock(state_mutex_);
+    units_.reset();
+  }
+  return ok_status();
+}
+
+Status Driver::set(std::string_view mnemonic, std::string_view value) {
+  const std::array<std::string_view, 1> values{value};
+  return set(mnemonic, values);
+}
+
+Status Driver::action(std::string_view mnemonic) {
+  const CommandInfo* command = find_command(mnemonic);
+  if (command == nullptr)
+    return make_error(Errc::unknown_command, "unknown ULS command '" + std::string(mnemonic) + "'");
+  if (command->access != Access::action)
+    return make_error(Errc::wrong_form, std::string(command->mnemonic) + " is not an action (GO, ST, SU)");
+  auto done = transact(*command, {}, Expect::ok, 1, options_.timeout);
+  if (!done) return done.error();
+  return ok_status();
+}
+
+Status Driver::broadcast(std::string_view mnemonic, std::span<const std::string_view> values, std::uint8_t address) {
+  const CommandInfo* command = find_command(mnemonic);
+  if (command == nullptr)
+    return make_error(Errc::unknown_command, "unknown ULS command '" + std::string(mnemonic) + "'");
+  if (address < first_broadcast_address)
+    return make_error(Errc::out_of_range, "broadcast addresses are 0xF0..0xFF (§8 RS485 Protocol)");
+  const FormResult form = request_form(*command, values.size());
+  if (form.form == RequestForm::get && command->access != Access::action && command->mnemonic != "BM")
+    return make_error(Errc::wrong_form,
+                      "a broadcast gets no reply, so it cannot read " + std::string(command->mnemonic));
+  if (auto checked = check_locally(*command, values); !checked) return checked.error();
+  const Address to = Address::broadcast(address);
+  Result<FrameText> frame =
+      values.empty() ? encode_action(to, command->mnemonic) : encode_set(to, command->mnemonic, values);
+  if (command->mnemonic == "BM") frame = encode_get(to, "BM");
+  if (!frame) return frame.error();
+  std::lock_guard request_lock(request_mutex_);
+  return write_frame(frame->bytes());
+}
+
+Result<Units> Driver::cached_units() {
+  {
+    std::lock_guard lock(state_mutex_);
+    if (units_) return *units_;
+  }
+  const CommandInfo* command = find_command("MU");
+  auto values = transact(*command, {}, Expect::value, 1 + options_.get_retries, options_.timeout);
+  if (!values) return values.error();
+  const auto units = values->size() == 1 ? to_units(text::parse_unsigned((*values)[0], 1).value_or(9)) : std::nullopt;
+  if (!units) return make_error(Errc::invalid_frame, "MU reply is not 0 or 1");
+  std::lock_guard lock(state_mutex_);
+  units_ = *units;
+  return *units;
+}
+
+}  // namespace rangekit::uls

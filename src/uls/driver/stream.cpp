@@ -1,0 +1,219 @@
+// The measurement stream of the ULS driver: a reader thread that decodes lines
+// into Samples, polls with BM when the unit does not send continuously, and
+// reopens the link after it went away (cable pulled, power cycle).
+#include <algorithm>
+
+#include "rangekit/uls/driver.hpp"
+#include "rangekit/uls/formulas.hpp"
+
+namespace rangekit::uls {
+
+using namespace std::chrono_literals;
+
+namespace {
+
+// A Transport that borrows another one: lets probe() run a Driver on a port it does not own.
+class BorrowedTransport final : public Transport {
+ public:
+  explicit BorrowedTransport(Transport& inner) : inner_(inner) {}
+  Status write_all(Bytes data) override { return inner_.write_all(data); }
+  Result<std::size_t> read_some(std::span<std::uint8_t> out, std::chrono::milliseconds timeout) override {
+    return inner_.read_some(out, timeout);
+  }
+  void close() noexcept override {}
+  [[nodiscard]] std::string name() const override { return inner_.name(); }
+
+ private:
+  Transport& inner_;
+};
+
+}  // namespace
+
+void Driver::emit_sample(Sample sample) {
+  last_measurement_ = std::chrono::steady_clock::now();
+  queue_.push(StreamItem{std::move(sample)});
+}
+
+void Driver::emit_event(StreamEventKind kind, std::string message) {
+  StreamEvent event;
+  event.time = std::chrono::system_clock::now();
+  event.kind = kind;
+  event.message = std::move(message);
+  queue_.push(StreamItem{std::move(event)});
+}
+
+void Driver::handle_measurement(const Measurement& measurement) {
+  const int address = measurement.source.addressed ? measurement.source.byte : -1;
+  if (const auto* target = std::get_if<BinningTarget>(&measurement.reading)) {
+    // U10: one sample per complete target array `BM,i,m,n,s`.
+    if (target->index == 0) partial_targets_.clear();
+    if (target->index != partial_targets_.size()) {
+      partial_targets_.clear();
+      if (collecting_) emit_event(StreamEventKind::bad_frame, "binning target array out of order; dropped");
+      return;
+    }
+    partial_targets_.push_back(TargetHit{target->range.metres, target->strength});
+    if (partial_targets_.size() < target->count) return;
+    Sample sample = sample_from_reading(measurement.reading, address, options_.source);
+    sample.targets = std::move(partial_targets_);
+    partial_targets_.clear();
+    if (collecting_) emit_sample(std::move(sample));
+    return;
+  }
+  if (collecting_) emit_sample(sample_from_reading(measurement.reading, address, options_.source));
+}
+
+Status Driver::begin_measuring(bool reconnecting) {
+  auto context = read_context();
+  if (!context) return context.error();
+  StreamMode mode = requested_mode_;
+  if (mode == StreamMode::automatic) {
+    auto continuous_on = continuous();
+    if (!continuous_on) return continuous_on.error();
+    mode = *continuous_on ? StreamMode::continuous : StreamMode::polled;
+  }
+  // The poll period is the output period PPM / PRF of the mode (§2); look down reports changes.
+  auto rates = prf();
+  if (!rates) return rates.error();
+  std::chrono::milliseconds period = 50ms;
+  if (context->mode != Mode::look_down) {
+    auto ppm = pulses_per_measurement();
+    if (!ppm) return ppm.error();
+    const std::size_t index = context->mode == Mode::averaging ? 0 : 1;
+    const double seconds = output_period_s((*ppm)[index], (*rates)[index]);
+    period = std::chrono::milliseconds(static_cast<std::int64_t>(seconds * 1000.0));
+  }
+  poll_period_ = std::clamp<std::chrono::milliseconds>(period, 5ms, 10000ms);
+  partial_targets_.clear();
+  active_mode_ = mode;
+  // Announced before GO so the event comes ahead of the first new sample.
+  if (reconnecting) emit_event(StreamEventKind::reconnected, options_.source + ": link back, measuring again");
+  if (auto started = start_measuring(); !started) return started;
+  last_measurement_ = std::chrono::steady_clock::now();
+  return ok_status();
+}
+
+Status Driver::start_stream(StreamMode mode) {
+  if (streaming_ || reader_.joinable()) return make_error(Errc::unsupported, "the stream is already running");
+  requested_mode_ = mode;
+  stop_requested_ = false;
+  finished_ = false;
+  collecting_ = true;  // lines that follow the GO belong to the stream
+  if (auto begun = begin_measuring(false); !begun) {
+    collecting_ = false;
+    return begun;
+  }
+  streaming_ = true;
+  emit_event(StreamEventKind::connected, options_.source + ": measuring, " +
+                                             (active_mode_ == StreamMode::polled ? "polled with BM" : "continuous"));
+  reader_ = std::thread([this] { reader_loop(); });
+  return ok_status();
+}
+
+void Driver::stop_stream(bool stop_measuring) {
+  stop_requested_ = true;
+  if (reader_.joinable()) reader_.join();
+  streaming_ = false;
+  collecting_ = false;
+  reply_ready_.notify_all();
+  if (stop_measuring && connected()) (void)action("ST");
+}
+
+std::optional<StreamItem> Driver::next(std::chrono::milliseconds timeout) { return queue_.pop(timeout); }
+bool Driver::finished() const { return finished_.load() && queue_.size() == 0; }
+void Driver::stop() { stop_requested_ = true; }
+std::uint64_t Driver::lost() const { return queue_.dropped(); }
+
+bool Driver::reconnect() {
+  const auto began = std::chrono::steady_clock::now();
+  while (!stop_requested_) {
+    if (options_.give_up_after && std::chrono::steady_clock::now() - began > *options_.give_up_after) return false;
+    // Wait in small steps so stop() is honoured quickly.
+    const auto until = std::chrono::steady_clock::now() + options_.reconnect_interval;
+    while (!stop_requested_ && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(10ms);
+    if (stop_requested_) return false;
+    auto reopened = reopen_();
+    if (!reopened) continue;
+    replace_transport(std::move(*reopened));
+    if (auto begun = begin_measuring(true); !begun) {
+      // The port is back but the unit does not answer yet (still powering up).
+      std::lock_guard lock(transport_mutex_);
+      transport_.reset();
+      continue;
+    }
+    return true;
+  }
+  return false;
+}
+
+void Driver::reader_loop() {
+  reader_id_ = std::this_thread::get_id();
+  auto next_poll = std::chrono::steady_clock::now();
+  while (!stop_requested_) {
+    Status step = ok_status();
+    const auto now = std::chrono::steady_clock::now();
+    if (active_mode_ == StreamMode::polled && now >= next_poll) {
+      next_poll = now + poll_period_;
+      Sample sample;
+      auto done = transact(*find_command("BM"), {}, Expect::measurement, 1, options_.measure_timeout, &sample);
+      if (done) {
+        emit_sample(std::move(sample));
+      } else if (done.error().code == Errc::closed || done.error().code == Errc::io) {
+        step = done.error();
+      } else if (done.error().code == Errc::device_error) {
+        emit_event(StreamEventKind::device_error, done.error().message);
+      }
+    } else {
+      const auto wait =
+          active_mode_ == StreamMode::polled
+              ? std::clamp(std::chrono::duration_cast<std::chrono::milliseconds>(next_poll - now), 1ms, 50ms)
+              : 50ms;
+      step = pump(wait);
+      // No continuous lines on this port (MO sends them elsewhere): poll instead (U62).
+      if (step && requested_mode_ == StreamMode::automatic && active_mode_ == StreamMode::continuous &&
+          std::chrono::steady_clock::now() - last_measurement_ >
+              std::max<std::chrono::milliseconds>(3 * poll_period_, 1500ms)) {
+        active_mode_ = StreamMode::polled;
+      }
+    }
+    if (step) continue;
+    // The link went away (U63).
+    emit_event(StreamEventKind::disconnected, step.error().message);
+    {
+      std::lock_guard lock(transport_mutex_);
+      if (transport_) transport_->close();
+      transport_.reset();
+    }
+    assembler_.clear();
+    partial_targets_.clear();
+    if (!reopen_ || !reconnect()) break;
+    next_poll = std::chrono::steady_clock::now();
+  }
+  reader_id_ = std::thread::id();
+  streaming_ = false;  // callers pump for themselves again
+  reply_ready_.notify_all();
+  finished_ = true;
+  queue_.close();
+}
+
+Result<ProbeResult> probe(Transport& transport, std::optional<std::uint8_t> address,
+                          std::chrono::milliseconds timeout) {
+  DriverOptions options;
+  options.address = address;
+  options.timeout = timeout;
+  options.get_retries = 0;
+  Driver driver(std::make_unique<BorrowedTransport>(transport), options);
+  // ID and US only read (§8): the unit is left as it was.
+  auto version = driver.version();
+  if (!version) return version.error();
+  ProbeResult result;
+  result.addressed = address.has_value();
+  result.address = address;
+  result.version = *version;
+  auto status = driver.status();
+  if (!status) return status.error();
+  result.status = *status;
+  return result;
+}
+
+}  // namespace rangekit::uls

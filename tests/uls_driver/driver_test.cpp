@@ -1,0 +1,446 @@
+// The ULS driver against scripted device bytes on the in-memory loopback pair:
+// reply matching, local validation, device errors, timeouts and retries,
+// malformed and half frames, the stream and reconnect (issue 6).
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "rangekit/uls/driver.hpp"
+#include "rangekit/uls/errors.hpp"
+#include "uls_driver/scripted_device.hpp"
+
+namespace rangekit::uls {
+namespace {
+
+using namespace std::chrono_literals;
+using testing::ScriptedDevice;
+
+// A small settings table answering gets like a unit in averaging, metres (§8).
+std::string typical_reply(const std::string& request) {
+  static const std::map<std::string, std::string> gets{{"$MM", "$MM,1\r"},        {"$DM", "$DM,2\r"},
+                                                       {"$MU", "$MU,1\r"},        {"$TB", "$TB,0\r"},
+                                                       {"$CO", "$CO,1\r"},        {"$PF", "$PF,2000,2000,2000\r"},
+                                                       {"$PO", "$PO,100,1024\r"}, {"$ID", "$ID,ULS 1.0,2026\r"},
+                                                       {"$US", "$US,7\r"}};
+  if (auto found = gets.find(request); found != gets.end()) return found->second;
+  if (request == "$GO" || request == "$ST") return "$OK\r";
+  return "";
+}
+
+struct Rig {
+  std::unique_ptr<Driver> driver;
+  std::unique_ptr<ScriptedDevice> device;
+  explicit Rig(ScriptedDevice::Handler handler, DriverOptions options = {}, ReopenFunction reopen = {}) {
+    auto pair = make_loopback_pair("host", "device");
+    options.timeout = options.timeout == 1000ms ? 300ms : options.timeout;
+    driver = std::make_unique<Driver>(std::move(pair.a), options, std::move(reopen));
+    device = std::make_unique<ScriptedDevice>(std::move(pair.b), std::move(handler));
+  }
+};
+
+TEST(UlsDriver, GetSkipsMeasurementLinesThatArriveBeforeTheReply) {
+  Rig rig([](const std::string& request) -> std::string {
+    if (request == "$MM") return "$BM,12.345,1000\r$MM,2\r";
+    return "";
+  });
+  auto mode = rig.driver->mode();
+  ASSERT_TRUE(mode) << mode.error().message;
+  EXPECT_EQ(*mode, Mode::binning);
+  // Not a reply: handed to the measurement path (which, with no context read, cannot decode it).
+  const auto counters = rig.driver->counters();
+  EXPECT_EQ(counters.measurements + counters.bad_frames, 1U);
+  EXPECT_EQ(counters.replies, 1U);
+}
+
+TEST(UlsDriver, ValuesOutsideTheTableAreRefusedBeforeAnythingIsSent) {
+  Rig rig([](const std::string&) { return std::string("$OK\r"); });
+  auto prf = rig.driver->set_prf(6000);
+  ASSERT_FALSE(prf);
+  EXPECT_EQ(prf.error().code, Errc::out_of_range);
+  EXPECT_NE(prf.error().message.find("10..5000"), std::string::npos) << prf.error().message;
+  EXPECT_NE(prf.error().message.find("32"), std::string::npos) << prf.error().message;  // the unit's error number
+  auto weight = rig.driver->set("AW", "0");
+  ASSERT_FALSE(weight);
+  EXPECT_EQ(weight.error().code, Errc::out_of_range);
+  auto unknown = rig.driver->set("QQ", "1");
+  ASSERT_FALSE(unknown);
+  EXPECT_EQ(unknown.error().code, Errc::unknown_command);
+  auto get_only = rig.driver->set("US", "1");
+  ASSERT_FALSE(get_only);
+  EXPECT_EQ(get_only.error().code, Errc::wrong_form);
+  auto set_only = rig.driver->get("PT");
+  ASSERT_FALSE(set_only);
+  EXPECT_EQ(set_only.error().code, Errc::wrong_form);
+  // Then a valid set goes out: the device saw exactly that one.
+  ASSERT_TRUE(rig.driver->set_prf(2000));
+  ASSERT_TRUE(rig.device->wait_for_requests(1));
+  EXPECT_EQ(rig.device->requests(), std::vector<std::string>{"$PF,2000"});
+}
+
+TEST(UlsDriver, DeviceErrorsCarryTheNumberAndTheSection10Text) {
+  Rig rig([](const std::string& request) -> std::string {
+    if (request == "$MM,2") return "$ER,31\r";
+    return "";
+  });
+  auto set = rig.driver->set_mode(Mode::binning);
+  ASSERT_FALSE(set);
+  EXPECT_EQ(set.error().code, Errc::device_error);
+  EXPECT_EQ(set.error().device_code, 31);
+  EXPECT_NE(set.error().message.find(std::string(find_error(31)->explanation)), std::string::npos)
+      << set.error().message;
+}
+
+TEST(UlsDriver, StreamErrorsAreNotTakenForTheReplyOfASet) {
+  // docs/conformance.md U60: $ER,4 and $ER,5 are measurement errors (U13), never an answer.
+  Rig rig([](const std::string& request) -> std::string {
+    if (request == "$PL,1") return "$ER,4\r$ER,5\r$OK\r";
+    return "";
+  });
+  ASSERT_TRUE(rig.driver->set_power(PowerLevel::medium));
+  EXPECT_EQ(rig.driver->counters().measurements, 2U);
+}
+
+TEST(UlsDriver, NoReplyTimesOutAndGetsAreSentTwice) {
+  Rig rig([](const std::string&) { return std::string(); });
+  auto mode = rig.driver->mode();
+  ASSERT_FALSE(mode);
+  EXPECT_EQ(mode.error().code, Errc::timeout);
+  EXPECT_NE(mode.error().message.find("baud"), std::string::npos) << mode.error().message;
+  ASSERT_TRUE(rig.device->wait_for_requests(2));
+  EXPECT_EQ(rig.device->requests(), (std::vector<std::string>{"$MM", "$MM"}));
+  auto set = rig.driver->set_mode(Mode::averaging);
+  ASSERT_FALSE(set);
+  EXPECT_EQ(set.error().code, Errc::timeout);
+  EXPECT_EQ(rig.device->requests().size(), 3U);  // sets are not repeated
+  EXPECT_EQ(rig.driver->counters().retries, 1U);
+}
+
+TEST(UlsDriver, RetryAnswersWhenTheFirstReplyWasLost) {
+  int asked = 0;
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request != "$US") return "";
+    return ++asked == 1 ? "" : "$US,11\r";
+  });
+  auto status = rig.driver->status();
+  ASSERT_TRUE(status) << status.error().message;
+  EXPECT_TRUE(status->binning_calc);
+  EXPECT_TRUE(status->laser_firing);
+  EXPECT_EQ(status->mode, Mode::binning);
+}
+
+TEST(UlsDriver, HalfFramesAreJoined) {
+  ScriptedDevice* device = nullptr;
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request == "$MU") {
+      device->send("$M");
+      device->send("U,");
+      return "0\r";
+    }
+    return "";
+  });
+  device = rig.device.get();
+  auto units = rig.driver->units();
+  ASSERT_TRUE(units) << units.error().message;
+  EXPECT_EQ(*units, Units::feet);
+}
+
+// Every framer rejection of the codec's corpus (tests/uls/malformed_test.cpp)
+// before the reply: the bad bytes are counted, the reply still matches.
+TEST(UlsDriver, MalformedBytesBeforeTheReplyAreCountedAndSkipped) {
+  const std::vector<std::string> corpus{"#\r",
+                                        "$\r",
+                                        "#Z\r",
+                                        "$,1\r",
+                                        "$MM,1\n",
+                                        "$MM,1\n\r",
+                                        "$MM,\x7F\r",
+                                        "$MM,\xC0\r",
+                                        "#/MM,1\r",
+                                        "#\x01MM,1\r",
+                                        "#,MM\r",
+                                        "$M\r",
+                                        "$MMMMM,1\r",
+                                        "$M1,1\r",
+                                        "$M M\r",
+                                        "$MM,\r",
+                                        "$BR,,9600\r",
+                                        "$PF,1,2,\r",
+                                        "$BM,1,2,3,4,5,6,7,8,9\r",
+                                        "$0BG8\r",
+                                        "$0bb8\r",
+                                        "$00\r",
+                                        "#Z12345\r",
+                                        "xx",
+                                        "$BM,1.2$BM,1.3\r",
+                                        "$BM,abc.def,5\r",
+                                        "$BM,0,0,1.000,5\r"};
+  for (const auto& garbage : corpus) {
+    Rig rig([&](const std::string& request) -> std::string {
+      if (request == "$DM") return garbage + "$DM,3\r";
+      return "";
+    });
+    auto display = rig.driver->display_mode();
+    ASSERT_TRUE(display) << "after '" << garbage << "': " << display.error().message;
+    EXPECT_EQ(*display, DisplayMode::intensity) << garbage;
+    const auto counters = rig.driver->counters();
+    EXPECT_GE(counters.bad_frames + counters.measurements + counters.unexpected, 1U) << garbage;
+  }
+}
+
+TEST(UlsDriver, AReplyWithTheWrongShapeIsAnErrorNotACrash) {
+  Rig rig([](const std::string& request) -> std::string {
+    if (request == "$PF") return "$PF,1000,1000\r";
+    if (request == "$MM") return "$MM\r";
+    return "";
+  });
+  auto prf = rig.driver->prf();
+  ASSERT_FALSE(prf);
+  EXPECT_EQ(prf.error().code, Errc::invalid_frame);
+  auto mode = rig.driver->mode();
+  ASSERT_FALSE(mode);
+}
+
+TEST(UlsDriver, AddressedProtocolFramesAndMatchesByAddress) {
+  DriverOptions options;
+  options.address = 'A';
+  Rig rig(
+      [](const std::string& request) -> std::string {
+        // Another unit's reply first (must not be taken), then ours.
+        if (request == "#AMM") return "#BMM,3\r#AMM,2\r";
+        if (request == "#AMM,3") return "#AOK\r";
+        return "";
+      },
+      options);
+  auto mode = rig.driver->mode();
+  ASSERT_TRUE(mode) << mode.error().message;
+  EXPECT_EQ(*mode, Mode::binning);
+  EXPECT_TRUE(rig.driver->set_mode(Mode::look_down));
+  EXPECT_EQ(rig.driver->counters().unexpected, 1U);
+}
+
+TEST(UlsDriver, DistancesAreMetresWhateverTheUnitsSetting) {
+  Rig rig([](const std::string& request) -> std::string {
+    if (request == "$MU") return "$MU,0\r";      // feet
+    if (request == "$SG") return "$SG,10.00\r";  // 10 ft
+    if (request == "$SG,32.81") return "$OK\r";  // 10 m in feet, 2 decimals (§9)
+    return "";
+  });
+  auto gate = rig.driver->short_gate_m();
+  ASSERT_TRUE(gate) << gate.error().message;
+  EXPECT_NEAR(*gate, 3.048, 1e-9);
+  ASSERT_TRUE(rig.driver->set_short_gate_m(10.0));
+  // 1700 m is the top of the range in any units: 1701 m is refused locally in feet too.
+  auto far = rig.driver->set_short_gate_m(1701.0);
+  ASSERT_FALSE(far);
+  EXPECT_EQ(far.error().code, Errc::out_of_range);
+  EXPECT_NE(far.error().message.find("feet"), std::string::npos) << far.error().message;
+}
+
+TEST(UlsDriver, MeasureCollectsAWholeBinningArray) {
+  Rig rig([](const std::string& request) -> std::string {
+    if (request == "$MM") return "$MM,2\r";
+    if (request == "$BM") return "$BM,0,2,10.000,300\r$BM,1,2,25.500,40\r";
+    return typical_reply(request);
+  });
+  auto sample = rig.driver->measure();
+  ASSERT_TRUE(sample) << sample.error().message;
+  EXPECT_EQ(sample->kind, SampleKind::uls_binning);
+  ASSERT_EQ(sample->targets.size(), 2U);
+  EXPECT_DOUBLE_EQ(sample->targets[1].distance_m, 25.5);
+  EXPECT_EQ(sample->targets[0].strength, 300U);
+  EXPECT_EQ(sample->device, "uls");
+}
+
+std::vector<StreamItem> take(Driver& driver, std::size_t samples) {
+  std::vector<StreamItem> items;
+  std::size_t seen = 0;
+  const auto until = std::chrono::steady_clock::now() + 10s;
+  while (seen < samples && std::chrono::steady_clock::now() < until) {
+    auto item = driver.next(100ms);
+    if (!item) continue;
+    if (std::holds_alternative<Sample>(*item)) ++seen;
+    items.push_back(std::move(*item));
+  }
+  return items;
+}
+
+std::vector<Sample> samples_of(const std::vector<StreamItem>& items) {
+  std::vector<Sample> samples;
+  for (const auto& item : items)
+    if (const auto* sample = std::get_if<Sample>(&item)) samples.push_back(*sample);
+  return samples;
+}
+
+TEST(UlsDriver, StreamDecodesAveragingLinesAndErrors) {
+  ScriptedDevice* device = nullptr;
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request == "$GO") {
+      device->send("$OK\r$BM,12.500,2100\r$ER,4\r$BM,13.000,2200\r");
+      return "";
+    }
+    return typical_reply(request);
+  });
+  device = rig.device.get();
+  ASSERT_TRUE(rig.driver->start_stream());
+  const auto samples = samples_of(take(*rig.driver, 3));
+  ASSERT_EQ(samples.size(), 3U);
+  EXPECT_EQ(samples[0].kind, SampleKind::uls_averaging);
+  EXPECT_DOUBLE_EQ(*samples[0].distance_m, 12.5);
+  EXPECT_EQ(*samples[0].pulse_width, 2100U);
+  EXPECT_EQ(samples[1].kind, SampleKind::uls_error);
+  EXPECT_EQ(*samples[1].device_error, 4);
+  EXPECT_DOUBLE_EQ(*samples[2].distance_m, 13.0);
+  // A get while streaming: the reader hands the reply over.
+  auto version = rig.driver->version();
+  ASSERT_TRUE(version) << version.error().message;
+  EXPECT_EQ(*version, "ULS 1.0,2026");
+  rig.driver->stop_stream();
+  EXPECT_EQ(rig.device->requests().back(), "$ST");
+}
+
+TEST(UlsDriver, StreamMakesOneSamplePerBinningArrayAndReadsLookDown) {
+  ScriptedDevice* device = nullptr;
+  std::string mode = "$MM,2\r";
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request == "$MM") return mode;
+    if (request == "$TB") return mode == "$MM,3\r" ? "$TB,1\r" : "$TB,0\r";
+    if (request == "$GO") {
+      device->send(mode == "$MM,2\r" ? "$OK\r$BM,0,3,1.000,9\r$BM,1,3,2.000,8\r$BM,2,3,3.000,7\r$BM,0,1,4.000,6\r"
+                                     : "$OK\r$0\r$0BB8\r$0000\r");
+      return "";
+    }
+    return typical_reply(request);
+  });
+  device = rig.device.get();
+  ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
+  auto samples = samples_of(take(*rig.driver, 2));
+  ASSERT_EQ(samples.size(), 2U);
+  ASSERT_EQ(samples[0].targets.size(), 3U);
+  EXPECT_DOUBLE_EQ(samples[0].targets[2].distance_m, 3.0);
+  ASSERT_EQ(samples[1].targets.size(), 1U);
+  rig.driver->stop_stream();
+
+  // Look down with time between events (§8, U12): $0 no presence, $0BB8 = 3000 pulses, $0000 overflow.
+  mode = "$MM,3\r";
+  ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
+  samples = samples_of(take(*rig.driver, 3));
+  ASSERT_EQ(samples.size(), 3U);
+  EXPECT_EQ(samples[0].presence, false);
+  EXPECT_EQ(samples[1].presence, true);
+  EXPECT_EQ(samples[1].pulses_between_events, 3000U);
+  // docs/conformance.md U61: overflow keeps the wire's 0.
+  EXPECT_EQ(samples[2].pulses_between_events, 0U);
+  rig.driver->stop_stream();
+}
+
+TEST(UlsDriver, PolledStreamAsksWithBm) {
+  int polls = 0;
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request == "$CO") return "$CO,0\r";
+    if (request == "$BM") return "$BM,7.000," + std::to_string(++polls) + "\r";
+    return typical_reply(request);
+  });
+  ASSERT_TRUE(rig.driver->start_stream());
+  EXPECT_EQ(rig.driver->active_stream_mode(), StreamMode::polled);
+  const auto samples = samples_of(take(*rig.driver, 3));
+  ASSERT_EQ(samples.size(), 3U);
+  EXPECT_EQ(*samples[2].pulse_width, 3U);
+  rig.driver->stop_stream();
+}
+
+TEST(UlsDriver, MidFrameDisconnectGivesAnEventAndTheStreamResumesOnReopen) {
+  // docs/conformance.md U63
+  std::mutex mutex;
+  std::vector<std::unique_ptr<ScriptedDevice>> devices;
+  auto handler = [&](ScriptedDevice** self) {
+    return [&, self](const std::string& request) -> std::string {
+      if (request == "$GO") {
+        (*self)->send("$OK\r$BM,1.000,5\r$BM,2.0");  // the cable goes mid-frame
+        return "";
+      }
+      return typical_reply(request);
+    };
+  };
+  ScriptedDevice* first = nullptr;
+  ScriptedDevice* second = nullptr;
+  auto pair = make_loopback_pair("host", "device");
+  DriverOptions options;
+  options.timeout = 500ms;
+  options.reconnect_interval = 20ms;
+  ReopenFunction reopen = [&]() -> Result<TransportPtr> {
+    std::lock_guard lock(mutex);
+    auto again = make_loopback_pair("host", "device");
+    devices.push_back(std::make_unique<ScriptedDevice>(std::move(again.b), handler(&second)));
+    second = devices.back().get();
+    return std::move(again.a);
+  };
+  Driver driver(std::move(pair.a), options, reopen);
+  {
+    std::lock_guard lock(mutex);
+    devices.push_back(std::make_unique<ScriptedDevice>(std::move(pair.b), handler(&first)));
+    first = devices.back().get();
+  }
+  ASSERT_TRUE(driver.start_stream(StreamMode::continuous));
+  auto items = take(driver, 1);
+  ASSERT_EQ(samples_of(items).size(), 1U);
+  first->unplug();
+  // Disconnected, reconnected, then the second device's first sample.
+  items = take(driver, 1);
+  std::vector<StreamEventKind> kinds;
+  for (const auto& item : items)
+    if (const auto* event = std::get_if<StreamEvent>(&item)) kinds.push_back(event->kind);
+  ASSERT_GE(kinds.size(), 2U);
+  EXPECT_NE(std::find(kinds.begin(), kinds.end(), StreamEventKind::disconnected), kinds.end());
+  EXPECT_NE(std::find(kinds.begin(), kinds.end(), StreamEventKind::reconnected), kinds.end());
+  const auto samples = samples_of(items);
+  ASSERT_EQ(samples.size(), 1U);
+  EXPECT_DOUBLE_EQ(*samples[0].distance_m, 1.0);  // not the half frame "$BM,2.0"
+  driver.stop_stream(false);
+  EXPECT_FALSE(driver.streaming());
+}
+
+TEST(UlsDriver, WithoutReopenTheStreamFinishesOnDisconnect) {
+  ScriptedDevice* device = nullptr;
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request == "$GO") {
+      device->send("$OK\r$BM,1.000,5\r");
+      return "";
+    }
+    return typical_reply(request);
+  });
+  device = rig.device.get();
+  ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
+  ASSERT_EQ(samples_of(take(*rig.driver, 1)).size(), 1U);
+  rig.device->unplug();
+  const auto until = std::chrono::steady_clock::now() + 10s;
+  while (!rig.driver->finished() && std::chrono::steady_clock::now() < until) (void)rig.driver->next(50ms);
+  EXPECT_TRUE(rig.driver->finished());
+  rig.driver->stop_stream(false);
+}
+
+TEST(UlsDriver, BroadcastSendsAndWaitsForNothing) {
+  Rig rig([](const std::string&) { return std::string(); });
+  ASSERT_TRUE(rig.driver->broadcast("GO"));
+  const std::array<std::string_view, 1> on{"1"};
+  ASSERT_TRUE(rig.driver->broadcast("PT", on, 0xF3));
+  ASSERT_TRUE(rig.device->wait_for_requests(2));
+  EXPECT_EQ(rig.device->requests()[0], "#\xF0GO");
+  EXPECT_EQ(rig.device->requests()[1], "#\xF3PT,1");
+  EXPECT_FALSE(rig.driver->broadcast("MM"));  // a read cannot be broadcast
+}
+
+TEST(UlsDriver, ProbeReadsIdAndStatusOnly) {
+  auto pair = make_loopback_pair("host", "device");
+  ScriptedDevice device(std::move(pair.b), typical_reply);
+  auto found = probe(*pair.a);
+  ASSERT_TRUE(found) << found.error().message;
+  EXPECT_EQ(found->version, "ULS 1.0,2026");
+  EXPECT_EQ(found->status.value, 7);
+  EXPECT_EQ(device.requests(), (std::vector<std::string>{"$ID", "$US"}));
+  auto none = probe(*pair.a, std::uint8_t{'Q'}, 100ms);
+  ASSERT_FALSE(none);
+  EXPECT_EQ(none.error().code, Errc::timeout);
+}
+
+}  // namespace
+}  // namespace rangekit::uls
