@@ -37,7 +37,7 @@ void add_common_sim_options(CLI::App& command, SimCommonOptions& options) {
 }
 
 int run_emulator(std::vector<LineConfig> lines, const SimCommonOptions& options, const std::string& title,
-                 ControlSocket::Handler extension) {
+                 EmulatorRuntime::ControlExtension extension) {
   if (options.virtual_clock && options.control.empty()) {
     fmt::print(stderr, "rangekit sim: --virtual-clock needs --control (time only moves on request)\n");
     return exit_usage;

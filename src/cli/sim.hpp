@@ -26,7 +26,7 @@ void add_common_sim_options(CLI::App& command, SimCommonOptions& options);
 // path), so scripts and tests can wait for it instead of sleeping. Device
 // commands on the control socket go to `extension`.
 int run_emulator(std::vector<LineConfig> lines, const SimCommonOptions& options, const std::string& title,
-                 ControlSocket::Handler extension);
+                 EmulatorRuntime::ControlExtension extension);
 
 void add_sim_command(CLI::App& app, int& exit_code);
 // Each family registers its own subcommand of `sim` (src/cli/sim_uls.cpp, sim_ls5.cpp).

@@ -143,7 +143,7 @@ int run(const Ls5SimOptions& options, const SimCommonOptions& common) {
   std::string title = "rangekit sim ls5";
   for (const auto& sensor : sensors) title += " [" + sensor->label() + "]";
   return run_emulator({line}, common, title,
-                      [&sensors](const nlohmann::json& request) { return route(sensors, request); });
+                      [&sensors](const nlohmann::json& request, Nanos /*now*/) { return route(sensors, request); });
 }
 
 }  // namespace

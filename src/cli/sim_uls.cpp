@@ -44,10 +44,10 @@ std::optional<std::uint8_t> parse_address(const std::string& text, bool& unassig
 }
 
 // Device commands of the control socket, routed by "device": index or address character.
-nlohmann::json handle_device_command(const std::vector<std::unique_ptr<Firmware>>& units,
-                                     const nlohmann::json& request) {
-  static constexpr std::array<std::string_view, 5> commands{"outputs", "set_scene", "move_target", "fault",
-                                                            "power_cycle"};
+nlohmann::json handle_device_command(const std::vector<std::unique_ptr<Firmware>>& units, const nlohmann::json& request,
+                                     Nanos now) {
+  static constexpr std::array<std::string_view, 6> commands{"outputs", "set_scene",       "move_target",
+                                                            "fault",   "min_pulse_width", "power_cycle"};
   const std::string command = request.value("cmd", "");
   if (std::find(commands.begin(), commands.end(), command) == commands.end()) return nullptr;
   std::vector<Firmware*> chosen;
@@ -70,9 +70,10 @@ nlohmann::json handle_device_command(const std::vector<std::unique_ptr<Firmware>
   } else {
     for (const auto& unit : units) chosen.push_back(unit.get());
   }
-  if (chosen.size() == 1) return chosen.front()->control(request, chosen.front()->last_time());
+  // Each unit acts at the runtime's present (`now`), not at the last time it ran.
+  if (chosen.size() == 1) return chosen.front()->control(request, now);
   nlohmann::json replies = nlohmann::json::array();
-  for (auto* unit : chosen) replies.push_back(unit->control(request, unit->last_time()));
+  for (auto* unit : chosen) replies.push_back(unit->control(request, now));
   return {{"ok", true}, {"devices", replies}};
 }
 
@@ -149,8 +150,9 @@ int run(const SimUlsOptions& options) {
                                link(options.config_port),
                                {LineAttachment{units[0].get(), uls::emulator::configuration_port}}});
   }
-  return run_emulator(std::move(lines), options.common, "rangekit sim uls",
-                      [&units](const nlohmann::json& request) { return handle_device_command(units, request); });
+  return run_emulator(
+      std::move(lines), options.common, "rangekit sim uls",
+      [&units](const nlohmann::json& request, Nanos now) { return handle_device_command(units, request, now); });
 }
 
 }  // namespace

@@ -226,7 +226,7 @@ nlohmann::json EmulatorRuntime::handle_control(const nlohmann::json& request) {
     return {{"ok", true}};
   }
   if (extension_) {
-    nlohmann::json reply = extension_(request);
+    nlohmann::json reply = extension_(request, now());
     if (!reply.is_null()) return reply;
   }
   return {{"error", "unknown command '" + command + "' (runtime: status, advance, noise, shutdown)"}};

@@ -156,6 +156,38 @@ TEST(EmulatorRuntime, ControlSocketStatusAdvanceAndErrors) {
   EXPECT_FALSE(std::filesystem::exists(path));
 }
 
+// docs/conformance.md U47
+TEST(EmulatorRuntime, ControlExtensionActsAtTheRuntimesPresent) {
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("rangekit-ctl-now-" + std::to_string(::getpid()))).string();
+  std::filesystem::remove(path);
+  EchoDevice echo(115200);
+  auto rig = make_rig({&echo}, 115200, path);
+  std::vector<Nanos> seen;
+  rig.runtime->set_control_extension([&seen](const nlohmann::json& request, Nanos now) -> nlohmann::json {
+    if (request.value("cmd", "") != "when") return nullptr;  // not ours: the runtime answers
+    seen.push_back(now);
+    return {{"ok", true}, {"time_ns", now.count()}};
+  });
+  auto client = ControlClient::connect(path);
+  ASSERT_TRUE(client) << client.error().message;
+  std::atomic<bool> stop{false};
+  std::thread loop([&] { (void)rig.runtime->run(stop); });
+  auto first = client->request({{"cmd", "when"}});
+  ASSERT_TRUE(first);
+  EXPECT_EQ((*first)["time_ns"], 0);
+  ASSERT_TRUE(client->request({{"cmd", "advance"}, {"seconds", 2.25}}));
+  auto second = client->request({{"cmd", "when"}});
+  ASSERT_TRUE(second);
+  EXPECT_EQ((*second)["time_ns"], 2'250'000'000LL);  // the clock's time, not the devices' last run
+  auto other = client->request({{"cmd", "warp"}});
+  ASSERT_TRUE(other);
+  EXPECT_NE((*other)["error"].get<std::string>().find("unknown command 'warp'"), std::string::npos);
+  stop = true;
+  loop.join();
+  EXPECT_EQ(seen.size(), 2U);
+}
+
 TEST(EmulatorRuntime, SymlinkAndControlPathsAreCheckedUpFront) {
   const auto link = std::filesystem::temp_directory_path() / ("rangekit-link-" + std::to_string(::getpid()));
   std::filesystem::remove(link);

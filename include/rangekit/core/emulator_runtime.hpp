@@ -11,6 +11,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <random>
@@ -70,8 +71,11 @@ class EmulatorRuntime {
   // Bytes thrown away because no host was reading (pty buffer full).
   [[nodiscard]] std::uint64_t dropped_output_bytes() const noexcept { return dropped_output_; }
   // Extra control commands of the program hosting the runtime ("device" lookup by
-  // label etc.); tried before the built-in ones return "unknown command".
-  void set_control_extension(ControlSocket::Handler extension) { extension_ = std::move(extension); }
+  // label etc.); tried before the built-in ones return "unknown command". `now` is
+  // the runtime's clock when the request is served, so a device acts at that moment
+  // rather than at the last time it ran. A null reply means "not mine".
+  using ControlExtension = std::function<nlohmann::json(const nlohmann::json& request, Nanos now)>;
+  void set_control_extension(ControlExtension extension) { extension_ = std::move(extension); }
 
  private:
   struct Line {
@@ -94,7 +98,7 @@ class EmulatorRuntime {
   std::unique_ptr<VirtualClock> virtual_clock_;
   std::unique_ptr<ScaledSteadyClock> real_clock_;
   std::unique_ptr<ControlSocket> control_;
-  ControlSocket::Handler extension_;
+  ControlExtension extension_;
   std::mt19937 random_;
   std::uint64_t dropped_output_ = 0;
   bool shutdown_requested_ = false;
