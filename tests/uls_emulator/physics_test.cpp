@@ -40,6 +40,15 @@ std::vector<double> averaging_ranges(Unit& unit, std::size_t count) {
   return ranges;
 }
 
+// The range of a range-only averaging line ("$BM,25.001" or "#QBM,25.001"), -1 if none.
+double metres_of(const std::string& line) {
+  const MeasurementContext context{Mode::averaging, DisplayMode::range, Units::metres, false};
+  auto m = decode_measurement(as_bytes(line), context);
+  if (!m) return -1;
+  const auto* reading = std::get_if<AveragingReading>(&m->reading);
+  return reading && reading->range ? reading->range->metres : -1;
+}
+
 void setup_fast_averaging(Unit& unit) {
   EXPECT_EQ(unit.ask("$PF,5000"), "$OK");
   EXPECT_EQ(unit.ask("$DM,1"), "$OK");
@@ -241,10 +250,10 @@ TEST(UlsPhysics, PolledOutputAndGetMeasurementStartsTheUnit) {
   unit.run(1s);
   auto lines = unit.lines(configuration_port);
   ASSERT_EQ(lines.size(), 1U);
-  EXPECT_EQ(lines[0].substr(0, 6), "$BM,25");
+  EXPECT_NEAR(metres_of(lines[0]), 25.0, 0.04) << lines[0];
   unit.run(2s);
   EXPECT_TRUE(unit.lines(configuration_port).empty());  // polled: nothing streams
-  EXPECT_EQ(unit.ask("$BM").substr(0, 6), "$BM,25");    // the latest
+  EXPECT_NEAR(metres_of(unit.ask("$BM")), 25.0, 0.04);  // the latest
 }
 
 TEST(UlsPhysics, MeasurementsGoToTheSelectedPortInTheUnitsForm) {
@@ -254,13 +263,15 @@ TEST(UlsPhysics, MeasurementsGoToTheSelectedPortInTheUnitsForm) {
   EXPECT_EQ(unit.ask("$DM,1"), "$OK");
   EXPECT_EQ(unit.ask("$GO"), "$OK");
   unit.run(1s);
-  EXPECT_EQ(unit.lines(configuration_port).back().substr(0, 6), "$BM,25");
+  EXPECT_NEAR(metres_of(unit.lines(configuration_port).back()), 25.0, 0.04);
   EXPECT_EQ(unit.ask("$ST"), "$OK");
   EXPECT_EQ(unit.ask("$MO,2"), "$OK");
   EXPECT_EQ(unit.ask("$GO"), "$OK");
   unit.run(1s);
   EXPECT_TRUE(unit.lines(configuration_port).empty());
-  EXPECT_EQ(unit.lines(universal_port).back().substr(0, 7), "#QBM,25");
+  const std::string addressed = unit.lines(universal_port).back();
+  EXPECT_EQ(addressed.substr(0, 4), "#QBM") << addressed;
+  EXPECT_NEAR(metres_of(addressed), 25.0, 0.04) << addressed;
 }
 
 TEST(UlsScene, ParsesTargetsAndMotion) {

@@ -20,6 +20,14 @@ constexpr double cooperative_jitter_m = 0.01;
 constexpr double quantum_m = 0.05;
 constexpr std::uint32_t dither_cycle = 32;  // §3
 constexpr double detect_probability = 0.99;
+// Received pulse widths (U40): about the 8 ns transmit pulse (§3) for a return at the
+// detection limit, wider as the signal grows (time over threshold, logarithmic).
+constexpr double weakest_width_ns = 4.0;
+constexpr double width_ns_per_doubling = 6.0;
+constexpr double dust_width_ns = 3.0;   // dust near the unit: a weak, narrow return
+constexpr double noise_window_m = 0.5;  // narrowest noise-filter window (U48)
+// The §3 binning restart rule: at most this many targets per burst.
+constexpr std::size_t restart_targets = max_binning_targets;
 
 std::string number_text(double value) {
   std::string text = std::to_string(value);  // fixed, 6 decimals
@@ -74,7 +82,8 @@ nlohmann::json Settings::to_json() const {
           {"MA", autostart},
           {"PA", pointer_autostart},
           {"CL", current_loop},
-          {"BR", baud}};
+          {"BR", baud},
+          {"min_pulse_width_ns", min_pulse_width_ns}};
 }
 
 Settings Settings::from_json(const nlohmann::json& memory, const Settings& defaults) {
@@ -118,6 +127,7 @@ Settings Settings::from_json(const nlohmann::json& memory, const Settings& defau
   get("PA", s.pointer_autostart);
   get("CL", s.current_loop);
   get("BR", s.baud);
+  get("min_pulse_width_ns", s.min_pulse_width_ns);
   return s;
 }
 
@@ -145,6 +155,7 @@ void Firmware::boot(Nanos now) {
     ports_[i].input.clear();
     ports_[i].outbox.clear();
     ports_[i].pending_baud.reset();
+    ports_[i].last_line_start = Nanos(0);
     ports_[i].pacer = SerialPacer(settings_.baud[i], uls_hundredths_of_bits);
   }
   measuring_ = false;
@@ -306,6 +317,7 @@ void Firmware::execute(std::size_t port, Address to, bool silent, const CommandI
     start_measuring(now);
     ok();
   } else if (m == "ST") {
+    if (!measuring_) return error(86);  // Instrument Not Measuring (§10, U43)
     stop_measuring();
     ok();
   } else if (m == "SU") {
@@ -487,11 +499,12 @@ Nanos Firmware::pulse_time(std::uint64_t index) const noexcept {
 
 void Firmware::reset_cycle() {
   cycle_pulses_ = 0;
-  good_ = 0;
   any_return_ = false;
-  sum_m_ = 0;
-  pulse_width_sum_ = 0;
+  returns_m_.clear();
+  returns_width_ps_.clear();
   bins_.fill(0);
+  max_bin_ = 0;
+  bin_targets_ = 0;
 }
 
 void Firmware::start_measuring(Nanos now) {
@@ -542,11 +555,35 @@ Nanos Firmware::next_deadline() const {
       earliest = std::min(earliest, pulse_time(next_pulse_));
     } else {
       const std::uint32_t ppm = current_ppm();
-      const std::uint64_t remaining = ppm > cycle_pulses_ ? ppm - cycle_pulses_ - 1 : 0;
+      std::uint64_t remaining = ppm > cycle_pulses_ ? ppm - cycle_pulses_ - 1 : 0;
+      if (settings_.mode == Mode::binning) remaining = std::min(remaining, pulses_before_restart() - 1);
       earliest = std::min(earliest, pulse_time(next_pulse_ + remaining));
     }
   }
   return earliest;
+}
+
+double Firmware::modelled_width_ps(double strength) {
+  // The log is the costliest step of a pulse; a fixed target gives the same strength
+  // every pulse, so the last answer is kept.
+  if (strength != width_cache_strength_) {
+    width_cache_strength_ = strength;
+    width_cache_ps_ = (weakest_width_ns + width_ns_per_doubling * std::log2(1.0 + strength)) * 1000.0;
+  }
+  return width_cache_ps_;
+}
+
+std::uint64_t Firmware::pulses_before_restart() const noexcept {
+  // A pulse adds at most one hit per target, one per (rounded-up) noise hit and one of
+  // dust, so the 15th target of U42 cannot appear sooner than this many pulses from now.
+  const auto per_pulse = static_cast<std::uint64_t>(scene_.targets.size()) +
+                         static_cast<std::uint64_t>(std::ceil(scene_.ambient_noise)) + 1;
+  auto pulses_for = [per_pulse](std::uint64_t hits) {
+    return std::max<std::uint64_t>(1, (hits + per_pulse - 1) / per_pulse);
+  };
+  std::uint64_t pulses = pulses_for(restart_targets - std::min(bin_targets_, restart_targets));
+  if (max_bin_ < settings_.bin_hits) pulses = std::max(pulses, pulses_for(settings_.bin_hits - max_bin_));
+  return pulses;
 }
 
 double Firmware::max_range_m(double reflectivity, bool cooperative) const noexcept {
@@ -558,7 +595,7 @@ double Firmware::max_range_m(double reflectivity, bool cooperative) const noexce
   return std::max(range, 1.0);
 }
 
-std::optional<Firmware::PulseReturn> Firmware::first_return(Nanos t, bool certain) {
+std::optional<Firmware::PulseReturn> Firmware::first_return(Nanos t, bool certain, double min_width_ps) {
   if (fault_no_return_) return std::nullopt;
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::optional<PulseReturn> best;
@@ -573,7 +610,10 @@ std::optional<Firmware::PulseReturn> Firmware::first_return(Nanos t, bool certai
     if (best && best->distance_m <= d) continue;
     if (!certain && uniform(random_) >= detect_probability) continue;
     const double ratio = range / d;
-    best = PulseReturn{d, ratio * ratio, target.cooperative};
+    const double strength = ratio * ratio;
+    const double width_ps = target.pulse_width_ns ? *target.pulse_width_ns * 1000.0 : modelled_width_ps(strength);
+    if (width_ps < min_width_ps) continue;  // too narrow: rejected like noise (§2 Min. Pulse Width, U41)
+    best = PulseReturn{d, strength, target.cooperative, width_ps};
   }
   return best;
 }
@@ -594,39 +634,67 @@ void Firmware::fire_pulse(Nanos t) {
 
 void Firmware::fire_averaging(Nanos t) {
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  const bool dust = scene_.dust > 0 && uniform(random_) < scene_.dust;
+  const double min_width_ps = settings_.min_pulse_width_ns * 1000.0;
+  // Dust near the unit answers first; a minimum pulse width above its width rejects it (U41).
+  const bool dust = scene_.dust > 0 && uniform(random_) < scene_.dust && dust_width_ns * 1000.0 >= min_width_ps;
   if (dust) {
     any_return_ = true;  // a weak return the noise filter rejects: a bad pulse
-  } else if (auto hit = first_return(t, false)) {
+  } else if (auto hit = first_return(t, false, min_width_ps)) {
     any_return_ = true;
-    if (good_ < settings_.averaging_weight) {
-      std::normal_distribution<double> noise(0.0, hit->cooperative ? cooperative_jitter_m : jitter_m);
-      double raw = hit->distance_m + noise(random_);
-      // The pulse is timed in quanta; dithering shifts the quantum grid over a 32-pulse cycle.
-      const double shift =
-          settings_.dither ? (static_cast<double>(good_ % dither_cycle) + 0.5) / dither_cycle * quantum_m : 0.0;
-      raw = std::round((raw + shift) / quantum_m) * quantum_m - shift;
-      sum_m_ += raw;
-      pulse_width_sum_ += 2000.0 + 1500.0 * std::log2(1.0 + hit->strength);
-      ++good_;
-    }
+    const double sigma = hit->cooperative ? cooperative_jitter_m : jitter_m;
+    double raw = hit->distance_m + sigma * normal_(random_);
+    // The pulse is timed in quanta; dithering shifts the quantum grid over a 32-pulse cycle.
+    const double shift = settings_.dither
+                             ? (static_cast<double>(returns_m_.size() % dither_cycle) + 0.5) / dither_cycle * quantum_m
+                             : 0.0;
+    raw = std::round((raw + shift) / quantum_m) * quantum_m - shift;
+    returns_m_.push_back(raw);
+    returns_width_ps_.push_back(hit->width_ps);
   }
   if (++cycle_pulses_ >= settings_.ppm[0]) complete_averaging(t);
 }
 
+double Firmware::noise_filter_centre(double& window) {
+  // "Averaging with Noise Filtering" (§8 MM 1, U48): the median return is the target;
+  // returns farther from it than max(0.5 m, 6 x the median absolute deviation) are noise
+  // (a missed near target answered by one behind it). A moving target spreads its returns
+  // evenly, so the window grows with its travel and none of them is dropped.
+  scratch_.assign(returns_m_.begin(), returns_m_.end());
+  const auto middle = scratch_.begin() + static_cast<std::ptrdiff_t>(scratch_.size() / 2);
+  std::nth_element(scratch_.begin(), middle, scratch_.end());
+  const double centre = *middle;
+  for (auto& value : scratch_) value = std::abs(value - centre);
+  std::nth_element(scratch_.begin(), middle, scratch_.end());
+  window = std::max(noise_window_m, 6.0 * *middle);
+  return centre;
+}
+
 void Firmware::complete_averaging(Nanos t) {
   ++measurements_;
+  double sum_m = 0;
+  double width_sum_ps = 0;
+  std::uint32_t good = 0;
+  if (!returns_m_.empty()) {
+    double window = 0;
+    const double centre = noise_filter_centre(window);
+    for (std::size_t i = 0; i < returns_m_.size() && good < settings_.averaging_weight; ++i) {
+      if (std::abs(returns_m_[i] - centre) > window) continue;
+      sum_m += returns_m_[i];
+      width_sum_ps += returns_width_ps_[i];
+      ++good;
+    }
+  }
   if (!any_return_) {
     record_error(4, t);
     emit({MeasurementError{4}}, t);
-  } else if (good_ < settings_.averaging_weight) {
+  } else if (good < settings_.averaging_weight) {
     record_error(5, t);
     emit({MeasurementError{5}}, t);
   } else {
-    const double metres = sum_m_ / good_ + settings_.offset_m;
+    const double metres = sum_m / good + settings_.offset_m;
     record_distance(metres, t);
     AveragingReading reading;
-    const auto width = static_cast<std::uint32_t>(std::clamp(pulse_width_sum_ / good_, 0.0, 9'999'999.0));
+    const auto width = static_cast<std::uint32_t>(std::clamp(std::round(width_sum_ps / good), 0.0, 9'999'999.0));
     if (settings_.display != DisplayMode::intensity) {
       const double user = from_metres(metres, settings_.units);
       reading.range =
@@ -643,10 +711,14 @@ void Firmware::fire_binning(Nanos t) {
   const BinSize size = to_bin_size(settings_.bin_size).value_or(BinSize::inch_1);
   const double bin_m = bin_size_m(size);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  bool crossed = false;
   auto hit_at = [&](double d) {
     if (d < 0) return;
     const auto index = static_cast<std::size_t>(d / bin_m);
-    if (index < bins_.size()) ++bins_[index];
+    if (index >= bins_.size()) return;
+    const std::uint32_t hits = ++bins_[index];
+    max_bin_ = std::max(max_bin_, hits);
+    crossed = crossed || hits == settings_.bin_hits;
   };
   if (!fault_no_return_) {
     for (const auto& target : scene_.targets) {
@@ -671,7 +743,29 @@ void Firmware::fire_binning(Nanos t) {
     }
     if (scene_.dust > 0 && uniform(random_) < scene_.dust) hit_at(minimum_range_m + uniform(random_) * 30.0);
   }
-  if (++cycle_pulses_ >= settings_.ppm[1]) complete_binning(t);
+  ++cycle_pulses_;
+  if (crossed) {
+    // §3: "If 15 targets appear during binning, the unit restarts the firing sequence and
+    // will not find targets beyond the last one detected" (U42): the burst ends here.
+    bin_targets_ = count_bin_targets();
+    if (bin_targets_ >= restart_targets) {
+      ++restarts_;
+      complete_binning(t);
+      return;
+    }
+  }
+  if (cycle_pulses_ >= settings_.ppm[1]) complete_binning(t);
+}
+
+std::size_t Firmware::count_bin_targets() const noexcept {
+  std::size_t runs = 0;
+  bool in_run = false;
+  for (const auto hits : bins_) {
+    const bool over = hits >= settings_.bin_hits;
+    if (over && !in_run) ++runs;
+    in_run = over;
+  }
+  return runs;
 }
 
 void Firmware::complete_binning(Nanos t) {
@@ -806,10 +900,14 @@ void Firmware::emit(std::vector<Reading> readings, Nanos t) {
   polls_.clear();
   if (!settings_.continuous) return;
   auto& port = ports_[measurement_port()];
-  if (port.pacer.idle_at(t) > t) {
-    ++skipped_;  // the UART is still sending the previous line (§9 serial limits)
+  drain(port, t);  // bytes already on the wire by t leave the UART first
+  // One measurement may wait behind the one on the wire (U39); a measurement completing
+  // while one already waits is skipped, so the §9 serial limits emerge from the pacing.
+  if (port.last_line_start > t) {
+    ++skipped_;
     return;
   }
+  port.last_line_start = port.pacer.idle_at(t);
   const Address from = measurement_address();
   for (const auto& reading : readings) {
     if (auto line = encode_measurement(from, reading)) port.pacer.send(line->bytes(), t);
@@ -838,6 +936,7 @@ Outputs Firmware::outputs(Nanos now) const {
   out.status = wire_value(status_for(measuring_, settings_.mode));
   out.measurements = measurements_;
   out.skipped_lines = skipped_;
+  out.binning_restarts = restarts_;
   out.last_distance_m = last_distance_m_;
   out.last_error = last_error_;
   if (settings_.current_loop && measuring_) {
@@ -872,6 +971,13 @@ void Firmware::set_no_return_fault(bool on, Nanos now) {
   fault_no_return_ = on;
 }
 
+bool Firmware::set_min_pulse_width(double nanoseconds, Nanos now) {
+  advance(now);
+  if (!(nanoseconds >= 0.0 && nanoseconds <= max_min_pulse_width_ns)) return false;
+  settings_.min_pulse_width_ns = nanoseconds;
+  return true;
+}
+
 nlohmann::json Firmware::control(const nlohmann::json& request, Nanos now) {
   const std::string command = request.value("cmd", "");
   if (command == "outputs") {
@@ -887,6 +993,8 @@ nlohmann::json Firmware::control(const nlohmann::json& request, Nanos now) {
                          {"measuring", o.measuring},
                          {"measurements", o.measurements},
                          {"skipped_lines", o.skipped_lines},
+                         {"binning_restarts", o.binning_restarts},
+                         {"min_pulse_width_ns", settings_.min_pulse_width_ns},
                          {"last_error", o.last_error}};
     reply["distance_m"] = o.last_distance_m ? nlohmann::json(*o.last_distance_m) : nlohmann::json(nullptr);
     return reply;
@@ -912,11 +1020,19 @@ nlohmann::json Firmware::control(const nlohmann::json& request, Nanos now) {
     set_no_return_fault(request.value("on", true), now);
     return {{"ok", true}, {"device", label()}};
   }
+  if (command == "min_pulse_width") {
+    if (!request.contains("ns") || !request.at("ns").is_number())
+      return {{"error", "min_pulse_width: needs 'ns' (number)"}};
+    if (!set_min_pulse_width(request.at("ns").get<double>(), now))
+      return {{"error", "min_pulse_width: ER 87 Invalid Minimum Pulse Width (0 .. 9999.999 ns)"}};
+    return {{"ok", true}, {"device", label()}};
+  }
   if (command == "power_cycle") {
     power_cycle(now);
     return {{"ok", true}, {"device", label()}};
   }
-  return {{"error", "unknown command '" + command + "' (ULS: outputs, set_scene, move_target, fault, power_cycle)"}};
+  return {{"error", "unknown command '" + command +
+                        "' (ULS: outputs, set_scene, move_target, fault, min_pulse_width, power_cycle)"}};
 }
 
 }  // namespace rangekit::uls::emulator

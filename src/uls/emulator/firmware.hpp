@@ -21,6 +21,8 @@ namespace rangekit::uls::emulator {
 inline constexpr std::size_t configuration_port = 0;
 inline constexpr std::size_t universal_port = 1;
 inline constexpr std::uint32_t uls_hundredths_of_bits = 1152;  // U19
+// Minimum pulse width limits (U41): 0 = off, up to the longest §9 width field (9,999,999 ps).
+inline constexpr double max_min_pulse_width_ns = 9999.999;
 
 // Every user setting of §8, in SI units (distances in metres).
 struct Settings {
@@ -53,6 +55,9 @@ struct Settings {
   bool pointer_autostart = false;
   bool current_loop = false;
   std::array<std::uint32_t, 2> baud{115200, 115200};  // configuration, universal
+  // §2 Averaging Parameters "Min. Pulse Width": no §8 command sets it; the control
+  // socket does (U41). Returns narrower than this are rejected in averaging.
+  double min_pulse_width_ns = 0.0;
 
   [[nodiscard]] nlohmann::json to_json() const;
   static Settings from_json(const nlohmann::json& memory, const Settings& defaults);
@@ -75,7 +80,8 @@ struct Outputs {
   int status = 1;
   bool measuring = false;
   std::uint64_t measurements = 0;         // completed measurement cycles
-  std::uint64_t skipped_lines = 0;        // measurements not sent: the UART was still busy
+  std::uint64_t skipped_lines = 0;        // measurements not sent: a line was already waiting (U39)
+  std::uint64_t binning_restarts = 0;     // bursts restarted at the 15th target (U42)
   std::optional<double> last_distance_m;  // as reported (offset applied), metres
   int last_error = 0;
 };
@@ -97,6 +103,8 @@ class Firmware final : public DeviceModel {
   void set_scene(Scene scene, Nanos now);
   bool move_target(std::size_t index, double distance_m, Nanos now);
   void set_no_return_fault(bool on, Nanos now);
+  // §2 "Min. Pulse Width" (U41): false when outside 0..max_min_pulse_width_ns (error 87).
+  bool set_min_pulse_width(double nanoseconds, Nanos now);
   void power_cycle(Nanos now);
   [[nodiscard]] Outputs outputs(Nanos now) const;
   [[nodiscard]] const Settings& settings() const noexcept { return settings_; }
@@ -110,11 +118,13 @@ class Firmware final : public DeviceModel {
     std::deque<LineByte> outbox;
     std::optional<std::uint32_t> pending_baud;
     Nanos pending_at{0};
+    Nanos last_line_start{0};  // when the newest queued measurement starts on the wire (U39)
   };
   struct PulseReturn {
     double distance_m = 0;
     double strength = 0;
     bool cooperative = false;
+    double width_ps = 0;  // received pulse width (U40)
   };
 
   void boot(Nanos now);
@@ -140,7 +150,13 @@ class Firmware final : public DeviceModel {
   [[nodiscard]] Address measurement_address() const noexcept;
   [[nodiscard]] std::size_t measurement_port() const noexcept;
   [[nodiscard]] double max_range_m(double reflectivity, bool cooperative) const noexcept;
-  std::optional<PulseReturn> first_return(Nanos t, bool certain);
+  // Nearest return of the scene; `min_width_ps` rejects narrower returns (U41).
+  std::optional<PulseReturn> first_return(Nanos t, bool certain, double min_width_ps = 0);
+  [[nodiscard]] std::size_t count_bin_targets() const noexcept;
+  [[nodiscard]] std::uint64_t pulses_before_restart() const noexcept;
+  [[nodiscard]] double modelled_width_ps(double strength);
+  // Median of this cycle's returns and the window around it that passes the noise filter.
+  double noise_filter_centre(double& window);
   void drain(Port& port, Nanos now);
   void record_error(int number, Nanos t);
   void record_distance(double metres, Nanos t);
@@ -163,11 +179,17 @@ class Firmware final : public DeviceModel {
 
   // Averaging / binning cycle.
   std::uint32_t cycle_pulses_ = 0;
-  std::uint32_t good_ = 0;
   bool any_return_ = false;
-  double sum_m_ = 0;
-  double pulse_width_sum_ = 0;
+  std::vector<double> returns_m_;         // this cycle's timed returns (averaging)
+  std::vector<double> returns_width_ps_;  // and their pulse widths
+  std::vector<double> scratch_;           // noise filter workspace
+  std::normal_distribution<double> normal_{0.0, 1.0};
+  double width_cache_strength_ = -1;
+  double width_cache_ps_ = 0;
   std::array<std::uint32_t, bins_per_range> bins_{};
+  std::uint32_t max_bin_ = 0;    // fullest bin of this burst
+  std::size_t bin_targets_ = 0;  // runs of bins at or over BH so far (§3 restart rule, U42)
+  std::uint64_t restarts_ = 0;   // bursts cut short by the 15th target
 
   // Look down (§3).
   std::optional<double> reference_m_;

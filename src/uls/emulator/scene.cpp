@@ -44,7 +44,9 @@ Status check_keys(std::string_view source, const toml::table& table, std::initia
 Result<SceneTarget> toml_target(std::string_view source, const toml::table& table, std::size_t index) {
   const std::string section = "[[targets]] #" + std::to_string(index + 1);
   if (auto keys = check_keys(
-          source, table, {"name", "distance_m", "reflectivity", "cooperative", "speed_mps", "path", "repeat"}, section);
+          source, table,
+          {"name", "distance_m", "reflectivity", "cooperative", "pulse_width_ns", "speed_mps", "path", "repeat"},
+          section);
       !keys)
     return keys.error();
   SceneTarget target;
@@ -56,6 +58,12 @@ Result<SceneTarget> toml_target(std::string_view source, const toml::table& tabl
     const auto flag = node->value<bool>();
     if (!flag) return make_error(Errc::invalid_frame, where(source, *node, "cooperative") + " must be true or false");
     target.cooperative = *flag;
+  }
+  if (table.get("pulse_width_ns") != nullptr) {
+    // §9: the width field is at most 7 digits of picoseconds (U40).
+    auto width = toml_number(source, table, "pulse_width_ns", 0.0, 0.001, 9999.999);
+    if (!width) return width.error();
+    target.pulse_width_ns = *width;
   }
   if (const toml::node* path_node = table.get("path")) {
     const toml::array* points = path_node->as_array();

@@ -2,8 +2,10 @@
 // distance, reflectivity, cooperative flag and motion; dust; ambient noise.
 #pragma once
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 #include "rangekit/core/motion.hpp"
 #include "rangekit/core/result.hpp"
@@ -11,10 +13,22 @@
 namespace rangekit::uls::emulator {
 
 struct SceneTarget {
+  SceneTarget() = default;
+  // Brace-initialised in tests and scenes: {name, motion, reflectivity, cooperative}.
+  SceneTarget(std::string target_name, Motion target_motion, double target_reflectivity = 0.9,
+              bool target_cooperative = false, std::optional<double> width_ns = std::nullopt)
+      : name(std::move(target_name)),
+        motion(std::move(target_motion)),
+        reflectivity(target_reflectivity),
+        cooperative(target_cooperative),
+        pulse_width_ns(width_ns) {}
+
   std::string name;
   Motion motion = Motion::fixed(50.0);  // metres from the unit
   double reflectivity = 0.9;            // 0-1 (§9: 90% white, 20% gray)
   bool cooperative = false;             // reflective tape, reflector, prism (§2)
+  // Received pulse width in ns; unset: modelled from the signal strength (U40).
+  std::optional<double> pulse_width_ns;
 };
 
 struct Scene {
