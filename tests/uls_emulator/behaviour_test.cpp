@@ -80,7 +80,7 @@ TEST(UlsBehaviour, StopWhileNotMeasuringIsErrorEightySix) {
   EXPECT_EQ(unit.ask("$US"), "$US,1");
 }
 
-// docs/conformance.md U44
+// docs/conformance.md U44, U48 (two targets: the noise filter drops the far returns of missed near pulses)
 TEST(UlsBehaviour, ShortAndLongGatesChooseTheAveragingTarget) {
   Unit unit(scene_of({target_at(5.0), target_at(20.0)}));
   EXPECT_EQ(unit.ask("$PF,5000"), "$OK");
