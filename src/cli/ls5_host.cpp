@@ -60,7 +60,11 @@ Result<std::unique_ptr<ls5::Driver>> open_ls5_driver(const Ls5Connection& connec
   auto settings = serial_settings(connection);
   if (!settings) return settings.error();
   auto port = SerialPort::open(connection.port, *settings);
-  if (!port) return port.error();
+  if (!port) {
+    // A port that is not there is an I/O problem for the user, whatever errno said.
+    if (port.error().code == Errc::unsupported) return port.error();
+    return make_error(Errc::io, port.error().message);
+  }
   ls5::DriverOptions options;
   options.address = *address;
   options.timeout = std::chrono::milliseconds(connection.timeout_ms);

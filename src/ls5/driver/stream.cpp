@@ -139,7 +139,7 @@ void MeasurementStream::run() {
           }
           continue;
         }
-        lose_link(driver_.transport_name() + ": " + got.error().message, true);
+        lose_link(got.error().message, true);
         continue;
       }
       driver_.assembler_->push(Bytes(buffer.data(), *got));

@@ -1,0 +1,196 @@
+// `rangekit ls5 ...` end to end against `rangekit sim ls5` on a real pty and
+// loopback UDP: every subcommand, refusals and exit codes, reconnect after the
+// emulator is killed and restarted on the same path, config save/diff/load.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "cli/commands.hpp"
+#include "cli_process.hpp"
+#include "rangekit/core/udp.hpp"
+
+using namespace ls5_driver_test;
+namespace cli = rangekit::cli;
+
+namespace {
+
+struct Workspace {
+  std::filesystem::path dir;
+  std::string port;
+  explicit Workspace(const std::string& name) {
+    dir = std::filesystem::temp_directory_path() / ("rangekit-ls5host-" + name + "-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    port = (dir / "ls5").string();
+    // A still target mid-range with no noise: code 25000 on a 0/100 sensor (formula 8.5).
+    std::ofstream(dir / "scene.toml") << "[target]\nposition_mm = 50.0\nnoise_mm = 0.0\n";
+  }
+  ~Workspace() { std::filesystem::remove_all(dir); }
+  [[nodiscard]] std::string scene() const { return (dir / "scene.toml").string(); }
+  CliRun ls5(std::vector<std::string> arguments) const {
+    arguments.insert(arguments.begin(), "ls5");
+    return run_cli(dir, arguments);
+  }
+};
+
+std::vector<std::string> sim_arguments(const Workspace& w, std::vector<std::string> extra = {}) {
+  std::vector<std::string> arguments{"sim",       "ls5",      "--port",   w.port, "--model", "0/100",
+                                     "--version", "LS5.12.0", "--serial", "157",  "--scene", w.scene()};
+  arguments.insert(arguments.end(), extra.begin(), extra.end());
+  return arguments;
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+std::size_t count_of(const std::string& text, const std::string& part) {
+  std::size_t count = 0;
+  for (std::size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++count;
+  return count;
+}
+
+}  // namespace
+
+TEST(Ls5Cli, DeviceSubcommandsEndToEnd) {
+  Workspace w("device");
+  Child sim(sim_arguments(w));
+  ASSERT_TRUE(contains(sim.read_line(), "ready:"));
+
+  CliRun info = w.ls5({"info", "--port", w.port});
+  ASSERT_EQ(info.exit_code, cli::exit_ok) << info.err;
+  EXPECT_TRUE(contains(info.out, "serial=157")) << info.out;
+  EXPECT_TRUE(contains(info.out, "range_mm=100")) << info.out;
+  EXPECT_TRUE(contains(info.out, "ethernet=yes")) << info.out;
+
+  CliRun refused = w.ls5({"set", "--port", w.port, "median-points=4"});
+  EXPECT_EQ(refused.exit_code, cli::exit_usage);
+  EXPECT_TRUE(contains(refused.err, "1, 3, ..., 49")) << refused.err;
+
+  CliRun set = w.ls5({"set", "--port", w.port, "median-points=7", "pre-filter=median", "analog-lower-mm=12.5"});
+  ASSERT_EQ(set.exit_code, cli::exit_ok) << set.err;
+  CliRun get = w.ls5({"get", "--port", w.port, "median-points", "0B", "analog-lower"});
+  ASSERT_EQ(get.exit_code, cli::exit_ok) << get.err;
+  // 12.5 mm of 100 mm is code 6250 (formula 8.5); 0B = 01 is median filtering.
+  EXPECT_EQ(get.out, "median-points=7\n0B=01\nanalog-lower=6250\n");
+
+  CliRun raw = w.ls5({"set", "--port", w.port, "0C=04"});
+  ASSERT_EQ(raw.exit_code, cli::exit_ok) << raw.err;
+  CliRun all = w.ls5({"get", "--port", w.port});
+  ASSERT_EQ(all.exit_code, cli::exit_ok) << all.err;
+  EXPECT_TRUE(contains(all.out, "averaging-points=4\n")) << all.out;
+  EXPECT_TRUE(contains(all.out, "analog-lower-mm=12.5\n")) << all.out;
+  EXPECT_TRUE(contains(all.out, "udp-auto-stream=on\n")) << all.out;
+
+  CliRun measure = w.ls5({"measure", "--port", w.port});
+  ASSERT_EQ(measure.exit_code, cli::exit_ok) << measure.err;
+  EXPECT_TRUE(contains(measure.out, "code=25000 distance_mm=50.0000 signal=ok")) << measure.out;
+  CliRun latch = w.ls5({"latch", "--port", w.port});
+  ASSERT_EQ(latch.exit_code, cli::exit_ok) << latch.err;
+  EXPECT_TRUE(contains(latch.out, "code=25000")) << latch.out;
+  CliRun latched = w.ls5({"latch", "--port", w.port, "--read-only"});
+  EXPECT_EQ(latched.out, latch.out);
+
+  EXPECT_EQ(w.ls5({"off", "--port", w.port}).exit_code, cli::exit_ok);
+  EXPECT_EQ(w.ls5({"on", "--port", w.port}).exit_code, cli::exit_ok);
+  EXPECT_EQ(w.ls5({"save", "--port", w.port}).exit_code, cli::exit_ok);
+  CliRun defaults = w.ls5({"defaults", "--port", w.port});
+  ASSERT_EQ(defaults.exit_code, cli::exit_ok) << defaults.err;
+  EXPECT_EQ(w.ls5({"get", "--port", w.port, "median-points"}).out, "median-points=5\n") << "table 9.2 default";
+
+  CliRun nobody = w.ls5({"info", "--port", w.port, "--address", "3", "--timeout-ms", "100"});
+  EXPECT_EQ(nobody.exit_code, cli::exit_no_reply);
+  for (const char* hint : {"--port", "--baud", "--address 3"}) EXPECT_TRUE(contains(nobody.err, hint)) << nobody.err;
+  CliRun no_port = w.ls5({"info", "--port", (w.dir / "nothing").string()});
+  EXPECT_EQ(no_port.exit_code, cli::exit_io) << no_port.err;
+  CliRun unknown = w.ls5({"get", "--port", w.port, "no-such-setting"});
+  EXPECT_EQ(unknown.exit_code, cli::exit_usage) << unknown.err;
+  EXPECT_EQ(w.ls5({"info", "--port", w.port, "--address", "0"}).exit_code, cli::exit_usage);
+}
+
+TEST(Ls5Cli, SerialStreamAndUdpThroughTheStreamRunner) {
+  Workspace w("stream");
+  // A free loopback port for the UDP destination.
+  std::uint16_t udp_port = 0;
+  {
+    auto probe = rangekit::UdpSocket::bind(rangekit::Endpoint{"127.0.0.1", 0});
+    ASSERT_TRUE(probe);
+    udp_port = probe->local_endpoint().port;
+  }
+  const std::string udp = "127.0.0.1:" + std::to_string(udp_port);
+  Child sim(sim_arguments(w, {"--udp", udp, "--time-scale", "10"}));
+  ASSERT_TRUE(contains(sim.read_line(), "ready:"));
+
+  CliRun csv = w.ls5({"stream", "--port", w.port, "--count", "5", "--format", "csv", "--thinning", "2"});
+  ASSERT_EQ(csv.exit_code, cli::exit_ok) << csv.err;
+  EXPECT_EQ(count_of(csv.out, "\n"), 6U) << csv.out;  // header + 5 records
+  EXPECT_TRUE(contains(csv.out.substr(0, csv.out.find('\n')), "code")) << csv.out;
+  EXPECT_EQ(count_of(csv.out, ",25000,"), 5U) << csv.out;
+  EXPECT_EQ(w.ls5({"get", "--port", w.port, "thinning"}).out, "thinning=2\n");
+
+  // 168 records per packet (§10.1): 200 records need two packets.
+  CliRun packets = w.ls5({"udp", "--udp-listen", udp, "--count", "200", "--format", "jsonl", "--duration", "60"});
+  ASSERT_EQ(packets.exit_code, cli::exit_ok) << packets.err;
+  EXPECT_EQ(count_of(packets.out, "\"device\":\"ls5\""), 200U) << packets.err;
+  EXPECT_TRUE(contains(packets.out, "\"signal\":\"ok\"")) << packets.out.substr(0, 400);
+
+  CliRun bad_listen = w.ls5({"udp", "--udp-listen", "not-an-endpoint"});
+  EXPECT_EQ(bad_listen.exit_code, cli::exit_usage) << bad_listen.err;
+}
+
+TEST(Ls5Cli, StreamSurvivesTheEmulatorBeingKilledAndRestartedOnTheSamePath) {
+  Workspace w("reconnect");
+  auto sim = std::make_unique<Child>(sim_arguments(w));
+  ASSERT_TRUE(contains(sim->read_line(), "ready:"));
+  Child stream({"ls5", "stream", "--port", w.port, "--format", "jsonl", "--duration", "60", "--reconnect-ms", "100"});
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(contains(stream.read_line(), "\"code\":25000"));
+
+  sim->terminate();  // the pty and its symlink vanish: as a cable pulled
+  EXPECT_EQ(sim->wait(), 0);
+  std::string line = stream.read_line();
+  while (!line.empty() && !contains(line, "\"event\"")) line = stream.read_line();  // records in flight
+  EXPECT_TRUE(contains(line, "\"event\":\"disconnected\"")) << line;
+
+  sim = std::make_unique<Child>(sim_arguments(w));
+  ASSERT_TRUE(contains(sim->read_line(), "ready:"));
+  for (line = stream.read_line(); !line.empty() && !contains(line, "\"event\""); line = stream.read_line()) {
+  }
+  EXPECT_TRUE(contains(line, "\"event\":\"reconnected\"")) << line;
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(contains(stream.read_line(), "\"code\":25000"));
+  stream.terminate();  // as Ctrl-C
+  EXPECT_EQ(stream.wait(), cli::exit_interrupted);
+}
+
+TEST(Ls5Cli, ConfigSaveChangeDiffLoadVerify) {
+  Workspace w("config");
+  Child sim(sim_arguments(w));
+  ASSERT_TRUE(contains(sim.read_line(), "ready:"));
+  const std::string file = (w.dir / "ls5.toml").string();
+
+  CliRun saved = w.ls5({"config", "save", "--port", w.port, file});
+  ASSERT_EQ(saved.exit_code, cli::exit_ok) << saved.err;
+  const std::string text = read_file(file);
+  EXPECT_TRUE(contains(text, "median-points = 5\n")) << text;
+  EXPECT_TRUE(contains(text, "period-ms = 10  # ms")) << text;
+  EXPECT_TRUE(contains(text, "s/n") || contains(text, "serial 157")) << text;
+
+  EXPECT_EQ(w.ls5({"config", "diff", "--port", w.port, file}).exit_code, 0);
+  ASSERT_EQ(w.ls5({"set", "--port", w.port, "median-points=9", "period-ms=2.5"}).exit_code, cli::exit_ok);
+  CliRun diff = w.ls5({"config", "diff", "--port", w.port, file});
+  EXPECT_EQ(diff.exit_code, 1);
+  EXPECT_TRUE(contains(diff.out, "median-points: file 5 device 9")) << diff.out;
+  EXPECT_TRUE(contains(diff.out, "period-ms: file 10 device 2.5")) << diff.out;
+  EXPECT_EQ(count_of(diff.out, "\n"), 2U) << diff.out;
+
+  CliRun loaded = w.ls5({"config", "load", "--port", w.port, file});
+  ASSERT_EQ(loaded.exit_code, cli::exit_ok) << loaded.err << loaded.out;
+  EXPECT_TRUE(contains(loaded.out, "verified")) << loaded.out;
+  EXPECT_TRUE(contains(loaded.out, "skipped baud-rate")) << loaded.out;
+  EXPECT_EQ(w.ls5({"get", "--port", w.port, "median-points", "period-ms"}).out, "median-points=5\nperiod-ms=10\n");
+  EXPECT_EQ(w.ls5({"config", "diff", "--port", w.port, file}).exit_code, 0);
+
+  // A file with a value out of range is refused before anything is sent.
+  std::ofstream((w.dir / "bad.toml").string()) << "[parameters]\nmedian-points = 9\nthinning = 0\n";
+  CliRun bad = w.ls5({"config", "load", "--port", w.port, (w.dir / "bad.toml").string()});
+  EXPECT_EQ(bad.exit_code, cli::exit_usage) << bad.err;
+  EXPECT_TRUE(contains(bad.err, "thinning")) << bad.err;
+  EXPECT_EQ(w.ls5({"get", "--port", w.port, "median-points"}).out, "median-points=5\n") << "nothing was written";
+}
