@@ -136,6 +136,7 @@ TEST(Ls5Cli, SerialStreamAndUdpThroughTheStreamRunner) {
   EXPECT_EQ(bad_listen.exit_code, cli::exit_usage) << bad_listen.err;
 }
 
+// docs/conformance.md L43
 TEST(Ls5Cli, StreamSurvivesTheEmulatorBeingKilledAndRestartedOnTheSamePath) {
   Workspace w("reconnect");
   auto sim = std::make_unique<Child>(sim_arguments(w));
@@ -159,6 +160,7 @@ TEST(Ls5Cli, StreamSurvivesTheEmulatorBeingKilledAndRestartedOnTheSamePath) {
   EXPECT_EQ(stream.wait(), cli::exit_interrupted);
 }
 
+// docs/conformance.md L47
 TEST(Ls5Cli, ConfigSaveChangeDiffLoadVerify) {
   Workspace w("config");
   Child sim(sim_arguments(w));

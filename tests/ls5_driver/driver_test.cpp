@@ -108,6 +108,7 @@ TEST(Ls5Driver, MillimetreSettingsUseTheRangeFromIdentification) {
   EXPECT_EQ(f.device->receive_until("#01W1261\r"), "#01ID\r#01W11A8\r#01W1261\r");
 }
 
+// docs/conformance.md L40: checked before sending, refusal names the allowed values.
 TEST(Ls5Driver, OutOfRangeValuesAreRefusedBeforeAnythingIsSent) {
   Fixture f(with_firmware(firmware_12_x));
   struct Case {
@@ -149,6 +150,7 @@ TEST(Ls5Driver, NewerParametersAreRefusedWithTheFirmwareTheyNeed) {
   EXPECT_EQ(f.device->receive_all(), "#01ID\r") << "only the identification went out";
 }
 
+// docs/conformance.md L41: reads retried once, writes never; L40: the no-reply hint.
 TEST(Ls5Driver, ReadsAreRetriedOnceThenTimeOutWithAHint) {
   Fixture f;
   auto value = f.driver->read_parameter(0x0D);
@@ -225,6 +227,7 @@ TEST(Ls5Driver, NetworkAddressChangeMovesTheDriver) {
   EXPECT_EQ(f.device->receive_until("#05R01\r"), "#01W0105\r#05R01\r");
 }
 
+// docs/conformance.md L42
 TEST(Ls5Driver, InfoAsksR70OnLs512ToLearnAboutEthernet) {
   Fixture f;
   f.device->send("%01LS5.12.0  b0,0000d100,000s/n0000157\r!01R7001\r");
@@ -235,6 +238,7 @@ TEST(Ls5Driver, InfoAsksR70OnLs512ToLearnAboutEthernet) {
   EXPECT_EQ(f.device->receive_until("#01R70\r"), "#01ID\r#01R70\r");
 }
 
+// docs/conformance.md L44
 TEST(Ls5Driver, ProbeReportsAStreamWithoutSpeakingAndIdentifiesOtherwise) {
   auto pair = make_loopback_pair();
   ScriptedDevice device(std::move(pair.b));

@@ -40,6 +40,7 @@ TEST(Ls5HostSettings, DefaultsRoundTripThroughText) {
   }
 }
 
+// docs/conformance.md L48
 TEST(Ls5HostSettings, Table92ExamplesInReadableUnits) {
   const SettingContext context{SensorModel{firmware_6_0, false}, std::nullopt};
   // Table 9.2: t = 1 ms is 000A, t = 5.2 ms is 0034; tau = 10 ms is 000A.

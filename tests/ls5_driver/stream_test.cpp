@@ -121,6 +121,7 @@ TEST(Ls5Stream, SlowConsumerNeverBlocksTheReaderAndLossesAreCounted) {
   EXPECT_EQ(std::get<Sample>(*first).code, 6) << "the newest four are kept";
 }
 
+// docs/conformance.md L43
 TEST(Ls5Stream, MidFrameDisconnectThenReconnectOnANewLink) {
   auto pair = make_loopback_pair("first link", "device");
   ScriptedDevice device(std::move(pair.b));

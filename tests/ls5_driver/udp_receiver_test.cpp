@@ -67,6 +67,7 @@ struct Rig {
 
 }  // namespace
 
+// docs/conformance.md L45
 TEST(Ls5UdpReceiver, RecordsBecomeSamplesWithFormula101) {
   Rig rig;
   ASSERT_TRUE(rig.receiver && rig.sender);
@@ -96,6 +97,7 @@ TEST(Ls5UdpReceiver, RecordsBecomeSamplesWithFormula101) {
   EXPECT_EQ(rig.receiver->lost(), 0U);
 }
 
+// docs/conformance.md L46
 TEST(Ls5UdpReceiver, ChecksumErrorsAreCountedAndReportedNotDecoded) {
   Rig rig;
   ASSERT_TRUE(rig.receiver && rig.sender);
