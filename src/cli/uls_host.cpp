@@ -1,15 +1,535 @@
-// Placeholder while the host side of issue 6 is written; replaced by the real subcommand.
+// `rangekit uls ...`: configure, read and stream a ULS (issue 6) through the
+// host driver. Library errors become one message and a documented exit code.
 #include <fmt/core.h>
 
+#include <fstream>
+#include <sstream>
+
 #include "cli/commands.hpp"
+#include "cli/stream_runner.hpp"
+#include "cli/uls_values.hpp"
+#include "rangekit/core/serial_port.hpp"
+#include "rangekit/uls/bus.hpp"
+#include "rangekit/uls/driver.hpp"
+#include "rangekit/uls/host_config.hpp"
+#include "uls/driver/describe.hpp"
 
 namespace rangekit::cli {
 
+using namespace rangekit::uls;
+
+namespace {
+
+struct LinkOptions {
+  std::string port;
+  std::uint32_t baud = 115200;
+  std::string address;
+  int timeout_ms = 1000;
+};
+
+void add_link_options(CLI::App* command, LinkOptions& link) {
+  command->add_option("--port", link.port, "serial port or pty (/dev/ttyUSB0, the emulator's symlink)")->required();
+  command->add_option("--baud", link.baud, "baud rate of the port (factory 115200, §9)")->capture_default_str();
+  command->add_option("--address", link.address,
+                      "RS-485 unit address: one character 0x30-0xEF ('A'), 0xNN or decimal; "
+                      "without it the '$' protocol");
+  command->add_option("--timeout", link.timeout_ms, "milliseconds to wait for each reply")->capture_default_str();
+}
+
+int exit_code_for(const Error& error) {
+  switch (error.code) {
+    case Errc::device_error:
+      return exit_device_error;
+    case Errc::timeout:
+      return exit_no_reply;
+    case Errc::out_of_range:
+    case Errc::wrong_form:
+    case Errc::unknown_command:
+    case Errc::unknown_parameter:
+      return exit_usage;
+    case Errc::closed:
+      return exit_link_lost;
+    case Errc::io:
+    case Errc::unsupported:
+      return exit_io;
+    default:
+      return exit_bad_input;
+  }
+}
+
+int fail(std::string_view command, const Error& error) {
+  fmt::print(stderr, "rangekit uls {}: {}\n", command, error.message);
+  return exit_code_for(error);
+}
+
+Result<std::optional<std::uint8_t>> address_of(const LinkOptions& link) {
+  if (link.address.empty()) return std::optional<std::uint8_t>{};
+  auto address = parse_unit_address(link.address);
+  if (!address)
+    return make_error(Errc::out_of_range,
+                      "--address '" + link.address + "' is not a unit address 0x30..0xEF (§8 RS485 Protocol)");
+  return std::optional<std::uint8_t>{*address};
+}
+
+ReopenFunction reopen_function(const LinkOptions& link) {
+  return [path = link.port, baud = link.baud]() -> Result<TransportPtr> {
+    auto port = SerialPort::open(path, SerialSettings{baud, Parity::none, 1});
+    if (!port) return port.error();
+    return TransportPtr(std::move(*port));
+  };
+}
+
+Result<TransportPtr> open_port(const LinkOptions& link) {
+  auto port = reopen_function(link)();
+  if (!port) {
+    Error error = port.error();
+    if (error.code != Errc::unsupported) error.code = Errc::io;
+    error.message = "cannot open " + link.port + ": " + error.message;
+    return error;
+  }
+  return port;
+}
+
+Result<std::unique_ptr<Driver>> open_driver(const LinkOptions& link, bool with_reopen = false) {
+  auto address = address_of(link);
+  if (!address) return address.error();
+  auto port = open_port(link);
+  if (!port) return port.error();
+  DriverOptions options;
+  options.address = *address;
+  options.timeout = std::chrono::milliseconds(link.timeout_ms);
+  options.source = link.port;
+  return std::make_unique<Driver>(std::move(*port), options, with_reopen ? reopen_function(link) : ReopenFunction{});
+}
+
+std::string format_sample(const Sample& sample) {
+  std::string text = sample_kind_name(sample.kind);
+  if (sample.address >= 0) text += " address=" + address_text(static_cast<std::uint8_t>(sample.address));
+  if (sample.distance_m) text += fmt::format(" distance_m={:.3f}", *sample.distance_m);
+  if (sample.pulse_width) text += fmt::format(" pulse_width={}", *sample.pulse_width);
+  for (std::size_t i = 0; i < sample.targets.size(); ++i)
+    text += fmt::format(" target{}={:.3f}m/{}", i, sample.targets[i].distance_m, sample.targets[i].strength);
+  if (sample.presence) text += fmt::format(" presence={}", *sample.presence ? "true" : "false");
+  if (sample.pulses_between_events) text += fmt::format(" pulses_between_events={}", *sample.pulses_between_events);
+  if (sample.device_error) text += fmt::format(" error={}", *sample.device_error);
+  return text;
+}
+
+// --- get -------------------------------------------------------------------
+
+int print_setting(Driver& driver, const CommandInfo& command, Units units) {
+  if (command.mnemonic == "BR") {
+    int code = exit_ok;
+    for (const char* port : {"0", "1"}) {
+      const std::array<std::string_view, 1> argument{port};
+      auto values = driver.get("BR", argument);
+      if (!values) {
+        code = fail("get", values.error());
+        continue;
+      }
+      fmt::print("baud.{}={}  # BR,{}={}\n", port[0] == '0' ? "configuration" : "output", values->at(1), port,
+                 values->at(1));
+    }
+    return code;
+  }
+  auto values = driver.get(command.mnemonic);
+  if (!values) {
+    if (command.mnemonic == "UA" && values.error().device_code == 82) {
+      fmt::print("address=unassigned  # UA: error 82, Unit Address Not Assigned\n");
+      return exit_ok;
+    }
+    return fail("get", values.error());
+  }
+  std::string wire;
+  for (const auto& value : *values) wire += (wire.empty() ? "" : ",") + value;
+  fmt::print("{}={}  # {}={}\n", command.cli_name, uls_values::describe_reply(command, *values, units),
+             command.mnemonic, wire);
+  return exit_ok;
+}
+
+int run_get(const LinkOptions& link, const std::vector<std::string>& names) {
+  std::vector<const CommandInfo*> commands;
+  for (const auto& name : names) {
+    auto target = uls_values::find_setting(name);
+    if (!target) return fail("get", target.error());
+    if (!target->command->has_get())
+      return fail("get", make_error(Errc::wrong_form, std::string(target->command->cli_name) + " (" +
+                                                          std::string(target->command->mnemonic) +
+                                                          ") cannot be read, only set"));
+    commands.push_back(target->command);
+  }
+  if (names.empty())
+    for (const CommandInfo& command : command_table())
+      if (command.has_get() && command.mnemonic != "BM") commands.push_back(&command);
+  auto driver = open_driver(link);
+  if (!driver) return fail("get", driver.error());
+  auto units = (*driver)->units();
+  if (!units) return fail("get", units.error());
+  int code = exit_ok;
+  for (const CommandInfo* command : commands) {
+    const int one = print_setting(**driver, *command, *units);
+    if (one == exit_no_reply) return one;
+    if (code == exit_ok) code = one;
+  }
+  return code;
+}
+
+// --- set -------------------------------------------------------------------
+
+int run_set(const LinkOptions& link, const std::vector<std::string>& assignments) {
+  if (assignments.empty())
+    return fail("set", make_error(Errc::wrong_form, "give NAME=VALUE (e.g. mode=binning prf=2000)"));
+  std::vector<std::pair<uls_values::Target, std::string>> work;
+  for (const auto& assignment : assignments) {
+    const auto equals = assignment.find('=');
+    if (equals == std::string::npos)
+      return fail("set", make_error(Errc::wrong_form, "'" + assignment + "' is not NAME=VALUE"));
+    auto target = uls_values::find_setting(assignment.substr(0, equals));
+    if (!target) return fail("set", target.error());
+    work.emplace_back(*target, assignment.substr(equals + 1));
+  }
+  // Every value is checked before the first is sent (distances again once MU is known).
+  for (const auto& [target, value] : work) {
+    auto fields = uls_values::to_fields(target, value, Units::metres);
+    if (!fields) return fail("set", fields.error());
+    const bool distance =
+        target.command->kind == ValueKind::distance || target.command->kind == ValueKind::signed_distance;
+    const std::vector<std::string_view> views(fields->begin(), fields->end());
+    if (const Verdict verdict = validate_request(*target.command, views, Units::metres);
+        !verdict.ok() && !(distance && target.raw))
+      return fail("set", uls::driver_detail::local_refusal(*target.command, value, verdict.error, Units::metres));
+  }
+  auto driver = open_driver(link);
+  if (!driver) return fail("set", driver.error());
+  std::optional<Units> units;
+  for (const auto& [target, value] : work) {
+    const bool distance =
+        target.command->kind == ValueKind::distance || target.command->kind == ValueKind::signed_distance;
+    if (distance && !units) {
+      auto read = (*driver)->units();
+      if (!read) return fail("set", read.error());
+      units = *read;
+    }
+    auto fields = uls_values::to_fields(target, value, units.value_or(Units::metres));
+    if (!fields) return fail("set", fields.error());
+    const std::vector<std::string_view> views(fields->begin(), fields->end());
+    auto done = (*driver)->set(target.command->mnemonic, views);
+    if (!done) return fail("set", done.error());
+    std::string wire;
+    for (const auto& field : *fields) wire += (wire.empty() ? "" : ",") + field;
+    fmt::print("{}={}  # {}={} OK\n", target.command->cli_name, value, target.command->mnemonic, wire);
+    if (target.command->mnemonic == "MU") units.reset();
+    if (target.command->mnemonic == "BR" && fields->size() == 2)
+      fmt::print(stderr, "note: port {} now runs at {} baud (the change follows the $OK, §8); use --baud {}\n",
+                 (*fields)[0], (*fields)[1], (*fields)[1]);
+  }
+  return exit_ok;
+}
+
+// --- info, actions, measure -------------------------------------------------
+
+int run_info(const LinkOptions& link) {
+  auto driver = open_driver(link);
+  if (!driver) return fail("info", driver.error());
+  auto info = (*driver)->info();
+  if (!info) return fail("info", info.error());
+  fmt::print("port={}\n", link.port);
+  if (info->address) fmt::print("address={}\n", address_text(*info->address));
+  fmt::print("version={}\n", info->version);
+  const StatusInfo& s = info->status;
+  fmt::print("status={}  # US={} (active={}, laser_firing={}, averaging_calc={}, binning_calc={})\n",
+             s.value == 0    ? "error"
+             : s.measuring() ? "measuring"
+                             : "ready",
+             s.value, s.active, s.laser_firing, s.averaging_calc, s.binning_calc);
+  auto units = (*driver)->units();
+  if (!units) return fail("info", units.error());
+  for (const char* mnemonic : {"MM", "MU", "PF", "PO", "CO", "MO"}) {
+    if (const int code = print_setting(**driver, *find_command(mnemonic), *units); code != exit_ok) return code;
+  }
+  return exit_ok;
+}
+
+int run_action(const LinkOptions& link, std::string_view name, std::string_view mnemonic) {
+  auto driver = open_driver(link);
+  if (!driver) return fail(name, driver.error());
+  if (auto done = (*driver)->action(mnemonic); !done) return fail(name, done.error());
+  fmt::print("{} OK\n", mnemonic);
+  return exit_ok;
+}
+
+int run_measure(const LinkOptions& link, int count) {
+  auto driver = open_driver(link);
+  if (!driver) return fail("measure", driver.error());
+  for (int i = 0; i < count; ++i) {
+    auto sample = (*driver)->measure();
+    if (!sample) return fail("measure", sample.error());
+    fmt::print("{}\n", format_sample(*sample));
+  }
+  return exit_ok;
+}
+
+// --- stream ----------------------------------------------------------------
+
+int run_uls_stream(const LinkOptions& link, const StreamOptions& options, const std::string& mode, bool reconnect) {
+  auto driver = open_driver(link, reconnect);
+  if (!driver) return fail("stream", driver.error());
+  const StreamMode stream_mode = mode == "continuous" ? StreamMode::continuous
+                                 : mode == "polled"   ? StreamMode::polled
+                                                      : StreamMode::automatic;
+  if (auto started = (*driver)->start_stream(stream_mode); !started) return fail("stream", started.error());
+  const int code = run_stream(**driver, options);
+  (*driver)->stop_stream(true);
+  return code;
+}
+
+// --- config and reset -------------------------------------------------------
+
+void print_differences(const std::vector<ConfigDifference>& differences, std::string_view wanted_label) {
+  for (const auto& difference : differences)
+    fmt::print("{}: {}={} device={}  # {}\n", difference.command->cli_name, wanted_label, difference.wanted,
+               difference.actual, difference.command->mnemonic);
+}
+
+Result<DeviceConfig> read_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return make_error(Errc::io, "cannot read " + path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return config_from_toml(text.str(), path);
+}
+
+int run_config(const LinkOptions& link, const std::string& what, const std::string& path) {
+  const std::string name = "config " + what;
+  std::optional<DeviceConfig> file;
+  if (what != "save") {
+    auto read = read_file(path);
+    if (!read) return fail(name, read.error());
+    file = std::move(*read);
+  }
+  auto driver = open_driver(link);
+  if (!driver) return fail(name, driver.error());
+  if (what == "save") {
+    auto config = read_config(**driver);
+    if (!config) return fail(name, config.error());
+    std::ofstream out(path);
+    out << config_to_toml(*config, "from " + link.port);
+    out.close();
+    if (!out) {
+      fmt::print(stderr, "rangekit uls config save: cannot write {}\n", path);
+      return exit_write_failed;
+    }
+    fmt::print("saved {} settings to {}\n", config->settings.size(), path);
+    return exit_ok;
+  }
+  if (what == "diff") {
+    auto device = read_config(**driver);
+    if (!device) return fail(name, device.error());
+    const auto differences = diff_config(*file, *device);
+    print_differences(differences, "file");
+    if (differences.empty()) fmt::print("no differences ({} settings compared)\n", file->settings.size());
+    return differences.empty() ? exit_ok : 1;
+  }
+  auto report = load_config(**driver, *file);
+  if (!report) return fail(name, report.error());
+  print_differences(report->mismatches, "file");
+  fmt::print("loaded {} settings from {}; {} differ after reading back\n", file->settings.size(), path,
+             report->mismatches.size());
+  return report->mismatches.empty() ? exit_ok : exit_device_error;
+}
+
+int run_reset(const LinkOptions& link, bool save) {
+  auto driver = open_driver(link);
+  if (!driver) return fail("reset", driver.error());
+  auto report = load_config(**driver, factory_config());
+  if (!report) return fail("reset", report.error());
+  print_differences(report->mismatches, "factory");
+  if (save) {
+    if (auto saved = (*driver)->save(); !saved) return fail("reset", saved.error());
+  }
+  fmt::print("factory settings written ({}){}\n", report->sent, save ? " and saved (SU)" : "; not saved (add --save)");
+  return report->mismatches.empty() ? exit_ok : exit_device_error;
+}
+
+// --- bus -------------------------------------------------------------------
+
+Result<std::unique_ptr<Bus>> open_bus(const LinkOptions& link) {
+  auto port = open_port(link);
+  if (!port) return port.error();
+  BusOptions options;
+  options.timeout = std::chrono::milliseconds(std::min(link.timeout_ms, 1000));
+  return std::make_unique<Bus>(std::move(*port), options);
+}
+
+Result<std::vector<std::uint8_t>> address_list(const std::string& text, bool all) {
+  if (text.empty()) return all ? all_unit_addresses() : typable_addresses();
+  std::vector<std::uint8_t> list;
+  for (const char c : text) {
+    auto address = parse_unit_address(std::string(1, c));
+    if (!address) return make_error(Errc::out_of_range, std::string("'") + c + "' is not a unit address");
+    list.push_back(*address);
+  }
+  return list;
+}
+
+int run_bus(const LinkOptions& link, const std::string& what, const std::string& units_text, bool all,
+            const std::string& from, const std::string& to, bool measure, int rounds) {
+  const std::string name = "bus " + what;
+  auto bus = open_bus(link);
+  if (!bus) return fail(name, bus.error());
+  if (what == "assign") {
+    std::optional<std::uint8_t> old;
+    if (!from.empty()) {
+      old = parse_unit_address(from);
+      if (!old) return fail(name, make_error(Errc::out_of_range, "--from '" + from + "' is not a unit address"));
+    }
+    auto fresh = parse_unit_address(to);
+    if (!fresh) return fail(name, make_error(Errc::out_of_range, "--to '" + to + "' is not a unit address 0x30..0xEF"));
+    if (auto done = (*bus)->assign(old, *fresh); !done) return fail(name, done.error());
+    fmt::print("assigned {} -> {}\n", old ? address_text(*old) : std::string("(unaddressed)"), address_text(*fresh));
+    return exit_ok;
+  }
+  auto addresses = address_list(units_text, all);
+  if (!addresses) return fail(name, addresses.error());
+  if (what == "scan") {
+    const auto units = (*bus)->scan(*addresses);
+    int duplicates = 0;
+    for (const auto& unit : units) {
+      fmt::print("{}  {}{}{}\n", address_text(unit.address), unit.version,
+                 unit.status ? fmt::format("  status={}", unit.status->value) : "",
+                 unit.duplicate ? "  DUPLICATE: " + unit.problem : "");
+      duplicates += unit.duplicate ? 1 : 0;
+    }
+    fmt::print("{} address(es) answered of {} asked\n", units.size(), addresses->size());
+    if (units.empty()) {
+      fmt::print(stderr, "rangekit uls bus scan: no unit answered (check the port, the baud rate and the wiring)\n");
+      return exit_no_reply;
+    }
+    return duplicates > 0 ? exit_device_error : exit_ok;
+  }
+  // poll: the Interface Program's network poll, round-robin.
+  std::vector<std::uint8_t> list = *addresses;
+  if (units_text.empty()) {
+    list.clear();
+    for (const auto& unit : (*bus)->scan(*addresses)) list.push_back(unit.address);
+    if (list.empty()) return fail(name, make_error(Errc::timeout, "no unit answered on " + link.port));
+  }
+  int silent = 0;
+  for (int round = 0; round < rounds; ++round) {
+    for (const auto& result : (*bus)->poll(list, measure)) {
+      std::string line = address_text(result.address);
+      if (result.status) line += fmt::format("  status={}", result.status->value);
+      if (result.sample) line += "  " + format_sample(*result.sample);
+      if (!result.problem.empty()) line += "  problem: " + result.problem;
+      if (!result.answered) ++silent;
+      fmt::print("{}\n", line);
+    }
+  }
+  return silent > 0 ? exit_no_reply : exit_ok;
+}
+
+}  // namespace
+
 void add_uls_command(CLI::App& app, int& exit_code) {
-  auto* command = app.add_subcommand("uls", "(not yet available)");
-  command->callback([&exit_code] {
-    fmt::print(stderr, "rangekit uls: not yet available\n");
-    exit_code = 70;
+  auto* uls = app.add_subcommand("uls", "configure, read and stream a ULS (spec §8) on a serial port or pty");
+  uls->require_subcommand(1);
+  auto link = std::make_shared<LinkOptions>();
+
+  auto* info = uls->add_subcommand("info", "version (ID), status bits (US) and the main settings");
+  add_link_options(info, *link);
+  info->callback([&exit_code, link] { exit_code = run_info(*link); });
+
+  auto names = std::make_shared<std::vector<std::string>>();
+  auto* get = uls->add_subcommand(
+      "get", "read settings by name (mode, prf, units, ...) or mnemonic (MM, PF); all without names");
+  add_link_options(get, *link);
+  get->add_option("names", *names, "settings to read");
+  get->callback([&exit_code, link, names] { exit_code = run_get(*link, *names); });
+
+  auto assignments = std::make_shared<std::vector<std::string>>();
+  auto* set =
+      uls->add_subcommand("set", "write settings: mode=binning prf=2000 units=m short-gate=10 (metres) PF=2000");
+  add_link_options(set, *link);
+  set->add_option("assignments", *assignments, "NAME=VALUE ...")->required();
+  set->callback([&exit_code, link, assignments] { exit_code = run_set(*link, *assignments); });
+
+  auto stream_options = std::make_shared<StreamOptions>();
+  auto stream_mode = std::make_shared<std::string>("auto");
+  auto no_reconnect = std::make_shared<bool>(false);
+  auto* stream =
+      uls->add_subcommand("stream", "start measuring and stream readings (reconnects when the port comes back)");
+  add_link_options(stream, *link);
+  add_stream_options(*stream, *stream_options);
+  stream->add_option("--mode", *stream_mode, "auto (CO decides), continuous (GO) or polled (BM)")
+      ->check(CLI::IsMember({"auto", "continuous", "polled"}))
+      ->capture_default_str();
+  stream->add_flag("--no-reconnect", *no_reconnect, "end the stream when the port goes away");
+  stream->callback([&exit_code, link, stream_options, stream_mode, no_reconnect] {
+    exit_code = run_uls_stream(*link, *stream_options, *stream_mode, !*no_reconnect);
+  });
+
+  auto count = std::make_shared<int>(1);
+  auto* measure = uls->add_subcommand("measure", "one measurement with BM (starts the unit if idle, §2 Autostart)");
+  add_link_options(measure, *link);
+  measure->add_option("--count", *count, "measurements to read")->capture_default_str();
+  measure->callback([&exit_code, link, count] { exit_code = run_measure(*link, *count); });
+
+  auto* start = uls->add_subcommand("start", "start measuring (GO)");
+  add_link_options(start, *link);
+  start->callback([&exit_code, link] { exit_code = run_action(*link, "start", "GO"); });
+  auto* stop = uls->add_subcommand("stop", "stop measuring (ST)");
+  add_link_options(stop, *link);
+  stop->callback([&exit_code, link] { exit_code = run_action(*link, "stop", "ST"); });
+  auto* save = uls->add_subcommand("save", "save the user settings into non-volatile memory (SU)");
+  add_link_options(save, *link);
+  save->callback([&exit_code, link] { exit_code = run_action(*link, "save", "SU"); });
+
+  auto save_after_reset = std::make_shared<bool>(false);
+  auto* reset = uls->add_subcommand("reset", "write the factory settings (§2; §8 has no reset command) and verify");
+  add_link_options(reset, *link);
+  reset->add_flag("--save", *save_after_reset, "also save them (SU)");
+  reset->callback([&exit_code, link, save_after_reset] { exit_code = run_reset(*link, *save_after_reset); });
+
+  auto* config = uls->add_subcommand("config", "settings as a TOML file (the Interface Program's .uls file)");
+  config->require_subcommand(1);
+  auto path = std::make_shared<std::string>();
+  for (const auto& [what, help] : std::vector<std::pair<std::string, std::string>>{
+           {"save", "read every setting and write FILE"},
+           {"load", "upload FILE, read back and verify every value"},
+           {"diff", "compare FILE with the device (exit 1 when they differ)"}}) {
+    auto* sub = config->add_subcommand(what, help);
+    add_link_options(sub, *link);
+    sub->add_option("file", *path, "TOML file")->required();
+    sub->callback([&exit_code, link, path, what = what] { exit_code = run_config(*link, what, *path); });
+  }
+
+  auto* bus = uls->add_subcommand("bus", "RS-485 bus of addressed units (§7)");
+  bus->require_subcommand(1);
+  auto units = std::make_shared<std::string>();
+  auto all = std::make_shared<bool>(false);
+  auto from = std::make_shared<std::string>();
+  auto to = std::make_shared<std::string>();
+  auto poll_measure = std::make_shared<bool>(false);
+  auto rounds = std::make_shared<int>(1);
+  auto* scan = bus->add_subcommand("scan", "which addresses answer (ID, US); reports collisions (duplicates)");
+  add_link_options(scan, *link);
+  scan->add_option("--units", *units, "addresses to ask, e.g. ABC (default 0-9 A-Z a-z)");
+  scan->add_flag("--all", *all, "ask every address 0x30-0xEF");
+  scan->callback(
+      [&exit_code, link, units, all] { exit_code = run_bus(*link, "scan", *units, *all, "", "", false, 1); });
+  auto* assign = bus->add_subcommand("assign", "give a unit a new address (UA), refusing one already in use");
+  add_link_options(assign, *link);
+  assign->add_option("--from", *from, "the unit's address now (omit for a factory unit alone on the line)");
+  assign->add_option("--to", *to, "the new address")->required();
+  assign->callback(
+      [&exit_code, link, from, to] { exit_code = run_bus(*link, "assign", "", false, *from, *to, false, 1); });
+  auto* poll = bus->add_subcommand("poll", "round-robin status (and --measure) of each unit (the network poll, §2/§7)");
+  add_link_options(poll, *link);
+  poll->add_option("--units", *units, "addresses to poll, e.g. ABC (default: those a scan finds)");
+  poll->add_flag("--measure", *poll_measure, "also read a measurement (BM) from each unit");
+  poll->add_option("--rounds", *rounds, "poll rounds")->capture_default_str();
+  poll->callback([&exit_code, link, units, poll_measure, rounds] {
+    exit_code = run_bus(*link, "poll", *units, false, "", "", *poll_measure, *rounds);
   });
 }
 
