@@ -2,7 +2,9 @@
 // (Ethernet packets, §10.1): both hand a SampleSource to the shared run_stream.
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <memory>
+#include <string>
 
 #include "cli/commands.hpp"
 #include "cli/ls5_cli.hpp"
@@ -27,6 +29,27 @@ struct UdpStreamCommand {
   StreamOptions stream;
 };
 
+// How long without a record means the sensor is gone: --silence-ms, but at least three
+// output periods T = n × t (§8.4), and never with sync-input triggering, where records
+// come only with the edges (§8.13).
+Result<std::chrono::milliseconds> silence_timeout(ls5::Driver& driver, const SerialStreamCommand& command) {
+  auto triggering = driver.get("triggering");
+  if (!triggering) return triggering.error();
+  if (triggering->text == "sync-input")
+    return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::hours(24 * 365));
+  auto period = driver.get("period-ms");
+  if (!period) return period.error();
+  int thinning = command.thinning;
+  if (thinning == 0) {
+    auto current = driver.get("thinning");
+    if (!current) return current.error();
+    thinning = std::stoi(current->text);
+  }
+  const double output_period_ms = std::stod(period->text) * thinning;
+  const auto three_periods = std::chrono::milliseconds(static_cast<std::int64_t>(3 * output_period_ms) + 1);
+  return std::max(std::chrono::milliseconds(command.silence_ms), three_periods);
+}
+
 }  // namespace
 
 void add_ls5_stream_commands(CLI::App& ls5, int& exit_code) {
@@ -41,7 +64,8 @@ void add_ls5_stream_commands(CLI::App& ls5, int& exit_code) {
       ->check(CLI::Range(10, 60000));
   stream
       ->add_option("--silence-ms", serial->silence_ms,
-                   "no record for this long counts as a lost sensor (power cycle); default 3000")
+                   "no record for this long (at least 3 output periods; never with sync triggering) counts as a lost "
+                   "sensor; default 3000")
       ->check(CLI::Range(100, 3600000));
   stream->callback([&exit_code, serial] {
     auto driver = open_ls5_driver(serial->connection);
@@ -52,7 +76,12 @@ void add_ls5_stream_commands(CLI::App& ls5, int& exit_code) {
     ls5::Driver::StreamOptions options;
     if (serial->thinning > 0) options.thinning = static_cast<std::uint8_t>(serial->thinning);
     options.reconnect_interval = std::chrono::milliseconds(serial->reconnect_ms);
-    options.silence_timeout = std::chrono::milliseconds(serial->silence_ms);
+    auto silence = silence_timeout(**driver, *serial);
+    if (!silence) {
+      exit_code = report_ls5_failure("stream", silence.error(), serial->connection);
+      return;
+    }
+    options.silence_timeout = *silence;
     auto source = (*driver)->start_stream(options);
     if (!source) {
       exit_code = report_ls5_failure("stream", source.error(), serial->connection);
