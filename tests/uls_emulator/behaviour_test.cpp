@@ -380,5 +380,23 @@ TEST(UlsBehaviour, RangeAndIntensityLimitIs476LinesPerSecond) {
   EXPECT_GT(unit.firmware->outputs(unit.now).skipped_lines, 0U);
 }
 
+// docs/conformance.md U36
+TEST(UlsBehaviour, BaudChangeForTheOtherPortAppliesWhileItStreams) {
+  // BR for the universal port sent on the configuration port, with GO right behind it:
+  // the universal port starts streaming before the $OK has left, and still switches then.
+  Unit unit;
+  unit.send(configuration_port, "$AW,1\r$PO,2\r$PF,5000\r$DM,1\r$MO,1\r$BR,1,9600\r$GO\r");
+  unit.run(1s);
+  EXPECT_EQ(unit.text(configuration_port), "$OK\r$OK\r$OK\r$OK\r$OK\r$OK\r$OK\r");
+  EXPECT_EQ(unit.firmware->port_settings(universal_port).baud, 9600U);
+  const auto lines = unit.lines_with_times(universal_port);
+  ASSERT_GT(lines.size(), 20U);
+  // Saturated at 9600: each character takes 1.2 ms (U19), each line (len + CR) x 1.2 ms.
+  for (std::size_t i = lines.size() - 10; i < lines.size(); ++i) {
+    const auto characters = static_cast<std::int64_t>(lines[i].text.size() + 1);
+    EXPECT_EQ(lines[i].done - lines[i - 1].done, Nanos(characters * 1'200'000)) << lines[i].text;
+  }
+}
+
 }  // namespace
 }  // namespace rangekit::uls::emulator

@@ -182,21 +182,34 @@ SerialSettings Firmware::port_settings(std::size_t port) const {
 
 // --- Serial side ---
 
-void Firmware::drain(Port& port, Nanos now) {
-  while (port.pacer.next_completion() <= now) {
+void Firmware::take_until(Port& port, Nanos until) {
+  while (port.pacer.next_completion() <= until) {
     const Nanos done = port.pacer.next_completion();
-    std::vector<std::uint8_t> bytes;
-    port.pacer.take_sent(done, bytes);
-    for (const auto value : bytes) port.outbox.push_back(LineByte{done, value});
+    sent_.clear();  // reused: no allocation per byte
+    port.pacer.take_sent(done, sent_);
+    for (const auto value : sent_) port.outbox.push_back(LineByte{done, value});
   }
+}
+
+void Firmware::drain(Port& port, Nanos now) {
+  const std::size_t index = static_cast<std::size_t>(&port - ports_.data());
+  auto switch_baud = [&] {
+    settings_.baud[index] = *port.pending_baud;
+    port.pacer.reconfigure(*port.pending_baud, uls_hundredths_of_bits, port.pending_at);
+    port.pending_baud.reset();
+  };
+  if (port.pending_baud && port.pending_port != index && port.pending_at < now) {
+    // BR for the other port: it switches once the $OK has left the port the command came
+    // on, even while it streams; what it still has queued goes on at the new speed (U36).
+    take_until(port, port.pending_at);
+    switch_baud();
+  }
+  take_until(port, now);
   while (port.outbox.size() > 65536) port.outbox.pop_front();  // nobody reads this port
   if (port.pending_baud && port.pending_at < now && port.pacer.queued() == 0) {
     // Strictly after: the runtime hands the $OK's last byte to the host at the old speed first.
     // BR takes effect once the $OK has left the line (§8 Set/Get Baud Rate, U36).
-    const std::size_t index = static_cast<std::size_t>(&port - ports_.data());
-    settings_.baud[index] = *port.pending_baud;
-    port.pacer.reconfigure(*port.pending_baud, uls_hundredths_of_bits, port.pending_at);
-    port.pending_baud.reset();
+    switch_baud();
   }
 }
 
@@ -410,6 +423,7 @@ void Firmware::execute(std::size_t port, Address to, bool silent, const CommandI
     auto& target = ports_[which];
     target.pending_baud = parse_unsigned(fields[1]);
     target.pending_at = std::max(now, ports_[port].pacer.idle_at(now));
+    target.pending_port = port;
   } else if (m == "BS") {
     if (get) {
       value(std::to_string(settings_.bin_size));
@@ -547,8 +561,11 @@ Nanos Firmware::next_deadline() const {
   Nanos earliest = Nanos::max();
   for (const auto& port : ports_) {
     earliest = std::min(earliest, port.pacer.next_completion());
-    if (port.pending_baud)
-      earliest = std::min(earliest, std::max({port.pending_at, port.pacer.idle_at(last_now_), last_now_}) + Nanos(1));
+    if (port.pending_baud) {
+      const bool other_port = port.pending_port != static_cast<std::size_t>(&port - ports_.data());
+      const Nanos idle = other_port ? port.pending_at : port.pacer.idle_at(last_now_);
+      earliest = std::min(earliest, std::max({port.pending_at, idle, last_now_}) + Nanos(1));
+    }
   }
   if (measuring_) {
     if (settings_.mode == Mode::look_down) {

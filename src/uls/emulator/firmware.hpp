@@ -118,7 +118,8 @@ class Firmware final : public DeviceModel {
     std::deque<LineByte> outbox;
     std::optional<std::uint32_t> pending_baud;
     Nanos pending_at{0};
-    Nanos last_line_start{0};  // when the newest queued measurement starts on the wire (U39)
+    std::size_t pending_port = 0;  // the port whose $OK must leave first
+    Nanos last_line_start{0};      // when the newest queued measurement starts on the wire (U39)
   };
   struct PulseReturn {
     double distance_m = 0;
@@ -158,6 +159,7 @@ class Firmware final : public DeviceModel {
   // Median of this cycle's returns and the window around it that passes the noise filter.
   double noise_filter_centre(double& window);
   void drain(Port& port, Nanos now);
+  void take_until(Port& port, Nanos until);
   void record_error(int number, Nanos t);
   void record_distance(double metres, Nanos t);
 
@@ -168,6 +170,7 @@ class Firmware final : public DeviceModel {
   Scene scene_;
   std::mt19937 random_;
   std::array<Port, 2> ports_;
+  std::vector<std::uint8_t> sent_;  // drain's scratch
   Nanos last_now_{0};
 
   bool measuring_ = false;
