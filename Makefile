@@ -24,7 +24,7 @@ test: build
 	@ctest --test-dir $(BUILD) --output-on-failure -j$(JOBS)
 
 demo: build
-	@./$(BUILD)/rangekit demo
+	@./$(BUILD)/rangekit demo --capture $(BUILD)/demo.sqlite
 
 # Same tests with AddressSanitizer + UndefinedBehaviorSanitizer (CI runs this too).
 asan: deps

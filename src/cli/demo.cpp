@@ -1,111 +1,191 @@
-// `rangekit demo`: the main job on embedded defaults. Until the emulators land
-// (issues 4 and 5) it decodes a sample session typed from the two documents,
-// both directions, through the same codecs the drivers will use.
+// `rangekit demo`: the first thing a newcomer runs. Starts a ULS and an LS5
+// emulator (child processes of this binary) on pseudo-terminals with moving
+// targets, streams both live through the same drivers a real sensor uses,
+// captures both into one SQLite file and says how to replay it.
 #include <fmt/core.h>
+#include <unistd.h>
 
-#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <vector>
 
 #include "cli/commands.hpp"
-#include "cli/describe.hpp"
-#include "rangekit/ls5/udp_packet.hpp"
+#include "cli/demo.hpp"
+#include "cli/sim_process.hpp"
+#include "cli/stream_runner.hpp"
+#include "rangekit/core/serial_port.hpp"
+#include "rangekit/ls5/driver.hpp"
+#include "rangekit/record/merge.hpp"
+#include "rangekit/record/replay.hpp"
+#include "rangekit/uls/driver.hpp"
 
 namespace rangekit::cli {
 namespace {
 
-struct Line {
-  Direction direction;
-  std::string_view wire;  // without the CR
-  std::string_view source;
+namespace fs = std::filesystem;
+
+struct DemoOptions {
+  double seconds = 20;
+  std::string capture = "rangekit-demo.sqlite";
+  std::string format = "text";
+  bool walkthrough = false;
 };
 
-constexpr std::array uls_session{
-    Line{Direction::to_device, "$ID", "§8 Get Software Version"},
-    Line{Direction::from_device, "$ID,ULS 0.97 03/2005", "§8"},
-    Line{Direction::to_device, "$MM", "§8 example"},
-    Line{Direction::from_device, "$MM,1", "§8 example"},
-    Line{Direction::to_device, "#ZMM,1", "§8 example: unit 0x5A"},
-    Line{Direction::from_device, "#ZOK", "§8"},
-    Line{Direction::to_device, "$PF,3000", "§9 example: 3000 PRF"},
-    Line{Direction::to_device, "$PO,300", "§9 example: 300 PPM, 10 Hz"},
-    Line{Direction::to_device, "$PF,6000", "§2: PRF 10-5000"},
-    Line{Direction::from_device, "$ER,32", "§10"},
-    Line{Direction::to_device, "$DM,2", "§8 range and intensity"},
-    Line{Direction::to_device, "$GO", "§8"},
-    Line{Direction::from_device, "$BM,12.345,8600", "§8/§9 averaging, range and pulse width (ps)"},
-    Line{Direction::from_device, "$ER,4", "§10 streamed"},
-    Line{Direction::to_device, "$TT,107AC0", "§3: 1,080,000 pulses = 6 min at 3000 PRF"},
-    Line{Direction::from_device, "$0BB8", "§3: 3000 pulses = 1 s at 3 kHz"},
-    Line{Direction::from_device, "$0", "§8: no presence"},
-};
+// A forklift-style target moving between 5 m and 25 m and back every 20 s,
+// with a weak far wall behind it (§3: binning would show both).
+constexpr const char* uls_scene = R"(dust = 0.002
 
-constexpr std::array ls5_session{
-    Line{Direction::to_device, "#01ON", "§9.4"},
-    Line{Direction::from_device, "!01ON", "§9.4"},
-    Line{Direction::to_device, "#02W0B01", "§9.4"},
-    Line{Direction::from_device, "!02W0B01", "§9.4"},
-    Line{Direction::to_device, "#01ID", "§9.2"},
-    Line{Direction::from_device, "%01LS5.6.0   b8,1234d40,0010s/n0000157", "§9.2 example"},
-    Line{Direction::to_device, "#01W1620", "table 9.3"},
-    Line{Direction::to_device, "#01ST", "table 9.1"},
-    Line{Direction::from_device, "!25000", "§8.9"},
-    Line{Direction::from_device, "!65535", "§8.9 no signal"},
-    Line{Direction::to_device, "#00FX", "table 9.1 broadcast"},
-    Line{Direction::from_device, "!01LR25000", "table 9.1"},
-};
+[[targets]]
+name = "pallet"
+path = [[0, 5], [10, 25], [20, 5]]
+repeat = true
+reflectivity = 0.6
 
-void print_session(std::string_view title, std::span<const Line> lines, bool uls) {
-  fmt::print("\n{}\n", title);
-  const uls::MeasurementContext context{uls::Mode::averaging, uls::DisplayMode::range_and_intensity, uls::Units::metres,
-                                        false};
-  for (const auto& line : lines) {
-    const Bytes frame = as_bytes(line.wire);
-    const std::string description =
-        uls ? describe_uls_frame(frame, line.direction, context) : describe_ls5_frame(frame, line.direction, 40.001);
-    fmt::print("  {} {:<40} {}\n", line.direction == Direction::to_device ? "host ->" : "     <-", line.wire,
-               description);
-    fmt::print("          {:<40} ({})\n", "", line.source);
-  }
+[[targets]]
+name = "back wall"
+distance_m = 60
+reflectivity = 0.2
+)";
+
+// A part passing under the triangulation head: 12 mm to 44 mm from the sensor
+// (the 8.1234/40.001 model measures 8.1234 ... 48.1244 mm), with one shading gap.
+constexpr const char* ls5_scene = R"([target]
+path = [[0.0, 12.0], [10.0, 44.0], [20.0, 12.0]]
+repeat = true
+reflectivity = 0.8
+
+[[dropout]]
+start_s = 6.0
+end_s = 6.5
+kind = "shading"
+)";
+
+Status write_file(const fs::path& path, const char* text) {
+  std::ofstream file(path);
+  file << text;
+  if (!file.flush()) return make_error(Errc::io, "cannot write " + path.string());
+  return ok_status();
 }
 
-int run_demo() {
-  fmt::print("rangekit demo: a sample session typed from the two documents, decoded by the rangekit codecs.\n");
-  fmt::print("(The ULS and LS5 emulators that will stream live data here are issues 4 and 5.)\n");
-  print_session("ULS, Universal Laser Sensor (uls-interface-spec.txt)", uls_session, true);
-  print_session("LS5 triangulation sensor, serial (ls5-manual.txt); range 40.001 mm from the ID reply", ls5_session,
-                false);
+Result<TransportPtr> open_port(const std::string& path) {
+  auto port = SerialPort::open(path, SerialSettings{});
+  if (!port) return std::move(port).error();
+  return TransportPtr(std::move(port).value());
+}
 
-  // An Ethernet packet of §10.1, built and read back through the codec.
-  ls5::UdpPacket packet;
-  for (std::size_t i = 0; i < packet.records.size(); ++i) {
-    packet.records[i] = ls5::UdpRecord{static_cast<std::uint16_t>(0x2000 + i), 0x07};
+// Removes an earlier demo capture (and its WAL files) so each run starts fresh.
+void remove_capture(const std::string& path) {
+  std::error_code ignored;
+  for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(path + suffix, ignored);
+}
+
+int fail(const std::string& message) {
+  fmt::print(stderr, "rangekit demo: {}\n", message);
+  return exit_io;
+}
+
+Result<std::uint64_t> count_captured(const std::string& path) {
+  auto replay = record::open_replay(path, 0.0);
+  if (!replay) return std::move(replay).error();
+  std::uint64_t samples = 0;
+  while (auto item = (*replay)->next(std::chrono::milliseconds(0))) {
+    if (std::holds_alternative<Sample>(*item)) ++samples;
   }
-  packet.serial_number = 157;
-  packet.lower_boundary_mm = 8;
-  packet.range_mm = 40;
-  packet.counter = 1;
-  std::array<std::uint8_t, ls5::udp_packet_size> datagram{};
-  if (auto encoded = ls5::encode_udp_packet(packet, datagram); !encoded) {
-    fmt::print(stderr, "demo: {}\n", encoded.error().describe());
-    return exit_bad_input;
+  return samples;
+}
+
+int run_live_demo(const DemoOptions& options) {
+  std::string pattern = (fs::temp_directory_path() / "rangekit-demo-XXXXXX").string();
+  if (::mkdtemp(pattern.data()) == nullptr)
+    return fail("cannot create a directory in " + fs::temp_directory_path().string());
+  const fs::path dir = pattern;
+  if (auto status = write_file(dir / "uls-scene.toml", uls_scene); !status) return fail(status.error().message);
+  if (auto status = write_file(dir / "ls5-scene.toml", ls5_scene); !status) return fail(status.error().message);
+
+  const std::string uls_port = (dir / "uls").string();
+  const std::string uls_config_port = (dir / "uls-config").string();
+  const std::string ls5_port = (dir / "ls5").string();
+  fmt::print("rangekit demo: starting two emulated sensors on pseudo-terminals in {}\n", dir.string());
+  auto uls_sim = SimProcess::start(
+      {"uls", "--port", uls_port, "--config-port", uls_config_port, "--scene", (dir / "uls-scene.toml").string()},
+      (dir / "uls-sim.log").string(), std::chrono::seconds(15));
+  if (!uls_sim) return fail(uls_sim.error().message);
+  auto ls5_sim = SimProcess::start({"ls5", "--port", ls5_port, "--scene", (dir / "ls5-scene.toml").string()},
+                                   (dir / "ls5-sim.log").string(), std::chrono::seconds(15));
+  if (!ls5_sim) return fail(ls5_sim.error().message);
+  fmt::print("  {}\n  {}\n", uls_sim->ready_line(), ls5_sim->ready_line());
+
+  // ULS: its measurement output is the configuration port (§2 Output Setup).
+  auto uls_link = open_port(uls_config_port);
+  if (!uls_link) return fail(uls_link.error().describe());
+  uls::DriverOptions uls_options;
+  uls_options.source = "uls-config";
+  auto uls_driver = std::make_unique<uls::Driver>(std::move(uls_link).value(), uls_options,
+                                                  [uls_config_port] { return open_port(uls_config_port); });
+  auto version = uls_driver->version();
+  if (!version) return fail("ULS: " + version.error().describe());
+  // 5000 pulses/s over 1024 pulses per measurement: about 4.9 readings a second,
+  // each with its pulse width (§8 DM).
+  if (auto status = uls_driver->set_prf(5000); !status) return fail("ULS PF: " + status.error().describe());
+  if (auto status = uls_driver->set_display_mode(uls::DisplayMode::range_and_intensity); !status) {
+    return fail("ULS DM: " + status.error().describe());
   }
-  auto decoded = ls5::decode_udp_packet(datagram);
-  if (!decoded) {
-    fmt::print(stderr, "demo: {}\n", decoded.error().describe());
-    return exit_bad_input;
-  }
-  const auto first = ls5::udp_distance_mm(decoded->records[0], decoded->range_mm);
-  fmt::print("\nLS5 Ethernet (§10.1): 512-byte packet, checksum {:02X} verified, counter {}, serial {}, {} records;\n",
-             datagram[511], decoded->counter, decoded->serial_number, decoded->records.size());
-  fmt::print("  first record code 0x{:04X} = {:.4f} mm (formula 10.1, range {} mm)\n", decoded->records[0].code,
-             first ? *first : 0.0, decoded->range_mm);
-  return exit_ok;
+  if (auto status = uls_driver->start_stream(); !status) return fail("ULS stream: " + status.error().describe());
+  fmt::print("  ULS  {}  averaging, PRF 5000, 1024 pulses per reading, range and pulse width\n", *version);
+
+  auto ls5_link = open_port(ls5_port);
+  if (!ls5_link) return fail(ls5_link.error().describe());
+  ls5::Driver ls5_driver(std::move(ls5_link).value(), ls5::DriverOptions{}, [ls5_port] { return open_port(ls5_port); });
+  auto ls5_info = ls5_driver.info();
+  if (!ls5_info) return fail("LS5: " + ls5_info.error().describe());
+  ls5::Driver::StreamOptions ls5_stream_options;
+  ls5_stream_options.thinning = 20;  // T = n × t (§8.4): 20 × 10 ms (factory period), 5 readings a second
+  auto ls5_stream = ls5_driver.start_stream(ls5_stream_options);
+  if (!ls5_stream) return fail("LS5 stream: " + ls5_stream.error().describe());
+  fmt::print("  LS5  address {}  streaming every 20th measurement (§8.4)\n", ls5_info->address);
+
+  remove_capture(options.capture);
+  fmt::print("Streaming both for {:.0f} s (Ctrl-C stops early) and capturing to {}\n\n", options.seconds,
+             options.capture);
+  std::fflush(stdout);
+
+  std::vector<SampleSourcePtr> sources;
+  sources.push_back(std::move(uls_driver));
+  sources.push_back(std::move(ls5_stream).value());
+  auto merged = record::merge_sources(std::move(sources));
+  StreamOptions stream_options;
+  stream_options.format = options.format;
+  stream_options.duration_s = options.seconds;
+  stream_options.capture = options.capture;
+  const int code = run_stream_as(*merged, stream_options, "demo");
+  merged.reset();  // stops both streams before the drivers and emulators go
+
+  if (code != exit_ok && code != exit_interrupted) return code;
+  auto captured = count_captured(options.capture);
+  fmt::print("\nCaptured {} samples from both sensors into {}\n", captured ? *captured : 0, options.capture);
+  fmt::print("Replay it:  build/rangekit replay {} --format jsonl\n", options.capture);
+  fmt::print("Emulators:  build/rangekit sim uls --help, build/rangekit sim ls5 --help\n");
+  std::error_code ignored;
+  uls_sim->stop();
+  ls5_sim->stop();
+  fs::remove_all(dir, ignored);
+  return code;
 }
 
 }  // namespace
 
 void add_demo_command(CLI::App& app, int& exit_code) {
-  auto* command = app.add_subcommand("demo", "Run the demonstration (no hardware needed)");
-  command->callback([&exit_code] { exit_code = run_demo(); });
+  static DemoOptions options;
+  auto* command = app.add_subcommand("demo", "Run the demonstration: two emulated sensors streamed live and captured");
+  command->add_option("--seconds", options.seconds, "how long to stream")->capture_default_str();
+  command->add_option("--capture", options.capture, "SQLite file for the capture")->capture_default_str();
+  command->add_option("--format", options.format, "jsonl, csv or text")->capture_default_str();
+  command->add_flag("--walkthrough", options.walkthrough,
+                    "decode a sample session typed from the documents instead (no emulators)");
+  command->callback([&exit_code] { exit_code = options.walkthrough ? run_walkthrough() : run_live_demo(options); });
 }
 
 }  // namespace rangekit::cli

@@ -36,13 +36,33 @@ Run run_cli(const std::string& arguments, const std::string& input = "") {
   return run;
 }
 
-TEST(Cli, DemoRunsAndDecodesBothFamilies) {
-  const auto run = run_cli("demo");
+TEST(Cli, DemoWalkthroughDecodesBothFamilies) {
+  const auto run = run_cli("demo --walkthrough");
   EXPECT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("unit 'Z' (0x5A): set Measurement Mode = 1 (averaging)"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("version LS5.6.0, lower boundary 8.1234 mm, range 40.001 mm, serial 157"),
             std::string::npos);
   EXPECT_NE(run.output.find("checksum"), std::string::npos);
+}
+
+// The main job: both emulators streamed live through the drivers and captured
+// into one SQLite file, which replays.
+TEST(Cli, LiveDemoStreamsBothSensorsAndCapturesThem) {
+  const auto capture =
+      std::filesystem::temp_directory_path() / ("rangekit-demo-test-" + std::to_string(::getpid()) + ".sqlite");
+  const auto run = run_cli("demo --seconds 4 --format jsonl --capture " + capture.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("\"device\":\"uls\""), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("\"device\":\"ls5\""), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("\"distance_m\""), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("\"distance_mm\""), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("replay " + capture.string()), std::string::npos) << run.output;
+
+  const auto replay = run_cli("replay " + capture.string() + " --full-speed --format jsonl");
+  EXPECT_EQ(replay.exit_code, 0) << replay.output;
+  EXPECT_NE(replay.output.find("\"device\":\"uls\""), std::string::npos) << replay.output;
+  EXPECT_NE(replay.output.find("\"device\":\"ls5\""), std::string::npos) << replay.output;
+  for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(capture.string() + suffix);
 }
 
 TEST(Cli, DecodeUlsBinningLines) {
