@@ -1,0 +1,292 @@
+// End to end over real ptys: every `rangekit uls` subcommand against
+// `rangekit sim uls`, a bus of 8 units, config save/diff/load, and the driver's
+// stream surviving the emulator being killed and restarted on the same path.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "rangekit/core/serial_port.hpp"
+#include "rangekit/uls/driver.hpp"
+
+namespace rangekit::uls {
+namespace {
+
+using namespace std::chrono_literals;
+namespace fs = std::filesystem;
+
+// A `rangekit sim uls` child process; waits for its "ready" line instead of sleeping.
+class Emulator {
+ public:
+  explicit Emulator(const std::string& arguments) {
+    int fds[2];
+    EXPECT_EQ(::pipe(fds), 0);
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      ::dup2(fds[1], STDOUT_FILENO);
+      ::close(fds[0]);
+      const std::string command = "exec " + std::string(RANGEKIT_CLI_PATH) + " sim uls " + arguments;
+      ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    ::close(fds[1]);
+    out_ = fds[0];
+    char c = 0;
+    while (::read(out_, &c, 1) == 1 && c != '\n') ready_.push_back(c);
+    EXPECT_NE(ready_.find("ready"), std::string::npos) << ready_;
+  }
+  ~Emulator() { stop(); }
+  Emulator(const Emulator&) = delete;
+  Emulator& operator=(const Emulator&) = delete;
+  void stop() {
+    if (pid_ <= 0) return;
+    ::kill(pid_, SIGTERM);
+    int status = 0;
+    ::waitpid(pid_, &status, 0);
+    ::close(out_);
+    pid_ = -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  int out_ = -1;
+  std::string ready_;
+};
+
+struct CliRun {
+  int code = -1;
+  std::string out;  // stdout and stderr
+};
+
+CliRun cli(const std::string& arguments) {
+  const std::string command = std::string(RANGEKIT_CLI_PATH) + " " + arguments + " 2>&1";
+  std::FILE* pipe = ::popen(command.c_str(), "r");
+  CliRun run;
+  if (pipe == nullptr) return run;
+  std::array<char, 512> buffer{};
+  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) run.out += buffer.data();
+  const int status = ::pclose(pipe);
+  run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+fs::path scratch(const std::string& name) {
+  const auto dir = fs::temp_directory_path() / ("rangekit-ulshost-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::size_t count_of(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+TEST(UlsHostPty, EverySubcommandEndToEnd) {
+  const auto dir = scratch("cli");
+  const std::string port = (dir / "cfg").string();
+  Emulator emulator("--port " + (dir / "uls").string() + " --config-port " + port + " --state " + dir.string());
+  const std::string on = " --port " + port;
+
+  CliRun run = cli("uls info" + on);
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("version=ULS"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("status=ready"), std::string::npos) << run.out;
+
+  run = cli("uls set" + on + " mode=binning PF=2500 bin-size=4-inches");
+  EXPECT_EQ(run.code, 0) << run.out;
+  run = cli("uls get" + on + " mode prf BS");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("mode=binning  # MM=2"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("PF=2000,2500,2000"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("bin-size=4-inches  # BS=2"), std::string::npos) << run.out;
+
+  // Refused locally, naming the range; nothing is sent (mode stays binning).
+  run = cli("uls set" + on + " mode=averaging prf=6000");
+  EXPECT_EQ(run.code, 2) << run.out;
+  EXPECT_NE(run.out.find("10..5000"), std::string::npos) << run.out;
+  EXPECT_NE(cli("uls get" + on + " mode").out.find("mode=binning"), std::string::npos);
+
+  // Get with no names prints every readable setting.
+  run = cli("uls get" + on);
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("trip-timeout=360.0 s (1080000 pulses)  # TT=107AC0"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("address=unassigned"), std::string::npos) << run.out;
+
+  ASSERT_EQ(cli("uls set" + on + " mode=averaging").code, 0);
+  run = cli("uls measure" + on + " --count 2");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_EQ(count_of(run.out, "averaging distance_m=50.0"), 2U) << run.out;  // default scene: wall at 50 m
+
+  run = cli("uls start" + on);
+  EXPECT_EQ(run.code, 0) << run.out;
+  // A setting that changes the measurement while measuring: device error 31 (§10) with its text.
+  run = cli("uls set" + on + " power=low");
+  EXPECT_EQ(run.code, 6) << run.out;
+  EXPECT_NE(run.out.find("device error 31"), std::string::npos) << run.out;
+  EXPECT_EQ(cli("uls stop" + on).code, 0);
+
+  run = cli("uls stream" + on + " --count 3 --format jsonl --quiet");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_EQ(count_of(run.out, "\"distance_m\":"), 3U) << run.out;
+  run = cli("uls stream" + on + " --count 2 --format csv --mode polled --quiet");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("distance_m"), std::string::npos) << run.out;
+
+  EXPECT_EQ(cli("uls save" + on).code, 0);
+  run = cli("uls reset" + on);
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(cli("uls get" + on + " prf").out.find("prf=2000,2000,2000"), std::string::npos);
+
+  // No reply (wrong baud): exit 5 with a hint; a port that does not exist: exit 4; bad address: 2.
+  run = cli("uls info" + on + " --baud 9600 --timeout 200");
+  EXPECT_EQ(run.code, 5) << run.out;
+  EXPECT_NE(run.out.find("baud"), std::string::npos) << run.out;
+  EXPECT_EQ(cli("uls info --port " + (dir / "nothing").string()).code, 4);
+  EXPECT_EQ(cli("uls info" + on + " --address '!'").code, 2);
+  EXPECT_EQ(cli("uls get" + on + " nonsense").code, 2);
+  EXPECT_EQ(cli("uls set --help").code, 0);
+  emulator.stop();
+  fs::remove_all(dir);
+}
+
+TEST(UlsHostPty, ConfigSaveChangeDiffLoad) {
+  const auto dir = scratch("config");
+  const std::string port = (dir / "cfg").string();
+  Emulator emulator("--config-port " + port);
+  const std::string on = " --port " + port;
+  const std::string file = (dir / "unit.toml").string();
+
+  CliRun run = cli("uls config save" + on + " " + file);
+  ASSERT_EQ(run.code, 0) << run.out;
+  std::ifstream in(file);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("mode = \"averaging\"  # MM"), std::string::npos) << text;
+  EXPECT_NE(text.find("prf = [2000, 2000, 2000]  # PF"), std::string::npos) << text;
+
+  ASSERT_EQ(cli("uls set" + on + " prf=1000,1000,1000 short-gate=5 ppm=2000,2000 averaging-weight=1500").code, 0);
+  run = cli("uls config diff" + on + " " + file);
+  EXPECT_EQ(run.code, 1) << run.out;
+  EXPECT_NE(run.out.find("prf: file=2000,2000,2000 Hz device=1000,1000,1000 Hz"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("short-gate: file=0 m device=5 m"), std::string::npos) << run.out;
+
+  // Loading AW 992 and PPM 1024 back needs the order rule (49: PPM must exceed AW).
+  run = cli("uls config load" + on + " " + file);
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("0 differ"), std::string::npos) << run.out;
+  run = cli("uls config diff" + on + " " + file);
+  EXPECT_EQ(run.code, 0) << run.out;
+
+  // A bad file names the line and the key.
+  std::ofstream(dir / "bad.toml") << "[settings]\nmode = \"sideways\"\n";
+  run = cli("uls config load" + on + " " + (dir / "bad.toml").string());
+  EXPECT_NE(run.code, 0);
+  EXPECT_NE(run.out.find("bad.toml:2: 'mode'"), std::string::npos) << run.out;
+  emulator.stop();
+  fs::remove_all(dir);
+}
+
+TEST(UlsHostPty, BusOfEightUnitsScanAssignPoll) {
+  const auto dir = scratch("bus");
+  const std::string bus = (dir / "rs485").string();
+  Emulator emulator("--bus " + bus +
+                    " --address A --address B --address C --address D --address E --address F "
+                    "--address G --address H");
+  const std::string on = " --port " + bus;
+
+  CliRun run = cli("uls bus scan" + on + " --units ABCDEFGHIJz");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("8 address(es) answered of 11 asked"), std::string::npos) << run.out;
+
+  run = cli("uls bus assign" + on + " --from C --to D");
+  EXPECT_EQ(run.code, 2) << run.out;
+  EXPECT_NE(run.out.find("already in use"), std::string::npos) << run.out;
+  run = cli("uls bus assign" + on + " --from C --to z");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_EQ(cli("uls get" + on + " --address z mode").code, 0);
+  EXPECT_EQ(cli("uls get" + on + " --address C mode --timeout 200").code, 5);
+
+  run = cli("uls bus poll" + on + " --units ABDEFGHz --measure --rounds 2");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_EQ(count_of(run.out, "averaging address="), 16U) << run.out;
+  EXPECT_EQ(count_of(run.out, "distance_m=50.0") + count_of(run.out, "distance_m=49.9"), 16U) << run.out;
+
+  // The poll's BM started the units (§2 Autostart); UA is refused while measuring (U24).
+  run = cli("uls set" + on + " --address A UA=B");
+  EXPECT_EQ(run.code, 6) << run.out;
+  EXPECT_NE(run.out.find("device error 31"), std::string::npos) << run.out;
+  // A raw UA set after a stop makes two units 'B' (what assign refuses); a scan reports the collision.
+  ASSERT_EQ(cli("uls stop" + on + " --address A").code, 0);
+  run = cli("uls set" + on + " --address A UA=B");
+  ASSERT_EQ(run.code, 0) << run.out;
+  run = cli("uls bus scan" + on + " --units Bz");
+  EXPECT_NE(run.out.find("DUPLICATE"), std::string::npos) << run.out;
+  emulator.stop();
+  fs::remove_all(dir);
+}
+
+std::vector<StreamItem> take_until(Driver& driver, const std::function<bool(const std::vector<StreamItem>&)>& done) {
+  std::vector<StreamItem> items;
+  const auto until = std::chrono::steady_clock::now() + 20s;
+  while (!done(items) && std::chrono::steady_clock::now() < until) {
+    if (auto item = driver.next(100ms)) items.push_back(std::move(*item));
+  }
+  return items;
+}
+
+bool has_event(const std::vector<StreamItem>& items, StreamEventKind kind) {
+  for (const auto& item : items)
+    if (const auto* event = std::get_if<StreamEvent>(&item); event != nullptr && event->kind == kind) return true;
+  return false;
+}
+
+std::size_t samples_after(const std::vector<StreamItem>& items, StreamEventKind kind) {
+  std::size_t count = 0;
+  bool seen = false;
+  for (const auto& item : items) {
+    if (const auto* event = std::get_if<StreamEvent>(&item); event != nullptr && event->kind == kind) seen = true;
+    if (seen && std::holds_alternative<Sample>(item)) ++count;
+  }
+  return count;
+}
+
+TEST(UlsHostPty, StreamReconnectsWhenTheEmulatorComesBack) {
+  // docs/conformance.md U63
+  const auto dir = scratch("reconnect");
+  const std::string port = (dir / "cfg").string();
+  auto emulator = std::make_unique<Emulator>("--config-port " + port);
+  ReopenFunction reopen = [port]() -> Result<TransportPtr> {
+    auto opened = SerialPort::open(port, SerialSettings{});
+    if (!opened) return opened.error();
+    return TransportPtr(std::move(*opened));
+  };
+  auto first = reopen();
+  ASSERT_TRUE(first) << first.error().message;
+  DriverOptions options;
+  options.reconnect_interval = 100ms;
+  Driver driver(std::move(*first), options, reopen);
+  ASSERT_TRUE(driver.start_stream());
+  auto items = take_until(driver, [](const auto& got) { return samples_after(got, StreamEventKind::connected) >= 1; });
+  ASSERT_GE(samples_after(items, StreamEventKind::connected), 1U);
+
+  emulator->stop();  // the pty and its symlink vanish: the cable is out
+  items = take_until(driver, [](const auto& got) { return has_event(got, StreamEventKind::disconnected); });
+  ASSERT_TRUE(has_event(items, StreamEventKind::disconnected));
+  emulator = std::make_unique<Emulator>("--config-port " + port);  // power back, same path
+  items = take_until(driver, [](const auto& got) { return samples_after(got, StreamEventKind::reconnected) >= 2; });
+  EXPECT_TRUE(has_event(items, StreamEventKind::reconnected));
+  EXPECT_GE(samples_after(items, StreamEventKind::reconnected), 2U);
+  driver.stop_stream();
+  emulator->stop();
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace rangekit::uls
