@@ -25,5 +25,6 @@ void add_demo_command(CLI::App& app, int& exit_code);
 void add_uls_command(CLI::App& app, int& exit_code);
 void add_ls5_command(CLI::App& app, int& exit_code);
 void add_replay_command(CLI::App& app, int& exit_code);
+void add_detect_command(CLI::App& app, int& exit_code);
 
 }  // namespace rangekit::cli
