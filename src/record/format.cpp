@@ -1,6 +1,7 @@
 #include "rangekit/record/format.hpp"
 
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 
@@ -31,7 +32,7 @@ CivilTime civil_utc(system_clock::time_point time) {
 
 template <class... Args>
 void append_printf(std::string& out, const char* format, Args... args) {
-  char buffer[64];
+  char buffer[512];  // room for any double in %.4f
   const int length = std::snprintf(buffer, sizeof buffer, format, args...);
   if (length > 0)
     out.append(buffer,
@@ -40,6 +41,21 @@ void append_printf(std::string& out, const char* format, Args... args) {
 
 void append_metres(std::string& out, double metres) { append_printf(out, "%.4f", metres); }
 void append_millimetres(std::string& out, double millimetres) { append_printf(out, "%.2f", millimetres); }
+// JSON has no NaN or infinity: such a value is written as null.
+void append_json_metres(std::string& out, double metres) {
+  if (std::isfinite(metres)) {
+    append_metres(out, metres);
+  } else {
+    out += "null";
+  }
+}
+void append_json_millimetres(std::string& out, double millimetres) {
+  if (std::isfinite(millimetres)) {
+    append_millimetres(out, millimetres);
+  } else {
+    out += "null";
+  }
+}
 void append_unsigned(std::string& out, std::uint64_t value) { append_printf(out, "%" PRIu64, value); }
 void append_signed(std::string& out, std::int64_t value) { append_printf(out, "%" PRId64, value); }
 
@@ -153,7 +169,7 @@ void append_jsonl(std::string& out, const Sample& sample) {
   switch (sample.kind) {
     case SampleKind::uls_averaging:
       append_json_key(out, "distance_m");
-      append_json_optional(out, sample.distance_m, append_metres);
+      append_json_optional(out, sample.distance_m, append_json_metres);
       append_json_key(out, "pulse_width");
       append_json_optional(out, sample.pulse_width, append_u32);
       break;
@@ -165,7 +181,7 @@ void append_jsonl(std::string& out, const Sample& sample) {
         if (!first) out += ',';
         first = false;
         out += "{\"distance_m\":";
-        append_metres(out, target.distance_m);
+        append_json_metres(out, target.distance_m);
         out += ",\"strength\":";
         append_u32(out, target.strength);
         out += '}';
@@ -187,7 +203,7 @@ void append_jsonl(std::string& out, const Sample& sample) {
       append_json_key(out, "code");
       append_json_optional(out, sample.code, append_u16);
       append_json_key(out, "distance_mm");
-      append_json_optional(out, sample.distance_mm, append_millimetres);
+      append_json_optional(out, sample.distance_mm, append_json_millimetres);
       append_json_key(out, "signal");
       append_json_optional(out, sample.signal, append_signal_json);
       break;

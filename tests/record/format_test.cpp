@@ -2,6 +2,7 @@
 // hand from the field list in docs/capture.md, not produced by the code.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <string>
 
 #include "rangekit/record/format.hpp"
@@ -51,6 +52,14 @@ TEST(Jsonl, UlsAveragingWithoutPulseWidthIsNull) {
   EXPECT_EQ(jsonl(sample),
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":3,\"source\":\"/dev/ttyUSB0\","
             "\"kind\":\"averaging\",\"distance_m\":12.3450,\"pulse_width\":null}\n");
+}
+
+TEST(Jsonl, NotANumberIsNull) {
+  auto sample = uls_averaging();
+  sample.distance_m = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(jsonl(sample),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":3,\"source\":\"/dev/ttyUSB0\","
+            "\"kind\":\"averaging\",\"distance_m\":null,\"pulse_width\":18000}\n");
 }
 
 TEST(Jsonl, UlsBinningWithoutAddress) {
