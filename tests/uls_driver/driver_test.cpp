@@ -348,6 +348,22 @@ TEST(UlsDriver, PolledStreamAsksWithBm) {
   rig.driver->stop_stream();
 }
 
+TEST(UlsDriver, AutomaticStreamPollsWhenNoContinuousLinesArriveOnThisPort) {
+  // docs/conformance.md U62: CO on, but MO sends the lines to the other port.
+  int polls = 0;
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request == "$BM") return "$BM,8.000," + std::to_string(++polls) + "\r";
+    return typical_reply(request);
+  });
+  ASSERT_TRUE(rig.driver->start_stream());
+  EXPECT_EQ(rig.driver->active_stream_mode(), StreamMode::continuous);
+  const auto samples = samples_of(take(*rig.driver, 2));
+  ASSERT_EQ(samples.size(), 2U);
+  EXPECT_EQ(rig.driver->active_stream_mode(), StreamMode::polled);
+  EXPECT_DOUBLE_EQ(*samples[0].distance_m, 8.0);
+  rig.driver->stop_stream();
+}
+
 TEST(UlsDriver, MidFrameDisconnectGivesAnEventAndTheStreamResumesOnReopen) {
   // docs/conformance.md U63
   std::mutex mutex;
