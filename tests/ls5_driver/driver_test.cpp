@@ -263,3 +263,46 @@ TEST(Ls5Driver, ProbeReportsAStreamWithoutSpeakingAndIdentifiesOtherwise) {
   ASSERT_FALSE(silent);
   EXPECT_EQ(silent.error().code, Errc::timeout);
 }
+
+TEST(Ls5Driver, EveryMalformedReplyOfTheCodecCorpusIsSkippedAndCounted) {
+  const std::string id_field = "LS5.6.0   b8,1234d40,0010s/n0000157";  // §9.2 example
+  // The reply cases of tests/ls5/malformed_test.cpp, each followed by the real answer.
+  const std::vector<std::string> bad_replies = {
+      "!50001\r",
+      "!65533\r",
+      "!2500\r",
+      "!01FR2500\r",
+      "!01FR250000\r",
+      "!01FR25A00\r",
+      "!01LR50001\r",
+      "!01R05\r",
+      "!01R05G5\r",
+      "!01ID\r",
+      "!01ST\r",
+      "!00ON\r",
+      "!01ZZ\r",
+      "!0\r",
+      "!A\r",
+      "!\r",
+      "!01ON\n",
+      std::string("!01\0ON\r", 7),
+      "%01" + id_field.substr(0, 34) + "\r",
+      "%01" + id_field + "0\r",
+      "%01" + id_field.substr(0, 28) + "00001x7\r",
+      "%01          " + id_field.substr(10) + "\r",
+      "%00" + id_field + "\r",
+      "%G0" + id_field + "\r",
+      "#01ON\r",
+  };
+  Fixture f;
+  for (const std::string& bad : bad_replies) {
+    const std::uint64_t rejected_before = f.driver->rejected_frames();
+    f.device->send(bad);
+    f.device->send("!01R0D05\r");
+    auto value = f.driver->read_parameter(0x0D);
+    ASSERT_TRUE(value) << testing::PrintToString(bad) << ": " << value.error().message;
+    EXPECT_EQ(*value, 0x05) << testing::PrintToString(bad);
+    EXPECT_GT(f.driver->rejected_frames(), rejected_before) << testing::PrintToString(bad);
+    EXPECT_EQ(f.device->receive_until("\r"), "#01R0D\r") << "answered at the first attempt";
+  }
+}
