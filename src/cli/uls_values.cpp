@@ -41,13 +41,18 @@ std::optional<std::uint32_t> named_value(const CommandInfo& command, std::string
     if (want == "m" || want == "metre" || want == "meter" || want == "meters") return 1;
     if (want == "ft" || want == "foot") return 0;
   }
+  std::optional<std::uint32_t> prefixed;
+  int prefix_matches = 0;
   for (const ValueName& entry : command.value_names) {
     const std::string name = key_name(entry.name);
     if (name == want) return entry.value;
-    // A first word that is unique enough: "rs485", "configuration", "range-and-intensity".
-    if (name.rfind(want + "-", 0) == 0 && want.size() >= 3) return entry.value;
+    // Leading words that name one value only: "rs485", "range-and".
+    if (name.rfind(want + "-", 0) == 0) {
+      prefixed = entry.value;
+      ++prefix_matches;
+    }
   }
-  return std::nullopt;
+  return prefix_matches == 1 ? prefixed : std::nullopt;
 }
 
 std::string distance_field(double metres, Units units) {
