@@ -26,5 +26,6 @@ void add_uls_command(CLI::App& app, int& exit_code);
 void add_ls5_command(CLI::App& app, int& exit_code);
 void add_replay_command(CLI::App& app, int& exit_code);
 void add_detect_command(CLI::App& app, int& exit_code);
+void add_capture_command(CLI::App& app, int& exit_code);
 
 }  // namespace rangekit::cli

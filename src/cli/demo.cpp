@@ -14,10 +14,9 @@
 
 #include "cli/commands.hpp"
 #include "cli/demo.hpp"
+#include "cli/host_sources.hpp"
 #include "cli/sim_process.hpp"
 #include "cli/stream_runner.hpp"
-#include "rangekit/core/serial_port.hpp"
-#include "rangekit/ls5/driver.hpp"
 #include "rangekit/record/merge.hpp"
 #include "rangekit/record/replay.hpp"
 #include "rangekit/uls/driver.hpp"
@@ -70,12 +69,6 @@ Status write_file(const fs::path& path, const char* text) {
   return ok_status();
 }
 
-Result<TransportPtr> open_port(const std::string& path) {
-  auto port = SerialPort::open(path, SerialSettings{});
-  if (!port) return std::move(port).error();
-  return TransportPtr(std::move(port).value());
-}
-
 // Removes an earlier demo capture (and its WAL files) so each run starts fresh.
 void remove_capture(const std::string& path) {
   std::error_code ignored;
@@ -119,33 +112,26 @@ int run_live_demo(const DemoOptions& options) {
   fmt::print("  {}\n  {}\n", uls_sim->ready_line(), ls5_sim->ready_line());
 
   // ULS: its measurement output is the configuration port (§2 Output Setup).
-  auto uls_link = open_port(uls_config_port);
-  if (!uls_link) return fail(uls_link.error().describe());
-  uls::DriverOptions uls_options;
-  uls_options.source = "uls-config";
-  auto uls_driver = std::make_unique<uls::Driver>(std::move(uls_link).value(), uls_options,
-                                                  [uls_config_port] { return open_port(uls_config_port); });
-  auto version = uls_driver->version();
-  if (!version) return fail("ULS: " + version.error().describe());
-  // 5000 pulses/s over 1024 pulses per measurement: about 4.9 readings a second,
+  // 5000 pulses/s over 1024 pulses per reading is about 4.9 readings a second,
   // each with its pulse width (§8 DM).
-  if (auto status = uls_driver->set_prf(5000); !status) return fail("ULS PF: " + status.error().describe());
-  if (auto status = uls_driver->set_display_mode(uls::DisplayMode::range_and_intensity); !status) {
-    return fail("ULS DM: " + status.error().describe());
+  {
+    auto link = open_serial(uls_config_port, 115200);
+    if (!link) return fail(link.error().describe());
+    uls::Driver setup(std::move(link).value());
+    auto version = setup.version();
+    if (!version) return fail("ULS: " + version.error().describe());
+    if (auto status = setup.set_prf(5000); !status) return fail("ULS PF: " + status.error().describe());
+    if (auto status = setup.set_display_mode(uls::DisplayMode::range_and_intensity); !status) {
+      return fail("ULS DM: " + status.error().describe());
+    }
+    fmt::print("  ULS  {}  averaging, PRF 5000, 1024 pulses per reading, range and pulse width\n", *version);
   }
-  if (auto status = uls_driver->start_stream(); !status) return fail("ULS stream: " + status.error().describe());
-  fmt::print("  ULS  {}  averaging, PRF 5000, 1024 pulses per reading, range and pulse width\n", *version);
-
-  auto ls5_link = open_port(ls5_port);
-  if (!ls5_link) return fail(ls5_link.error().describe());
-  ls5::Driver ls5_driver(std::move(ls5_link).value(), ls5::DriverOptions{}, [ls5_port] { return open_port(ls5_port); });
-  auto ls5_info = ls5_driver.info();
-  if (!ls5_info) return fail("LS5: " + ls5_info.error().describe());
-  ls5::Driver::StreamOptions ls5_stream_options;
-  ls5_stream_options.thinning = 20;  // T = n × t (§8.4): 20 × 10 ms (factory period), 5 readings a second
-  auto ls5_stream = ls5_driver.start_stream(ls5_stream_options);
-  if (!ls5_stream) return fail("LS5 stream: " + ls5_stream.error().describe());
-  fmt::print("  LS5  address {}  streaming every 20th measurement (§8.4)\n", ls5_info->address);
+  auto uls_source = start_uls_source(UlsSourceOptions{uls_config_port, 115200, std::nullopt, "uls-config"});
+  if (!uls_source) return fail(uls_source.error().describe());
+  // LS5: T = n × t (§8.4), 20 × 10 ms (factory period): 5 readings a second.
+  auto ls5_source = start_ls5_source(Ls5SourceOptions{ls5_port, 115200, 0x01, std::uint8_t{20}});
+  if (!ls5_source) return fail(ls5_source.error().describe());
+  fmt::print("  LS5  address 01  streaming every 20th measurement (§8.4)\n");
 
   remove_capture(options.capture);
   fmt::print("Streaming both for {:.0f} s (Ctrl-C stops early) and capturing to {}\n\n", options.seconds,
@@ -153,8 +139,8 @@ int run_live_demo(const DemoOptions& options) {
   std::fflush(stdout);
 
   std::vector<SampleSourcePtr> sources;
-  sources.push_back(std::move(uls_driver));
-  sources.push_back(std::move(ls5_stream).value());
+  sources.push_back(std::move(uls_source).value());
+  sources.push_back(std::move(ls5_source).value());
   auto merged = record::merge_sources(std::move(sources));
   StreamOptions stream_options;
   stream_options.format = options.format;

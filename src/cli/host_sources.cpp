@@ -1,0 +1,69 @@
+#include "cli/host_sources.hpp"
+
+#include <memory>
+#include <utility>
+
+#include "rangekit/core/serial_port.hpp"
+#include "rangekit/ls5/driver.hpp"
+#include "rangekit/uls/driver.hpp"
+
+namespace rangekit::cli {
+namespace {
+
+// An LS5 stream needs its driver alive: this owns both (the stream goes first).
+class Ls5Source final : public SampleSource {
+ public:
+  Ls5Source(std::unique_ptr<ls5::Driver> driver, std::unique_ptr<ls5::MeasurementStream> stream)
+      : driver_(std::move(driver)), stream_(std::move(stream)) {}
+  std::optional<StreamItem> next(std::chrono::milliseconds timeout) override { return stream_->next(timeout); }
+  [[nodiscard]] bool finished() const override { return stream_->finished(); }
+  void stop() override { stream_->stop(); }
+  [[nodiscard]] std::uint64_t lost() const override { return stream_->lost(); }
+
+ private:
+  std::unique_ptr<ls5::Driver> driver_;
+  std::unique_ptr<ls5::MeasurementStream> stream_;
+};
+
+Error named(const std::string& what, Error error) {
+  error.message = what + ": " + error.message;
+  return error;
+}
+
+}  // namespace
+
+Result<TransportPtr> open_serial(const std::string& path, std::uint32_t baud) {
+  auto port = SerialPort::open(path, SerialSettings{baud, Parity::none, 1});
+  if (!port) return std::move(port).error();
+  return TransportPtr(std::move(port).value());
+}
+
+Result<SampleSourcePtr> start_uls_source(const UlsSourceOptions& options) {
+  auto link = open_serial(options.port, options.baud);
+  if (!link) return std::move(link).error();
+  uls::DriverOptions driver_options;
+  driver_options.address = options.address;
+  driver_options.source = options.label.empty() ? options.port : options.label;
+  auto driver =
+      std::make_unique<uls::Driver>(std::move(link).value(), driver_options,
+                                    [path = options.port, baud = options.baud] { return open_serial(path, baud); });
+  if (auto started = driver->start_stream(); !started) return named("ULS on " + options.port, started.error());
+  return SampleSourcePtr(std::move(driver));
+}
+
+Result<SampleSourcePtr> start_ls5_source(const Ls5SourceOptions& options) {
+  auto link = open_serial(options.port, options.baud);
+  if (!link) return std::move(link).error();
+  ls5::DriverOptions driver_options;
+  driver_options.address = options.address;
+  auto driver =
+      std::make_unique<ls5::Driver>(std::move(link).value(), driver_options,
+                                    [path = options.port, baud = options.baud] { return open_serial(path, baud); });
+  ls5::Driver::StreamOptions stream_options;
+  stream_options.thinning = options.thinning;
+  auto stream = driver->start_stream(stream_options);
+  if (!stream) return named("LS5 on " + options.port, stream.error());
+  return SampleSourcePtr(std::make_unique<Ls5Source>(std::move(driver), std::move(stream).value()));
+}
+
+}  // namespace rangekit::cli

@@ -1,0 +1,47 @@
+// `rangekit capture` end to end: a ULS and an LS5 emulator on ptys streamed
+// into one SQLite file that `replay` reads back.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "ls5_driver/cli_process.hpp"
+
+namespace {
+
+using ls5_driver_test::Child;
+using ls5_driver_test::run_cli;
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+TEST(Capture, BothFamiliesIntoOneFileThatReplays) {
+  std::string pattern = (std::filesystem::temp_directory_path() / "rangekit-capture-XXXXXX").string();
+  const std::filesystem::path dir = ::mkdtemp(pattern.data());
+  const auto uls_config = (dir / "uls-config").string();
+  const auto ls5_port = (dir / "ls5").string();
+  const auto file = (dir / "both.sqlite").string();
+  {
+    Child uls({"sim", "uls", "--port", (dir / "uls").string(), "--config-port", uls_config});
+    ASSERT_TRUE(contains(uls.read_line(), "ready:"));
+    Child ls5({"sim", "ls5", "--port", ls5_port});
+    ASSERT_TRUE(contains(ls5.read_line(), "ready:"));
+
+    const auto run = run_cli(dir, {"capture", "--out", file, "--uls", uls_config, "--ls5", ls5_port, "--ls5-thinning",
+                                   "10", "--duration", "3"});
+    ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+    EXPECT_TRUE(run.out.empty()) << run.out;  // without --echo only the file gets the data
+  }
+  const auto replay = run_cli(dir, {"replay", file, "--full-speed", "--format", "jsonl"});
+  EXPECT_EQ(replay.exit_code, 0) << replay.err;
+  EXPECT_TRUE(contains(replay.out, R"("device":"uls")")) << replay.out;
+  EXPECT_TRUE(contains(replay.out, R"("device":"ls5")")) << replay.out;
+
+  const auto nothing = run_cli(dir, {"capture", "--out", file});
+  EXPECT_EQ(nothing.exit_code, 2) << nothing.err;
+  const auto absent = run_cli(dir, {"capture", "--out", file, "--uls", (dir / "absent").string()});
+  EXPECT_EQ(absent.exit_code, 4) << absent.err;
+  EXPECT_TRUE(contains(absent.err, "absent")) << absent.err;
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
