@@ -20,6 +20,8 @@ constexpr double cooperative_jitter_m = 0.01;
 constexpr double quantum_m = 0.05;
 constexpr std::uint32_t dither_cycle = 32;  // §3
 constexpr double detect_probability = 0.99;
+// The same as a threshold on the engine's raw 64-bit output: no conversion to double per pulse.
+constexpr auto detect_threshold = static_cast<std::uint64_t>(detect_probability * 18446744073709551616.0);
 // Received pulse widths (U40): about the 8 ns transmit pulse (§3) for a return at the
 // detection limit, wider as the signal grows (time over threshold, logarithmic).
 constexpr double weakest_width_ns = 4.0;
@@ -614,7 +616,6 @@ double Firmware::max_range_m(double reflectivity, bool cooperative) const noexce
 
 std::optional<Firmware::PulseReturn> Firmware::first_return(Nanos t, bool certain, double min_width_ps) {
   if (fault_no_return_) return std::nullopt;
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::optional<PulseReturn> best;
   for (const auto& target : scene_.targets) {
     const double d = target.motion.position_at(t);
@@ -625,7 +626,7 @@ std::optional<Firmware::PulseReturn> Firmware::first_return(Nanos t, bool certai
     const double range = max_range_m(target.reflectivity, target.cooperative);
     if (d > range) continue;  // below the detection threshold
     if (best && best->distance_m <= d) continue;
-    if (!certain && uniform(random_) >= detect_probability) continue;
+    if (!certain && random_() >= detect_threshold) continue;
     const double ratio = range / d;
     const double strength = ratio * ratio;
     const double width_ps = target.pulse_width_ns ? *target.pulse_width_ns * 1000.0 : modelled_width_ps(strength);

@@ -168,7 +168,7 @@ class Firmware final : public DeviceModel {
   Settings factory_;
   Settings settings_;
   Scene scene_;
-  std::mt19937 random_;
+  std::mt19937_64 random_;  // 64 bits: one engine call per uniform double (half the cost of mt19937)
   std::array<Port, 2> ports_;
   std::vector<std::uint8_t> sent_;  // drain's scratch
   Nanos last_now_{0};
