@@ -19,6 +19,9 @@ namespace rangekit {
 struct LineByte {
   Nanos done{0};
   std::uint8_t value = 0;
+  // The speed it was sent at; 0 means the port's present speed. A byte that
+  // left before a baud change (the $OK to BR, U36) must still be read at the old one.
+  std::uint32_t baud = 0;
 };
 
 class DeviceModel {

@@ -89,7 +89,8 @@ class EmulatorRuntime {
   void run_devices(Nanos now);
   Status flush_output(Nanos now);
   [[nodiscard]] Nanos next_deadline() const;
-  [[nodiscard]] bool host_matches(const Line& line, const LineAttachment& attachment) const;
+  // `sent_at`: the baud a device byte left at (LineByte::baud), 0 for the port's present one.
+  [[nodiscard]] bool host_matches(const Line& line, const LineAttachment& attachment, std::uint32_t sent_at = 0) const;
   std::uint8_t garble(std::uint8_t value);
   nlohmann::json handle_control(const nlohmann::json& request);
 

@@ -189,7 +189,8 @@ void Firmware::take_until(Port& port, Nanos until) {
     const Nanos done = port.pacer.next_completion();
     sent_.clear();  // reused: no allocation per byte
     port.pacer.take_sent(done, sent_);
-    for (const auto value : sent_) port.outbox.push_back(LineByte{done, value});
+    const auto index = static_cast<std::size_t>(&port - ports_.data());
+    for (const auto value : sent_) port.outbox.push_back(LineByte{done, value, settings_.baud[index]});
   }
 }
 
