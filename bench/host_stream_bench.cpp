@@ -49,6 +49,14 @@ struct PacedLs5 {
   std::atomic<std::uint64_t> sent{0};
   double cpu_s = 0;
 
+  // Opens the pty and the host's end of it, raw 921600 8N1 as the driver sets it.
+  rangekit::Result<std::unique_ptr<rangekit::SerialPort>> open_host_side() {
+    auto opened = rangekit::PseudoTerminal::open();
+    if (!opened) return std::move(opened).error();
+    pty = std::move(opened).value();
+    return rangekit::SerialPort::open(pty->slave_path(), rangekit::SerialSettings{921600});
+  }
+
   void serve(bool wait_for_start) {
     const double cpu_start = thread_cpu_s();
     const int fd = pty->native_handle();
@@ -84,10 +92,8 @@ struct PacedLs5 {
 
 void BM_HostLs5StreamAt1kHz921600(benchmark::State& state) {
   for (auto _ : state) {
-    auto pty = rangekit::PseudoTerminal::open();
-    if (!pty) return state.SkipWithError(pty.error().describe().c_str());
-    PacedLs5 device{std::move(pty).value()};
-    auto port = rangekit::SerialPort::open(device.pty->slave_path(), rangekit::SerialSettings{921600});
+    PacedLs5 device;
+    auto port = device.open_host_side();
     if (!port) return state.SkipWithError(port.error().describe().c_str());
     std::thread sensor([&] { device.serve(true); });
     const double cpu_before = process_cpu_s(RUSAGE_SELF);
@@ -118,11 +124,8 @@ void BM_HostLs5StreamAt1kHz921600(benchmark::State& state) {
 // The floor: `cat` of the same pty into a file, same records, same pacing.
 void BM_CatFloorAt1kHz921600(benchmark::State& state) {
   for (auto _ : state) {
-    auto pty = rangekit::PseudoTerminal::open();
-    if (!pty) return state.SkipWithError(pty.error().describe().c_str());
-    PacedLs5 device{std::move(pty).value()};
-    // Raw 921600 8N1 on the slave, as the driver would set it.
-    auto port = rangekit::SerialPort::open(device.pty->slave_path(), rangekit::SerialSettings{921600});
+    PacedLs5 device;
+    auto port = device.open_host_side();
     if (!port) return state.SkipWithError(port.error().describe().c_str());
     const auto out = std::filesystem::temp_directory_path() / ("rangekit-cat-" + std::to_string(::getpid()));
     const double children_before = process_cpu_s(RUSAGE_CHILDREN);

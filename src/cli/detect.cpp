@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
-#include "rangekit/core/serial_port.hpp"
+#include "cli/host_sources.hpp"
 #include "rangekit/ls5/driver.hpp"
 #include "rangekit/ls5/settings.hpp"
 #include "rangekit/uls/driver.hpp"
@@ -117,7 +117,7 @@ int run_detect(const DetectOptions& options) {
     }
     for (const auto baud : bauds) {
       if (answered && !options.all_bauds) break;
-      auto port = SerialPort::open(path, SerialSettings{baud, Parity::none, 1});
+      auto port = open_serial(path, baud);
       if (!port) {
         // A rate this system cannot set (14400, H1) is skipped; anything else ends the scan of the port.
         if (port.error().code == Errc::unsupported) continue;

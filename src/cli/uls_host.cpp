@@ -6,9 +6,9 @@
 #include <sstream>
 
 #include "cli/commands.hpp"
+#include "cli/host_sources.hpp"
 #include "cli/stream_runner.hpp"
 #include "cli/uls_values.hpp"
-#include "rangekit/core/serial_port.hpp"
 #include "rangekit/uls/bus.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/host_config.hpp"
@@ -72,11 +72,7 @@ Result<std::optional<std::uint8_t>> address_of(const LinkOptions& link) {
 }
 
 ReopenFunction reopen_function(const LinkOptions& link) {
-  return [path = link.port, baud = link.baud]() -> Result<TransportPtr> {
-    auto port = SerialPort::open(path, SerialSettings{baud, Parity::none, 1});
-    if (!port) return port.error();
-    return TransportPtr(std::move(*port));
-  };
+  return [path = link.port, baud = link.baud] { return open_serial(path, baud); };
 }
 
 Result<TransportPtr> open_port(const LinkOptions& link) {
