@@ -1,6 +1,7 @@
 #include <fmt/core.h>
 
 #include <exception>
+#include <string>
 
 #include "cli/commands.hpp"
 #include "cli/sim.hpp"
@@ -10,6 +11,7 @@ namespace {
 int run(int argc, char** argv) {
   CLI::App app{"rangekit: configure, stream and emulate ULS and LS5 laser distance sensors"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("rangekit ") + RANGEKIT_VERSION);
   int exit_code = rangekit::cli::exit_ok;
   rangekit::cli::add_demo_command(app, exit_code);
   rangekit::cli::add_decode_command(app, exit_code);

@@ -11,7 +11,8 @@
 namespace rangekit::record {
 namespace {
 
-constexpr const char* rangekit_version = "0.1.0";
+// The project version from CMake (project(... VERSION)), recorded per session.
+constexpr const char* rangekit_version = RANGEKIT_VERSION;
 
 constexpr const char* schema_sql = R"sql(
 BEGIN;
