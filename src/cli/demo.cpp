@@ -18,7 +18,6 @@
 #include "cli/sim_process.hpp"
 #include "cli/stream_runner.hpp"
 #include "rangekit/record/merge.hpp"
-#include "rangekit/record/replay.hpp"
 #include "rangekit/uls/driver.hpp"
 
 namespace rangekit::cli {
@@ -80,16 +79,6 @@ int fail(const std::string& message) {
   return exit_io;
 }
 
-Result<std::uint64_t> count_captured(const std::string& path) {
-  auto replay = record::open_replay(path, 0.0);
-  if (!replay) return std::move(replay).error();
-  std::uint64_t samples = 0;
-  while (auto item = (*replay)->next(std::chrono::milliseconds(0))) {
-    if (std::holds_alternative<Sample>(*item)) ++samples;
-  }
-  return samples;
-}
-
 int run_live_demo(const DemoOptions& options) {
   std::string pattern = (fs::temp_directory_path() / "rangekit-demo-XXXXXX").string();
   if (::mkdtemp(pattern.data()) == nullptr)
@@ -146,12 +135,12 @@ int run_live_demo(const DemoOptions& options) {
   stream_options.format = options.format;
   stream_options.duration_s = options.seconds;
   stream_options.capture = options.capture;
-  const int code = run_stream_as(*merged, stream_options, "demo");
+  record::StreamStats stats;
+  const int code = run_stream_as(*merged, stream_options, "demo", &stats);
   merged.reset();  // stops both streams before the drivers and emulators go
 
   if (code != exit_ok && code != exit_interrupted) return code;
-  auto captured = count_captured(options.capture);
-  fmt::print("\nCaptured {} samples from both sensors into {}\n", captured ? *captured : 0, options.capture);
+  fmt::print("\nCaptured {} samples from both sensors into {}\n", stats.samples, options.capture);
   fmt::print("Replay it:  build/rangekit replay {} --format jsonl\n", options.capture);
   fmt::print("Emulators:  build/rangekit sim uls --help, build/rangekit sim ls5 --help\n");
   std::error_code ignored;

@@ -122,7 +122,8 @@ void add_stream_options(CLI::App& command, StreamOptions& options) {
 
 int run_stream(SampleSource& source, const StreamOptions& options) { return run_stream_as(source, options, "stream"); }
 
-int run_stream_as(SampleSource& source, const StreamOptions& options, const std::string& command_name) {
+int run_stream_as(SampleSource& source, const StreamOptions& options, const std::string& command_name,
+                  record::StreamStats* stats_out) {
   auto format = record::parse_output_format(options.format);
   if (!format) {
     fmt::print(stderr, "rangekit {}: {}\n", command_name, format.error().message);
@@ -135,8 +136,12 @@ int run_stream_as(SampleSource& source, const StreamOptions& options, const std:
   loop.count = options.count;
   loop.duration_s = options.duration_s;
 
-  const bool output_on_terminal = options.out.empty() && ::isatty(STDOUT_FILENO) == 1;
-  StatusLine status(!options.quiet && ::isatty(STDERR_FILENO) == 1);
+  // Someone watches when standard output is a terminal: then the status line is
+  // drawn (on stderr, so a terminal stdout keeps only the stream). A pipe or file
+  // on stdout means a program reads it: plain output only (docs/cli.md).
+  const bool stdout_on_terminal = ::isatty(STDOUT_FILENO) == 1;
+  const bool output_on_terminal = options.out.empty() && stdout_on_terminal;
+  StatusLine status(!options.quiet && stdout_on_terminal && ::isatty(STDERR_FILENO) == 1);
   record::StreamObserver observer;
   observer.on_event = [&status, &command_name](const StreamEvent& event) {
     status.clear();
@@ -156,6 +161,7 @@ int run_stream_as(SampleSource& source, const StreamOptions& options, const std:
   const auto outcome = record::run_stream_loop(source, loop, stop_signalled, observer);
   status.clear();
   if (status.enabled()) fmt::print(stderr, "{}\n", status_text(outcome.stats));
+  if (stats_out != nullptr) *stats_out = outcome.stats;
   return exit_code_for(outcome, options, command_name);
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "rangekit/core/sample.hpp"
+#include "rangekit/record/stream_loop.hpp"
 
 namespace rangekit::cli {
 
@@ -31,7 +32,9 @@ void add_stream_options(CLI::App& command, StreamOptions& options);
 // Runs until the source finishes, the limits are reached or SIGINT/SIGTERM.
 // Returns an exit code of commands.hpp (exit_ok, exit_write_failed, exit_interrupted, ...).
 int run_stream(SampleSource& source, const StreamOptions& options);
-// The same, naming the subcommand in messages ("rangekit replay: ...").
-int run_stream_as(SampleSource& source, const StreamOptions& options, const std::string& command_name);
+// The same, naming the subcommand in messages ("rangekit replay: ..."); `stats`,
+// when given, receives the loop's counts (samples written, errors, lost).
+int run_stream_as(SampleSource& source, const StreamOptions& options, const std::string& command_name,
+                  record::StreamStats* stats = nullptr);
 
 }  // namespace rangekit::cli

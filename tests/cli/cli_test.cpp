@@ -62,7 +62,24 @@ TEST(Cli, LiveDemoStreamsBothSensorsAndCapturesThem) {
   EXPECT_EQ(replay.exit_code, 0) << replay.output;
   EXPECT_NE(replay.output.find("\"device\":\"uls\""), std::string::npos) << replay.output;
   EXPECT_NE(replay.output.find("\"device\":\"ls5\""), std::string::npos) << replay.output;
+  // The count the demo prints is what the file holds: one replayed line per sample.
+  const auto said = run.output.find("Captured ");
+  ASSERT_NE(said, std::string::npos) << run.output;
+  const auto captured = std::stoull(run.output.substr(said + 9));
+  std::size_t replayed = 0;
+  for (auto at = replay.output.find("\"device\":"); at != std::string::npos;
+       at = replay.output.find("\"device\":", at + 1)) {
+    ++replayed;
+  }
+  EXPECT_GT(captured, 0U);
+  EXPECT_EQ(replayed, captured) << replay.output.substr(0, 400);
   for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(capture.string() + suffix);
+}
+
+TEST(Cli, VersionComesFromTheBuild) {
+  const auto run = run_cli("--version");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find(std::string("rangekit ") + RANGEKIT_PROJECT_VERSION), std::string::npos) << run.output;
 }
 
 TEST(Cli, DecodeUlsBinningLines) {
