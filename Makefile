@@ -7,7 +7,7 @@ CMAKE_FLAGS ?=
 
 SOURCES := $(shell git ls-files '*.cpp' '*.hpp' 2>/dev/null)
 
-.PHONY: all deps configure build test demo asan fuzz bench lint format format-check tidy clean
+.PHONY: all deps configure build test demo asan tsan hardware fuzz bench lint format format-check tidy clean
 
 all: build
 
@@ -32,6 +32,17 @@ asan: deps
 	@cmake --build build-asan -j$(JOBS)
 	@ctest --test-dir build-asan --output-on-failure -j$(JOBS)
 
+# Same tests with ThreadSanitizer: the drivers' reader threads, capture writer and emulator runtimes.
+tsan: deps
+	@cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRANGEKIT_TSAN=ON -DRANGEKIT_BENCH=OFF >/dev/null
+	@cmake --build build-tsan -j$(JOBS)
+	@ctest --test-dir build-tsan --output-on-failure -j$(JOBS)
+
+# The opt-in hardware tier against real sensors: RANGEKIT_ULS_PORT, RANGEKIT_LS5_PORT, ...
+# (tests/hardware/hardware_env.hpp); every test skips when its variable is unset.
+hardware: build
+	@./$(BUILD)/rangekit_hardware_tests
+
 # libFuzzer targets (clang 14), each run FUZZ_SECONDS on its seed corpus.
 fuzz: deps
 	@cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++-14 -DRANGEKIT_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
@@ -55,4 +66,4 @@ tidy: configure
 	  && echo "clang-tidy: clean" || { grep -E 'error:|warning:' $(BUILD)/clang-tidy.log | sort -u; exit 1; }
 
 clean:
-	@rm -rf $(BUILD) build-asan build-fuzz
+	@rm -rf $(BUILD) build-asan build-tsan build-fuzz
