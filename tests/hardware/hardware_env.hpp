@@ -17,6 +17,9 @@
 #include <optional>
 #include <string>
 
+#include "rangekit/core/serial_port.hpp"
+#include "rangekit/core/transport.hpp"
+
 namespace hardware_test {
 
 inline std::optional<std::string> env(const char* name) {
@@ -43,6 +46,19 @@ inline std::optional<std::uint8_t> env_uls_address(const char* name) {
 inline std::uint8_t env_ls5_address(const char* name) {
   const auto text = env(name);
   return text ? static_cast<std::uint8_t>(std::stoul(*text, nullptr, 0)) : std::uint8_t{1};
+}
+
+// The port named by `port_variable` at `baud_variable` (factory 115200), 8N1;
+// null after a test failure naming the port when it cannot be opened.
+inline rangekit::TransportPtr open_port(const char* port_variable, const char* baud_variable) {
+  const std::string path = env(port_variable).value_or("");
+  const auto baud = env_baud(baud_variable, 115200);
+  auto port = rangekit::SerialPort::open(path, rangekit::SerialSettings{baud, rangekit::Parity::none, 1});
+  if (!port) {
+    ADD_FAILURE() << "cannot open " << path << ": " << port.error().describe();
+    return nullptr;
+  }
+  return std::move(port).value();
 }
 
 inline bool writes_allowed() { return env("RANGEKIT_HW_WRITE").value_or("") == "1"; }

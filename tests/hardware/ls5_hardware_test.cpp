@@ -9,7 +9,6 @@
 #include <variant>
 
 #include "hardware/hardware_env.hpp"
-#include "rangekit/core/serial_port.hpp"
 #include "rangekit/core/udp.hpp"
 #include "rangekit/ls5/driver.hpp"
 #include "rangekit/ls5/host_config.hpp"
@@ -21,16 +20,11 @@ using namespace std::chrono_literals;
 using hardware_test::env;
 
 std::unique_ptr<rangekit::ls5::Driver> connect() {
-  const std::string path = *env("RANGEKIT_LS5_PORT");
-  const auto baud = hardware_test::env_baud("RANGEKIT_LS5_BAUD", 115200);
-  auto port = rangekit::SerialPort::open(path, rangekit::SerialSettings{baud, rangekit::Parity::none, 1});
-  if (!port) {
-    ADD_FAILURE() << "cannot open " << path << ": " << port.error().describe();
-    return nullptr;
-  }
+  auto port = hardware_test::open_port("RANGEKIT_LS5_PORT", "RANGEKIT_LS5_BAUD");
+  if (!port) return nullptr;
   rangekit::ls5::DriverOptions options;
   options.address = hardware_test::env_ls5_address("RANGEKIT_LS5_ADDRESS");
-  return std::make_unique<rangekit::ls5::Driver>(std::move(port).value(), options);
+  return std::make_unique<rangekit::ls5::Driver>(std::move(port), options);
 }
 
 // Counts samples from a source until `wanted` or the deadline; fails on bad frames.

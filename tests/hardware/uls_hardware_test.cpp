@@ -9,28 +9,19 @@
 #include <variant>
 
 #include "hardware/hardware_env.hpp"
-#include "rangekit/core/serial_port.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/host_config.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
-using hardware_test::env;
-
-constexpr const char* port_variable = "RANGEKIT_ULS_PORT";
 
 std::unique_ptr<rangekit::uls::Driver> connect() {
-  const std::string path = *env(port_variable);
-  const auto baud = hardware_test::env_baud("RANGEKIT_ULS_BAUD", 115200);
-  auto port = rangekit::SerialPort::open(path, rangekit::SerialSettings{baud, rangekit::Parity::none, 1});
-  if (!port) {
-    ADD_FAILURE() << "cannot open " << path << ": " << port.error().describe();
-    return nullptr;
-  }
+  auto port = hardware_test::open_port("RANGEKIT_ULS_PORT", "RANGEKIT_ULS_BAUD");
+  if (!port) return nullptr;
   rangekit::uls::DriverOptions options;
   options.address = hardware_test::env_uls_address("RANGEKIT_ULS_ADDRESS");
-  return std::make_unique<rangekit::uls::Driver>(std::move(port).value(), options);
+  return std::make_unique<rangekit::uls::Driver>(std::move(port), options);
 }
 
 // Puts the unit back to measuring or idle, as it was when the test began.
