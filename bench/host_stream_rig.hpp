@@ -1,0 +1,102 @@
+// Shared pieces of the host streaming benches (issue 6): an emulator run as its
+// own process (`rangekit sim ...`, the CLI at RANGEKIT_CLI_PATH) so its CPU stays
+// out of the host's figures, its control socket, a transport that counts the
+// bytes the driver reads, and `cat` of a pty into a file as the floor.
+#pragma once
+
+#include <sys/types.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "rangekit/core/control_socket.hpp"
+#include "rangekit/core/result.hpp"
+#include "rangekit/core/transport.hpp"
+
+namespace rangekit::bench {
+
+// A scratch directory under the system's temp directory, removed when destroyed.
+class ScratchDir {
+ public:
+  ScratchDir();
+  ~ScratchDir();
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  [[nodiscard]] const std::filesystem::path& path() const noexcept { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// `rangekit sim <arguments...>` as a child process. start() returns once the
+// child printed its "ready:" line (no sleeping); the destructor stops it
+// (SIGTERM, SIGKILL after two seconds). The pattern of src/cli/sim_process.cpp.
+class EmulatorProcess {
+ public:
+  static Result<std::unique_ptr<EmulatorProcess>> start(const std::vector<std::string>& arguments,
+                                                        const std::string& log_path, std::chrono::milliseconds timeout);
+  ~EmulatorProcess();
+  EmulatorProcess(const EmulatorProcess&) = delete;
+  EmulatorProcess& operator=(const EmulatorProcess&) = delete;
+  [[nodiscard]] const std::string& ready_line() const noexcept { return ready_line_; }
+
+ private:
+  EmulatorProcess(pid_t pid, std::string ready_line) : pid_(pid), ready_line_(std::move(ready_line)) {}
+  pid_t pid_ = -1;
+  std::string ready_line_;
+};
+
+// One request on the emulator's control socket; the reply's JSON.
+Result<nlohmann::json> control(const std::string& socket_path, const nlohmann::json& request);
+
+// Forwards to another transport and counts the bytes read through it.
+class CountingTransport final : public Transport {
+ public:
+  CountingTransport(TransportPtr inner, std::shared_ptr<std::atomic<std::uint64_t>> bytes)
+      : inner_(std::move(inner)), bytes_(std::move(bytes)) {}
+  Status write_all(Bytes data) override { return inner_->write_all(data); }
+  Result<std::size_t> read_some(std::span<std::uint8_t> out, std::chrono::milliseconds timeout) override;
+  void close() noexcept override { inner_->close(); }
+  [[nodiscard]] std::string name() const override { return inner_->name(); }
+
+ private:
+  TransportPtr inner_;
+  std::shared_ptr<std::atomic<std::uint64_t>> bytes_;
+};
+
+// CPU seconds (user + system) of this process, all threads.
+double process_cpu_s();
+
+// `cat` reading a terminal into a file: the floor a raw byte copy sets. The
+// terminal gets VMIN 1 first (a raw port with VMIN 0 returns 0 bytes at once,
+// which cat takes for the end of its input), as `stty min 1` would.
+class CatCopy {
+ public:
+  static Result<std::unique_ptr<CatCopy>> start(const std::string& tty_path, const std::filesystem::path& out);
+  ~CatCopy();
+  CatCopy(const CatCopy&) = delete;
+  CatCopy& operator=(const CatCopy&) = delete;
+  // Writes to the same terminal (the commands that start and stop the stream).
+  Status send(std::string_view text);
+  [[nodiscard]] std::uintmax_t file_bytes() const;
+  // Stops cat once its file ends with `ending` (the device's answer to the
+  // request that stopped the stream: everything before it has been copied) or
+  // after `limit`; returns cat's own CPU seconds (wait4 rusage).
+  double finish(std::string_view ending, std::chrono::milliseconds limit);
+
+ private:
+  CatCopy(pid_t pid, int fd, std::filesystem::path out);
+  pid_t pid_ = -1;
+  int fd_ = -1;
+  std::filesystem::path out_;
+};
+
+std::string read_file(const std::filesystem::path& path);
+
+}  // namespace rangekit::bench
