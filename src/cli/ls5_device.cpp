@@ -2,6 +2,7 @@
 // (or a few) each, through ls5::Driver; values by readable name or raw address.
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <charconv>
 #include <functional>
 #include <memory>
@@ -104,6 +105,7 @@ Status run_set(ls5::Driver& driver, const std::vector<std::string>& items) {
     std::string name, value;
     const ls5::ParameterInfo* raw = nullptr;
     std::uint8_t raw_value = 0;
+    bool link = false;  // address, baud or byte format: the next request needs new --baud/--address
   };
   std::vector<Planned> plan;
   auto context = driver.context();
@@ -127,19 +129,31 @@ Status run_set(ls5::Driver& driver, const std::vector<std::string>& items) {
       model.ethernet = model.ethernet || model.firmware.at_least(ls5::firmware_12_x);
       Status accepted = ls5::check_parameter_byte(planned.raw->address, planned.raw_value, model);
       if (!accepted) return accepted.error();
+      const ls5::HostSetting* owner = ls5::host_setting_for_parameter(planned.raw->address);
+      planned.link = owner != nullptr && owner->link;
     } else {
       const ls5::HostSetting* setting = ls5::find_host_setting(planned.name);
       if (setting == nullptr) return unknown_name(planned.name);
       auto writes = ls5::encode_setting(*setting, planned.value, *context);
       if (!writes) return writes.error();
+      planned.link = setting->link;
     }
     plan.push_back(std::move(planned));
   }
+  // A write to 01/04/05 takes effect after its echo (L28): the settings after it
+  // would go out at the old speed or address, so link settings are written last.
+  std::stable_partition(plan.begin(), plan.end(), [](const Planned& planned) { return !planned.link; });
   for (const Planned& planned : plan) {
     Status written = planned.raw != nullptr ? driver.write_parameter(planned.raw->address, planned.raw_value)
                                             : driver.set(planned.name, planned.value);
     if (!written) return written.error();
     fmt::print("{}={}\n", planned.name, planned.value);
+    if (planned.link) {
+      fmt::print(stderr,
+                 "note: {} applies from the next request: talk to the sensor with the new --baud or --address "
+                 "(`save` keeps it over a power cycle)\n",
+                 planned.name);
+    }
   }
   return ok_status();
 }

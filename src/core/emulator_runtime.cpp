@@ -63,11 +63,12 @@ const std::string& EmulatorRuntime::line_path(std::size_t line) const { return l
 
 void EmulatorRuntime::set_noise(std::size_t line, const LineNoise& noise) { lines_.at(line).noise = noise; }
 
-bool EmulatorRuntime::host_matches(const Line& line, const LineAttachment& attachment, std::uint32_t sent_at) const {
+bool EmulatorRuntime::host_matches(const Line& line, const LineAttachment& attachment, const LineByte* sent) const {
   const auto host = line.pty->peer_settings();
   if (!host) return true;  // cannot tell: assume the host is right
   SerialSettings device = attachment.device->port_settings(attachment.port);
-  if (sent_at != 0) device.baud = sent_at;
+  if (sent != nullptr && sent->baud != 0) device.baud = sent->baud;
+  if (sent != nullptr && sent->stop_bits != 0) device.stop_bits = sent->stop_bits;
   // Parity cannot be seen through a pty (docs/conformance.md H2).
   return host->baud == device.baud && host->stop_bits == device.stop_bits;
 }
@@ -132,7 +133,7 @@ Status EmulatorRuntime::flush_output(Nanos now) {
         value = static_cast<std::uint8_t>(value & merged[i + 1].byte.value) ^ 0x5A;
         ++i;
       }
-      if (!host_matches(line, attachment, merged[i].byte.baud)) value = garble(value);
+      if (!host_matches(line, attachment, &merged[i].byte)) value = garble(value);
       if (line.noise.drop_rate > 0 && std::uniform_real_distribution<double>(0, 1)(random_) < line.noise.drop_rate) {
         continue;
       }

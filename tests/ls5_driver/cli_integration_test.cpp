@@ -106,6 +106,24 @@ TEST(Ls5Cli, DeviceSubcommandsEndToEnd) {
   EXPECT_EQ(w.ls5({"info", "--port", w.port, "--address", "0"}).exit_code, cli::exit_usage);
 }
 
+// L28 through the CLI: a baud write's echo comes back at the old speed, so `set`
+// succeeds; written last whatever the order given, so the other settings still go
+// out at the old speed; the sensor then answers at the new one.
+TEST(Ls5Cli, SetBaudWithOtherSettingsWritesTheLinkSettingLast) {
+  Workspace w("baud");
+  Child sim(sim_arguments(w));
+  ASSERT_TRUE(contains(sim.read_line(), "ready:"));
+  CliRun set = w.ls5({"set", "--port", w.port, "baud-rate=230400", "median-points=5"});
+  ASSERT_EQ(set.exit_code, cli::exit_ok) << set.err;
+  EXPECT_EQ(set.out, "median-points=5\nbaud-rate=230400\n");
+  EXPECT_TRUE(contains(set.err, "note: baud-rate applies from the next request")) << set.err;
+  CliRun old_speed = w.ls5({"info", "--port", w.port, "--timeout-ms", "300"});
+  EXPECT_EQ(old_speed.exit_code, cli::exit_no_reply) << old_speed.out;
+  CliRun fast = w.ls5({"get", "--port", w.port, "--baud", "230400", "median-points", "baud-rate"});
+  ASSERT_EQ(fast.exit_code, cli::exit_ok) << fast.err;
+  EXPECT_EQ(fast.out, "median-points=5\nbaud-rate=230400\n");
+}
+
 TEST(Ls5Cli, SerialStreamAndUdpThroughTheStreamRunner) {
   Workspace w("stream");
   // A free loopback port for the UDP destination.

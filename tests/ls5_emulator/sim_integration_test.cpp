@@ -304,6 +304,24 @@ TEST(Ls5Sim, StandbyAt19200AfterPowerCycleWithAFastStoredBaud) {
   EXPECT_EQ(s.exchange("#01R05\r", 9), "!01R0506\r");
 }
 
+// L28 on the real-time runtime: the echo of a baud write leaves at the old speed
+// and must reach a host still at that speed intact (it once arrived garbled, the
+// bytes judged against the new speed), and the sensor answers at the new one after.
+TEST(Ls5Sim, BaudWriteEchoReachesTheHostAtTheOldSpeed) {
+  Paths paths("baudecho");
+  SimProcess sim({"sim", "ls5", "--port", paths.port});
+  ASSERT_NE(sim.ready_line().find("ready:"), std::string::npos);
+  auto host = SerialPort::open(paths.port, SerialSettings{115200, Parity::none, 1});
+  ASSERT_TRUE(host) << host.error().message;
+  ASSERT_TRUE((*host)->write_all(as_bytes(std::string_view("#01W0508\r"))));  // 921600 (table 9.2)
+  EXPECT_EQ(read_bytes(**host, 9), "!01W0508\r");
+  host->reset();
+  auto fast = SerialPort::open(paths.port, SerialSettings{921600, Parity::none, 1});
+  ASSERT_TRUE(fast) << fast.error().message;
+  ASSERT_TRUE((*fast)->write_all(as_bytes(std::string_view("#01R05\r"))));
+  EXPECT_EQ(read_bytes(**fast, 9), "!01R0508\r");
+}
+
 TEST(Ls5Sim, SameAddressTwiceCollidesOnTheBus) {
   Paths paths("collide");
   SimProcess sim({"sim", "ls5", "--port", paths.port, "--address", "1", "--address", "1", "--control", paths.control,

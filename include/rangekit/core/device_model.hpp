@@ -19,9 +19,11 @@ namespace rangekit {
 struct LineByte {
   Nanos done{0};
   std::uint8_t value = 0;
-  // The speed it was sent at; 0 means the port's present speed. A byte that
-  // left before a baud change (the $OK to BR, U36) must still be read at the old one.
+  // The speed and stop bits it was sent with; 0 means the port's present ones. A
+  // byte that left before a change (the $OK to BR, U36; the LS5's echo of a W to
+  // 04/05, L28) must still be read with the old ones.
   std::uint32_t baud = 0;
+  std::uint8_t stop_bits = 0;
 };
 
 class DeviceModel {

@@ -90,7 +90,10 @@ class EmulatorRuntime {
   Status flush_output(Nanos now);
   [[nodiscard]] Nanos next_deadline() const;
   // `sent_at`: the baud a device byte left at (LineByte::baud), 0 for the port's present one.
-  [[nodiscard]] bool host_matches(const Line& line, const LineAttachment& attachment, std::uint32_t sent_at = 0) const;
+  // Whether the host's port reads what the device sends; `sent` carries the speed and
+  // stop bits a byte left with (none: the device's present settings).
+  [[nodiscard]] bool host_matches(const Line& line, const LineAttachment& attachment,
+                                  const LineByte* sent = nullptr) const;
   std::uint8_t garble(std::uint8_t value);
   nlohmann::json handle_control(const nlohmann::json& request);
 

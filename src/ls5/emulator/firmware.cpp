@@ -335,7 +335,11 @@ void Firmware::drain_pacer(Nanos now) {
     const Nanos done = pacer_.next_completion();
     bytes.clear();
     pacer_.take_sent(done, bytes);
-    for (const auto value : bytes) sent_.push_back(LineByte{done, value});
+    // Stamped with the settings they leave with: a W to 04/05 changes them right
+    // after its echo has gone (L28), before the runtime hands the echo to the host.
+    for (const auto value : bytes) {
+      sent_.push_back(LineByte{done, value, serial_.baud, static_cast<std::uint8_t>(serial_.stop_bits)});
+    }
   }
 }
 
