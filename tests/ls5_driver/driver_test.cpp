@@ -53,6 +53,19 @@ TEST(Ls5Driver, SetMedianFilterIsTheSection94Session) {
   EXPECT_EQ(f.device->receive_until("\r"), "#02W0B01\r");
 }
 
+// U67: an RS-485 adapter that echoes the host's bytes puts `#02W0B01` ahead of
+// the reply; requests start with '#', so the reply framer drops it.
+TEST(Ls5Driver, OwnRequestEchoedByAnRs485AdapterIsSkipped) {
+  Fixture f(with_firmware(firmware_6_0, 0x02));
+  f.device->send("#02W0B01\r!02W0B01\r");
+  auto status = f.driver->set("pre-filter", "median");
+  ASSERT_TRUE(status) << status.error().message;
+  f.device->send("#02R0B\r!02R0B01\r");
+  auto read = f.driver->read_parameter(0x0B);
+  ASSERT_TRUE(read) << read.error().message;
+  EXPECT_EQ(*read, 0x01);
+}
+
 TEST(Ls5Driver, TurnOnIsTheSection94Session) {
   Fixture f;
   f.device->send("!01ON\r");

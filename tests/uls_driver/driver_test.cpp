@@ -445,6 +445,43 @@ TEST(UlsDriver, BroadcastSendsAndWaitsForNothing) {
   EXPECT_FALSE(rig.driver->broadcast("MM"));  // a read cannot be broadcast
 }
 
+// U67: a 2-wire RS-485 adapter without echo suppression hands the host its own
+// request before the unit's reply. Gets (with and without an argument), sets,
+// actions, BM, broadcasts and a polled stream all read the reply, not the echo.
+TEST(UlsDriver, OwnRequestsEchoedByTheAdapterAreSkipped) {
+  Rig rig([](const std::string& request) -> std::string {
+    std::string reply;
+    if (request == "$BR,1") reply = "$BR,1,115200\r";
+    if (request == "$PF,1000") reply = "$OK\r";
+    if (request == "$BM") reply = "$BM,12.500,2100\r";
+    if (reply.empty()) reply = typical_reply(request);
+    return request + "\r" + reply;  // the adapter's echo, then the unit
+  });
+  auto version = rig.driver->version();
+  ASSERT_TRUE(version) << version.error().message;
+  EXPECT_EQ(*version, "ULS 1.0,2026");
+  auto prf = rig.driver->prf();
+  ASSERT_TRUE(prf) << prf.error().message;
+  EXPECT_EQ((*prf)[0], 2000U);
+  auto baud = rig.driver->baud(BaudPort::output);
+  ASSERT_TRUE(baud) << baud.error().message;
+  EXPECT_EQ(*baud, 115200U);
+  ASSERT_TRUE(rig.driver->set_prf(1000));
+  auto reading = rig.driver->measure();
+  ASSERT_TRUE(reading) << reading.error().message;
+  EXPECT_DOUBLE_EQ(*reading->distance_m, 12.5);
+  ASSERT_TRUE(rig.driver->broadcast("GO"));
+  ASSERT_TRUE(rig.driver->start_stream(StreamMode::polled));
+  const auto samples = samples_of(take(*rig.driver, 3));
+  rig.driver->stop_stream();
+  ASSERT_EQ(samples.size(), 3U);
+  EXPECT_DOUBLE_EQ(*samples[2].distance_m, 12.5);
+  const DriverCounters counters = rig.driver->counters();
+  EXPECT_EQ(counters.bad_frames, 0U);
+  EXPECT_EQ(counters.retries, 0U);
+  EXPECT_GE(counters.echoes, 10U);  // one per request sent
+}
+
 TEST(UlsDriver, ProbeReadsIdAndStatusOnly) {
   auto pair = make_loopback_pair("host", "device");
   ScriptedDevice device(std::move(pair.b), typical_reply);

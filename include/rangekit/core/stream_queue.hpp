@@ -19,10 +19,12 @@ class StreamQueue {
  public:
   explicit StreamQueue(std::size_t capacity = 65536) : capacity_(capacity == 0 ? 1 : capacity) {}
 
-  // Never blocks on the consumer.
+  // Never blocks on the consumer. Items pushed after close() are discarded: the
+  // consumer has been told the stream ended.
   void push(T item) {
     {
       std::lock_guard lock(mutex_);
+      if (closed_) return;
       if (items_.size() >= capacity_) {
         items_.pop_front();
         ++dropped_;
@@ -49,6 +51,12 @@ class StreamQueue {
       closed_ = true;
     }
     ready_.notify_all();
+  }
+
+  // Takes items again (a source that restarts its stream on the same queue).
+  void reopen() {
+    std::lock_guard lock(mutex_);
+    closed_ = false;
   }
 
   [[nodiscard]] bool closed() const {

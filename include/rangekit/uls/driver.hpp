@@ -9,6 +9,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <mutex>
 #include <optional>
@@ -59,6 +60,7 @@ struct DriverCounters {
   std::uint64_t bad_frames = 0;  // framer rejections and lines that did not decode
   std::uint64_t unexpected = 0;  // replies nobody asked for
   std::uint64_t retries = 0;
+  std::uint64_t echoes = 0;  // our own request read back (RS-485 adapters that echo, U67)
 };
 
 // US decoded into its bits (§8 Get Unit Status, U6).
@@ -200,7 +202,7 @@ class Driver final : public SampleSource {
   // Talks to another unit from now on (a bus); refused while streaming.
   Status set_address(std::optional<std::uint8_t> address);
   // Replaces the link (after the caller reopened the port at another baud).
-  void replace_transport(TransportPtr transport);
+  Status replace_transport(TransportPtr transport);  // unsupported while a stream runs
   [[nodiscard]] bool connected() const;
 
  private:
@@ -238,6 +240,7 @@ class Driver final : public SampleSource {
   MeasurementContext context_;
   std::optional<Units> units_;
   std::vector<TargetHit> partial_targets_;
+  std::deque<std::string> recent_sent_;  // the last few requests without CR, to recognise echoes (U67)
   std::uint8_t partial_count_ = 0;
 
   StreamQueue<StreamItem> queue_;

@@ -54,6 +54,7 @@ struct MeasurementStream::Shared {
   std::atomic<bool> finished{false};
   std::atomic<bool> connected{true};
   std::thread reader;
+  std::mutex stopping;  // stop() from two threads (Ctrl-C and a destructor) joins once
 };
 
 Result<std::unique_ptr<MeasurementStream>> Driver::start_stream(const StreamOptions& options) {
@@ -88,6 +89,7 @@ bool MeasurementStream::finished() const { return shared_->finished.load(); }
 std::uint64_t MeasurementStream::lost() const { return shared_->queue.dropped(); }
 
 void MeasurementStream::stop() {
+  std::lock_guard stopping(shared_->stopping);
   {
     std::lock_guard lock(shared_->mutex);
     if (shared_->stop_requested && !shared_->reader.joinable()) return;

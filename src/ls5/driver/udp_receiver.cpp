@@ -53,6 +53,7 @@ struct UdpReceiver::State {
   UdpReceiverCounters counters;
   std::optional<std::uint8_t> last_counter;
   std::thread reader;
+  std::mutex stopping;  // stop() from two threads joins once
 
   void handle(Bytes datagram, const std::string& source) {
     const auto now = std::chrono::system_clock::now();
@@ -133,6 +134,7 @@ std::optional<StreamItem> UdpReceiver::next(std::chrono::milliseconds timeout) {
 bool UdpReceiver::finished() const { return state_->finished.load(); }
 
 void UdpReceiver::stop() {
+  std::lock_guard stopping(state_->stopping);
   state_->stop_requested = true;
   if (state_->reader.joinable()) state_->reader.join();
   state_->finished = true;

@@ -3,6 +3,7 @@
 // (measurement lines, stream errors) to the measurement path.
 #include "rangekit/uls/driver.hpp"
 
+#include <algorithm>
 #include <array>
 
 #include "rangekit/core/text.hpp"
@@ -126,11 +127,11 @@ Address Driver::request_address() const noexcept {
 }
 
 Status Driver::set_address(std::optional<std::uint8_t> address) {
-  if (streaming_) return make_error(Errc::unsupported, "cannot change the address while streaming");
   if (address && !Address::unit(*address).is_unit())
     return make_error(Errc::out_of_range, "unit addresses are 0x30..0xEF (§8 RS485 Protocol)");
   std::lock_guard request_lock(request_mutex_);
   std::lock_guard lock(state_mutex_);
+  if (streaming_) return make_error(Errc::unsupported, "cannot change the address while streaming");
   options_.address = address;
   units_.reset();
   return ok_status();
@@ -143,10 +144,15 @@ bool Driver::connected() const {
   return transport_ != nullptr;
 }
 
-void Driver::replace_transport(TransportPtr transport) {
+Status Driver::replace_transport(TransportPtr transport) {
+  // The reader uses the transport and the assembler without holding the lock.
+  if (streaming_ && !on_reader_thread()) {
+    return make_error(Errc::unsupported, "cannot replace the transport while streaming: stop the stream first");
+  }
   std::lock_guard lock(transport_mutex_);
   transport_ = std::move(transport);
   assembler_.clear();
+  return ok_status();
 }
 
 DriverCounters Driver::counters() const {
@@ -155,6 +161,14 @@ DriverCounters Driver::counters() const {
 }
 
 Status Driver::write_frame(Bytes bytes) {
+  {
+    std::lock_guard lock(state_mutex_);
+    std::string sent(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    if (!sent.empty() && sent.back() == '\r') sent.pop_back();
+    // A few, not one: a broadcast's echo is read only with the next request's reply.
+    if (recent_sent_.size() == 4) recent_sent_.pop_front();
+    recent_sent_.push_back(std::move(sent));
+  }
   std::lock_guard lock(transport_mutex_);
   if (!transport_) return make_error(Errc::closed, options_.source + ": not connected");
   return transport_->write_all(bytes);
@@ -196,6 +210,19 @@ Status Driver::pump(std::chrono::milliseconds wait) {
 }
 
 void Driver::dispatch(Bytes frame_bytes) {
+  {
+    // A 2-wire RS-485 adapter without echo suppression reads back what the host
+    // sent. No reply is ever byte-identical to a request (replies carry values or
+    // are $OK), so a copy of a recent request is its echo: skipped (U67).
+    std::lock_guard lock(state_mutex_);
+    const std::string_view frame_text(reinterpret_cast<const char*>(frame_bytes.data()), frame_bytes.size());
+    const auto sent = std::find(recent_sent_.begin(), recent_sent_.end(), frame_text);
+    if (sent != recent_sent_.end()) {
+      ++counters_.echoes;
+      recent_sent_.erase(recent_sent_.begin(), sent + 1);  // echoes come back in order
+      return;
+    }
+  }
   auto parsed = parse_frame(frame_bytes);
   if (!parsed) {
     {
@@ -206,13 +233,13 @@ void Driver::dispatch(Bytes frame_bytes) {
     return;
   }
   const FrameView& frame = *parsed;
-  const bool ours = frame.address == request_address();
   const bool measurement_line = frame.kind == FrameKind::time_between_events || frame.is("BM");
   int error_number = 0;
   if (frame.is("ER") && frame.field_count == 1) {
     error_number = static_cast<int>(text::parse_unsigned(frame.field_slots[0], 3).value_or(0));
   }
   std::unique_lock lock(state_mutex_);
+  const bool ours = frame.address == request_address();  // set_address writes it under this lock
   Pending* pending = (pending_ != nullptr && !pending_->done && ours) ? pending_ : nullptr;
 
   if (measurement_line || is_stream_error(error_number)) {
@@ -284,12 +311,6 @@ Status Driver::check_locally(const CommandInfo& command, std::span<const std::st
 Result<std::vector<std::string>> Driver::transact(const CommandInfo& command, std::span<const std::string_view> fields,
                                                   Expect expect, int attempts, std::chrono::milliseconds timeout,
                                                   Sample* measurement) {
-  const FormResult form = request_form(command, fields.size());
-  Result<FrameText> frame = form.form == RequestForm::action ? encode_action(request_address(), command.mnemonic)
-                            : form.form == RequestForm::get  ? encode_get(request_address(), command.mnemonic, fields)
-                                                             : encode_set(request_address(), command.mnemonic, fields);
-  if (!frame) return frame.error();
-
   // The reader thread keeps pumping while it waits for a caller's request.
   std::unique_lock request_lock(request_mutex_, std::defer_lock);
   if (on_reader_thread()) {
@@ -300,6 +321,14 @@ Result<std::vector<std::string>> Driver::transact(const CommandInfo& command, st
   } else {
     request_lock.lock();
   }
+
+  // Built under the request lock: set_address changes the address under it.
+  const FormResult form = request_form(command, fields.size());
+  const Address address = request_address();
+  Result<FrameText> frame = form.form == RequestForm::action ? encode_action(address, command.mnemonic)
+                            : form.form == RequestForm::get  ? encode_get(address, command.mnemonic, fields)
+                                                             : encode_set(address, command.mnemonic, fields);
+  if (!frame) return frame.error();
 
   for (int attempt = 0; attempt < attempts; ++attempt) {
     Pending pending;

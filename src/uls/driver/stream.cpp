@@ -98,12 +98,16 @@ Status Driver::start_stream(StreamMode mode) {
   requested_mode_ = mode;
   stop_requested_ = false;
   finished_ = false;
+  queue_.reopen();     // closed when a previous stream's reader ended
   collecting_ = true;  // lines that follow the GO belong to the stream
   if (auto begun = begin_measuring(false); !begun) {
     collecting_ = false;
     return begun;
   }
-  streaming_ = true;
+  {
+    std::lock_guard lock(state_mutex_);  // set_address checks it under this lock
+    streaming_ = true;
+  }
   emit_event(StreamEventKind::connected, options_.source + ": measuring, " +
                                              (active_mode_ == StreamMode::polled ? "polled with BM" : "continuous"));
   reader_ = std::thread([this] { reader_loop(); });
@@ -113,8 +117,12 @@ Status Driver::start_stream(StreamMode mode) {
 void Driver::stop_stream(bool stop_measuring) {
   stop_requested_ = true;
   if (reader_.joinable()) reader_.join();
-  streaming_ = false;
-  collecting_ = false;
+  {
+    // Under the mutex a waiting caller checks it with, so the wake-up is not missed.
+    std::lock_guard lock(state_mutex_);
+    streaming_ = false;
+    collecting_ = false;
+  }
   reply_ready_.notify_all();
   if (stop_measuring && connected()) (void)action("ST");
 }
@@ -134,7 +142,7 @@ bool Driver::reconnect() {
     if (stop_requested_) return false;
     auto reopened = reopen_();
     if (!reopened) continue;
-    replace_transport(std::move(*reopened));
+    (void)replace_transport(std::move(*reopened));  // on the reader thread: always accepted
     if (auto begun = begin_measuring(true); !begun) {
       // The port is back but the unit does not answer yet (still powering up).
       std::lock_guard lock(transport_mutex_);
@@ -190,7 +198,11 @@ void Driver::reader_loop() {
     next_poll = std::chrono::steady_clock::now();
   }
   reader_id_ = std::thread::id();
-  streaming_ = false;  // callers pump for themselves again
+  {
+    std::lock_guard lock(state_mutex_);  // see stop_stream
+    streaming_ = false;                  // callers pump for themselves again
+    collecting_ = false;                 // nothing more goes to the closed queue
+  }
   reply_ready_.notify_all();
   finished_ = true;
   queue_.close();
