@@ -16,6 +16,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/host_sources.hpp"
+#include "rangekit/core/fd_transport.hpp"
 #include "rangekit/ls5/driver.hpp"
 #include "rangekit/ls5/settings.hpp"
 #include "rangekit/uls/driver.hpp"
@@ -95,7 +96,7 @@ void print_finding(const Finding& finding, bool jsonl) {
 // A path that is not there or is not a terminal is reported once, not per baud.
 Status check_is_terminal(const std::string& path) {
   const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return make_error(Errc::io, "cannot open " + path + ": " + std::strerror(errno));
+  if (fd < 0) return make_error(Errc::io, errno_text("cannot open " + path, errno));
   const bool terminal = ::isatty(fd) == 1;
   ::close(fd);
   if (!terminal) return make_error(Errc::unsupported, path + " is not a serial port or terminal");

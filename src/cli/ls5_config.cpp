@@ -24,7 +24,7 @@ void print_differences(const std::vector<ls5::ConfigDifference>& differences) {
 using Action = std::function<int(ls5::Driver&, const ConfigCommand&)>;
 
 void add_config_subcommand(CLI::App& config, int& exit_code, const std::string& name, const std::string& help,
-                           Action action) {
+                           const Action& action) {
   auto state = std::make_shared<ConfigCommand>();
   auto* command = config.add_subcommand(name, help);
   add_ls5_connection_options(*command, state->connection);

@@ -161,7 +161,7 @@ Status run_set(ls5::Driver& driver, const std::vector<std::string>& items) {
 using Action = std::function<Status(ls5::Driver&, DeviceCommand&)>;
 
 CLI::App* add_device_command(CLI::App& ls5, int& exit_code, const std::string& name, const std::string& help,
-                             Action action, std::shared_ptr<DeviceCommand> state = nullptr) {
+                             const Action& action, std::shared_ptr<DeviceCommand> state = nullptr) {
   if (!state) state = std::make_shared<DeviceCommand>();
   auto* command = ls5.add_subcommand(name, help);
   add_ls5_connection_options(*command, state->connection);

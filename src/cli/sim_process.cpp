@@ -1,4 +1,5 @@
 #include "cli/sim_process.hpp"
+#include "rangekit/core/fd_transport.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -13,8 +14,6 @@
 
 namespace rangekit::cli {
 namespace {
-
-std::string errno_text() { return std::strerror(errno); }
 
 // Waits for the child to exit for up to `limit`; true when it has.
 bool reap_within(pid_t pid, std::chrono::milliseconds limit) {
@@ -34,21 +33,22 @@ bool reap_within(pid_t pid, std::chrono::milliseconds limit) {
 Result<SimProcess> SimProcess::start(const std::vector<std::string>& arguments, const std::string& log_path,
                                      std::chrono::milliseconds timeout) {
   std::array<int, 2> ready_pipe{};
-  if (::pipe2(ready_pipe.data(), O_CLOEXEC) != 0) return make_error(Errc::io, "pipe: " + errno_text());
+  if (::pipe2(ready_pipe.data(), O_CLOEXEC) != 0) return make_error(Errc::io, errno_text("pipe", errno));
   const int log_fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (log_fd < 0) {
     ::close(ready_pipe[0]);
     ::close(ready_pipe[1]);
-    return make_error(Errc::io, "cannot create " + log_path + ": " + errno_text());
+    return make_error(Errc::io, errno_text("cannot create " + log_path, errno));
   }
   std::vector<std::string> argv_strings{"rangekit", "sim"};
   argv_strings.insert(argv_strings.end(), arguments.begin(), arguments.end());
   std::vector<char*> argv;
+  argv.reserve(argv_strings.size() + 1);
   for (auto& argument : argv_strings) argv.push_back(argument.data());
   argv.push_back(nullptr);
 
   const pid_t pid = ::fork();
-  if (pid < 0) return make_error(Errc::io, "fork: " + errno_text());
+  if (pid < 0) return make_error(Errc::io, errno_text("fork", errno));
   if (pid == 0) {
     ::dup2(ready_pipe[1], STDOUT_FILENO);
     ::dup2(log_fd, STDERR_FILENO);

@@ -7,12 +7,13 @@
 #include <cstring>
 #include <utility>
 
+#include "rangekit/core/fd_transport.hpp"
 #include "rangekit/record/format.hpp"
 
 namespace rangekit::record {
 namespace {
 
-constexpr std::size_t flush_threshold = 64 * 1024;
+constexpr std::size_t flush_threshold = std::size_t{64} * 1024;
 
 class TextSink final : public SampleSink {
  public:
@@ -59,7 +60,7 @@ class TextSink final : public SampleSink {
       if (result < 0) {
         if (errno == EINTR) continue;
         failed_ = true;
-        reason_ = std::strerror(errno);
+        reason_ = errno_text("cannot write " + name_, errno);
         buffer_.erase(0, written);
         return failure();
       }
@@ -70,7 +71,7 @@ class TextSink final : public SampleSink {
   }
 
  private:
-  [[nodiscard]] Error failure() const { return make_error(Errc::io, "cannot write " + name_ + ": " + reason_); }
+  [[nodiscard]] Error failure() const { return make_error(Errc::io, reason_); }
 
   OutputFormat format_;
   int fd_;
@@ -78,7 +79,7 @@ class TextSink final : public SampleSink {
   std::string name_;
   std::string buffer_;
   bool failed_ = false;
-  std::string reason_;
+  std::string reason_;  // "cannot write NAME: <system message>"
 };
 
 }  // namespace
@@ -90,7 +91,7 @@ SampleSinkPtr make_text_sink(OutputFormat format, int fd, std::string name) {
 Result<SampleSinkPtr> open_text_sink(OutputFormat format, const std::string& path) {
   if (path.empty() || path == "-") return make_text_sink(format, STDOUT_FILENO, "standard output");
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) return make_error(Errc::io, "cannot open " + path + " for writing: " + std::strerror(errno));
+  if (fd < 0) return make_error(Errc::io, errno_text("cannot open " + path + " for writing", errno));
   return SampleSinkPtr(std::make_unique<TextSink>(format, fd, true, path));
 }
 

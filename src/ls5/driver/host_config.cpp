@@ -118,9 +118,10 @@ Result<DeviceConfig> parse_config_toml(std::string_view text, const std::string&
     if (section == "sensor") continue;
     const toml::table* entries = section_node.as_table();
     if ((section != "link" && section != "parameters") || entries == nullptr) {
-      return make_error(Errc::wrong_form, source_name + ":" + std::to_string(section_node.source().begin.line) +
-                                              ": unknown section [" + section +
-                                              "] (expected sensor, link, parameters)");
+      std::string message = source_name;
+      message += ":" + std::to_string(section_node.source().begin.line);
+      message += ": unknown section [" + std::string(section) + "] (expected sensor, link, parameters)";
+      return make_error(Errc::wrong_form, message);
     }
     for (const auto& [key, node] : *entries) {
       const std::string line = source_name + ":" + std::to_string(node.source().begin.line) + ": ";

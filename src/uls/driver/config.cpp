@@ -126,9 +126,7 @@ std::string readable(const Setting& setting) {
     } else if (command.kind == ValueKind::enumeration) {
       const auto name = command.value_name(static_cast<std::uint32_t>(value));
       text += name.empty() ? integer_text(value) : key_name(name);
-    } else if (is_distance(command)) {
-      text += driver_detail::decimal_text(value);
-    } else if (command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
+    } else if (is_distance(command) || command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
       text += driver_detail::decimal_text(value);
     } else {
       text += integer_text(value);
