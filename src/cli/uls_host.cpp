@@ -2,6 +2,7 @@
 // host driver. Library errors become one message and a documented exit code.
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -195,6 +196,12 @@ int run_set(const LinkOptions& link, const std::vector<std::string>& assignments
         !verdict.ok() && !(distance && target.raw))
       return fail("set", uls::driver_detail::local_refusal(*target.command, value, verdict.error, Units::metres));
   }
+  // BR switches the port after its $OK (U36) and UA the address the unit answers
+  // to: the settings after either would go unanswered, so both are written last.
+  std::stable_partition(work.begin(), work.end(), [](const auto& item) {
+    const std::string_view mnemonic = item.first.command->mnemonic;
+    return mnemonic != "BR" && mnemonic != "UA";
+  });
   auto driver = open_driver(link);
   if (!driver) return fail("set", driver.error());
   std::optional<Units> units;

@@ -35,8 +35,10 @@ TEST(Detect, FindsBothFamiliesAndAUlsOffTheFactoryBaud) {
 
   // §8 Set Baud Rate: the universal port (1) moves to 57600 after its $OK, which
   // still leaves at 115200 (docs/conformance.md U36), so the set itself succeeds.
-  const auto moved = run_cli(dir.path, {"uls", "set", "--port", uls_port, "BR=1,57600"});
+  // Given first, BR is still written last: a set after it would go unanswered.
+  const auto moved = run_cli(dir.path, {"uls", "set", "--port", uls_port, "BR=1,57600", "power=low"});
   ASSERT_EQ(moved.exit_code, 0) << moved.out << moved.err;
+  EXPECT_LT(moved.out.find("power=low"), moved.out.find("BR=1,57600")) << moved.out;
 
   const auto found = run_cli(dir.path, {"detect", "--port", uls_port, "--port", ls5_port, "--jsonl"});
   EXPECT_EQ(found.exit_code, 0) << found.err;
@@ -47,6 +49,8 @@ TEST(Detect, FindsBothFamiliesAndAUlsOffTheFactoryBaud) {
   // Probing only reads: the ULS is still idle and still at 57600.
   const auto info = run_cli(dir.path, {"uls", "info", "--port", uls_port, "--baud", "57600"});
   EXPECT_EQ(info.exit_code, 0) << info.out << info.err;
+  const auto power = run_cli(dir.path, {"uls", "get", "--port", uls_port, "--baud", "57600", "power"});
+  EXPECT_TRUE(contains(power.out, "power=low")) << power.out << power.err;
 }
 
 TEST(Detect, NamesAPathThatIsNoSerialPortAndReportsNoReply) {
