@@ -171,6 +171,7 @@ class SummaryReporter : public benchmark::ConsoleReporter {
   struct Figures {
     double bytes_per_second = 0;
     double allocs_per_frame = 0;
+    std::map<std::string, double> counters;  // every counter, for the host streaming lines
   };
   std::map<std::string, Figures> figures;
 
@@ -181,6 +182,7 @@ class SummaryReporter : public benchmark::ConsoleReporter {
         entry.bytes_per_second = it->second;
       if (auto it = run.counters.find("allocs_per_frame"); it != run.counters.end())
         entry.allocs_per_frame = it->second;
+      for (const auto& [name, counter] : run.counters) entry.counters[name] = counter.value;
       figures[run.benchmark_name()] = entry;
     }
     ConsoleReporter::ReportRuns(runs);
@@ -199,6 +201,25 @@ void print_comparison(const SummaryReporter& reporter, const char* parser, const
       p->second.allocs_per_frame < 0.001 ? "none on the hot path" : "ALLOCATES");
 }
 
+// Host streaming (issue 6): the driver against cat of the same pty, same run.
+// Goal: >= 95 % of the records the sensor put on the wire, none lost, < 5 % of a core.
+void print_host_comparison(const SummaryReporter& reporter, const char* label, const char* driver, const char* floor) {
+  const auto d = reporter.figures.find(driver);
+  const auto f = reporter.figures.find(floor);
+  if (d == reporter.figures.end() || f == reporter.figures.end()) return;
+  auto value = [](const SummaryReporter::Figures& figures, const char* name) {
+    const auto it = figures.counters.find(name);
+    return it == figures.counters.end() ? 0.0 : it->second;
+  };
+  const double delivered = value(d->second, "delivered_pct");
+  const double cpu = value(d->second, "host_cpu_pct");
+  const double lost = value(d->second, "lost");
+  const bool met = delivered >= 95.0 && lost == 0 && cpu < 5.0;
+  std::printf("%-26s driver %6.2f%% delivered, lost %.0f, CPU %4.2f%%  | cat floor %6.2f%%, CPU %4.2f%%  goal: %s\n",
+              label, delivered, lost, cpu, value(f->second, "delivered_pct"), value(f->second, "host_cpu_pct"),
+              met ? "met" : "MISSED");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -210,6 +231,10 @@ int main(int argc, char** argv) {
   print_comparison(reporter, "uls_binning_decode", "uls_memchr_baseline");
   print_comparison(reporter, "ls5_stream_decode", "ls5_memchr_baseline");
   print_comparison(reporter, "ls5_udp_decode", "ls5_udp_xor_baseline");
+  print_host_comparison(reporter, "host LS5 1 kHz @ 921600", "BM_HostLs5Driver1kHz921600/iterations:1/real_time",
+                        "BM_CatLs5Floor1kHz921600/iterations:1/real_time");
+  print_host_comparison(reporter, "host ULS binning @ 230400", "BM_HostUlsDriverBinning230400/iterations:1/real_time",
+                        "BM_CatUlsFloorBinning230400/iterations:1/real_time");
   benchmark::Shutdown();
   return 0;
 }
