@@ -161,8 +161,8 @@ void MeasurementStream::run() {
         }
         if (reply->kind != ReplyKind::stream_record) continue;  // e.g. a late echo
         last_record = Clock::now();
-        ++records_;
         shared.queue.push(make_ls5_sample(reply->result, range_mm, driver_.transport_name(), address));
+        ++records_;  // after the push: once records() counts it, the queue (and lost()) has it
       }
       continue;
     }
