@@ -36,21 +36,21 @@ constexpr auto window = 5s;
 struct Ls5Rig {
   Ls5Rig();
   rangekit::bench::ScratchDir dir;
-  std::unique_ptr<rangekit::bench::EmulatorProcess> sim;
+  std::optional<rangekit::cli::SimProcess> sim;
   std::string link = (dir.path() / "ls5").string();
   std::string socket = (dir.path() / "ls5.sock").string();
   std::string error;
 };
 
 Ls5Rig::Ls5Rig() {
-  auto started = rangekit::bench::EmulatorProcess::start(
+  auto started = rangekit::bench::start_emulator(
       {"ls5", "--port", link, "--control", socket, "--version", "LS5.6.0", "--seed", "1"},
       (dir.path() / "ls5.log").string(), 10s);
   if (!started) {
     error = started.error().describe();
     return;
   }
-  sim = std::move(started).value();
+  sim.emplace(std::move(started).value());
   // Factory settings talk at 115200 (table 9.2); the new baud applies after the echo (L28).
   auto port = rangekit::SerialPort::open(link, rangekit::SerialSettings{115200});
   if (!port) {

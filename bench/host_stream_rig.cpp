@@ -1,4 +1,5 @@
 #include "host_stream_rig.hpp"
+#include "rangekit/core/fd_transport.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -8,10 +9,8 @@
 #include <termios.h>
 #include <unistd.h>
 
-#include <array>
 #include <cerrno>
 #include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <utility>
@@ -22,8 +21,6 @@
 
 namespace rangekit::bench {
 namespace {
-
-std::string errno_text() { return std::strerror(errno); }
 
 // Waits for the child to exit for up to `limit` (waitpid has no timeout: a
 // short poll on nothing between checks); true when it has.
@@ -61,56 +58,10 @@ ScratchDir::~ScratchDir() {
   if (!path_.empty()) std::filesystem::remove_all(path_, ignored);
 }
 
-Result<std::unique_ptr<EmulatorProcess>> EmulatorProcess::start(const std::vector<std::string>& arguments,
-                                                                const std::string& log_path,
-                                                                std::chrono::milliseconds timeout) {
-  std::array<int, 2> ready_pipe{};
-  if (::pipe2(ready_pipe.data(), O_CLOEXEC) != 0) return make_error(Errc::io, "pipe: " + errno_text());
-  const int log_fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (log_fd < 0) {
-    ::close(ready_pipe[0]);
-    ::close(ready_pipe[1]);
-    return make_error(Errc::io, "cannot create " + log_path + ": " + errno_text());
-  }
-  std::vector<std::string> argv_strings{"rangekit", "sim"};
-  argv_strings.insert(argv_strings.end(), arguments.begin(), arguments.end());
-  std::vector<char*> argv;
-  for (auto& argument : argv_strings) argv.push_back(argument.data());
-  argv.push_back(nullptr);
-
-  const pid_t pid = ::fork();
-  if (pid < 0) return make_error(Errc::io, "fork: " + errno_text());
-  if (pid == 0) {
-    ::dup2(ready_pipe[1], STDOUT_FILENO);
-    ::dup2(log_fd, STDERR_FILENO);
-    ::execv(RANGEKIT_CLI_PATH, argv.data());
-    ::_exit(127);
-  }
-  ::close(ready_pipe[1]);
-  ::close(log_fd);
-
-  std::string output;
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (output.find('\n') == std::string::npos) {
-    const auto left =
-        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    pollfd descriptor{ready_pipe[0], POLLIN, 0};
-    if (left.count() <= 0 || ::poll(&descriptor, 1, static_cast<int>(left.count())) <= 0) break;
-    std::array<char, 512> buffer{};
-    const ssize_t got = ::read(ready_pipe[0], buffer.data(), buffer.size());
-    if (got <= 0) break;
-    output.append(buffer.data(), static_cast<std::size_t>(got));
-  }
-  ::close(ready_pipe[0]);
-  std::unique_ptr<EmulatorProcess> process(new EmulatorProcess(pid, output.substr(0, output.find('\n'))));
-  if (process->ready_line_.find("ready:") == std::string::npos) {
-    return make_error(Errc::io, "`rangekit sim " + (arguments.empty() ? std::string() : arguments[0]) +
-                                    "` did not start; see " + log_path);
-  }
-  return process;
+Result<cli::SimProcess> start_emulator(const std::vector<std::string>& arguments, const std::string& log_path,
+                                       std::chrono::milliseconds timeout) {
+  return cli::SimProcess::start(arguments, log_path, timeout, RANGEKIT_CLI_PATH);
 }
-
-EmulatorProcess::~EmulatorProcess() { stop_child(pid_); }
 
 Result<nlohmann::json> control(const std::string& socket_path, const nlohmann::json& request) {
   auto client = ControlClient::connect(socket_path);
@@ -137,11 +88,11 @@ CatCopy::CatCopy(pid_t pid, int fd, std::filesystem::path out) : pid_(pid), fd_(
 
 Result<std::unique_ptr<CatCopy>> CatCopy::start(const std::string& tty_path, const std::filesystem::path& out) {
   const int fd = ::open(tty_path.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
-  if (fd < 0) return make_error(Errc::io, "open " + tty_path + ": " + errno_text());
+  if (fd < 0) return make_error(Errc::io, errno_text("open " + tty_path, errno));
   termios settings{};
   if (::tcgetattr(fd, &settings) != 0) {
     ::close(fd);
-    return make_error(Errc::io, "tcgetattr " + tty_path + ": " + errno_text());
+    return make_error(Errc::io, errno_text("tcgetattr " + tty_path, errno));
   }
   settings.c_cc[VMIN] = 1;  // speed and raw mode stay as the host set them
   settings.c_cc[VTIME] = 0;
@@ -149,13 +100,13 @@ Result<std::unique_ptr<CatCopy>> CatCopy::start(const std::string& tty_path, con
   const int file = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
   if (file < 0) {
     ::close(fd);
-    return make_error(Errc::io, "cannot create " + out.string() + ": " + errno_text());
+    return make_error(Errc::io, errno_text("cannot create " + out.string(), errno));
   }
   const pid_t pid = ::fork();
   if (pid < 0) {
     ::close(fd);
     ::close(file);
-    return make_error(Errc::io, "fork: " + errno_text());
+    return make_error(Errc::io, errno_text("fork", errno));
   }
   if (pid == 0) {
     ::dup2(fd, STDIN_FILENO);
@@ -174,7 +125,7 @@ CatCopy::~CatCopy() {
 
 Status CatCopy::send(std::string_view text) {
   if (::write(fd_, text.data(), text.size()) != static_cast<ssize_t>(text.size())) {
-    return make_error(Errc::io, "write to the pty: " + errno_text());
+    return make_error(Errc::io, errno_text("write to the pty", errno));
   }
   return ok_status();
 }

@@ -1,7 +1,7 @@
 // Shared pieces of the host streaming benches (issue 6): an emulator run as its
-// own process (`rangekit sim ...`, the CLI at RANGEKIT_CLI_PATH) so its CPU stays
-// out of the host's figures, its control socket, a transport that counts the
-// bytes the driver reads, and `cat` of a pty into a file as the floor.
+// own process (cli::SimProcess with the CLI at RANGEKIT_CLI_PATH) so its CPU
+// stays out of the host's figures, its control socket, a transport that counts
+// the bytes the driver reads, and `cat` of a pty into a file as the floor.
 #pragma once
 
 #include <sys/types.h>
@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "cli/sim_process.hpp"
 #include "rangekit/core/control_socket.hpp"
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/transport.hpp"
@@ -32,24 +33,6 @@ class ScratchDir {
 
  private:
   std::filesystem::path path_;
-};
-
-// `rangekit sim <arguments...>` as a child process. start() returns once the
-// child printed its "ready:" line (no sleeping); the destructor stops it
-// (SIGTERM, SIGKILL after two seconds). The pattern of src/cli/sim_process.cpp.
-class EmulatorProcess {
- public:
-  static Result<std::unique_ptr<EmulatorProcess>> start(const std::vector<std::string>& arguments,
-                                                        const std::string& log_path, std::chrono::milliseconds timeout);
-  ~EmulatorProcess();
-  EmulatorProcess(const EmulatorProcess&) = delete;
-  EmulatorProcess& operator=(const EmulatorProcess&) = delete;
-  [[nodiscard]] const std::string& ready_line() const noexcept { return ready_line_; }
-
- private:
-  EmulatorProcess(pid_t pid, std::string ready_line) : pid_(pid), ready_line_(std::move(ready_line)) {}
-  pid_t pid_ = -1;
-  std::string ready_line_;
 };
 
 // One request on the emulator's control socket; the reply's JSON.
@@ -98,5 +81,9 @@ class CatCopy {
 };
 
 std::string read_file(const std::filesystem::path& path);
+
+// `rangekit sim <arguments...>` from the CLI this bench was built with.
+Result<cli::SimProcess> start_emulator(const std::vector<std::string>& arguments, const std::string& log_path,
+                                       std::chrono::milliseconds timeout);
 
 }  // namespace rangekit::bench

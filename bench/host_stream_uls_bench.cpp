@@ -54,7 +54,7 @@ std::string scene_toml() {
 struct UlsRig {
   UlsRig();
   rangekit::bench::ScratchDir dir;
-  std::unique_ptr<rangekit::bench::EmulatorProcess> sim;
+  std::optional<rangekit::cli::SimProcess> sim;
   std::string link = (dir.path() / "uls").string();
   std::string socket = (dir.path() / "uls.sock").string();
   std::string error;
@@ -83,14 +83,14 @@ rangekit::Status configure(const std::string& link) {
 UlsRig::UlsRig() {
   const auto scene = dir.path() / "scene.toml";
   std::ofstream(scene) << scene_toml();
-  auto started = rangekit::bench::EmulatorProcess::start(
+  auto started = rangekit::bench::start_emulator(
       {"uls", "--port", link, "--control", socket, "--scene", scene.string(), "--seed", "1"},
       (dir.path() / "uls.log").string(), 10s);
   if (!started) {
     error = started.error().describe();
     return;
   }
-  sim = std::move(started).value();
+  sim.emplace(std::move(started).value());
   if (auto done = configure(link); !done) error = "configuring the ULS: " + done.error().describe();
 }
 

@@ -31,7 +31,7 @@ bool reap_within(pid_t pid, std::chrono::milliseconds limit) {
 }  // namespace
 
 Result<SimProcess> SimProcess::start(const std::vector<std::string>& arguments, const std::string& log_path,
-                                     std::chrono::milliseconds timeout) {
+                                     std::chrono::milliseconds timeout, const std::string& executable) {
   std::array<int, 2> ready_pipe{};
   if (::pipe2(ready_pipe.data(), O_CLOEXEC) != 0) return make_error(Errc::io, errno_text("pipe", errno));
   const int log_fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
@@ -52,7 +52,7 @@ Result<SimProcess> SimProcess::start(const std::vector<std::string>& arguments, 
   if (pid == 0) {
     ::dup2(ready_pipe[1], STDOUT_FILENO);
     ::dup2(log_fd, STDERR_FILENO);
-    ::execv("/proc/self/exe", argv.data());
+    ::execv(executable.c_str(), argv.data());
     ::_exit(127);
   }
   ::close(ready_pipe[1]);

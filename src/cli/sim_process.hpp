@@ -1,6 +1,6 @@
-// An emulator started as a child process (`rangekit sim ...` from this same
-// binary), for `rangekit demo`: waits for its ready line instead of sleeping and
-// stops it (SIGTERM, then SIGKILL) when destroyed.
+// An emulator started as a child process (`rangekit sim ...`, by default from this
+// same binary), for `rangekit demo` and the streaming bench: waits for its ready
+// line instead of sleeping and stops it (SIGTERM, then SIGKILL) when destroyed.
 #pragma once
 
 #include <sys/types.h>
@@ -15,10 +15,11 @@ namespace rangekit::cli {
 
 class SimProcess {
  public:
-  // Runs `<this binary> sim <arguments...>` and waits up to `timeout` for the
+  // Runs `<executable> sim <arguments...>` and waits up to `timeout` for the
   // line containing "ready:". Its stderr is kept in `log_path` for messages.
+  // The executable is this binary unless another program names the CLI's path.
   static Result<SimProcess> start(const std::vector<std::string>& arguments, const std::string& log_path,
-                                  std::chrono::milliseconds timeout);
+                                  std::chrono::milliseconds timeout, const std::string& executable = "/proc/self/exe");
 
   SimProcess(SimProcess&& other) noexcept;
   SimProcess& operator=(SimProcess&& other) noexcept;
