@@ -2,14 +2,13 @@
 // driving the virtual clock and the sync input, a loopback UDP receiver (conformance L36:
 // packets only to --udp).
 #include <gtest/gtest.h>
-#include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
 #include <filesystem>
 #include <fstream>
 
+#include "ls5_driver/cli_process.hpp"
 #include "rangekit/core/control_socket.hpp"
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/core/udp.hpp"
@@ -20,55 +19,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-class SimProcess {
- public:
-  explicit SimProcess(const std::vector<std::string>& arguments) {
-    int out[2];
-    if (::pipe(out) != 0) return;
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      ::dup2(out[1], STDOUT_FILENO);
-      ::close(out[0]);
-      ::close(out[1]);
-      std::vector<char*> argv;
-      argv.push_back(const_cast<char*>(RANGEKIT_CLI_PATH));
-      for (const auto& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
-      argv.push_back(nullptr);
-      ::execv(RANGEKIT_CLI_PATH, argv.data());
-      ::_exit(127);
-    }
-    ::close(out[1]);
-    stdout_ = ::fdopen(out[0], "r");
-  }
-  ~SimProcess() {
-    if (pid_ > 0 && !exited_) {
-      ::kill(pid_, SIGTERM);
-      (void)wait();
-    }
-    if (stdout_) std::fclose(stdout_);
-  }
-  SimProcess(const SimProcess&) = delete;
-  SimProcess& operator=(const SimProcess&) = delete;
-
-  // Blocks until the ready line (never sleeps to synchronise).
-  std::string ready_line() {
-    char buffer[1024];
-    if (!stdout_ || !std::fgets(buffer, sizeof buffer, stdout_)) return {};
-    return buffer;
-  }
-  void terminate() { ::kill(pid_, SIGTERM); }
-  int wait() {
-    int status = 0;
-    ::waitpid(pid_, &status, 0);
-    exited_ = true;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-
- private:
-  pid_t pid_ = -1;
-  FILE* stdout_ = nullptr;
-  bool exited_ = false;
-};
+using ls5_driver_test::Child;  // `rangekit sim ...` as a child, its stdout read line by line
 
 struct Paths {
   std::filesystem::path dir;
@@ -129,28 +80,28 @@ TEST(Ls5Sim, BusOfTwoSensorsCommandsWeldingExampleAndUdp) {
   { std::ofstream(paths.scene) << "[target]\nposition_mm = 50.0\nnoise_mm = 0.0\n"; }
   auto receiver = UdpSocket::bind(Endpoint{"127.0.0.1", 0});
   ASSERT_TRUE(receiver) << receiver.error().message;
-  SimProcess sim({"sim",
-                  "ls5",
-                  "--port",
-                  paths.port,
-                  "--address",
-                  "1",
-                  "--address",
-                  "2",
-                  "--model",
-                  "0/100",
-                  "--serial",
-                  "157",
-                  "--version",
-                  "LS5.12.0",
-                  "--udp",
-                  receiver->local_endpoint().to_string(),
-                  "--scene",
-                  paths.scene,
-                  "--control",
-                  paths.control,
-                  "--virtual-clock"});
-  const std::string ready = sim.ready_line();
+  Child sim({"sim",
+             "ls5",
+             "--port",
+             paths.port,
+             "--address",
+             "1",
+             "--address",
+             "2",
+             "--model",
+             "0/100",
+             "--serial",
+             "157",
+             "--version",
+             "LS5.12.0",
+             "--udp",
+             receiver->local_endpoint().to_string(),
+             "--scene",
+             paths.scene,
+             "--control",
+             paths.control,
+             "--virtual-clock"});
+  const std::string ready = sim.read_line();
   ASSERT_NE(ready.find("ready:"), std::string::npos) << ready;
   auto s = connect(paths);
   ASSERT_TRUE(s.host && s.control);
@@ -203,8 +154,8 @@ TEST(Ls5Sim, BusOfTwoSensorsCommandsWeldingExampleAndUdp) {
 TEST(Ls5Sim, FlashSurvivesPowerCycleThroughTheControlSocket) {
   Paths paths("flash");
   const std::string state = (paths.dir / "state").string();
-  SimProcess sim({"sim", "ls5", "--port", paths.port, "--state", state, "--control", paths.control, "--virtual-clock"});
-  ASSERT_NE(sim.ready_line().find("ready:"), std::string::npos);
+  Child sim({"sim", "ls5", "--port", paths.port, "--state", state, "--control", paths.control, "--virtual-clock"});
+  ASSERT_NE(sim.read_line().find("ready:"), std::string::npos);
   auto s = connect(paths);
   ASSERT_TRUE(s.host && s.control);
   EXPECT_EQ(s.exchange("#01W0C04\r", 9), "!01W0C04\r");
@@ -217,8 +168,8 @@ TEST(Ls5Sim, FlashSurvivesPowerCycleThroughTheControlSocket) {
 
 TEST(Ls5Sim, HostAtAnotherBaudSeesGarbage) {
   Paths paths("baud");
-  SimProcess sim({"sim", "ls5", "--port", paths.port, "--control", paths.control, "--virtual-clock"});
-  ASSERT_NE(sim.ready_line().find("ready:"), std::string::npos);
+  Child sim({"sim", "ls5", "--port", paths.port, "--control", paths.control, "--virtual-clock"});
+  ASSERT_NE(sim.read_line().find("ready:"), std::string::npos);
   auto s = connect(paths);
   ASSERT_TRUE(s.host && s.control);
   EXPECT_EQ(s.exchange("#01W0504\r", 9), "!01W0504\r");  // the sensor now talks at 57600
@@ -229,9 +180,9 @@ TEST(Ls5Sim, HostAtAnotherBaudSeesGarbage) {
 TEST(Ls5Sim, EveryCommandAndTheSection95ExampleOverThePty) {
   Paths paths("commands");
   { std::ofstream(paths.scene) << "[target]\nposition_mm = 20.0\nnoise_mm = 0.0\n"; }
-  SimProcess sim({"sim", "ls5", "--port", paths.port, "--model", "LS5-0/50-232-U10-2-24-A", "--version", "LS5.9.0",
-                  "--scene", paths.scene, "--control", paths.control, "--virtual-clock"});
-  ASSERT_NE(sim.ready_line().find("ready:"), std::string::npos);
+  Child sim({"sim", "ls5", "--port", paths.port, "--model", "LS5-0/50-232-U10-2-24-A", "--version", "LS5.9.0",
+             "--scene", paths.scene, "--control", paths.control, "--virtual-clock"});
+  ASSERT_NE(sim.read_line().find("ready:"), std::string::npos);
   auto s = connect(paths);
   ASSERT_TRUE(s.host && s.control);
   EXPECT_EQ(s.exchange("#01ID\r", 39), "%01LS5.9.0   b0,0000d50,0000s/n0000157\r");
@@ -276,9 +227,9 @@ TEST(Ls5Sim, EveryCommandAndTheSection95ExampleOverThePty) {
 
 TEST(Ls5Sim, StandbyAt19200AfterPowerCycleWithAFastStoredBaud) {
   Paths paths("standby");
-  SimProcess sim(
+  Child sim(
       {"sim", "ls5", "--port", paths.port, "--version", "LS5.6.0", "--control", paths.control, "--virtual-clock"});
-  ASSERT_NE(sim.ready_line().find("ready:"), std::string::npos);
+  ASSERT_NE(sim.read_line().find("ready:"), std::string::npos);
   auto s = connect(paths);
   ASSERT_TRUE(s.host && s.control);
   EXPECT_EQ(s.exchange("#01W0506\r", 9), "!01W0506\r");  // 230400 from now on
@@ -309,8 +260,8 @@ TEST(Ls5Sim, StandbyAt19200AfterPowerCycleWithAFastStoredBaud) {
 // bytes judged against the new speed), and the sensor answers at the new one after.
 TEST(Ls5Sim, BaudWriteEchoReachesTheHostAtTheOldSpeed) {
   Paths paths("baudecho");
-  SimProcess sim({"sim", "ls5", "--port", paths.port});
-  ASSERT_NE(sim.ready_line().find("ready:"), std::string::npos);
+  Child sim({"sim", "ls5", "--port", paths.port});
+  ASSERT_NE(sim.read_line().find("ready:"), std::string::npos);
   auto host = SerialPort::open(paths.port, SerialSettings{115200, Parity::none, 1});
   ASSERT_TRUE(host) << host.error().message;
   ASSERT_TRUE((*host)->write_all(as_bytes(std::string_view("#01W0508\r"))));  // 921600 (table 9.2)
@@ -324,9 +275,9 @@ TEST(Ls5Sim, BaudWriteEchoReachesTheHostAtTheOldSpeed) {
 
 TEST(Ls5Sim, SameAddressTwiceCollidesOnTheBus) {
   Paths paths("collide");
-  SimProcess sim({"sim", "ls5", "--port", paths.port, "--address", "1", "--address", "1", "--control", paths.control,
-                  "--virtual-clock"});
-  ASSERT_NE(sim.ready_line().find("ready:"), std::string::npos);
+  Child sim({"sim", "ls5", "--port", paths.port, "--address", "1", "--address", "1", "--control", paths.control,
+             "--virtual-clock"});
+  ASSERT_NE(sim.read_line().find("ready:"), std::string::npos);
   auto s = connect(paths);
   ASSERT_TRUE(s.host && s.control);
   const std::string reply = s.exchange("#01R06\r", 9, 500ms);
@@ -336,8 +287,8 @@ TEST(Ls5Sim, SameAddressTwiceCollidesOnTheBus) {
 
 TEST(Ls5Sim, SigtermShutsDownCleanly) {
   Paths paths("sigterm");
-  SimProcess sim({"sim", "ls5", "--port", paths.port, "--control", paths.control});
-  ASSERT_NE(sim.ready_line().find("ready:"), std::string::npos);
+  Child sim({"sim", "ls5", "--port", paths.port, "--control", paths.control});
+  ASSERT_NE(sim.read_line().find("ready:"), std::string::npos);
   EXPECT_TRUE(std::filesystem::is_symlink(paths.port));
   sim.terminate();
   EXPECT_EQ(sim.wait(), 0);
@@ -346,9 +297,9 @@ TEST(Ls5Sim, SigtermShutsDownCleanly) {
 }
 
 TEST(Ls5Sim, BadArgumentsAreUsageErrors) {
-  SimProcess bad_model({"sim", "ls5", "--model", "forty"});
+  Child bad_model({"sim", "ls5", "--model", "forty"});
   EXPECT_EQ(bad_model.wait(), 2);
-  SimProcess bad_address({"sim", "ls5", "--address", "0"});
+  Child bad_address({"sim", "ls5", "--address", "0"});
   EXPECT_EQ(bad_address.wait(), 2);
 }
 
