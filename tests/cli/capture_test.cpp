@@ -15,8 +15,8 @@ using ls5_driver_test::run_cli;
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 TEST(Capture, BothFamiliesIntoOneFileThatReplays) {
-  std::string pattern = (std::filesystem::temp_directory_path() / "rangekit-capture-XXXXXX").string();
-  const std::filesystem::path dir = ::mkdtemp(pattern.data());
+  const ls5_driver_test::TempDir temp;
+  const std::filesystem::path& dir = temp.path;
   const auto uls_config = (dir / "uls-config").string();
   const auto ls5_port = (dir / "ls5").string();
   const auto file = (dir / "both.sqlite").string();
@@ -41,7 +41,6 @@ TEST(Capture, BothFamiliesIntoOneFileThatReplays) {
   const auto absent = run_cli(dir, {"capture", "--out", file, "--uls", (dir / "absent").string()});
   EXPECT_EQ(absent.exit_code, 4) << absent.err;
   EXPECT_TRUE(contains(absent.err, "absent")) << absent.err;
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -12,17 +12,9 @@ namespace {
 
 using ls5_driver_test::Child;
 using ls5_driver_test::run_cli;
+using ls5_driver_test::TempDir;
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
-struct TempDir {
-  std::filesystem::path path;
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "rangekit-detect-XXXXXX").string();
-    path = ::mkdtemp(pattern.data());
-  }
-  ~TempDir() { std::filesystem::remove_all(path); }
-};
 
 TEST(Detect, FindsBothFamiliesAndAUlsOffTheFactoryBaud) {
   TempDir dir;

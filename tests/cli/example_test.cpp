@@ -16,8 +16,8 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 TEST(Example, StreamBothReadsEachEmulator) {
   const auto example = std::filesystem::path(RANGEKIT_CLI_PATH).parent_path() / "examples" / "stream_both";
   if (!std::filesystem::exists(example)) GTEST_SKIP() << "example not built: " << example;
-  std::string pattern = (std::filesystem::temp_directory_path() / "rangekit-example-XXXXXX").string();
-  const std::filesystem::path dir = ::mkdtemp(pattern.data());
+  const ls5_driver_test::TempDir temp;
+  const std::filesystem::path& dir = temp.path;
   const auto uls_config = (dir / "uls-config").string();
   const auto ls5_port = (dir / "ls5").string();
   Child uls({"sim", "uls", "--port", (dir / "uls").string(), "--config-port", uls_config});
@@ -37,7 +37,6 @@ TEST(Example, StreamBothReadsEachEmulator) {
   EXPECT_TRUE(contains(output, "uls 50.0") || contains(output, "uls 49.9")) << output;
   EXPECT_TRUE(contains(output, "LS5 LS5.")) << output;
   EXPECT_TRUE(contains(output, "ls5 ")) << output;
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

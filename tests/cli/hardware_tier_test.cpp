@@ -43,12 +43,8 @@ TierRun run_tier(const std::string& environment) {
 
 class HardwareTier : public ::testing::Test {
  protected:
-  void SetUp() override {
-    std::string pattern = (std::filesystem::temp_directory_path() / "rangekit-tier-XXXXXX").string();
-    dir_ = ::mkdtemp(pattern.data());
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::filesystem::path dir_;
+  ls5_driver_test::TempDir temp_;
+  const std::filesystem::path& dir_ = temp_.path;
 };
 
 TEST_F(HardwareTier, SkipsEveryTestWithoutADevice) {

@@ -74,22 +74,17 @@ Captured run_on_terminal(const std::vector<std::string>& arguments, bool stdout_
 class StatusLine : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::string pattern = (std::filesystem::temp_directory_path() / "rangekit-status-XXXXXX").string();
-    dir_ = ::mkdtemp(pattern.data());
     port_ = (dir_ / "ls5").string();
     sim_ = std::make_unique<Child>(std::vector<std::string>{"sim", "ls5", "--port", port_});
     ASSERT_TRUE(contains(sim_->read_line(), "ready:"));
-  }
-  void TearDown() override {
-    sim_.reset();
-    std::filesystem::remove_all(dir_);
   }
   std::vector<std::string> stream(const std::vector<std::string>& extra = {}) const {
     std::vector<std::string> arguments{"ls5", "stream", "--port", port_, "--count", "20", "--format", "jsonl"};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     return arguments;
   }
-  std::filesystem::path dir_;
+  ls5_driver_test::TempDir temp_;  // declared first: removed after the emulator stops
+  const std::filesystem::path& dir_ = temp_.path;
   std::string port_;
   std::unique_ptr<Child> sim_;
 };

@@ -69,6 +69,22 @@ class Child {
   bool exited_ = false;
 };
 
+// A fresh directory for one test's ports, logs and output files, removed afterwards
+// (also when an assertion ends the test early).
+struct TempDir {
+  std::filesystem::path path;
+  TempDir() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "rangekit-test-XXXXXX").string();
+    if (::mkdtemp(pattern.data()) != nullptr) path = pattern;
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    if (!path.empty()) std::filesystem::remove_all(path, ignored);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+};
+
 struct CliRun {
   int exit_code = -1;
   std::string out;
