@@ -89,7 +89,6 @@ class EmulatorRuntime {
   void run_devices(Nanos now);
   Status flush_output(Nanos now);
   [[nodiscard]] Nanos next_deadline() const;
-  // `sent_at`: the baud a device byte left at (LineByte::baud), 0 for the port's present one.
   // Whether the host's port reads what the device sends; `sent` carries the speed and
   // stop bits a byte left with (none: the device's present settings).
   [[nodiscard]] bool host_matches(const Line& line, const LineAttachment& attachment,

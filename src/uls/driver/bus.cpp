@@ -94,7 +94,7 @@ Status Bus::assign(std::optional<std::uint8_t> from, std::uint8_t to) {
   if (auto set = driver_.set_address(from); !set) return set;
   if (from) {
     if (auto present = driver_.version(); !present)
-      return make_error(present.error().code == Errc::timeout ? Errc::timeout : present.error().code,
+      return make_error(present.error().code,
                         "no unit answers at '" + address_text(*from) + "': " + present.error().message);
   }
   auto assigned = driver_.set_unit_address(to);
