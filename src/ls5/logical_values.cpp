@@ -1,8 +1,10 @@
 #include "rangekit/ls5/logical_values.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "ls5/messages.hpp"
 
@@ -151,6 +153,60 @@ Result<ParameterWrites> split_value(const LogicalValueInfo& info, std::uint64_t 
                                                 ", which accepts " + describe_accepted_values(*parameter));
     }
     writes.items[writes.count++] = ParameterWrite{address, byte};
+  }
+  return writes;
+}
+
+namespace {
+// Where a number's combined range comes from, for error messages.
+const char* range_source(const LogicalValueInfo& info) {
+  return info.max == max_code ? "§8.10, §8.11: limits and swings are codes 0-50000"
+                              : "table 9.2: \"For the parameter itself: 0001-FFFF\"";
+}
+
+bool in_range(const LogicalValueInfo& info, std::uint64_t value) { return value >= info.min && value <= info.max; }
+
+// Whether writing `first` keeps a two-byte number in range whatever in-range value it held
+// before: for every byte the other address may hold in such a value, `first` with it must be in range.
+bool first_write_always_in_range(const LogicalValueInfo& info, ParameterWrite first, std::uint8_t other_address) {
+  const unsigned first_shift = shift_of(first.address);
+  const std::uint64_t step = std::uint64_t{1} << first_shift;
+  for (std::uint64_t other = 0; other <= 0xFF; ++other) {
+    const std::uint64_t base = other << shift_of(other_address);
+    // In-range values with this other byte exist when some x in 00-FF gives base + x * step in range.
+    const std::uint64_t lowest_x = info.min > base ? (info.min - base + step - 1) / step : 0;
+    const std::uint64_t highest_x = info.max >= base ? std::min<std::uint64_t>(0xFF, (info.max - base) / step) : 0;
+    if (info.max < base || lowest_x > highest_x) continue;
+    if (!in_range(info, base + std::uint64_t{first.value} * step)) return false;
+  }
+  return true;
+}
+}  // namespace
+
+Status check_value_after_write(std::uint8_t address, std::uint8_t value, const ParameterByteReader& current) {
+  const ParameterInfo* parameter = find_parameter(address);
+  if (parameter == nullptr || parameter->part_of == LogicalValueId::none) return ok_status();
+  const LogicalValueInfo& info = logical_value_info(parameter->part_of);
+  if (info.kind != ValueKind::number) return ok_status();
+  std::uint64_t combined = 0;
+  std::string others;
+  for (const std::uint8_t other : info.addresses) {
+    const std::uint8_t byte = other == address ? value : current(other);
+    combined |= std::uint64_t{byte} << shift_of(other);
+    if (other != address) others += (others.empty() ? "" : ", ") + hex_byte(other) + " = " + hex_byte(byte);
+  }
+  if (in_range(info, combined)) return ok_status();
+  return make_error(Errc::out_of_range, "LS5 parameter " + hex_byte(address) + " (" + std::string(parameter->name) +
+                                            ") = " + hex_byte(value) + " with " + others + " makes " + describe(info) +
+                                            " " + std::to_string(combined) + ", outside " + std::to_string(info.min) +
+                                            "-" + std::to_string(info.max) + " (" + range_source(info) + ")");
+}
+
+Result<ParameterWrites> split_value_in_write_order(const LogicalValueInfo& info, std::uint64_t value) {
+  auto writes = split_value(info, value);
+  if (!writes || info.kind != ValueKind::number || writes->count != 2) return writes;
+  if (!first_write_always_in_range(info, writes->items[0], writes->items[1].address)) {
+    std::swap(writes->items[0], writes->items[1]);
   }
   return writes;
 }

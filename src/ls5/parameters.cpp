@@ -183,14 +183,15 @@ constexpr ParameterInfo parameters[] = {
      true},
     {0x6B, "Destination MAC address, byte 5", "destination-mac.5", any_byte, 0xFF, D::fixed, L::destination_mac, 0, v12,
      true},
-    // Ports: the table lists the high byte first (L5); the low byte excludes 00 as printed (L18).
+    // Ports: the table lists the high byte first (L5). The low byte's printed "01-FF" would forbid
+    // ports 256, 512, 1024, ... that "For the parameter itself: 0001-FFFF" allows: the low byte takes
+    // 00-FF and the port is checked as a whole (L18, L51).
     {0x6C, "Destination port number, high byte", "destination-port.high", any_byte, 0x02, D::fixed, L::destination_port,
      1, v12, true},
-    {0x6D, "Destination port number, low byte", "destination-port.low", nonzero_byte, 0x5B, D::fixed,
-     L::destination_port, 0, v12, true},
+    {0x6D, "Destination port number, low byte", "destination-port.low", any_byte, 0x5B, D::fixed, L::destination_port,
+     0, v12, true},
     {0x6E, "Source port number, high byte", "source-port.high", any_byte, 0x13, D::fixed, L::source_port, 1, v12, true},
-    {0x6F, "Source port number, low byte", "source-port.low", nonzero_byte, 0x88, D::fixed, L::source_port, 0, v12,
-     true},
+    {0x6F, "Source port number, low byte", "source-port.low", any_byte, 0x88, D::fixed, L::source_port, 0, v12, true},
     {0x70, "UDP data auto-stream", "udp-auto-stream", zero_or_one, 0x01, D::fixed, L::none, 0, v12, true, on_off_names},
 };
 

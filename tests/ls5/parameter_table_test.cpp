@@ -1,8 +1,11 @@
 // Table 9.2 (parameters), its notes, and table 9.3 (configuration example).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "rangekit/ls5/logical_values.hpp"
 #include "rangekit/ls5/parameters.hpp"
@@ -146,16 +149,155 @@ TEST(Ls5ParameterTable, LowAndHighBytesL5) {
   EXPECT_EQ(port->items[1], (ParameterWrite{0x6D, 0x5B}));
 }
 
-TEST(Ls5ParameterTable, PortLowByteExcludesZeroL18) {
-  // Table 9.2 prints the ports' low bytes as 01-FF: 512 (0x0200) cannot be written.
-  EXPECT_FALSE(check_parameter_byte(0x6D, 0x00, newest).ok());
-  const auto port = split_value(logical_value_info(LogicalValueId::source_port), 512);
-  ASSERT_FALSE(port.ok());
-  EXPECT_NE(port.error().message.find("6F"), std::string::npos) << port.error().message;
-  // High bytes of codes: 00-C3 per byte; 0-50000 only on the combined value.
+TEST(Ls5ParameterTable, PortsTakeEveryValueOfTheParameterItselfL18L51) {
+  // Table 9.2, destination and source port: "For the parameter itself: 0001-FFFF", low byte printed
+  // "01-FF". Read byte-wise, 256, 512, 1024 ... could never be set: the low byte takes 00-FF and the
+  // port is checked as a whole (L51).
+  EXPECT_TRUE(check_parameter_byte(0x6D, 0x00, newest).ok());
+  EXPECT_TRUE(check_parameter_byte(0x6F, 0x00, newest).ok());
+  const auto port = split_value(logical_value_info(LogicalValueId::destination_port), 1024);  // 0x0400
+  ASSERT_TRUE(port.ok()) << port.error().message;
+  EXPECT_EQ(port->items[0], (ParameterWrite{0x6C, 0x04}));
+  EXPECT_EQ(port->items[1], (ParameterWrite{0x6D, 0x00}));
+  EXPECT_TRUE(split_value(logical_value_info(LogicalValueId::source_port), 512).ok());
+  EXPECT_FALSE(split_value(logical_value_info(LogicalValueId::source_port), 0).ok());
+  // Port 0 stays refused: the low byte 00 with the high byte 00.
+  std::uint8_t memory[256] = {};
+  memory[0x6C] = 0x00;
+  memory[0x6D] = 0x5B;
+  const auto port_zero = check_value_after_write(0x6D, 0x00, [&](std::uint8_t a) { return memory[a]; });
+  ASSERT_FALSE(port_zero.ok());
+  EXPECT_EQ(port_zero.error().code, Errc::out_of_range);
+  EXPECT_TRUE(check_value_after_write(0x6C, 0x02, [&](std::uint8_t a) { return memory[a]; }).ok());
+  // High bytes of codes stay "00-C3" per byte; 0-50000 is checked on the combined value (L50).
   EXPECT_TRUE(check_parameter_byte(0x14, 0xC3, SensorModel{}).ok());
+  EXPECT_FALSE(check_parameter_byte(0x14, 0xC4, SensorModel{}).ok());
   EXPECT_TRUE(check_parameter_byte(0x13, 0xFF, SensorModel{}).ok());
   EXPECT_FALSE(check_logical_value(logical_value_info(LogicalValueId::analog_upper_limit), 0xC3FF).ok());
+}
+
+namespace {
+// Table 9.2 defaults, the memory of a sensor fresh from DF.
+std::array<std::uint8_t, 256> default_memory() {
+  std::array<std::uint8_t, 256> memory{};
+  for (const ParameterInfo& p : parameter_table()) memory[p.address] = default_byte(p, 157);
+  return memory;
+}
+
+Status write_in(std::array<std::uint8_t, 256>& memory, std::uint8_t address, std::uint8_t value) {
+  Status ok = check_value_after_write(address, value, [&](std::uint8_t a) { return memory[a]; });
+  if (ok) memory[address] = value;
+  return ok;
+}
+}  // namespace
+
+TEST(Ls5ParameterTable, CombinedCodeCheckedOnEveryByteWriteL50) {
+  // §8.10: "The values of the lower and upper bounds can only be in the range 0÷50000."
+  // §8.11: "The values of the lower and upper swings can only be in the range 0÷50000."
+  auto memory = default_memory();                   // upper limit 13/14 = 50 C3 = 50000
+  const auto above = write_in(memory, 0x13, 0xFF);  // C3FF = 50175
+  ASSERT_FALSE(above.ok());
+  EXPECT_EQ(above.error().code, Errc::out_of_range);
+  EXPECT_EQ(above.error().message,
+            "LS5 parameter 13 (Upper limit of the analog output, low byte) = FF with 14 = C3 makes analog-upper (Upper "
+            "limit of the analog output) 50175, outside 0-50000 (§8.10, §8.11: limits and swings are codes 0-50000)");
+  EXPECT_FALSE(write_in(memory, 0x13, 0x51).ok());  // C351 = 50001
+  EXPECT_EQ(memory[0x13], 0x50);
+  EXPECT_TRUE(write_in(memory, 0x13, 0x50).ok());  // C350 = 50000, the largest
+  // Every code value: lower limit, upper limit, the four swings.
+  for (const std::uint8_t low : U8s{0x11, 0x13, 0x16, 0x18, 0x1A, 0x1C}) {
+    const auto high = static_cast<std::uint8_t>(low + 1);
+    memory[high] = 0xC3;
+    memory[low] = 0x00;
+    EXPECT_TRUE(write_in(memory, low, 0x50).ok()) << int{low};
+    EXPECT_FALSE(write_in(memory, low, 0x51).ok()) << int{low};
+    memory[high] = 0x00;
+    memory[low] = 0xFF;
+    EXPECT_FALSE(write_in(memory, high, 0xC3).ok()) << int{high};  // "set 19=C3" after 18=FF: C3FF
+    EXPECT_TRUE(write_in(memory, high, 0xC2).ok()) << int{high};
+  }
+  // τ has the whole 0000-FFFF; IP and MAC octets and single bytes are not numbers with a range.
+  EXPECT_TRUE(write_in(memory, 0x0A, 0xFF).ok());
+  EXPECT_TRUE(write_in(memory, 0x09, 0x00).ok());
+  EXPECT_TRUE(write_in(memory, 0x50, 0x00).ok());
+  EXPECT_TRUE(write_in(memory, 0x0D, 0x04).ok());  // the byte's own check is check_parameter_byte's
+}
+
+TEST(Ls5ParameterTable, WriteOrderKeepsEveryIntermediateInRangeL50) {
+  const auto order = [](LogicalValueId id, std::uint64_t value) {
+    const auto writes = split_value_in_write_order(logical_value_info(id), value);
+    if (!writes) {
+      ADD_FAILURE() << writes.error().message;
+      return std::vector<ParameterWrite>{};
+    }
+    return std::vector<ParameterWrite>(writes->view().begin(), writes->view().end());
+  };
+  using W = std::vector<ParameterWrite>;
+  // Table 9.3 writes the low byte first: every one of its values keeps that order.
+  EXPECT_EQ(order(LogicalValueId::output1_first_swing, 20000), (W{{0x16, 0x20}, {0x17, 0x4E}}));
+  EXPECT_EQ(order(LogicalValueId::output1_second_swing, 40000), (W{{0x18, 0x40}, {0x19, 0x9C}}));
+  EXPECT_EQ(order(LogicalValueId::analog_upper_limit, 50000), (W{{0x13, 0x50}, {0x14, 0xC3}}));
+  // 25000 = 0x61A8: A8 under a high byte C3 would be C3A8 = 50072, so 12 goes first.
+  EXPECT_EQ(order(LogicalValueId::analog_lower_limit, 25000), (W{{0x12, 0x61}, {0x11, 0xA8}}));
+  // Period 25.6 ms = 0x0100: 00 under a high byte 00 would be period 0, so 07 goes first.
+  EXPECT_EQ(order(LogicalValueId::measurement_period, 0x0100), (W{{0x07, 0x01}, {0x06, 0x00}}));
+  EXPECT_EQ(order(LogicalValueId::measurement_period, 0x0034), (W{{0x06, 0x34}, {0x07, 0x00}}));
+  // Ports, high byte first as table 9.2 lists them, unless that high byte is 00.
+  EXPECT_EQ(order(LogicalValueId::destination_port, 1024), (W{{0x6C, 0x04}, {0x6D, 0x00}}));
+  EXPECT_EQ(order(LogicalValueId::destination_port, 255), (W{{0x6D, 0xFF}, {0x6C, 0x00}}));
+  // τ has no forbidden value: table order.
+  EXPECT_EQ(order(LogicalValueId::signal_absence_time, 0x0100), (W{{0x09, 0x00}, {0x0A, 0x01}}));
+
+  // From any in-range value to any other, every write in that order passes check_value_after_write.
+  const std::uint8_t edges[] = {0x00, 0x01, 0x4F, 0x50, 0x51, 0x7F, 0xC2, 0xC3, 0xC4, 0xFE, 0xFF};
+  for (const LogicalValueInfo& info : logical_value_table()) {
+    if (info.kind != ValueKind::number) continue;
+    for (const std::uint8_t old_high : edges) {
+      for (const std::uint8_t old_low : edges) {
+        for (const std::uint8_t new_high : edges) {
+          for (const std::uint8_t new_low : edges) {
+            const std::uint64_t before = std::uint64_t{old_high} << 8 | old_low;
+            const std::uint64_t after = std::uint64_t{new_high} << 8 | new_low;
+            if (before < info.min || before > info.max || !split_value(info, after).ok()) continue;
+            std::uint8_t memory[256] = {};
+            for (const auto& write : split_value(info, before)->view()) memory[write.address] = write.value;
+            for (const auto& write : split_value_in_write_order(info, after)->view()) {
+              EXPECT_TRUE(
+                  check_value_after_write(write.address, write.value, [&](std::uint8_t a) { return memory[a]; }).ok())
+                  << info.cli_name << " " << before << " -> " << after;
+              memory[write.address] = write.value;
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(Ls5ParameterTable, ZeroRefusedWhereTheParameterItselfIs0001ToFFFFL52) {
+  // Table 9.2: period, maximum exposure time, both fixed ranges and both ports:
+  // "For the parameter itself: 0001-FFFF"; τ: "0000-FFFF".
+  for (const auto& [low, high] : {std::pair<std::uint8_t, std::uint8_t>{0x06, 0x07},
+                                  {0x20, 0x21},
+                                  {0x23, 0x24},
+                                  {0x25, 0x26},
+                                  {0x6D, 0x6C},
+                                  {0x6F, 0x6E}}) {
+    auto memory = default_memory();
+    memory[high] = 0x00;
+    memory[low] = 0x01;
+    const auto zero = write_in(memory, low, 0x00);
+    ASSERT_FALSE(zero.ok()) << int{low};
+    EXPECT_NE(zero.error().message.find("outside 1-65535 (table 9.2: \"For the parameter itself: 0001-FFFF\")"),
+              std::string::npos)
+        << zero.error().message;
+    EXPECT_EQ(memory[low], 0x01);
+    EXPECT_TRUE(write_in(memory, high, 0x01).ok()) << int{high};  // 0x0101
+    EXPECT_TRUE(write_in(memory, low, 0x00).ok()) << int{low};    // 0x0100
+    EXPECT_FALSE(write_in(memory, high, 0x00).ok()) << int{high};
+  }
+  auto memory = default_memory();
+  EXPECT_TRUE(write_in(memory, 0x09, 0x00).ok());  // τ = 0 ms: "for τ = 0 ms parameter is 0000"
 }
 
 TEST(Ls5ParameterTable, FirmwareVersionsL6) {
@@ -374,5 +516,5 @@ TEST(Ls5ParameterTable, EnumerationsOfTable92L22) {
 TEST(Ls5ParameterTable, DescribeAcceptedValues) {
   EXPECT_EQ(describe_accepted_values(*find_parameter(0x05)), "01-05; 06-08 from LS5.6.0");
   EXPECT_EQ(describe_accepted_values(*find_parameter(0x1F)), "00-01; 02-09 from LS5.9.0");
-  EXPECT_EQ(describe_accepted_values(*find_parameter(0x6D)), "01-FF");
+  EXPECT_EQ(describe_accepted_values(*find_parameter(0x6D)), "00-FF");  // L51
 }

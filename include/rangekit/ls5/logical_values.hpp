@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -47,9 +48,26 @@ struct ParameterWrites {
 
 // Combined value from its bytes, given in the order of info.addresses.
 Result<std::uint64_t> combine_bytes(const LogicalValueInfo& info, std::span<const std::uint8_t> bytes);
-// The byte writes that set `value`; checks the combined range and every byte's accepted values.
+// The byte writes that set `value`, in table order; checks the combined range and every byte's
+// accepted values. To send them, use split_value_in_write_order.
 Result<ParameterWrites> split_value(const LogicalValueInfo& info, std::uint64_t value);
 Status check_logical_value(const LogicalValueInfo& info, std::uint64_t value);
+
+// A byte the sensor holds now (its RAM, or what the host last read or wrote there).
+using ParameterByteReader = std::function<std::uint8_t(std::uint8_t address)>;
+
+// Conformance L50: a W of one byte must leave the number it is part of in its combined range
+// (codes 0-50000, §8.10/§8.11; period, exposure, fixed ranges and ports 0001-FFFF, table 9.2),
+// the number's other bytes as `current` reads them. Bytes of no number (single parameters, IP and
+// MAC octets) pass. The byte's own accepted values are check_parameter_byte's job.
+Status check_value_after_write(std::uint8_t address, std::uint8_t value, const ParameterByteReader& current);
+
+// The writes of split_value in an order that keeps every intermediate value in range whatever
+// in-range value the bytes held before (L50), so the sensor accepts each one: table order (low
+// byte first; ports high byte first), except that the other byte goes first when the first could
+// leave the value out of range: a code whose low byte is above 50 (the high byte may still be C3),
+// a 0001-FFFF value whose first-written byte is 00 (the other may still be 00).
+Result<ParameterWrites> split_value_in_write_order(const LogicalValueInfo& info, std::uint64_t value);
 // The value the table's default bytes make (MAC from the serial number).
 std::uint64_t default_value(const LogicalValueInfo& info, std::uint32_t serial_number) noexcept;
 
