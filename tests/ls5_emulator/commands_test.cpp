@@ -1,6 +1,8 @@
 // Every command of table 9.1 against the firmware model, byte for byte.
 // Conformance rows held here: L26 (no reply to what the sensor cannot honour), L27 (DF in RAM),
-// L28 (serial settings after the echo), L37 (any byte stops the stream), L39 (OF).
+// L28 (serial settings after the echo), L37 (any byte stops the stream), L39 (OF), L50 (combined
+// value of a byte write), L51 (ports 0001-FFFF), L52 (no zero period, exposure, fixed range),
+// L53 (analog output disabled holds), L55 (DF and the network address).
 #include <unistd.h>
 
 #include "ls5_emulator/firmware_rig.hpp"
@@ -41,7 +43,90 @@ TEST(Ls5Commands, InvalidWriteAndUnknownAddressGetNoReplyAndChangeNothing) {
   EXPECT_EQ(rig.exchange("#01R7F\r"), "");    // no such parameter
   EXPECT_EQ(rig.exchange("#01W7F00\r"), "");
   EXPECT_EQ(rig.exchange("#01XX\r"), "");             // not a command
+  EXPECT_EQ(rig.exchange("#01W13FF\r"), "");          // 14 = C3: 50175, above 50000 (L50)
+  EXPECT_EQ(rig.exchange("#01W0600\r"), "");          // 07 = 00: period 0 (L52)
   EXPECT_EQ(rig.exchange("#01R06\r"), "!01R0664\r");  // still answering
+}
+
+TEST(Ls5Commands, LimitsAndSwingsAboveFiftyThousandAreIgnoredL50) {
+  // §8.10: "The values of the lower and upper bounds can only be in the range 0÷50000."
+  // §8.11: "The values of the lower and upper swings can only be in the range 0÷50000."
+  Rig rig;                                    // upper limit 13/14 and second swings 18/19, 1C/1D: 50 C3 = 50000
+  EXPECT_EQ(rig.exchange("#01W13FF\r"), "");  // C3FF = 50175
+  EXPECT_EQ(rig.exchange("#01W1351\r"), "");  // C351 = 50001
+  EXPECT_EQ(rig.exchange("#01R13\r"), "!01R1350\r");
+  EXPECT_EQ(rig.exchange("#01W1CFF\r"), "");
+  // "set 19=C3 18=FF": the high byte is already C3, the low byte FF would make 50175.
+  rig.write(0x19, 0xC3);
+  EXPECT_EQ(rig.exchange("#01W18FF\r"), "");
+  EXPECT_EQ(rig.fw->ram(0x18), 0x50);
+  // From 50000 down to 40000 (0x9C40), low byte first as in table 9.3: C340 = 49984 on the way.
+  rig.write(0x18, 0x40);
+  rig.write(0x19, 0x9C);
+  // A high byte C3 over a low byte above 50: refused; the other order passes.
+  rig.write(0x11, 0xFF);                      // lower limit 00FF
+  EXPECT_EQ(rig.exchange("#01W12C3\r"), "");  // C3FF
+  rig.write(0x11, 0x00);
+  rig.write(0x12, 0xC3);  // C300
+  // 25000 = 0x61A8: A8 first would pass through C3A8 = 50072, so the high byte goes first (L50 write order).
+  EXPECT_EQ(rig.exchange("#01W11A8\r"), "");
+  rig.write(0x12, 0x61);
+  rig.write(0x11, 0xA8);
+  EXPECT_EQ(rig.fw->ram(0x11), 0xA8);
+  EXPECT_EQ(rig.fw->ram(0x12), 0x61);
+}
+
+TEST(Ls5Commands, EveryWriteInTheCodecsWriteOrderIsAcceptedL50) {
+  // The host writes split_value_in_write_order's bytes; the firmware must take every one of them.
+  Rig rig;
+  const auto& lower = logical_value_info(LogicalValueId::analog_lower_limit);
+  for (const std::uint64_t value : {25000, 50000, 0, 20000, 50000, 49999, 0x00FF, 0xC300, 0xC350, 1}) {
+    auto writes = split_value_in_write_order(lower, value);
+    ASSERT_TRUE(writes.ok()) << writes.error().message;
+    for (const auto& write : writes->view()) rig.write(write.address, write.value);
+    EXPECT_EQ(rig.fw->ram(0x11) | rig.fw->ram(0x12) << 8, static_cast<int>(value));
+  }
+  const auto& period = logical_value_info(LogicalValueId::measurement_period);
+  for (const std::uint64_t value : {0x0100, 0x0001, 0xFF00, 0x0200, 0x0064}) {
+    auto writes = split_value_in_write_order(period, value);
+    ASSERT_TRUE(writes.ok()) << writes.error().message;
+    for (const auto& write : writes->view()) rig.write(write.address, write.value);
+    EXPECT_EQ(rig.fw->ram(0x06) | rig.fw->ram(0x07) << 8, static_cast<int>(value));
+  }
+}
+
+TEST(Ls5Commands, PortsWithALowByte00CanBeSetL51) {
+  // Table 9.2, destination port: "For the parameter itself: 0001-FFFF".
+  Rig rig;                                              // destination port 02 5B = 603
+  EXPECT_EQ(rig.exchange("#01W6D00\r"), "!01W6D00\r");  // 0x0200 = 512
+  rig.write(0x6C, 0x04);                                // 0x0400 = 1024
+  EXPECT_EQ(rig.exchange("#01R6D\r"), "!01R6D00\r");
+  EXPECT_EQ(rig.exchange("#01R6C\r"), "!01R6C04\r");
+  EXPECT_EQ(rig.exchange("#01W6C00\r"), "");            // port 0
+  EXPECT_EQ(rig.exchange("#01W6F00\r"), "!01W6F00\r");  // source port 0x1300 = 4864
+}
+
+TEST(Ls5Commands, ZeroPeriodExposureAndFixedRangesAreIgnoredL52) {
+  // Table 9.2: measurement period, maximum exposure time, fixed range of the analog output and of
+  // the discrete outputs: "For the parameter itself: 0001-FFFF".
+  Rig rig(test_config("LS5.9.0"));
+  EXPECT_EQ(rig.exchange("#01W0600\r"), "");  // period 00 00
+  rig.write(0x21, 0x00);                      // exposure 00B8 = 184 µs
+  EXPECT_EQ(rig.exchange("#01W2000\r"), "");
+  rig.write(0x24, 0x00);  // 0010
+  EXPECT_EQ(rig.exchange("#01W2300\r"), "");
+  rig.write(0x26, 0x00);
+  EXPECT_EQ(rig.exchange("#01W2500\r"), "");
+  EXPECT_EQ(rig.fw->ram(0x06), 0x64);
+  EXPECT_EQ(rig.fw->ram(0x20), 0xB8);
+  EXPECT_EQ(rig.fw->ram(0x23), 0x10);
+  EXPECT_EQ(rig.fw->ram(0x25), 0x10);
+  // The period still measures every 10 ms.
+  const auto count = rig.fw->measurements();
+  rig.run_for(100ms);
+  EXPECT_EQ(rig.fw->measurements(), count + 10);
+  // τ = 0 is allowed: "for τ = 0 ms parameter is 0000".
+  rig.write(0x09, 0x00);
 }
 
 TEST(Ls5Commands, FeaturesBeyondTheVersionAreRefused) {

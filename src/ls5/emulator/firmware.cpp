@@ -267,12 +267,15 @@ void Firmware::handle_frame(Bytes frame, Nanos now) {
       reply(Reply::parameter_value(own, request.parameter, ram_[request.parameter]), now);
       return;
     case CommandId::write_parameter: {
-      if (!check_parameter_byte(request.parameter, request.value, model_)) return;  // L25: no reply, no change
+      if (!check_parameter_byte(request.parameter, request.value, model_)) return;  // L26: no reply, no change
+      // L50: nor when the number the byte is part of would leave its range (limits above 50000, period 0, ...).
+      const auto ram_byte = [this](std::uint8_t at) { return ram_[at]; };
+      if (!check_value_after_write(request.parameter, request.value, ram_byte)) return;
       ram_[request.parameter] = request.value;
       if (answer) reply(Reply::echo(request), now);
       const std::uint8_t p = request.parameter;
       if ((p == address::baud_rate || p == address::byte_format) && phase_ == Phase::operating) {
-        pending_serial_ = stored_serial_settings();  // after the echo has left the line (L27)
+        pending_serial_ = stored_serial_settings();  // after the echo has left the line (L28)
         pending_serial_at_ = pacer_.idle_at(now) + 1ns;
       }
       if (p == address::pre_filter || p == address::averaging_points || p == address::median_points) window_.clear();
