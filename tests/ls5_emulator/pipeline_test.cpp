@@ -1,5 +1,5 @@
 // The measurement pipeline of figure 8.7 and the outputs, against hand-computed values.
-// Conformance rows held here: L29 (standby), L30 (derivative), L31 (τ), L32 (filters), L33 (§8.13),
+// Conformance rows held here: L29 and L54 (standby), L30 (derivative), L31 (τ), L32 (filters), L33 (§8.13),
 // L34 (exposure and priority), L35 (stream pacing), L36 (UDP), L38 (ROM-writing latching).
 #include <unistd.h>
 
@@ -268,6 +268,8 @@ TEST(Ls5Pipeline, StandbyAfterPowerUpWhenStoredBaudIsAbove115200) {
 }
 
 TEST(Ls5Pipeline, StandbyLetsTheHostLowerTheBaud) {
+  // §8.2: "the sensor waits for 5 seconds for any commands to arrive (you can change the parameters
+  // "Baud rate" and "Byte format")"; then it "sets up according to the saved parameters" (L54).
   Rig rig;
   rig.write(0x05, 0x06);
   rig.send("#01FL\r");
@@ -276,9 +278,31 @@ TEST(Ls5Pipeline, StandbyLetsTheHostLowerTheBaud) {
   rig.fw->power_cycle(up);
   rig.run_to(up + 4s + 1ms);
   EXPECT_EQ(rig.exchange("#01W0505\r"), "!01W0505\r");
+  EXPECT_EQ(rig.exchange("#01FL\r"), "!01FL\r");
   EXPECT_EQ(rig.fw->port_settings(0).baud, 19200U);  // still standby
   rig.run_to(up + 9s + 1ms);
   EXPECT_EQ(rig.fw->port_settings(0).baud, 115200U);
+  rig.fw->power_cycle(rig.now);  // 115200 stored: no standby any more
+  EXPECT_EQ(rig.fw->phase_name(), "operating");
+}
+
+TEST(Ls5Pipeline, StandbyEndsWithTheSavedParametersL54) {
+  // §8.2: "the emitter lights up and the sensor sets up according to the saved parameters".
+  // A baud written in standby without FL is in RAM only: the sensor comes up at the saved baud.
+  Rig rig;
+  rig.write(0x05, 0x06);  // 230400
+  rig.send("#01FL\r");
+  rig.run_for(5ms);
+  const Nanos up = rig.now;
+  rig.fw->power_cycle(up);
+  rig.run_to(up + 4s + 1ms);
+  EXPECT_EQ(rig.exchange("#01W0505\r"), "!01W0505\r");  // 115200, RAM only
+  EXPECT_EQ(rig.exchange("#01W0C04\r"), "!01W0C04\r");  // averaging points, RAM only
+  rig.run_to(up + 9s + 1ms);
+  EXPECT_EQ(rig.fw->phase_name(), "operating");
+  EXPECT_EQ(rig.fw->port_settings(0).baud, 230400U);
+  EXPECT_EQ(rig.exchange("#01R05\r"), "!01R0506\r");  // RAM agrees with the line
+  EXPECT_EQ(rig.exchange("#01R0C\r"), "!01R0C01\r");
 }
 
 TEST(Ls5Pipeline, UdpPacketEvery168ResultsAtTheOutputPeriod) {

@@ -204,6 +204,8 @@ void Firmware::power_cycle(Nanos now) {
 void Firmware::enter_operating(Nanos now) {
   phase_ = Phase::operating;
   phase_until_ = Nanos::max();
+  // §8.2: "the sensor sets up according to the saved parameters": what standby wrote without FL is dropped (L54).
+  load_rom_into_ram();
   apply_serial(stored_serial_settings(), now);
   on_ = ram_[address::power_on_state] == 0x01;
   update_outputs();
