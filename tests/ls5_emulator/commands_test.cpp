@@ -219,6 +219,38 @@ TEST(Ls5Commands, OffStopsMeasuringZeroesDiscreteOutputsAndHoldsAnalog) {
   EXPECT_GT(rig.fw->measurements(), count);
 }
 
+TEST(Ls5Commands, DisabledAnalogOutputHoldsTheLastMeasurementL53) {
+  // §8.10: "If the analog output is disabled, its value remains the same as it was at the last
+  // measurement before the output was disabled."
+  Rig rig;  // code 25000 over limits 0-50000, 4-20 mA: 12 mA
+  rig.run_for(20ms);
+  EXPECT_DOUBLE_EQ(rig.fw->analog_value(), 12.0);
+  rig.write(0x03, 0x00);
+  rig.set_scene_code(40000);
+  const auto count = rig.fw->measurements();
+  rig.run_for(50ms);
+  EXPECT_GT(rig.fw->measurements(), count);  // still measuring
+  EXPECT_EQ(rig.fw->current_result().value, 40000);
+  EXPECT_DOUBLE_EQ(rig.fw->analog_value(), 12.0);
+  // Enabled again, the next measurement updates it: 4 + 16 × 0.8 = 16.8 mA.
+  rig.write(0x03, 0x01);
+  rig.run_for(10ms);
+  EXPECT_DOUBLE_EQ(rig.fw->analog_value(), 16.8);
+}
+
+TEST(Ls5Commands, AnalogOutputDisabledSincePowerUpShowsNoResult) {
+  // No measurement before it was disabled: §8.2's "state of no result (the minimum value of current
+  // or voltage - for example, for a 4-20 mA setting, this is 4 mA)" (L53).
+  Rig rig;
+  rig.write(0x03, 0x00);
+  EXPECT_EQ(rig.exchange("#01FL\r"), "!01FL\r");
+  rig.fw->power_cycle(rig.now);
+  const auto count = rig.fw->measurements();
+  rig.run_for(50ms);
+  EXPECT_GT(rig.fw->measurements(), count);
+  EXPECT_DOUBLE_EQ(rig.fw->analog_value(), 4.0);
+}
+
 TEST(Ls5Commands, PowerOnStateOffKeepsTheLaserOffAfterPowerCycle) {
   Rig rig;
   rig.write(0x02, 0x00);

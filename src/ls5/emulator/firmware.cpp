@@ -513,12 +513,12 @@ void Firmware::update_outputs() {
     oc1_ = oc2_ = false;  // §8.2; the analog output keeps its last state
     return;
   }
+  // §8.10: "If the analog output is disabled, its value remains the same as it was at the last
+  // measurement before the output was disabled" (L53).
   if (ram_[address::analog_enabled] == 0x01) {
     analog_ =
         analog_output(config_.analog, AnalogLimits{u16(address::analog_lower_low), u16(address::analog_upper_low)},
                       current_, last_result_code_);
-  } else {
-    analog_ = config_.analog.min;
   }
   if (current_.is_result()) last_result_code_ = current_.value;
   const auto outputs = decode_discrete_outputs(ram_[address::discrete_outputs]);
