@@ -178,6 +178,25 @@ TEST(Ls5Commands, RestoreDefaultsChangesRamOnlyUntilFlash) {
   EXPECT_EQ(rig.exchange("#01R0C\r"), "!01R0C04\r");
 }
 
+TEST(Ls5Commands, RestoreDefaultsSetsTheNetworkAddressTo01L55) {
+  // Table 9.2: network address, default 01; §8.1: "The initial address set at the manufacturer is 01."
+  FirmwareConfig config = test_config();
+  config.factory_address = 0x05;  // delivered set to 05 (--address 5)
+  Rig rig(config);
+  EXPECT_EQ(rig.exchange("#05R01\r"), "!05R0105\r");
+  EXPECT_EQ(rig.exchange("#05DF\r"), "!05DF\r");  // echoed at the address it was sent to
+  EXPECT_EQ(rig.exchange("#05R01\r"), "");
+  EXPECT_EQ(rig.exchange("#01R01\r"), "!01R0101\r");
+  // RAM only (L27): a power cycle brings back the address in ROM ...
+  rig.fw->power_cycle(rig.now);
+  EXPECT_EQ(rig.exchange("#05R01\r"), "!05R0105\r");
+  // ... unless FL stored it.
+  EXPECT_EQ(rig.exchange("#05DF\r"), "!05DF\r");
+  EXPECT_EQ(rig.exchange("#01FL\r"), "!01FL\r");
+  rig.fw->power_cycle(rig.now);
+  EXPECT_EQ(rig.exchange("#01R01\r"), "!01R0101\r");
+}
+
 TEST(Ls5Commands, LastResultBeforeTheFirstMeasurementIsNoMeasurementYet) {
   Rig rig;
   rig.send("#01LR\r");

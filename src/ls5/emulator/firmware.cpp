@@ -102,21 +102,21 @@ Result<std::unique_ptr<Firmware>> Firmware::create(FirmwareConfig config, Nanos 
   return firmware;
 }
 
-void Firmware::load_defaults() {
-  ram_.fill(0);
+std::array<std::uint8_t, 256> Firmware::table_defaults() const {
+  std::array<std::uint8_t, 256> memory{};
   for (const auto& parameter : parameter_table()) {
-    ram_[parameter.address] = default_byte(parameter, config_.serial_number);
+    memory[parameter.address] = default_byte(parameter, config_.serial_number);
   }
-  ram_[address::network_address] = config_.factory_address;
+  return memory;
 }
 
-void Firmware::load_rom_into_ram() {
-  if (rom_) {
-    ram_ = *rom_;
-  } else {
-    load_defaults();
-  }
+std::array<std::uint8_t, 256> Firmware::delivered_rom() const {
+  auto memory = table_defaults();
+  memory[address::network_address] = config_.factory_address;  // --address: set and stored before delivery (L55)
+  return memory;
 }
+
+void Firmware::load_rom_into_ram() { ram_ = rom_ ? *rom_ : delivered_rom(); }
 
 Status Firmware::save_rom() {
   if (!rom_) return ok_status();
@@ -321,7 +321,7 @@ void Firmware::handle_frame(Bytes frame, Nanos now) {
       return;
     case CommandId::restore_defaults: {
       const auto before = stored_serial_settings();
-      load_defaults();  // RAM only, until FL (L26)
+      ram_ = table_defaults();  // RAM only, until FL (L27); network address 01 from the next request (L55)
       if (answer) reply(Reply::echo(request), now);
       if (phase_ == Phase::operating && !(stored_serial_settings() == before)) {
         pending_serial_ = stored_serial_settings();
@@ -540,12 +540,7 @@ void Firmware::latch(Nanos) {
   if (!recalculation || !recalculation->recalculated) return;
   for (const auto& write : recalculation->writes.view()) ram_[write.address] = write.value;
   if (recalculation->to_rom) {
-    if (!rom_) {
-      const auto ram = ram_;
-      load_defaults();
-      rom_ = ram_;
-      ram_ = ram;
-    }
+    if (!rom_) rom_ = delivered_rom();
     for (const auto& write : recalculation->writes.view()) (*rom_)[write.address] = write.value;
     (void)save_rom();
   }

@@ -48,7 +48,9 @@ struct FirmwareConfig {
   double range_mm = 40.001;
   std::uint32_t serial_number = 157;
   std::string version_text = "LS5.12.0";
-  std::uint8_t factory_address = 0x01;  // the network address's default (--address)
+  // --address: the network address the sensor was delivered with, in ROM until an FL stores another.
+  // DF puts table 9.2's default, 01, in RAM (L55).
+  std::uint8_t factory_address = 0x01;
   AnalogRange analog = current_4_20_mA;
   // Whether the sensor has Ethernet (ordering code "485/E", L25); unset: every LS5.12 and later has it.
   std::optional<bool> ethernet;
@@ -103,7 +105,10 @@ class Firmware final : public DeviceModel {
   enum class Phase { initializing, standby, operating };
   explicit Firmware(FirmwareConfig config);
 
-  void load_defaults();
+  // Table 9.2's defaults (network address 01), what DF puts in RAM.
+  [[nodiscard]] std::array<std::uint8_t, 256> table_defaults() const;
+  // ROM before the first FL: the defaults with the network address set to --address.
+  [[nodiscard]] std::array<std::uint8_t, 256> delivered_rom() const;
   void load_rom_into_ram();
   Status save_rom();
   [[nodiscard]] SerialSettings stored_serial_settings() const;
