@@ -114,11 +114,13 @@ TEST(Ls5Driver, GetCombinesBytesAndFormatsUnits) {
 TEST(Ls5Driver, MillimetreSettingsUseTheRangeFromIdentification) {
   Fixture f;
   f.device->send(id_reply_01);
-  // Half the 40.001 mm range is code 25000 = 0x61A8 (formula 8.5).
-  f.device->send("!01W11A8\r!01W1261\r");
+  // Half the 40.001 mm range is code 25000 = 0x61A8 (formula 8.5). The low byte
+  // A8 first would make 0xC3A8 > 50000 on a sensor whose high byte is C3, so
+  // the high byte goes first (L50).
+  f.device->send("!01W1261\r!01W11A8\r");
   auto status = f.driver->set("analog-lower-mm", "20.0005");
   ASSERT_TRUE(status) << status.error().message;
-  EXPECT_EQ(f.device->receive_until("#01W1261\r"), "#01ID\r#01W11A8\r#01W1261\r");
+  EXPECT_EQ(f.device->receive_until("#01W11A8\r"), "#01ID\r#01W1261\r#01W11A8\r");
 }
 
 // docs/conformance.md L40: checked before sending, refusal names the allowed values.
