@@ -1,6 +1,6 @@
-// Look down as §3 and §8 describe it, seen from the serial ports (issue 12 items 1 and 2):
-// a Get Measurement poll in look down (U70-U72) and the re-reference release with time between
-// events on (U73).
+// Look down as §3 and §8 describe it, seen from the serial ports (issue 12 items 1, 2 and 4):
+// a Get Measurement poll in look down (U70-U72), the re-reference release with time between
+// events on (U73) and the port time between events is logged on (U74).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -153,6 +153,55 @@ TEST(UlsLookDown, U73_ReReferenceWithTimeBetweenEventsStartsTheNoPresenceTime) {
   // instead would add its 8000 parked pulses.
   EXPECT_GE(tbe_pulses(next[0]), 3000) << next[0];
   EXPECT_LE(tbe_pulses(next[0]), 3031) << next[0];
+}
+
+// U74: §3 "Time between events can be logged using the configuration port only" against §4
+// "When the ULS is in Look Down Mode, the configuration port is used for system setup only."
+// The §3 sentence is about time between events itself, so it wins: with TB on the lines go to
+// the configuration port whatever MO selects; `$BM,0/1` (TB off) follows MO as before.
+TEST(UlsLookDown, U74_TimeBetweenEventsIsLoggedOnTheConfigurationPortOnly) {
+  FirmwareOptions options = looking_at_the_ground();
+  options.address = 'Q';
+  Unit unit(std::move(options));
+  EXPECT_EQ(unit.ask("$MM,3"), "$OK");
+  EXPECT_EQ(unit.ask("$PF,3000"), "$OK");
+  EXPECT_EQ(unit.ask("$MO,1"), "$OK");  // measurements to the universal port (RS232)
+  EXPECT_EQ(unit.ask("$TB,1"), "$OK");
+  EXPECT_EQ(unit.ask("$GO"), "$OK");
+  unit.run(1s);
+  unit.firmware->set_scene(scene_of({ground, vehicle_at(6.0)}), unit.now);
+  unit.run(500ms);
+  unit.firmware->set_scene(scene_of({ground}), unit.now);
+  unit.run(500ms);
+  const auto logged = unit.lines(configuration_port);
+  ASSERT_EQ(logged.size(), 2U);
+  EXPECT_GT(tbe_pulses(logged[0]), 0) << logged[0];
+  EXPECT_EQ(logged[1], "$0");
+  EXPECT_TRUE(unit.lines(universal_port).empty());
+
+  EXPECT_EQ(unit.ask("$ST"), "$OK");
+  EXPECT_EQ(unit.ask("$TB,0"), "$OK");
+  EXPECT_EQ(unit.ask("$GO"), "$OK");
+  unit.run(1s);
+  unit.firmware->set_scene(scene_of({ground, vehicle_at(6.0)}), unit.now);
+  unit.run(500ms);
+  EXPECT_EQ(unit.lines(universal_port), std::vector<std::string>{"$BM,1"});
+  EXPECT_TRUE(unit.lines(configuration_port).empty());
+
+  // RS-485 output with an address: the configuration port is RS-232, point to point, so the
+  // logged lines keep the `$` form there.
+  EXPECT_EQ(unit.ask("$ST"), "$OK");
+  EXPECT_EQ(unit.ask("$MO,2"), "$OK");
+  EXPECT_EQ(unit.ask("$TB,1"), "$OK");
+  unit.firmware->set_scene(scene_of({ground}), unit.now);
+  EXPECT_EQ(unit.ask("$GO"), "$OK");
+  unit.run(1s);
+  unit.firmware->set_scene(scene_of({ground, vehicle_at(6.0)}), unit.now);
+  unit.run(500ms);
+  const auto addressed = unit.lines(configuration_port);
+  ASSERT_EQ(addressed.size(), 1U);
+  EXPECT_GT(tbe_pulses(addressed[0]), 0) << addressed[0];
+  EXPECT_TRUE(unit.lines(universal_port).empty());
 }
 
 }  // namespace

@@ -905,12 +905,16 @@ Reading Firmware::look_down_state() const noexcept {
 }
 
 Address Firmware::measurement_address() const noexcept {
-  if (settings_.address != 0 && settings_.output_port == OutputPort::universal_rs485)
+  if (settings_.address != 0 && settings_.output_port == OutputPort::universal_rs485 &&
+      measurement_port() == universal_port)
     return Address::unit(settings_.address);
   return Address::none();
 }
 
 std::size_t Firmware::measurement_port() const noexcept {
+  // §3 "Time between events can be logged using the configuration port only", whatever MO
+  // says: more specific than §4's look-down "configuration port ... system setup only" (U74).
+  if (settings_.mode == Mode::look_down && settings_.time_between_events) return configuration_port;
   return settings_.output_port == OutputPort::configuration ? configuration_port : universal_port;
 }
 
