@@ -218,7 +218,9 @@ TEST(UlsPhysics, TimeBetweenEventsCountsPulses) {
   unit.run(1s);  // 1 s of no presence = 3000 pulses (0BB8, §3)
   unit.firmware->set_scene(car, unit.now);
   unit.run(500ms);
-  const auto lines = unit.lines(universal_port);
+  // §3 "can be logged using the configuration port only": not on MO's universal port (U74).
+  EXPECT_TRUE(unit.lines(universal_port).empty());
+  const auto lines = unit.lines(configuration_port);
   ASSERT_EQ(lines.size(), 3U);
   EXPECT_EQ(lines[1], "$0");
   EXPECT_EQ(lines[2], "$0BB8");

@@ -351,6 +351,13 @@ void Firmware::execute(std::size_t port, Address to, bool silent, const CommandI
       if (!measuring_) start_measuring(now);
       return;
     }
+    if (settings_.mode == Mode::look_down) {
+      // §8 Get Measurement: "Varies with measurement mode". Look down has a state at every
+      // moment (the trip line), so a poll is answered at once with it, never queued (U70-U72).
+      if (!measuring_) start_measuring(now);  // §2 ULS Autostart
+      reply(port, false, encode_measurement(to, look_down_state()), now);
+      return;
+    }
     if (!measuring_) {
       start_measuring(now);  // §2 ULS Autostart: Get Measurement starts the unit
       polls_.push_back({port, to});
@@ -535,7 +542,7 @@ void Firmware::start_measuring(Nanos now) {
   reference_pulses_ = 0;
   reference_candidate_m_ = 0;
   present_ = false;
-  announced_ = false;
+  presence_tbe_ = TimeBetweenEvents{};
   disagreeing_ = 0;
   have_no_presence_edge_ = false;
   stable_pulses_ = 0;
@@ -847,41 +854,20 @@ void Firmware::fire_look_down(Nanos t) {
   const bool presence_pulse = d && *d < *reference_m_ - settings_.trip_point_m;
   if (presence_pulse != present_) {
     // 30 consecutive pulses decide a change (§3, U34).
-    if (++disagreeing_ >= look_down_decision_pulses) {
-      present_ = presence_pulse;
-      disagreeing_ = 0;
-      stable_pulses_ = 0;
-      if (settings_.time_between_events) {
-        if (present_) {
-          emit({have_no_presence_edge_ ? tbe_from_pulses(pulse - no_presence_edge_pulse_)
-                                       : TimeBetweenEvents{TimeBetweenEvents::Kind::overflow, 0}},
-               t);
-        } else {
-          no_presence_edge_pulse_ = pulse;
-          have_no_presence_edge_ = true;
-          emit({TimeBetweenEvents{}}, t);
-        }
-      } else {
-        emit({LookDownReading{present_}}, t);
-      }
-      if (!present_) {
-        no_presence_edge_pulse_ = pulse;
-        have_no_presence_edge_ = true;
-      }
-    }
+    if (++disagreeing_ >= look_down_decision_pulses) change_presence(presence_pulse, pulse, t);
   } else {
     disagreeing_ = 0;
   }
   if (present_ && d) {
-    // Re-reference on a distance that stays put for TT pulses while tripped (§3).
+    // Re-reference on a distance that stays put for TT pulses while tripped (§3). The trip is
+    // released like any end of presence: `$BM,0`, or with TB on `$0` starting the no-presence
+    // time the next `$XXXX` counts (U73).
     if (std::abs(*d - stable_m_) > std::max(settings_.trip_point_m / 2, 0.1)) {
       stable_m_ = *d;
       stable_pulses_ = 0;
     } else if (++stable_pulses_ >= settings_.trip_timeout_pulses) {
       reference_m_ = *d;
-      present_ = false;
-      stable_pulses_ = 0;
-      emit({LookDownReading{false}}, t);
+      change_presence(false, pulse, t);
     }
   }
   if (!present_ && d && *d > *reference_m_ + settings_.trip_point_m / 2) {
@@ -896,22 +882,43 @@ void Firmware::fire_look_down(Nanos t) {
   }
 }
 
+void Firmware::change_presence(bool present, std::uint64_t pulse, Nanos t) {
+  present_ = present;
+  disagreeing_ = 0;
+  stable_pulses_ = 0;
+  if (present) {
+    // §3: "the number of fire pulses between not present and present events" (U12).
+    presence_tbe_ = have_no_presence_edge_ ? tbe_from_pulses(pulse - no_presence_edge_pulse_)
+                                           : TimeBetweenEvents{TimeBetweenEvents::Kind::overflow, 0};
+  } else {
+    no_presence_edge_pulse_ = pulse;
+    have_no_presence_edge_ = true;
+  }
+  emit({look_down_state()}, t);
+}
+
+Reading Firmware::look_down_state() const noexcept {
+  // Before the first detection the trip line is low (§3), so OFF / `$0` (U71). With TB on a
+  // presence is told by its `$XXXX`, the line sent at its start (§8, U72).
+  if (!settings_.time_between_events) return LookDownReading{present_};
+  return present_ ? presence_tbe_ : TimeBetweenEvents{};
+}
+
 Address Firmware::measurement_address() const noexcept {
-  if (settings_.address != 0 && settings_.output_port == OutputPort::universal_rs485)
+  if (settings_.address != 0 && settings_.output_port == OutputPort::universal_rs485 &&
+      measurement_port() == universal_port)
     return Address::unit(settings_.address);
   return Address::none();
 }
 
 std::size_t Firmware::measurement_port() const noexcept {
+  // §3 "Time between events can be logged using the configuration port only", whatever MO
+  // says: more specific than §4's look-down "configuration port ... system setup only" (U74).
+  if (settings_.mode == Mode::look_down && settings_.time_between_events) return configuration_port;
   return settings_.output_port == OutputPort::configuration ? configuration_port : universal_port;
 }
 
 void Firmware::emit(std::vector<Reading> readings, Nanos t) {
-  // TBE with the re-reference emits a plain BM,0 only without TB.
-  if (settings_.time_between_events && settings_.mode == Mode::look_down) {
-    std::erase_if(readings, [](const Reading& r) { return std::holds_alternative<LookDownReading>(r); });
-    if (readings.empty()) return;
-  }
   latest_ = readings;
   for (const auto& poll : polls_) {
     for (const auto& reading : readings) reply(poll.port, false, encode_measurement(poll.to, reading), t);

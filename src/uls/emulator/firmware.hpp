@@ -145,6 +145,10 @@ class Firmware final : public DeviceModel {
   void fire_averaging(Nanos t);
   void fire_binning(Nanos t);
   void fire_look_down(Nanos t);
+  // A decided look-down edge (§3): trip line, TB edge pulse and the line it sends.
+  void change_presence(bool present, std::uint64_t pulse, Nanos t);
+  // What a look-down poll answers now (§8 Get Measurement, U70-U72).
+  [[nodiscard]] Reading look_down_state() const noexcept;
   void complete_averaging(Nanos t);
   void complete_binning(Nanos t);
   void emit(std::vector<Reading> readings, Nanos t);
@@ -199,7 +203,7 @@ class Firmware final : public DeviceModel {
   double reference_candidate_m_ = 0;
   std::uint32_t reference_pulses_ = 0;
   bool present_ = false;
-  bool announced_ = false;
+  TimeBetweenEvents presence_tbe_{};  // the `$XXXX` of the present presence (TB on)
   std::uint32_t disagreeing_ = 0;
   std::uint64_t no_presence_edge_pulse_ = 0;
   bool have_no_presence_edge_ = false;
