@@ -10,7 +10,7 @@ namespace rangekit::uls::emulator {
 namespace {
 
 constexpr double minimum_range_m = 0.15;        // §9
-constexpr double cooperative_range_m = 1700.0;  // §9 reflective sheet
+constexpr double cooperative_range_m = 1700.0;  // §9 reflective sheet, every power level
 // §9 maximum ranges by power level (high, medium, low).
 constexpr std::array<double, 3> white_range_m{266.0, 228.0, 188.0};  // 90% white
 constexpr std::array<double, 3> gray_range_m{133.0, 114.0, 94.0};    // 20% gray
@@ -608,7 +608,7 @@ std::uint64_t Firmware::pulses_before_restart() const noexcept {
 
 double Firmware::max_range_m(double reflectivity, bool cooperative) const noexcept {
   const auto level = static_cast<std::size_t>(wire_value(settings_.power));
-  if (cooperative) return cooperative_range_m * white_range_m[level] / white_range_m[0];
+  if (cooperative) return cooperative_range_m;  // §9: 1700 m in all three power columns (U75)
   // §9 ranges at 90% and 20%, linear in reflectivity between and beyond them.
   const double r = std::clamp(reflectivity, 0.0, 1.0);
   const double range = gray_range_m[level] + (white_range_m[level] - gray_range_m[level]) * (r - 0.2) / 0.7;
