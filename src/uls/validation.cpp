@@ -28,8 +28,10 @@ Verdict check_decimal(std::string_view field, const CommandInfo& row, Units unit
   const std::optional<double> value = text::parse_decimal(field, '.');
   if (!value) return invalid_command;
   const bool is_distance = row.kind == ValueKind::distance || row.kind == ValueKind::signed_distance;
-  const double in_row_units = is_distance ? to_metres(*value, units) : *value;
-  if (in_row_units < row.min || in_row_units > row.max) return Verdict::reject(row.value_error);
+  // Distance limits as the unit writes them in its units (U76): what a get reports is accepted back.
+  const bool within =
+      is_distance ? distance_within(*value, units, row.min, row.max) : *value >= row.min && *value <= row.max;
+  if (!within) return Verdict::reject(row.value_error);
   return Verdict::accept();
 }
 

@@ -230,6 +230,41 @@ TEST(UlsConformance, U18_NonNumbersAreError1) {
   EXPECT_EQ(set("XX", "1").error, 1);  // unknown mnemonic
 }
 
+// docs/conformance.md U76. §9 "Resolution: 0.01 ft or 1 mm", §9 "1700 m or 5577 ft"; a get in
+// feet writes the 1700 m limit as 5577.43 (1700 / 0.3048 = 5577.427), which must be accepted back
+// although 5577.43 ft x 0.3048 = 1700.0007 m.
+TEST(UlsConformance, U76_DistanceLimitsAsTheUnitWritesThem) {
+  for (const std::string_view gate : {"SG", "LG", "TP", "OF"}) {
+    SCOPED_TRACE(std::string(gate));
+    EXPECT_TRUE(set(gate, "5577.43", Units::feet).ok());
+    EXPECT_EQ(set(gate, "5577.44", Units::feet).error, 1);
+    EXPECT_TRUE(set(gate, "1700.000").ok());
+    EXPECT_EQ(set(gate, "1700.001").error, 1);
+  }
+  EXPECT_TRUE(set("OF", "-5577.43", Units::feet).ok());
+  EXPECT_EQ(set("OF", "-5577.44", Units::feet).error, 1);
+  EXPECT_TRUE(set("OF", "-1700.000").ok());
+  EXPECT_EQ(set("OF", "-1700.001").error, 1);
+  for (const std::string_view loop : {"AL", "AH"}) {
+    SCOPED_TRACE(std::string(loop));
+    EXPECT_TRUE(set(loop, "5577.43", Units::feet).ok());
+    EXPECT_EQ(set(loop, "5577.44", Units::feet).error, 83);
+  }
+  // The host reads the same replies back.
+  for (const std::string_view reply :
+       {"$LG,5577.43", "$SG,5577.43", "$TP,5577.43", "$OF,-5577.43", "$OF,5577.43", "$AH,5577.43", "$AL,5577.43"}) {
+    EXPECT_TRUE(decode_reply(as_bytes(reply), Units::feet)) << reply;
+  }
+  EXPECT_FALSE(decode_reply(as_bytes("$LG,5577.44"), Units::feet));
+  EXPECT_TRUE(decode_reply(as_bytes("$LG,1700.000"), Units::metres));
+  EXPECT_FALSE(decode_reply(as_bytes("$LG,1700.001"), Units::metres));
+  // A limit in feet stands for the limit itself: a get in metres then shows 1700.000.
+  EXPECT_DOUBLE_EQ(distance_to_metres(5577.43, Units::feet, 0, 1700), 1700.0);
+  EXPECT_DOUBLE_EQ(distance_to_metres(-5577.43, Units::feet, -1700, 1700), -1700.0);
+  EXPECT_DOUBLE_EQ(distance_limit(1700, Units::feet), 5577.43);
+}
+
+// docs/conformance.md U24, U77 (GO: §10 31 "Instrument Is Already Measuring").
 TEST(UlsConformance, U24_SettingsThatChangeTheMeasurementAnswer31WhileMeasuring) {
   const std::set<std::string_view> rejected{"MM", "PF", "PO", "AW", "BS", "BH", "DD", "MU", "BR", "SG",
                                             "LG", "FL", "PL", "DM", "TB", "TP", "TT", "OF", "MO", "UA"};

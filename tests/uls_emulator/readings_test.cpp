@@ -67,5 +67,61 @@ TEST(UlsReadings, U75_CooperativeRangeIs1700MetresAtEveryPowerLevel) {
   EXPECT_EQ(lines.back(), "$ER,4");
 }
 
+// Every get+set setting: the values its get reports, sent back as a set, answer $OK. UA is
+// left out: §8 sets it with "aa = unit address (Ascii single character)" and reports
+// "ad = unit Address (Decimal Value)".
+void expect_every_get_accepted_back(Unit& unit) {
+  for (const CommandInfo& command : command_table()) {
+    if (command.access != Access::get_set || command.mnemonic == "UA") continue;
+    const std::string name(command.mnemonic);
+    const std::string reply = unit.ask("$" + name + (name == "BR" ? ",1" : ""));
+    ASSERT_EQ(reply.rfind("$" + name + ",", 0), 0U) << reply;
+    EXPECT_EQ(unit.ask(reply), "$OK") << "set back: " << reply;
+  }
+}
+
+// docs/conformance.md U76. §8 "n = Long Gate Setting in measurement units", §9 "Resolution:
+// 0.01 ft or 1 mm" and "1700 m or 5577 ft": at the limits a get in feet reads 5577.43
+// (1700 / 0.3048 = 5577.427), and the unit takes back whatever it reports, in both units.
+TEST(UlsReadings, U76_EveryValueAGetReportsIsAcceptedBackInBothUnitsAtTheLimits) {
+  Unit unit;
+  for (const bool feet : {false, true}) {
+    SCOPED_TRACE(feet ? "feet" : "metres");
+    EXPECT_EQ(unit.ask(feet ? "$MU,0" : "$MU,1"), "$OK");
+    const std::string top = feet ? "5577.43" : "1700.000";
+    EXPECT_EQ(unit.ask("$AH,10"), "$OK");  // AL and AH must differ (83): move them apart first
+    EXPECT_EQ(unit.ask("$AL,0"), "$OK");
+    for (const char* mnemonic : {"SG", "LG", "TP", "OF", "AH"}) {
+      EXPECT_EQ(unit.ask("$" + std::string(mnemonic) + "," + top), "$OK") << mnemonic;
+      EXPECT_EQ(unit.ask("$" + std::string(mnemonic)), "$" + std::string(mnemonic) + "," + top);
+    }
+    expect_every_get_accepted_back(unit);
+    // The other ends: gates at 0, OF at -1700 m, AL at the top and AH at 0.
+    for (const char* mnemonic : {"SG", "LG", "TP"}) EXPECT_EQ(unit.ask("$" + std::string(mnemonic) + ",0"), "$OK");
+    EXPECT_EQ(unit.ask("$OF,-" + top), "$OK");
+    EXPECT_EQ(unit.ask("$OF"), "$OF,-" + top);
+    EXPECT_EQ(unit.ask("$AH,10"), "$OK");
+    EXPECT_EQ(unit.ask("$AL," + top), "$OK");
+    EXPECT_EQ(unit.ask("$AH,0"), "$OK");
+    expect_every_get_accepted_back(unit);
+  }
+  // A limit set in one unit is that limit in the other.
+  EXPECT_EQ(unit.ask("$MU,0"), "$OK");
+  EXPECT_EQ(unit.ask("$LG,5577.43"), "$OK");
+  EXPECT_EQ(unit.ask("$OF,-5577.43"), "$OK");
+  EXPECT_EQ(unit.ask("$MU,1"), "$OK");
+  EXPECT_EQ(unit.ask("$LG"), "$LG,1700.000");
+  EXPECT_EQ(unit.ask("$OF"), "$OF,-1700.000");
+  EXPECT_EQ(unit.ask("$SG,1700"), "$OK");
+  EXPECT_EQ(unit.ask("$MU,0"), "$OK");
+  EXPECT_EQ(unit.ask("$SG"), "$SG,5577.43");
+  // One step beyond, in either unit, is still refused (U18).
+  EXPECT_EQ(unit.ask("$LG,5577.44"), "$ER,1");
+  EXPECT_EQ(unit.ask("$OF,5577.44"), "$ER,1");
+  EXPECT_EQ(unit.ask("$AH,5577.44"), "$ER,83");
+  EXPECT_EQ(unit.ask("$MU,1"), "$OK");
+  EXPECT_EQ(unit.ask("$LG,1700.001"), "$ER,1");
+}
+
 }  // namespace
 }  // namespace rangekit::uls::emulator

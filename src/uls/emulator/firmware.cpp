@@ -316,7 +316,7 @@ void Firmware::execute(std::size_t port, Address to, bool silent, const CommandI
     if (get) {
       value(distance_text(field, units));
     } else {
-      field = to_metres(parse_number(fields[0]), units);
+      field = distance_to_metres(parse_number(fields[0]), units, command.min, command.max);  // U76
       ok();
     }
   };
@@ -467,7 +467,7 @@ void Firmware::execute(std::size_t port, Address to, bool silent, const CommandI
   } else if (m == "AH" || m == "AL") {
     double& field = m == "AH" ? settings_.range_at_20ma_m : settings_.range_at_4ma_m;
     if (get) return value(distance_text(field, units));
-    const double metres = to_metres(parse_number(fields[0]), units);
+    const double metres = distance_to_metres(parse_number(fields[0]), units, command.min, command.max);  // U76
     const double low = m == "AL" ? metres : settings_.range_at_4ma_m;
     const double high = m == "AH" ? metres : settings_.range_at_20ma_m;
     if (auto v = check_current_loop_range(low, high); !v.ok()) return error(v.error);
