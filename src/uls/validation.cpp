@@ -156,7 +156,8 @@ Verdict check_current_loop_range(double range_at_4ma, double range_at_20ma) noex
 }
 
 Verdict check_while_measuring(const CommandInfo& command, RequestForm form, bool measuring) noexcept {
-  if (measuring && form == RequestForm::set && command.rejected_while_measuring) {
+  // Sets that change the measurement (U24) and GO, "Instrument Is Already Measuring" (U77).
+  if (measuring && form != RequestForm::get && command.rejected_while_measuring) {
     return Verdict::reject(error_number::already_measuring);
   }
   return Verdict::accept();

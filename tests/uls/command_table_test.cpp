@@ -266,21 +266,22 @@ TEST(UlsConformance, U76_DistanceLimitsAsTheUnitWritesThem) {
 
 // docs/conformance.md U24, U77 (GO: §10 31 "Instrument Is Already Measuring").
 TEST(UlsConformance, U24_SettingsThatChangeTheMeasurementAnswer31WhileMeasuring) {
-  const std::set<std::string_view> rejected{"MM", "PF", "PO", "AW", "BS", "BH", "DD", "MU", "BR", "SG",
-                                            "LG", "FL", "PL", "DM", "TB", "TP", "TT", "OF", "MO", "UA"};
-  const std::set<std::string_view> accepted{"GO", "ST", "BM", "US", "ID", "PT", "CL", "AF",
-                                            "AT", "AH", "AL", "CO", "MA", "PA", "TE", "SU"};
+  const std::set<std::string_view> rejected{"MM", "PF", "PO", "AW", "BS", "BH", "DD", "MU", "BR", "SG", "LG",
+                                            "FL", "PL", "DM", "TB", "TP", "TT", "OF", "MO", "UA", "GO"};
+  const std::set<std::string_view> accepted{"ST", "BM", "US", "ID", "PT", "CL", "AF", "AT",
+                                            "AH", "AL", "CO", "MA", "PA", "TE", "SU"};
   EXPECT_EQ(rejected.size() + accepted.size(), 36U);
   for (const CommandInfo& command : command_table()) {
     SCOPED_TRACE(std::string(command.mnemonic));
     const bool should_reject = rejected.count(command.mnemonic) == 1;
     EXPECT_EQ(command.rejected_while_measuring, should_reject);
     EXPECT_EQ(accepted.count(command.mnemonic), should_reject ? 0U : 1U);
-    // Gets and actions are always accepted; sets only when idle, or when not listed.
+    // Gets are always accepted; sets and GO only when idle, or when not listed.
     EXPECT_TRUE(check_while_measuring(command, RequestForm::get, true).ok());
-    EXPECT_TRUE(check_while_measuring(command, RequestForm::action, true).ok());
     EXPECT_TRUE(check_while_measuring(command, RequestForm::set, false).ok());
-    EXPECT_EQ(check_while_measuring(command, RequestForm::set, true).error, should_reject ? 31 : 0);
+    EXPECT_TRUE(check_while_measuring(command, RequestForm::action, false).ok());
+    const RequestForm changing = command.access == Access::action ? RequestForm::action : RequestForm::set;
+    EXPECT_EQ(check_while_measuring(command, changing, true).error, should_reject ? 31 : 0);
   }
 }
 

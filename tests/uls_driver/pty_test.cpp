@@ -128,6 +128,12 @@ TEST(UlsHostPty, EverySubcommandEndToEnd) {
   for (auto at = run.out.find("distance_m="); at != std::string::npos; at = run.out.find("distance_m=", at + 1))
     EXPECT_NEAR(std::stod(run.out.substr(at + 11, 8)), 50.0, 0.04) << run.out;
 
+  // docs/conformance.md U77: measure left the unit measuring (BM starts it, §2), so GO answers
+  // 31 "Instrument Is Already Measuring" (§10); after a stop it starts.
+  run = cli("uls start" + on);
+  EXPECT_EQ(run.code, 6) << run.out;
+  EXPECT_NE(run.out.find("device error 31"), std::string::npos) << run.out;
+  EXPECT_EQ(cli("uls stop" + on).code, 0);
   run = cli("uls start" + on);
   EXPECT_EQ(run.code, 0) << run.out;
   // A setting that changes the measurement while measuring: device error 31 (§10) with its text.

@@ -123,5 +123,23 @@ TEST(UlsReadings, U76_EveryValueAGetReportsIsAcceptedBackInBothUnitsAtTheLimits)
   EXPECT_EQ(unit.ask("$LG,1700.001"), "$ER,1");
 }
 
+// docs/conformance.md U77. §10 31 "No Serial While Measuring Error", displayed "Instrument Is
+// Already Measuring"; the counterpart of 86 "Instrument Not Measuring" for ST (U43).
+TEST(UlsReadings, U77_StartWhileMeasuringIsErrorThirtyOne) {
+  FirmwareOptions options = with_target(SceneTarget{"wall", Motion::fixed(25.0), 0.9, false});
+  options.address = 'Z';
+  Unit unit(std::move(options));
+  start_fast_averaging(unit);
+  unit.run(1s);
+  const std::uint64_t before = unit.firmware->outputs(unit.now).measurements;
+  EXPECT_EQ(unit.ask("$GO"), "$ER,31");
+  EXPECT_EQ(unit.ask("#ZGO"), "#ZER,31");
+  EXPECT_EQ(unit.ask("$US"), "$US,7");  // still measuring, not restarted
+  unit.run(1s);
+  EXPECT_GT(unit.firmware->outputs(unit.now).measurements, before + 3);
+  EXPECT_EQ(unit.ask("$ST"), "$OK");
+  EXPECT_EQ(unit.ask("$GO"), "$OK");
+}
+
 }  // namespace
 }  // namespace rangekit::uls::emulator
