@@ -141,5 +141,26 @@ TEST(UlsReadings, U77_StartWhileMeasuringIsErrorThirtyOne) {
   EXPECT_EQ(unit.ask("$GO"), "$OK");
 }
 
+// docs/conformance.md U78. §10 25 "RX Buffer Overrun"; F5: frames are at most 64 bytes before
+// the CR. A longer line is answered once its CR arrives, like a refused frame (U37).
+TEST(UlsReadings, U78_LineOverTheFrameLimitIsRxBufferOverrun) {
+  FirmwareOptions options;
+  options.address = 'Z';
+  Unit unit(std::move(options));
+  const std::string sixty(60, 'A');
+  EXPECT_EQ(unit.ask("$ID," + sixty), "$ER,1");           // 64 bytes: a frame, refused by the parser
+  EXPECT_EQ(unit.ask("$ID," + sixty + "A"), "$ER,25");    // 65 bytes
+  EXPECT_EQ(unit.ask("$ID," + sixty + sixty), "$ER,25");  // the rest of the line is lost with it
+  EXPECT_EQ(unit.ask("$MM"), "$MM,1");                    // and the next line is read as usual
+  EXPECT_EQ(unit.ask("#ZID," + sixty, universal_port), "#ZER,25");
+  EXPECT_EQ(unit.ask("#YID," + sixty, universal_port), "");     // another unit's
+  EXPECT_EQ(unit.ask("#\xF0ID," + sixty, universal_port), "");  // broadcast: no reply (U4)
+  // A start byte before the CR cuts the long line short (F3): only the new frame is answered.
+  EXPECT_EQ(unit.ask("$ID," + sixty + sixty + "$MM"), "$MM,1");
+  // A control byte makes it noise (F4): no answer.
+  EXPECT_EQ(unit.ask("$ID," + sixty + sixty + "\n" + "A"), "");
+  EXPECT_EQ(unit.ask("$MM"), "$MM,1");
+}
+
 }  // namespace
 }  // namespace rangekit::uls::emulator

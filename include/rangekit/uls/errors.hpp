@@ -28,6 +28,7 @@ namespace error_number {
 inline constexpr int invalid_command = 1;     // also every value without its own number (U18)
 inline constexpr int target_not_found = 4;    // streamed (U13)
 inline constexpr int average_not_filled = 5;  // streamed (U13)
+inline constexpr int rx_buffer_overrun = 25;  // a line over the 64-byte frame limit (F5, U78)
 inline constexpr int already_measuring = 31;  // settings (U24) and GO (U77) while measuring
 inline constexpr int invalid_prf = 32;
 inline constexpr int invalid_baud = 34;

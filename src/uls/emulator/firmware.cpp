@@ -155,6 +155,7 @@ void Firmware::boot(Nanos now) {
   }
   for (std::size_t i = 0; i < ports_.size(); ++i) {
     ports_[i].input.clear();
+    ports_[i].overrun.reset();
     ports_[i].outbox.clear();
     ports_[i].pending_baud.reset();
     ports_[i].last_line_start = Nanos(0);
@@ -229,11 +230,20 @@ void Firmware::take_line_output(std::size_t port, Nanos now, std::vector<LineByt
 void Firmware::receive(std::size_t port, std::uint8_t byte, Nanos now) {
   if (port >= ports_.size()) return;
   advance(now);
+  if (ports_[port].overrun && continue_overrun(port, byte, now)) return;
   auto& input = ports_[port].input;
   input.push_back(byte);
   while (!input.empty()) {
     const FrameScan scan = scan_frame(Bytes(input.data(), input.size()));
     if (scan.status == FrameStatus::need_more) break;
+    if (scan.status == FrameStatus::invalid && scan.consumed == max_frame_length &&
+        input.size() == max_frame_length + 1 && input.back() != '$' && input.back() != '#') {
+      // 64 valid frame bytes and a 65th that neither ends the frame nor starts a new one:
+      // the receive buffer overran (F5, U78). The rest of the line is lost up to its CR.
+      ports_[port].overrun = std::array<std::uint8_t, 2>{input[0], input[1]};
+      input.clear();
+      break;
+    }
     if (scan.status == FrameStatus::complete) {
       const std::vector<std::uint8_t> frame(scan.frame.begin(), scan.frame.end());
       input.erase(input.begin(), input.begin() + static_cast<std::ptrdiff_t>(scan.consumed));
@@ -250,6 +260,27 @@ void Firmware::receive(std::size_t port, std::uint8_t byte, Nanos now) {
     // Invalid bytes (noise, a cut frame): dropped silently (U37).
     input.erase(input.begin(), input.begin() + static_cast<std::ptrdiff_t>(std::max<std::size_t>(scan.consumed, 1)));
   }
+}
+
+bool Firmware::continue_overrun(std::size_t port, std::uint8_t byte, Nanos now) {
+  auto& overrun = ports_[port].overrun;
+  if (byte == '$' || byte == '#') {
+    overrun.reset();  // a new frame cuts the line short (F3): no answer
+    return false;
+  }
+  if (byte == '\r') {
+    const auto [start, address] = *overrun;
+    overrun.reset();
+    // Answered like a refused frame (U37): '$' by every unit, '#' by the addressed one only.
+    if (start == '$') {
+      reply(port, false, encode_error_reply(Address::none(), error_number::rx_buffer_overrun), now);
+    } else if (settings_.address != 0 && address == settings_.address) {
+      reply(port, false, encode_error_reply(Address::unit(settings_.address), error_number::rx_buffer_overrun), now);
+    }
+    return true;
+  }
+  if (byte < 0x20 || byte >= 0x7F) overrun.reset();  // not frame text: the line was noise (F4), no answer
+  return true;
 }
 
 void Firmware::reply(std::size_t port, bool silent, const Result<FrameText>& frame, Nanos now) {
