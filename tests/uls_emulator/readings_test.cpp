@@ -162,5 +162,20 @@ TEST(UlsReadings, U78_LineOverTheFrameLimitIsRxBufferOverrun) {
   EXPECT_EQ(unit.ask("$MM"), "$MM,1");
 }
 
+// docs/conformance.md U79. §2 "Pulses/Measure ... this option is not available in the Look Down
+// Mode"; §10 78 "Invalid Command for Measurement Mode". One value sets the current mode's PPM
+// (U15), which look down does not have; the two-value form names averaging and binning.
+TEST(UlsReadings, U79_OneValuePulsesPerMeasurementInLookDownIsErrorSeventyEight) {
+  Unit unit;
+  EXPECT_EQ(unit.ask("$MM,3"), "$OK");
+  EXPECT_EQ(unit.ask("$PO,500"), "$ER,78");
+  EXPECT_EQ(unit.ask("$PO"), "$PO,1024,1024");
+  EXPECT_EQ(unit.ask("$PO,2000,500"), "$OK");
+  EXPECT_EQ(unit.ask("$PO"), "$PO,2000,500");
+  EXPECT_EQ(unit.ask("$MM,2"), "$OK");
+  EXPECT_EQ(unit.ask("$PO,600"), "$OK");  // binning's
+  EXPECT_EQ(unit.ask("$PO"), "$PO,2000,600");
+}
+
 }  // namespace
 }  // namespace rangekit::uls::emulator

@@ -425,6 +425,8 @@ void Firmware::execute(std::size_t port, Address to, bool silent, const CommandI
       reply_values(port, to, silent, m, {std::to_string(settings_.ppm[0]), std::to_string(settings_.ppm[1])}, now);
       return;
     }
+    // §2 "Pulses/Measure ... not available in the Look Down Mode": one value names no PPM there (U79).
+    if (fields.size() == 1 && settings_.mode == Mode::look_down) return error(error_number::invalid_for_mode);
     auto ppm = settings_.ppm;
     if (fields.size() == 2) {
       ppm = {parse_unsigned(fields[0]), parse_unsigned(fields[1])};
