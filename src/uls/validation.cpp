@@ -1,5 +1,5 @@
 // The checks a unit applies to a request before acting on it (U16, U18, U24,
-// U30). Pure functions of the command row and the request's fields.
+// U30, U76, U77, U80). Pure functions of the command row and the request's fields.
 
 #include "rangekit/core/text.hpp"
 #include "rangekit/uls/commands.hpp"
@@ -33,6 +33,15 @@ Verdict check_decimal(std::string_view field, const CommandInfo& row, Units unit
       is_distance ? distance_within(*value, units, row.min, row.max) : *value >= row.min && *value <= row.max;
   if (!within) return Verdict::reject(row.value_error);
   return Verdict::accept();
+}
+
+// TT, the one value §8 gives in hexadecimal: a digit outside 0-9/A-F is error 33
+// "Invalid Input Base" (U80); more than 8 digits is the row's own error.
+Verdict check_hex(std::string_view field, const CommandInfo& row) noexcept {
+  for (const char c : field) {
+    if (!text::is_hex_digit(c)) return Verdict::reject(error_number::invalid_input_base);
+  }
+  return parse_trip_timeout(field) ? Verdict::accept() : Verdict::reject(row.value_error);
 }
 
 Verdict check_port(std::string_view field, const CommandInfo& row) noexcept {
@@ -80,7 +89,7 @@ Verdict check_set_values(const CommandInfo& row, std::span<const std::string_vie
     case ValueKind::seconds:
       return check_decimal(fields[0], row, units);
     case ValueKind::hex_pulses:
-      return parse_trip_timeout(fields[0]) ? Verdict::accept() : invalid_command;
+      return check_hex(fields[0], row);
     case ValueKind::baud_with_port: {
       const Verdict port = check_port(fields[0], row);
       if (!port.ok()) return port;

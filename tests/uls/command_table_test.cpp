@@ -1,4 +1,4 @@
-// The §8 command table and the checks a unit applies (U16, U18, U24, U30).
+// The §8 command table and the checks a unit applies (U16, U18, U24, U30, U76, U77, U80).
 // Expected values are typed from the document and docs/conformance.md.
 #include <gtest/gtest.h>
 
@@ -225,9 +225,24 @@ TEST(UlsConformance, U18_NonNumbersAreError1) {
     EXPECT_EQ(set(mnemonic, "x").error, 1) << mnemonic;
     EXPECT_EQ(set(mnemonic, "1e3").error, 1) << mnemonic;
   }
-  EXPECT_EQ(set("TT", "x").error, 1);
   EXPECT_TRUE(set("TT", "1e3").ok());  // hex
   EXPECT_EQ(set("XX", "1").error, 1);  // unknown mnemonic
+}
+
+// docs/conformance.md U80. §8 TT: "h = Trip Point Timeout ((seconds * 3000) in hexadecimal
+// notation)"; §10 33 "Invalid Input Base". TB is a 0/1 flag (§8 "n = 0 = Time between Events
+// Off, n = 1 = On"), so its non-numbers stay error 1 like every flag's.
+TEST(UlsConformance, U80_TripTimeoutNotInHexIsInvalidInputBase) {
+  EXPECT_EQ(set("TT", "x").error, 33);
+  EXPECT_EQ(set("TT", "1G40").error, 33);
+  EXPECT_EQ(set("TT", "1.5").error, 33);
+  EXPECT_EQ(set("TT", "-1").error, 33);
+  EXPECT_EQ(set("TT", "123456789").error, 1);  // hex, but more than 8 digits (U18)
+  EXPECT_TRUE(set("TT", "FFFFFFFF").ok());
+  EXPECT_TRUE(set("TT", "107ac0").ok());
+  EXPECT_EQ(set("TB", "x").error, 1);
+  EXPECT_EQ(set("TB", "A").error, 1);
+  EXPECT_EQ(set("AW", "1F").error, 1);  // decimal fields: no base is stated, so not a number (U18)
 }
 
 // docs/conformance.md U76. §9 "Resolution: 0.01 ft or 1 mm", §9 "1700 m or 5577 ft"; a get in

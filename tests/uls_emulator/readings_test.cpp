@@ -177,5 +177,17 @@ TEST(UlsReadings, U79_OneValuePulsesPerMeasurementInLookDownIsErrorSeventyEight)
   EXPECT_EQ(unit.ask("$PO"), "$PO,2000,600");
 }
 
+// docs/conformance.md U80. §8 TT "h = Trip Point Timeout ((seconds * 3000) in hexadecimal
+// notation)"; §10 33 "Invalid Input Base".
+TEST(UlsReadings, U80_TripTimeoutNotInHexIsInvalidInputBase) {
+  Unit unit;
+  EXPECT_EQ(unit.ask("$TT,1G40"), "$ER,33");
+  EXPECT_EQ(unit.ask("$TT,3.5"), "$ER,33");
+  EXPECT_EQ(unit.ask("$TT,123456789"), "$ER,1");  // 9 digits (U18)
+  EXPECT_EQ(unit.ask("$TT"), "$TT,107AC0");       // unchanged
+  EXPECT_EQ(unit.ask("$TB,A"), "$ER,1");          // TB is a 0/1 flag (§8)
+  EXPECT_EQ(unit.ask("$TT,1F40"), "$OK");
+}
+
 }  // namespace
 }  // namespace rangekit::uls::emulator

@@ -31,6 +31,7 @@ inline constexpr int average_not_filled = 5;  // streamed (U13)
 inline constexpr int rx_buffer_overrun = 25;  // a line over the 64-byte frame limit (F5, U78)
 inline constexpr int already_measuring = 31;  // settings (U24) and GO (U77) while measuring
 inline constexpr int invalid_prf = 32;
+inline constexpr int invalid_input_base = 33;  // TT not in hexadecimal (U80)
 inline constexpr int invalid_baud = 34;
 inline constexpr int invalid_average_weight = 35;
 inline constexpr int ppo_not_greater_than_weight = 49;
