@@ -189,5 +189,35 @@ TEST(UlsReadings, U80_TripTimeoutNotInHexIsInvalidInputBase) {
   EXPECT_EQ(unit.ask("$TT,1F40"), "$OK");
 }
 
+// docs/conformance.md U81. §8 AT "n = Fault Timeout (in seconds, timeout allowed before 4-20mA goes
+// to the fault current indication)"; §6 "Fault current will be output when error 4 or 5 exists".
+// The timeout applies also when no distance has been measured since the GO.
+TEST(UlsReadings, U81_FaultTimeoutAppliesBeforeTheFirstDistanceOfARun) {
+  Unit unit(with_target(SceneTarget{"wall", Motion::fixed(50.0), 0.9, false}));
+  EXPECT_EQ(unit.ask("$CL,1"), "$OK");
+  EXPECT_EQ(unit.ask("$AH,100"), "$OK");
+  EXPECT_EQ(unit.ask("$AT,1"), "$OK");
+  unit.firmware->set_no_return_fault(true, unit.now);
+  start_fast_averaging(unit);  // 50 ms into the run
+  unit.run(450ms);             // errors 4 from 0.2 s: 0.3 s of errors, AT not over
+  EXPECT_EQ(unit.firmware->outputs(unit.now).last_error, 4);
+  EXPECT_DOUBLE_EQ(unit.firmware->outputs(unit.now).current_ma, 4.0);  // nothing to hold yet
+  unit.run(1s);
+  EXPECT_DOUBLE_EQ(unit.firmware->outputs(unit.now).current_ma, 3.0);  // AF (§6 "3.0 mA")
+  // A distance of an earlier run is not held in a new one.
+  EXPECT_EQ(unit.ask("$ST"), "$OK");
+  unit.firmware->set_no_return_fault(false, unit.now);
+  EXPECT_EQ(unit.ask("$GO"), "$OK");
+  unit.run(1s);
+  EXPECT_NEAR(unit.firmware->outputs(unit.now).current_ma, 12.0, 0.01);  // 50 m of 0-100 m (§6)
+  EXPECT_EQ(unit.ask("$ST"), "$OK");
+  unit.firmware->set_no_return_fault(true, unit.now);
+  EXPECT_EQ(unit.ask("$GO"), "$OK");
+  unit.run(450ms);
+  EXPECT_DOUBLE_EQ(unit.firmware->outputs(unit.now).current_ma, 4.0);
+  unit.run(1s);
+  EXPECT_DOUBLE_EQ(unit.firmware->outputs(unit.now).current_ma, 3.0);
+}
+
 }  // namespace
 }  // namespace rangekit::uls::emulator

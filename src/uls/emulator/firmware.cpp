@@ -574,6 +574,7 @@ void Firmware::start_measuring(Nanos now) {
   stable_pulses_ = 0;
   longer_pulses_ = 0;
   error_since_.reset();
+  last_distance_m_.reset();  // the loop holds only a distance of this run (U81)
 }
 
 void Firmware::stop_measuring() {
@@ -992,8 +993,10 @@ Outputs Firmware::outputs(Nanos now) const {
   out.last_distance_m = last_distance_m_;
   out.last_error = last_error_;
   if (settings_.current_loop && measuring_) {
-    // §6: fault current after AT seconds of errors 4/5; hold the last value before that.
-    const bool fault = error_since_ && (!last_distance_m_ || seconds(now - *error_since_) >= settings_.fault_timeout_s);
+    // §6, §8 AT "timeout allowed before 4-20mA goes to the fault current indication": fault
+    // current after AT seconds of errors 4/5, also before the run's first distance (U81); until
+    // then the last distance of the run is held, 4 mA when there is none yet.
+    const bool fault = error_since_ && seconds(now - *error_since_) >= settings_.fault_timeout_s;
     if (fault) {
       out.current_ma = settings_.fault_current_ma;
     } else if (last_distance_m_) {

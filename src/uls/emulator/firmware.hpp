@@ -82,7 +82,7 @@ struct Outputs {
   std::uint64_t measurements = 0;         // completed measurement cycles
   std::uint64_t skipped_lines = 0;        // measurements not sent: a line was already waiting (U39)
   std::uint64_t binning_restarts = 0;     // bursts restarted at the 15th target (U42)
-  std::optional<double> last_distance_m;  // as reported (offset applied), metres
+  std::optional<double> last_distance_m;  // of this run (U81), as reported (offset applied), metres
   int last_error = 0;
 };
 
