@@ -99,17 +99,18 @@ Result<std::vector<std::string>> to_fields(const Target& target, std::string_vie
     } else if (command.kind == ValueKind::distance || command.kind == ValueKind::signed_distance) {
       // Readable distances are metres; a trailing "ft" or "m" says otherwise (U64).
       std::string number = field;
-      double factor = 1.0;
+      Units typed = Units::metres;
       if (number.size() > 2 && number.substr(number.size() - 2) == "ft") {
         number.resize(number.size() - 2);
-        factor = 0.3048;
+        typed = Units::feet;
       } else if (number.size() > 1 && number.back() == 'm') {
         number.pop_back();
       }
       auto parsed = text::parse_decimal(number);
       if (!parsed)
         return make_error(Errc::out_of_range, std::string(command.cli_name) + ": '" + field + "' is not a distance");
-      field = distance_field(*parsed * factor, device_units);
+      // A limit typed in either unit stays that limit in the unit's own (U76): 5577.43ft is 1700 m.
+      field = distance_field(distance_to_metres(*parsed, typed, command.min, command.max), device_units);
     } else if (command.kind == ValueKind::hex_pulses) {
       // Readable trip-timeout is seconds (§8: "seconds x 3000", U21).
       std::string number = field;

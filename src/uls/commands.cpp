@@ -39,7 +39,7 @@ constexpr std::array<ValueName, 5> status_names{{{0, "error: initialisation fail
 using A = Access;
 using K = ValueKind;
 
-// U24: whether a set is refused with error 31 while the unit measures.
+// U24: whether a set (or GO, U77) is refused with error 31 while the unit measures.
 enum class WhileMeasuring { accepted, rejected };
 constexpr auto accepted = WhileMeasuring::accepted;
 constexpr auto rejected = WhileMeasuring::rejected;
@@ -76,8 +76,8 @@ constexpr CommandInfo flag(std::string_view mnemonic, std::string_view title, st
 }
 
 constexpr CommandInfo action(std::string_view mnemonic, std::string_view title, std::string_view cli,
-                             std::string_view reference) {
-  CommandInfo row = setting(mnemonic, title, cli, K::none, 0, 0, 1, accepted, "", reference);
+                             std::string_view reference, WhileMeasuring measuring = accepted) {
+  CommandInfo row = setting(mnemonic, title, cli, K::none, 0, 0, 1, measuring, "", reference);
   row.access = A::action;
   row.set_fields_min = row.set_fields_max = 0;
   row.reply_fields_min = row.reply_fields_max = 0;
@@ -122,7 +122,7 @@ constexpr std::array<CommandInfo, 36> commands{{
     reading("ID", "Get Software Version", "version", K::text, 8, "§8 p.25"),
     reading("US", "Get Unit Status", "status", K::status, 1, "§8 p.26", status_names),
     flag("MA", "Measurement Autostart On/Off", "autostart", accepted, "§8 p.26", autostart_names),
-    action("GO", "Measurement Start", "start", "§8 p.26"),
+    action("GO", "Measurement Start", "start", "§8 p.26", rejected),  // "Instrument Is Already Measuring" (U77)
     action("ST", "Measurement Stop", "stop", "§8 p.27"),
     flag("PA", "Pointer Autostart On/Off", "pointer-autostart", accepted, "§8 p.27"),
     set_only(flag("PT", "Pointer On/Off", "pointer", accepted, "§8 p.27")),

@@ -125,6 +125,23 @@ double from_metres(double metres, Units units) noexcept {
   return units == Units::feet ? units::metres_to_feet(metres) : metres;
 }
 
+double distance_limit(double metres, Units units) noexcept {
+  const double scale = units == Units::metres ? 1000.0 : 100.0;  // the decimals of format_distance
+  return std::round(from_metres(metres, units) * scale) / scale;
+}
+
+bool distance_within(double value, Units units, double min_m, double max_m) noexcept {
+  // Both sides are decimal text of at most 2-3 decimals: allow for their binary rounding only.
+  constexpr double slack = 1e-9;
+  return value >= distance_limit(min_m, units) - slack && value <= distance_limit(max_m, units) + slack;
+}
+
+double distance_to_metres(double value, Units units, double min_m, double max_m) noexcept {
+  const double metres = to_metres(value, units);
+  if (!distance_within(value, units, min_m, max_m)) return metres;
+  return std::clamp(metres, min_m, max_m);
+}
+
 std::optional<std::uint8_t> unit_address_char(std::uint64_t value) noexcept {
   if (value < first_unit_address || value > last_unit_address) return std::nullopt;
   return static_cast<std::uint8_t>(value);

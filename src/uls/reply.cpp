@@ -34,8 +34,9 @@ Status check_decimal(const CommandInfo& command, std::string_view value, Units u
     return reply_error(Errc::bad_number,
                        std::string(command.mnemonic) + " value " + detail::quoted(value) + " is not a number");
   const bool distance = command.kind == ValueKind::distance || command.kind == ValueKind::signed_distance;
-  const double in_row_units = distance ? to_metres(*number, units) : *number;
-  if (in_row_units < command.min || in_row_units > command.max) return value_error(command, value, "is out of range");
+  const bool within = distance ? distance_within(*number, units, command.min, command.max)
+                               : *number >= command.min && *number <= command.max;
+  if (!within) return value_error(command, value, "is out of range");  // distances: U76
   return ok_status();
 }
 

@@ -1,5 +1,5 @@
 // The checks a unit applies to a request before acting on it (U16, U18, U24,
-// U30). Pure functions of the command row and the request's fields.
+// U30, U76, U77, U80). Pure functions of the command row and the request's fields.
 
 #include "rangekit/core/text.hpp"
 #include "rangekit/uls/commands.hpp"
@@ -28,9 +28,20 @@ Verdict check_decimal(std::string_view field, const CommandInfo& row, Units unit
   const std::optional<double> value = text::parse_decimal(field, '.');
   if (!value) return invalid_command;
   const bool is_distance = row.kind == ValueKind::distance || row.kind == ValueKind::signed_distance;
-  const double in_row_units = is_distance ? to_metres(*value, units) : *value;
-  if (in_row_units < row.min || in_row_units > row.max) return Verdict::reject(row.value_error);
+  // Distance limits as the unit writes them in its units (U76): what a get reports is accepted back.
+  const bool within =
+      is_distance ? distance_within(*value, units, row.min, row.max) : *value >= row.min && *value <= row.max;
+  if (!within) return Verdict::reject(row.value_error);
   return Verdict::accept();
+}
+
+// TT, the one value §8 gives in hexadecimal: a digit outside 0-9/A-F is error 33
+// "Invalid Input Base" (U80); more than 8 digits is the row's own error.
+Verdict check_hex(std::string_view field, const CommandInfo& row) noexcept {
+  for (const char c : field) {
+    if (!text::is_hex_digit(c)) return Verdict::reject(error_number::invalid_input_base);
+  }
+  return parse_trip_timeout(field) ? Verdict::accept() : Verdict::reject(row.value_error);
 }
 
 Verdict check_port(std::string_view field, const CommandInfo& row) noexcept {
@@ -78,7 +89,7 @@ Verdict check_set_values(const CommandInfo& row, std::span<const std::string_vie
     case ValueKind::seconds:
       return check_decimal(fields[0], row, units);
     case ValueKind::hex_pulses:
-      return parse_trip_timeout(fields[0]) ? Verdict::accept() : invalid_command;
+      return check_hex(fields[0], row);
     case ValueKind::baud_with_port: {
       const Verdict port = check_port(fields[0], row);
       if (!port.ok()) return port;
@@ -154,7 +165,8 @@ Verdict check_current_loop_range(double range_at_4ma, double range_at_20ma) noex
 }
 
 Verdict check_while_measuring(const CommandInfo& command, RequestForm form, bool measuring) noexcept {
-  if (measuring && form == RequestForm::set && command.rejected_while_measuring) {
+  // Sets that change the measurement (U24) and GO, "Instrument Is Already Measuring" (U77).
+  if (measuring && form != RequestForm::get && command.rejected_while_measuring) {
     return Verdict::reject(error_number::already_measuring);
   }
   return Verdict::accept();

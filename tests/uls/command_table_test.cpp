@@ -1,4 +1,4 @@
-// The §8 command table and the checks a unit applies (U16, U18, U24, U30).
+// The §8 command table and the checks a unit applies (U16, U18, U24, U30, U76, U77, U80).
 // Expected values are typed from the document and docs/conformance.md.
 #include <gtest/gtest.h>
 
@@ -225,27 +225,78 @@ TEST(UlsConformance, U18_NonNumbersAreError1) {
     EXPECT_EQ(set(mnemonic, "x").error, 1) << mnemonic;
     EXPECT_EQ(set(mnemonic, "1e3").error, 1) << mnemonic;
   }
-  EXPECT_EQ(set("TT", "x").error, 1);
   EXPECT_TRUE(set("TT", "1e3").ok());  // hex
   EXPECT_EQ(set("XX", "1").error, 1);  // unknown mnemonic
 }
 
+// docs/conformance.md U80. §8 TT: "h = Trip Point Timeout ((seconds * 3000) in hexadecimal
+// notation)"; §10 33 "Invalid Input Base". TB is a 0/1 flag (§8 "n = 0 = Time between Events
+// Off, n = 1 = On"), so its non-numbers stay error 1 like every flag's.
+TEST(UlsConformance, U80_TripTimeoutNotInHexIsInvalidInputBase) {
+  EXPECT_EQ(set("TT", "x").error, 33);
+  EXPECT_EQ(set("TT", "1G40").error, 33);
+  EXPECT_EQ(set("TT", "1.5").error, 33);
+  EXPECT_EQ(set("TT", "-1").error, 33);
+  EXPECT_EQ(set("TT", "123456789").error, 1);  // hex, but more than 8 digits (U18)
+  EXPECT_TRUE(set("TT", "FFFFFFFF").ok());
+  EXPECT_TRUE(set("TT", "107ac0").ok());
+  EXPECT_EQ(set("TB", "x").error, 1);
+  EXPECT_EQ(set("TB", "A").error, 1);
+  EXPECT_EQ(set("AW", "1F").error, 1);  // decimal fields: no base is stated, so not a number (U18)
+}
+
+// docs/conformance.md U76. §9 "Resolution: 0.01 ft or 1 mm", §9 "1700 m or 5577 ft"; a get in
+// feet writes the 1700 m limit as 5577.43 (1700 / 0.3048 = 5577.427), which must be accepted back
+// although 5577.43 ft x 0.3048 = 1700.0007 m.
+TEST(UlsConformance, U76_DistanceLimitsAsTheUnitWritesThem) {
+  for (const std::string_view gate : {"SG", "LG", "TP", "OF"}) {
+    SCOPED_TRACE(std::string(gate));
+    EXPECT_TRUE(set(gate, "5577.43", Units::feet).ok());
+    EXPECT_EQ(set(gate, "5577.44", Units::feet).error, 1);
+    EXPECT_TRUE(set(gate, "1700.000").ok());
+    EXPECT_EQ(set(gate, "1700.001").error, 1);
+  }
+  EXPECT_TRUE(set("OF", "-5577.43", Units::feet).ok());
+  EXPECT_EQ(set("OF", "-5577.44", Units::feet).error, 1);
+  EXPECT_TRUE(set("OF", "-1700.000").ok());
+  EXPECT_EQ(set("OF", "-1700.001").error, 1);
+  for (const std::string_view loop : {"AL", "AH"}) {
+    SCOPED_TRACE(std::string(loop));
+    EXPECT_TRUE(set(loop, "5577.43", Units::feet).ok());
+    EXPECT_EQ(set(loop, "5577.44", Units::feet).error, 83);
+  }
+  // The host reads the same replies back.
+  for (const std::string_view reply :
+       {"$LG,5577.43", "$SG,5577.43", "$TP,5577.43", "$OF,-5577.43", "$OF,5577.43", "$AH,5577.43", "$AL,5577.43"}) {
+    EXPECT_TRUE(decode_reply(as_bytes(reply), Units::feet)) << reply;
+  }
+  EXPECT_FALSE(decode_reply(as_bytes("$LG,5577.44"), Units::feet));
+  EXPECT_TRUE(decode_reply(as_bytes("$LG,1700.000"), Units::metres));
+  EXPECT_FALSE(decode_reply(as_bytes("$LG,1700.001"), Units::metres));
+  // A limit in feet stands for the limit itself: a get in metres then shows 1700.000.
+  EXPECT_DOUBLE_EQ(distance_to_metres(5577.43, Units::feet, 0, 1700), 1700.0);
+  EXPECT_DOUBLE_EQ(distance_to_metres(-5577.43, Units::feet, -1700, 1700), -1700.0);
+  EXPECT_DOUBLE_EQ(distance_limit(1700, Units::feet), 5577.43);
+}
+
+// docs/conformance.md U24, U77 (GO: §10 31 "Instrument Is Already Measuring").
 TEST(UlsConformance, U24_SettingsThatChangeTheMeasurementAnswer31WhileMeasuring) {
-  const std::set<std::string_view> rejected{"MM", "PF", "PO", "AW", "BS", "BH", "DD", "MU", "BR", "SG",
-                                            "LG", "FL", "PL", "DM", "TB", "TP", "TT", "OF", "MO", "UA"};
-  const std::set<std::string_view> accepted{"GO", "ST", "BM", "US", "ID", "PT", "CL", "AF",
-                                            "AT", "AH", "AL", "CO", "MA", "PA", "TE", "SU"};
+  const std::set<std::string_view> rejected{"MM", "PF", "PO", "AW", "BS", "BH", "DD", "MU", "BR", "SG", "LG",
+                                            "FL", "PL", "DM", "TB", "TP", "TT", "OF", "MO", "UA", "GO"};
+  const std::set<std::string_view> accepted{"ST", "BM", "US", "ID", "PT", "CL", "AF", "AT",
+                                            "AH", "AL", "CO", "MA", "PA", "TE", "SU"};
   EXPECT_EQ(rejected.size() + accepted.size(), 36U);
   for (const CommandInfo& command : command_table()) {
     SCOPED_TRACE(std::string(command.mnemonic));
     const bool should_reject = rejected.count(command.mnemonic) == 1;
     EXPECT_EQ(command.rejected_while_measuring, should_reject);
     EXPECT_EQ(accepted.count(command.mnemonic), should_reject ? 0U : 1U);
-    // Gets and actions are always accepted; sets only when idle, or when not listed.
+    // Gets are always accepted; sets and GO only when idle, or when not listed.
     EXPECT_TRUE(check_while_measuring(command, RequestForm::get, true).ok());
-    EXPECT_TRUE(check_while_measuring(command, RequestForm::action, true).ok());
     EXPECT_TRUE(check_while_measuring(command, RequestForm::set, false).ok());
-    EXPECT_EQ(check_while_measuring(command, RequestForm::set, true).error, should_reject ? 31 : 0);
+    EXPECT_TRUE(check_while_measuring(command, RequestForm::action, false).ok());
+    const RequestForm changing = command.access == Access::action ? RequestForm::action : RequestForm::set;
+    EXPECT_EQ(check_while_measuring(command, changing, true).error, should_reject ? 31 : 0);
   }
 }
 

@@ -560,7 +560,7 @@ TEST(UlsConformance, U21_TripTimeoutIsHexPulses) {  // §8 TT "(seconds * 3000) 
   const std::array<std::string_view, 1> bad{"10G"};
   EXPECT_TRUE(validate_request(tt, good).ok());
   EXPECT_EQ(validate_request(tt, nine).error, 1);
-  EXPECT_EQ(validate_request(tt, bad).error, 1);
+  EXPECT_EQ(validate_request(tt, bad).error, 33);  // not hex: "Invalid Input Base" (U80)
   EXPECT_EQ(wire_of(encode_set(Address::none(), "TT", std::array<std::string_view, 1>{"107AC0"})), "$TT,107AC0\r");
 }
 

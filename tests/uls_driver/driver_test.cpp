@@ -495,5 +495,24 @@ TEST(UlsDriver, ProbeReadsIdAndStatusOnly) {
   EXPECT_EQ(none.error().code, Errc::timeout);
 }
 
+// docs/conformance.md U77: a unit already measuring answers GO with 31 "Instrument Is Already
+// Measuring" (§10); starting is what the host asked for, so the stream runs on.
+TEST(UlsDriver, U77_StartOnAUnitAlreadyMeasuringIsNoError) {
+  ScriptedDevice* device = nullptr;
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request == "$GO") {
+      device->send("$ER,31\r$BM,12.500,2100\r");
+      return "";
+    }
+    return typical_reply(request);
+  });
+  device = rig.device.get();
+  ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
+  const auto samples = samples_of(take(*rig.driver, 1));
+  ASSERT_EQ(samples.size(), 1U);
+  EXPECT_DOUBLE_EQ(*samples[0].distance_m, 12.5);
+  rig.driver->stop_stream();
+}
+
 }  // namespace
 }  // namespace rangekit::uls

@@ -128,6 +128,12 @@ TEST(UlsHostPty, EverySubcommandEndToEnd) {
   for (auto at = run.out.find("distance_m="); at != std::string::npos; at = run.out.find("distance_m=", at + 1))
     EXPECT_NEAR(std::stod(run.out.substr(at + 11, 8)), 50.0, 0.04) << run.out;
 
+  // docs/conformance.md U77: measure left the unit measuring (BM starts it, §2), so GO answers
+  // 31 "Instrument Is Already Measuring" (§10); after a stop it starts.
+  run = cli("uls start" + on);
+  EXPECT_EQ(run.code, 6) << run.out;
+  EXPECT_NE(run.out.find("device error 31"), std::string::npos) << run.out;
+  EXPECT_EQ(cli("uls stop" + on).code, 0);
   run = cli("uls start" + on);
   EXPECT_EQ(run.code, 0) << run.out;
   // A setting that changes the measurement while measuring: device error 31 (§10) with its text.
@@ -196,6 +202,45 @@ TEST(UlsHostPty, ConfigSaveChangeDiffLoad) {
   run = cli("uls config load" + on + " " + (dir / "bad.toml").string());
   EXPECT_NE(run.code, 0);
   EXPECT_NE(run.out.find("bad.toml:2: 'mode'"), std::string::npos) << run.out;
+  emulator.stop();
+  fs::remove_all(dir);
+}
+
+// docs/conformance.md U76: readable distances are metres whatever the unit's MU (U64); §9 "1700 m
+// or 5577 ft" at its 0.01 ft resolution is 5577.43 ft, which the unit takes and reports back.
+TEST(UlsHostPty, U76_MetreLimitsOnAUnitInFeet) {
+  const auto dir = scratch("feet");
+  const std::string port = (dir / "cfg").string();
+  Emulator emulator("--config-port " + port);
+  const std::string on = " --port " + port;
+  const std::string file = (dir / "feet.toml").string();
+
+  CliRun run = cli("uls set" + on + " units=ft short-gate=1700");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("SG=5577.43 OK"), std::string::npos) << run.out;
+  run = cli("uls set" + on + " long-gate=5577.43ft offset=-1700 range-20ma=1700 TP=5577.43");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("LG=5577.43 OK"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("OF=-5577.43 OK"), std::string::npos) << run.out;
+  run = cli("uls get" + on + " SG LG OF AH TP");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_EQ(count_of(run.out, "=5577.43"), 4U) << run.out;
+  EXPECT_EQ(count_of(run.out, "=-5577.43"), 1U) << run.out;
+  // One step beyond is refused locally, naming the limit in the unit's feet.
+  run = cli("uls set" + on + " long-gate=1700.01");
+  EXPECT_EQ(run.code, 2) << run.out;
+  // A config saved from the unit in feet loads back with nothing differing.
+  ASSERT_EQ(cli("uls config save" + on + " " + file).code, 0);
+  run = cli("uls config diff" + on + " " + file);
+  EXPECT_EQ(run.code, 0) << run.out;
+  run = cli("uls config load" + on + " " + file);
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("0 differ"), std::string::npos) << run.out;
+  // In metres the same limits read 1700.000.
+  ASSERT_EQ(cli("uls set" + on + " units=m").code, 0);
+  run = cli("uls get" + on + " SG LG OF");
+  EXPECT_EQ(count_of(run.out, "=1700.000"), 2U) << run.out;
+  EXPECT_EQ(count_of(run.out, "=-1700.000"), 1U) << run.out;
   emulator.stop();
   fs::remove_all(dir);
 }

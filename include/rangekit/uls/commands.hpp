@@ -55,7 +55,7 @@ struct CommandInfo {
   double max;
   int value_error;                // ULS error number for a value outside min..max (U18)
   int port_error;                 // BR: the port argument's error (84); 0 elsewhere
-  bool rejected_while_measuring;  // a set answers 31 while measuring (U24)
+  bool rejected_while_measuring;  // a set (GO: the action) answers 31 while measuring (U24, U77)
   std::span<const ValueName> value_names;
   std::uint8_t get_fields;      // fields a get carries (BR: the port)
   std::uint8_t set_fields_min;  // fields a set carries
@@ -112,7 +112,7 @@ Verdict validate_request(std::string_view mnemonic, std::span<const std::string_
 Verdict check_ppm_against_weight(std::uint64_t pulses_per_measurement, std::uint64_t averaging_weight) noexcept;
 // Range at 4 mA and at 20 mA must differ (error 83, U18).
 Verdict check_current_loop_range(double range_at_4ma, double range_at_20ma) noexcept;
-// Settings that change the measurement answer 31 while measuring (U24).
+// Settings that change the measurement (U24) and GO (U77) answer 31 while measuring.
 Verdict check_while_measuring(const CommandInfo& command, RequestForm form, bool measuring) noexcept;
 
 }  // namespace rangekit::uls

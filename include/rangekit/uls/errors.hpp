@@ -28,12 +28,14 @@ namespace error_number {
 inline constexpr int invalid_command = 1;     // also every value without its own number (U18)
 inline constexpr int target_not_found = 4;    // streamed (U13)
 inline constexpr int average_not_filled = 5;  // streamed (U13)
-inline constexpr int already_measuring = 31;  // settings while measuring (U24)
+inline constexpr int rx_buffer_overrun = 25;  // a line over the 64-byte frame limit (F5, U78)
+inline constexpr int already_measuring = 31;  // settings (U24) and GO (U77) while measuring
 inline constexpr int invalid_prf = 32;
+inline constexpr int invalid_input_base = 33;  // TT not in hexadecimal (U80)
 inline constexpr int invalid_baud = 34;
 inline constexpr int invalid_average_weight = 35;
 inline constexpr int ppo_not_greater_than_weight = 49;
-inline constexpr int invalid_for_mode = 78;
+inline constexpr int invalid_for_mode = 78;  // one-value PO in look down (U79)
 inline constexpr int unit_address_not_assigned = 82;
 inline constexpr int invalid_current_loop_range = 83;
 inline constexpr int invalid_port = 84;

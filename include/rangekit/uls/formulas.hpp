@@ -104,6 +104,16 @@ double look_down_uncertainty_s(double prf_hz) noexcept;  // ± one pulse: 1 / PR
 // --- Distances in user units (§8 MU; 1 ft = 0.3048 m) ---
 double to_metres(double value, Units units) noexcept;
 double from_metres(double metres, Units units) noexcept;
+// A §8 distance limit (metres) as the unit writes it in `units`, at the §9 resolution
+// (1 mm or 0.01 ft): 1700 m = 5577.43 ft (U30, U76).
+double distance_limit(double metres, Units units) noexcept;
+// Whether a distance in user units lies within [min_m, max_m] written in those units, so
+// that every distance a get reports is accepted back by the set (U76): 5577.43 ft is
+// within 1700 m although 5577.43 x 0.3048 = 1700.0007.
+bool distance_within(double value, Units units, double min_m, double max_m) noexcept;
+// The metres a distance in user units stands for, kept within [min_m, max_m]: a value
+// distance_within accepts at a limit is that limit (5577.43 ft -> 1700 m).
+double distance_to_metres(double value, Units units, double min_m, double max_m) noexcept;
 
 // --- Unit address character (§8 Set/Get Unit Address, U5) ---
 // The get reply carries the character's code in decimal: 'Z' -> 90.

@@ -100,7 +100,8 @@ Result<Setting> from_wire(const CommandInfo& command, const std::vector<std::str
   for (const auto& text : values) {
     std::optional<double> value;
     if (is_distance(command)) {
-      if (auto number = text::parse_decimal(text)) value = to_metres(*number, units);
+      // A limit read in feet is that limit (U76): 5577.43 ft -> 1700 m, not 1700.0007.
+      if (auto number = text::parse_decimal(text)) value = distance_to_metres(*number, units, command.min, command.max);
     } else if (command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
       value = text::parse_decimal(text);
     } else if (command.kind == ValueKind::hex_pulses) {

@@ -5,6 +5,7 @@
 
 #include "rangekit/core/text.hpp"
 #include "rangekit/uls/driver.hpp"
+#include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/formulas.hpp"
 #include "uls/driver/describe.hpp"
 
@@ -74,7 +75,12 @@ Result<UnitInfo> Driver::info() {
   return info;
 }
 
-Status Driver::start_measuring() { return action("GO"); }
+Status Driver::start_measuring() {
+  Status started = action("GO");
+  // A unit already measuring answers GO with 31 "Instrument Is Already Measuring" (U77): as asked.
+  if (!started && started.error().device_code == error_number::already_measuring) return ok_status();
+  return started;
+}
 Status Driver::stop_measuring() {
   if (streaming_) stop_stream(false);
   return action("ST");

@@ -10,7 +10,7 @@ namespace rangekit::uls::emulator {
 namespace {
 
 constexpr double minimum_range_m = 0.15;        // §9
-constexpr double cooperative_range_m = 1700.0;  // §9 reflective sheet
+constexpr double cooperative_range_m = 1700.0;  // §9 reflective sheet, every power level
 // §9 maximum ranges by power level (high, medium, low).
 constexpr std::array<double, 3> white_range_m{266.0, 228.0, 188.0};  // 90% white
 constexpr std::array<double, 3> gray_range_m{133.0, 114.0, 94.0};    // 20% gray
@@ -155,6 +155,7 @@ void Firmware::boot(Nanos now) {
   }
   for (std::size_t i = 0; i < ports_.size(); ++i) {
     ports_[i].input.clear();
+    ports_[i].overrun.reset();
     ports_[i].outbox.clear();
     ports_[i].pending_baud.reset();
     ports_[i].last_line_start = Nanos(0);
@@ -229,11 +230,20 @@ void Firmware::take_line_output(std::size_t port, Nanos now, std::vector<LineByt
 void Firmware::receive(std::size_t port, std::uint8_t byte, Nanos now) {
   if (port >= ports_.size()) return;
   advance(now);
+  if (ports_[port].overrun && continue_overrun(port, byte, now)) return;
   auto& input = ports_[port].input;
   input.push_back(byte);
   while (!input.empty()) {
     const FrameScan scan = scan_frame(Bytes(input.data(), input.size()));
     if (scan.status == FrameStatus::need_more) break;
+    if (scan.status == FrameStatus::invalid && scan.consumed == max_frame_length &&
+        input.size() == max_frame_length + 1 && input.back() != '$' && input.back() != '#') {
+      // 64 valid frame bytes and a 65th that neither ends the frame nor starts a new one:
+      // the receive buffer overran (F5, U78). The rest of the line is lost up to its CR.
+      ports_[port].overrun = std::array<std::uint8_t, 2>{input[0], input[1]};
+      input.clear();
+      break;
+    }
     if (scan.status == FrameStatus::complete) {
       const std::vector<std::uint8_t> frame(scan.frame.begin(), scan.frame.end());
       input.erase(input.begin(), input.begin() + static_cast<std::ptrdiff_t>(scan.consumed));
@@ -250,6 +260,27 @@ void Firmware::receive(std::size_t port, std::uint8_t byte, Nanos now) {
     // Invalid bytes (noise, a cut frame): dropped silently (U37).
     input.erase(input.begin(), input.begin() + static_cast<std::ptrdiff_t>(std::max<std::size_t>(scan.consumed, 1)));
   }
+}
+
+bool Firmware::continue_overrun(std::size_t port, std::uint8_t byte, Nanos now) {
+  auto& overrun = ports_[port].overrun;
+  if (byte == '$' || byte == '#') {
+    overrun.reset();  // a new frame cuts the line short (F3): no answer
+    return false;
+  }
+  if (byte == '\r') {
+    const auto [start, address] = *overrun;
+    overrun.reset();
+    // Answered like a refused frame (U37): '$' by every unit, '#' by the addressed one only.
+    if (start == '$') {
+      reply(port, false, encode_error_reply(Address::none(), error_number::rx_buffer_overrun), now);
+    } else if (settings_.address != 0 && address == settings_.address) {
+      reply(port, false, encode_error_reply(Address::unit(settings_.address), error_number::rx_buffer_overrun), now);
+    }
+    return true;
+  }
+  if (byte < 0x20 || byte >= 0x7F) overrun.reset();  // not frame text: the line was noise (F4), no answer
+  return true;
 }
 
 void Firmware::reply(std::size_t port, bool silent, const Result<FrameText>& frame, Nanos now) {
@@ -316,7 +347,7 @@ void Firmware::execute(std::size_t port, Address to, bool silent, const CommandI
     if (get) {
       value(distance_text(field, units));
     } else {
-      field = to_metres(parse_number(fields[0]), units);
+      field = distance_to_metres(parse_number(fields[0]), units, command.min, command.max);  // U76
       ok();
     }
   };
@@ -401,6 +432,8 @@ void Firmware::execute(std::size_t port, Address to, bool silent, const CommandI
       reply_values(port, to, silent, m, {std::to_string(settings_.ppm[0]), std::to_string(settings_.ppm[1])}, now);
       return;
     }
+    // §2 "Pulses/Measure ... not available in the Look Down Mode": one value names no PPM there (U79).
+    if (fields.size() == 1 && settings_.mode == Mode::look_down) return error(error_number::invalid_for_mode);
     auto ppm = settings_.ppm;
     if (fields.size() == 2) {
       ppm = {parse_unsigned(fields[0]), parse_unsigned(fields[1])};
@@ -474,7 +507,7 @@ void Firmware::execute(std::size_t port, Address to, bool silent, const CommandI
   } else if (m == "AH" || m == "AL") {
     double& field = m == "AH" ? settings_.range_at_20ma_m : settings_.range_at_4ma_m;
     if (get) return value(distance_text(field, units));
-    const double metres = to_metres(parse_number(fields[0]), units);
+    const double metres = distance_to_metres(parse_number(fields[0]), units, command.min, command.max);  // U76
     const double low = m == "AL" ? metres : settings_.range_at_4ma_m;
     const double high = m == "AH" ? metres : settings_.range_at_20ma_m;
     if (auto v = check_current_loop_range(low, high); !v.ok()) return error(v.error);
@@ -548,6 +581,7 @@ void Firmware::start_measuring(Nanos now) {
   stable_pulses_ = 0;
   longer_pulses_ = 0;
   error_since_.reset();
+  last_distance_m_.reset();  // the loop holds only a distance of this run (U81)
 }
 
 void Firmware::stop_measuring() {
@@ -615,7 +649,7 @@ std::uint64_t Firmware::pulses_before_restart() const noexcept {
 
 double Firmware::max_range_m(double reflectivity, bool cooperative) const noexcept {
   const auto level = static_cast<std::size_t>(wire_value(settings_.power));
-  if (cooperative) return cooperative_range_m * white_range_m[level] / white_range_m[0];
+  if (cooperative) return cooperative_range_m;  // §9: 1700 m in all three power columns (U75)
   // §9 ranges at 90% and 20%, linear in reflectivity between and beyond them.
   const double r = std::clamp(reflectivity, 0.0, 1.0);
   const double range = gray_range_m[level] + (white_range_m[level] - gray_range_m[level]) * (r - 0.2) / 0.7;
@@ -966,8 +1000,10 @@ Outputs Firmware::outputs(Nanos now) const {
   out.last_distance_m = last_distance_m_;
   out.last_error = last_error_;
   if (settings_.current_loop && measuring_) {
-    // §6: fault current after AT seconds of errors 4/5; hold the last value before that.
-    const bool fault = error_since_ && (!last_distance_m_ || seconds(now - *error_since_) >= settings_.fault_timeout_s);
+    // §6, §8 AT "timeout allowed before 4-20mA goes to the fault current indication": fault
+    // current after AT seconds of errors 4/5, also before the run's first distance (U81); until
+    // then the last distance of the run is held, 4 mA when there is none yet.
+    const bool fault = error_since_ && seconds(now - *error_since_) >= settings_.fault_timeout_s;
     if (fault) {
       out.current_ma = settings_.fault_current_ma;
     } else if (last_distance_m_) {

@@ -82,7 +82,7 @@ struct Outputs {
   std::uint64_t measurements = 0;         // completed measurement cycles
   std::uint64_t skipped_lines = 0;        // measurements not sent: a line was already waiting (U39)
   std::uint64_t binning_restarts = 0;     // bursts restarted at the 15th target (U42)
-  std::optional<double> last_distance_m;  // as reported (offset applied), metres
+  std::optional<double> last_distance_m;  // of this run (U81), as reported (offset applied), metres
   int last_error = 0;
 };
 
@@ -120,6 +120,9 @@ class Firmware final : public DeviceModel {
     Nanos pending_at{0};
     std::size_t pending_port = 0;  // the port whose $OK must leave first
     Nanos last_line_start{0};      // when the newest queued measurement starts on the wire (U39)
+    // A line that overran the 64-byte receive buffer (U78), lost up to its CR: the start
+    // byte and, for '#', the address byte, which decide who answers error 25.
+    std::optional<std::array<std::uint8_t, 2>> overrun;
   };
   struct PulseReturn {
     double distance_m = 0;
@@ -130,6 +133,8 @@ class Firmware final : public DeviceModel {
 
   void boot(Nanos now);
   void handle_frame(std::size_t port, const FrameView& frame, Nanos now);
+  // One byte after an overrun (U78); false when the byte starts a new frame instead.
+  bool continue_overrun(std::size_t port, std::uint8_t byte, Nanos now);
   void execute(std::size_t port, Address reply_to, bool silent, const CommandInfo& command, RequestForm form,
                const FrameView& frame, Nanos now);
   void reply(std::size_t port, bool silent, const Result<FrameText>& frame, Nanos now);
