@@ -66,8 +66,19 @@ struct UdpReceiver::State {
       queue.push(make_event(StreamEventKind::bad_frame, "UDP packet from " + source + ": " + packet.error().message));
       return;
     }
+    if (last_counter && udp_packet_is_duplicate(*last_counter, packet->counter)) {
+      // The network delivered the same datagram twice (L65): its records are not new.
+      {
+        std::lock_guard lock(counters_mutex);
+        ++counters.duplicates;
+      }
+      queue.push(make_event(StreamEventKind::bad_frame, "UDP packet from " + source + " repeats counter " +
+                                                            std::to_string(packet->counter) + ": duplicate dropped (" +
+                                                            std::to_string(udp_record_count) + " records)"));
+      return;
+    }
     if (last_counter) {
-      // udp_packets_lost gives 255 for a repeated counter (L19): reported, never merged.
+      // A gap is reported, never merged over (L46).
       const std::uint8_t missing = udp_packets_lost(*last_counter, packet->counter);
       if (missing > 0) {
         const std::uint64_t records = std::uint64_t{missing} * udp_record_count;
