@@ -173,3 +173,24 @@ TEST(Ls5UdpReceiver, DuplicatedDatagramIsDroppedAndCountedNotLostL65) {
   ASSERT_EQ(events.size(), 1U);
   EXPECT_NE(events[0].message.find("duplicate"), std::string::npos) << events[0].message;
 }
+
+// docs/conformance.md L63, L60. Table 3.1: a 100 mm range has a discreteness of 0.001 mm,
+// taken from the packet's range (§10.1 bytes 508-509). State bit 3: "the result
+// corresponds to the distance derivative": kind derivative, with no value since §10.1
+// gives no scale for it (L19).
+TEST(Ls5UdpReceiver, SamplesCarryTheDiscretenessAndMarkDerivativesL63) {
+  Rig rig;
+  ASSERT_TRUE(rig.receiver && rig.sender);
+  rig.send(build_packet(1, 0x2000, 0x07));
+  const Sample distance = rig.next_sample();
+  EXPECT_EQ(distance.kind, SampleKind::ls5_result);
+  EXPECT_EQ(distance.resolution_mm, 0.001);
+  rig.skip_samples(167);
+  rig.send(build_packet(2, 0x2000, 0x0F));  // measured, bit 1, in range, derivative
+  const Sample derivative = rig.next_sample();
+  EXPECT_EQ(derivative.kind, SampleKind::ls5_derivative);
+  EXPECT_EQ(derivative.signal, SignalState::ok);
+  EXPECT_FALSE(derivative.distance_mm.has_value());
+  EXPECT_FALSE(derivative.derivative_mm.has_value());
+  rig.skip_samples(167);
+}

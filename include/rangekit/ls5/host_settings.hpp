@@ -59,6 +59,12 @@ Status check_setting_available(const HostSetting& setting, const SensorModel& mo
 // the allowed values.
 Result<ParameterWrites> encode_setting(const HostSetting& setting, std::string_view text,
                                        const SettingContext& context);
+// The writes of one multi-byte value (`writes` in table order, all part of `info`) in
+// an order that keeps the combined value within info's range after every write,
+// whatever the sensor held before (bytes the table accepts): §8.10/§8.11 limit codes
+// to 0-50000, so 255 (00 FF) after 50000 (C3 50) goes high byte first, never through
+// C3 FF. Table order when it is safe (L62).
+ParameterWrites order_for_valid_intermediates(const LogicalValueInfo& info, const ParameterWrites& writes);
 // Text for the bytes (in the order of addresses()); numbers without units.
 Result<std::string> format_setting(const HostSetting& setting, std::span<const std::uint8_t> bytes,
                                    const SettingContext& context);

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "rangekit/ls5/result_code.hpp"
 #include "rangekit/ls5/settings.hpp"
@@ -192,7 +193,38 @@ std::string describe_spans_decimal(const ParameterInfo& parameter) {
   return text;
 }
 
+// Bit position of a byte in its combined value (table 9.2 significance).
+unsigned shift_of(std::uint8_t address) noexcept {
+  const ParameterInfo* parameter = find_parameter(address);
+  return parameter == nullptr ? 0U : 8U * parameter->significance;
+}
+
+// Whether writing `first` before `second` keeps the value in range whatever `second`'s
+// byte held before: every byte the table accepts there is tried.
+bool first_write_is_safe(const LogicalValueInfo& info, const ParameterWrite& first, const ParameterWrite& second) {
+  const ParameterInfo* untouched = find_parameter(second.address);
+  for (unsigned held = 0; held <= 0xFF; ++held) {
+    const auto byte = static_cast<std::uint8_t>(held);
+    if (untouched != nullptr && !value_in_spans(*untouched, byte)) continue;
+    const std::uint64_t between =
+        (std::uint64_t{first.value} << shift_of(first.address)) | (std::uint64_t{byte} << shift_of(second.address));
+    if (between < info.min || between > info.max) return false;
+  }
+  return true;
+}
+
 }  // namespace
+
+ParameterWrites order_for_valid_intermediates(const LogicalValueInfo& info, const ParameterWrites& writes) {
+  // Only two-byte values have a range narrower than their bytes (codes, period, ports...);
+  // addresses (IP, MAC) accept every combination.
+  if (writes.count != 2) return writes;
+  if (first_write_is_safe(info, writes.items[0], writes.items[1])) return writes;
+  ParameterWrites swapped = writes;
+  std::swap(swapped.items[0], swapped.items[1]);
+  if (first_write_is_safe(info, swapped.items[0], swapped.items[1])) return swapped;
+  return writes;
+}
 
 std::vector<std::uint8_t> HostSetting::addresses() const {
   if (value == L::none) return {parameter};

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "rangekit/core/stream_queue.hpp"
+#include "rangekit/ls5/result_code.hpp"
 #include "rangekit/ls5/udp_packet.hpp"
 
 namespace rangekit::ls5 {
@@ -21,15 +22,18 @@ Sample record_sample(const UdpRecord& record, const UdpPacket& packet, const std
   sample.device = "ls5";
   sample.source = source;
   sample.address = address;
-  sample.kind = SampleKind::ls5_result;
-  sample.code = record.code;  // the §10.1 code, 0-0x4000 (L45)
+  // State bit 3: "the result corresponds to the distance derivative" (§10.1, L60).
+  sample.kind = record.derivative() ? SampleKind::ls5_derivative : SampleKind::ls5_result;
+  sample.code = record.code;                                                         // the §10.1 code, 0-0x4000 (L45)
+  if (packet.range_mm > 0) sample.resolution_mm = discreteness_mm(packet.range_mm);  // table 3.1 (L63)
   if (!record.measured()) {
     sample.signal = SignalState::none_yet;
   } else if (!record.in_range()) {
     sample.signal = SignalState::lost;
   } else {
     sample.signal = SignalState::ok;
-    auto distance = udp_distance_mm(record, packet.range_mm);  // formula 10.1; none for derivatives (L19)
+    // Formula 10.1; a derivative has no documented scale in §10.1 (L19): code only.
+    auto distance = udp_distance_mm(record, packet.range_mm);
     if (distance) sample.distance_mm = *distance;
   }
   return sample;
