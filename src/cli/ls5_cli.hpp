@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "rangekit/core/result.hpp"
+#include "rangekit/core/serial_port.hpp"
 #include "rangekit/ls5/driver.hpp"
 
 namespace rangekit::cli {
@@ -28,8 +29,12 @@ void add_ls5_connection_options(CLI::App& command, Ls5Connection& connection);
 // "5", "0x1A", "1A" (hex when it has hex letters) -> 1..255; 0 only with allow_broadcast.
 Result<std::uint8_t> parse_ls5_address(std::string_view text, bool allow_broadcast = false);
 
-// Opens the port at the given baud and byte format and makes a driver on it.
-Result<std::unique_ptr<ls5::Driver>> open_ls5_driver(const Ls5Connection& connection);
+// The line settings of a byte format name of table 9.2 (04): "8N1" ... "8O2".
+Result<SerialSettings> ls5_serial_settings(std::uint32_t baud, std::string_view byte_format);
+
+// Opens the port at the given baud and byte format and makes a driver on it. Address 0
+// (broadcast, table 9.1 notes 1-2) only for commands that need no answer (L67).
+Result<std::unique_ptr<ls5::Driver>> open_ls5_driver(const Ls5Connection& connection, bool allow_broadcast = false);
 
 // Prints "rangekit ls5 <command>: <message>" (plus a hint naming --port/--baud/--address
 // when the sensor did not answer) and returns the exit code for the error.

@@ -46,6 +46,9 @@ std::string measurement_text(const ls5::Measurement& measurement) {
     case ls5::CodeKind::result:
       break;
   }
+  if (measurement.derivative_mm) {  // §8.9 formula 8.2 (L60)
+    return fmt::format("code={} derivative_mm={:.4f} signal=ok", measurement.code.value, *measurement.derivative_mm);
+  }
   if (measurement.distance_mm) {
     return fmt::format("code={} distance_mm={:.4f} signal=ok", measurement.code.value, *measurement.distance_mm);
   }
@@ -99,7 +102,18 @@ Status run_get(ls5::Driver& driver, const std::vector<std::string>& names) {
   return ok_status();
 }
 
-// Every item is parsed and checked before the first byte goes out.
+bool is_broadcast(const ls5::Driver& driver) { return driver.address() == ls5::broadcast_address; }
+
+// Table 9.1 note 2: nothing answers a broadcast, so nothing confirms it either.
+void note_broadcast(const ls5::Driver& driver) {
+  if (is_broadcast(driver)) {
+    fmt::print(stderr, "note: sent to every sensor (address 0); broadcasts are not answered (table 9.1 note 2)\n");
+  }
+}
+
+// Every item is parsed and checked before the first byte goes out: raw bytes first, as
+// one batch whose combined values the driver checks (reading what it needs) before it
+// writes any (L61), then named settings, then link settings (L28).
 Status run_set(ls5::Driver& driver, const std::vector<std::string>& items) {
   struct Planned {
     std::string name, value;
@@ -143,10 +157,22 @@ Status run_set(ls5::Driver& driver, const std::vector<std::string>& items) {
   // A write to 01/04/05 takes effect after its echo (L28): the settings after it
   // would go out at the old speed or address, so link settings are written last.
   std::stable_partition(plan.begin(), plan.end(), [](const Planned& planned) { return !planned.link; });
+  std::stable_partition(plan.begin(), plan.end(),
+                        [](const Planned& planned) { return planned.raw != nullptr && !planned.link; });
+  std::vector<ls5::ParameterWrite> raw_bytes;
   for (const Planned& planned : plan) {
-    Status written = planned.raw != nullptr ? driver.write_parameter(planned.raw->address, planned.raw_value)
-                                            : driver.set(planned.name, planned.value);
+    if (planned.raw != nullptr && !planned.link) raw_bytes.push_back({planned.raw->address, planned.raw_value});
+  }
+  if (!raw_bytes.empty()) {
+    Status written = driver.write_parameters(raw_bytes);
     if (!written) return written.error();
+  }
+  for (const Planned& planned : plan) {
+    if (planned.raw == nullptr || planned.link) {
+      Status written = planned.raw != nullptr ? driver.write_parameter(planned.raw->address, planned.raw_value)
+                                              : driver.set(planned.name, planned.value);
+      if (!written) return written.error();
+    }
     fmt::print("{}={}\n", planned.name, planned.value);
     if (planned.link) {
       fmt::print(stderr,
@@ -155,18 +181,23 @@ Status run_set(ls5::Driver& driver, const std::vector<std::string>& items) {
                  planned.name);
     }
   }
+  note_broadcast(driver);
   return ok_status();
 }
 
 using Action = std::function<Status(ls5::Driver&, DeviceCommand&)>;
 
+// Whether the command may go to address 0: only table 9.1 note 1 commands, which need no answer.
+enum class Broadcast : bool { refused, allowed };
+
 CLI::App* add_device_command(CLI::App& ls5, int& exit_code, const std::string& name, const std::string& help,
-                             const Action& action, std::shared_ptr<DeviceCommand> state = nullptr) {
+                             const Action& action, std::shared_ptr<DeviceCommand> state = nullptr,
+                             Broadcast broadcast = Broadcast::refused) {
   if (!state) state = std::make_shared<DeviceCommand>();
   auto* command = ls5.add_subcommand(name, help);
   add_ls5_connection_options(*command, state->connection);
-  command->callback([&exit_code, state, action, name] {
-    auto driver = open_ls5_driver(state->connection);
+  command->callback([&exit_code, state, action, name, broadcast] {
+    auto driver = open_ls5_driver(state->connection, broadcast == Broadcast::allowed);
     if (!driver) {
       exit_code = report_ls5_failure(name, driver.error(), state->connection);
       return;
@@ -177,8 +208,11 @@ CLI::App* add_device_command(CLI::App& ls5, int& exit_code, const std::string& n
   return command;
 }
 
-Status echo_done(Status status, std::string_view what) {
-  if (status) fmt::print("{}\n", what);
+Status echo_done(const ls5::Driver& driver, Status status, std::string_view what) {
+  if (status) {
+    fmt::print("{}\n", what);
+    note_broadcast(driver);
+  }
   return status;
 }
 
@@ -197,13 +231,22 @@ void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
   auto set_state = std::make_shared<DeviceCommand>();
   auto* set = add_device_command(
       ls5, exit_code, "set", "write settings NAME=VALUE (median-points=5, analog-lower-mm=12.5, 0B=01), checked first",
-      [](ls5::Driver& driver, DeviceCommand& state) { return run_set(driver, state.items); }, set_state);
+      [](ls5::Driver& driver, DeviceCommand& state) { return run_set(driver, state.items); }, set_state,
+      Broadcast::allowed);
   set->add_option("settings", set_state->items, "NAME=VALUE or AA=DD (hex)")->required();
 
   auto latch_state = std::make_shared<DeviceCommand>();
   auto* latch = add_device_command(
       ls5, exit_code, "latch", "latch the current result (FX) and read it back (FR)",
       [](ls5::Driver& driver, DeviceCommand& state) -> Status {
+        if (is_broadcast(driver)) {  // FX to every sensor; FR would need an answer
+          if (state.read_only) {
+            return make_error(Errc::wrong_form,
+                              "--read-only reads the latched result (FR), which needs an answer: a broadcast "
+                              "(address 0) gets none (table 9.1 note 2)");
+          }
+          return echo_done(driver, driver.latch(), "latched (FX); read each sensor's result with `latch --read-only`");
+        }
         auto identified = driver.identify();  // the range turns the code into mm
         if (!identified) return identified.error();
         if (!state.read_only) {
@@ -215,7 +258,7 @@ void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
         fmt::print("{}\n", measurement_text(*result));
         return ok_status();
       },
-      latch_state);
+      latch_state, Broadcast::allowed);
   latch->add_flag("--read-only", latch_state->read_only, "only read the latched result (FR), do not latch");
 
   add_device_command(ls5, exit_code, "measure", "read the last result (LR)",
@@ -227,17 +270,24 @@ void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
                        fmt::print("{}\n", measurement_text(*result));
                        return ok_status();
                      });
-  add_device_command(ls5, exit_code, "on", "turn the sensor on (ON): laser and measurements",
-                     [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver.turn_on(), "on"); });
-  add_device_command(ls5, exit_code, "off", "turn the sensor off (OF): no measurements (§8.2)",
-                     [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver.turn_off(), "off"); });
-  add_device_command(ls5, exit_code, "save", "store the current parameters to non-volatile memory (FL)",
-                     [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver.store_to_flash(), "saved"); });
-  add_device_command(ls5, exit_code, "defaults",
-                     "restore the table 9.2 defaults in RAM (DF); `save` keeps them over a power cycle",
-                     [](ls5::Driver& driver, DeviceCommand&) {
-                       return echo_done(driver.restore_defaults(), "defaults restored (RAM only until `save`)");
-                     });
+  add_device_command(
+      ls5, exit_code, "on", "turn the sensor on (ON): laser and measurements",
+      [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.turn_on(), "on"); }, nullptr,
+      Broadcast::allowed);
+  add_device_command(
+      ls5, exit_code, "off", "turn the sensor off (OF): no measurements (§8.2)",
+      [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.turn_off(), "off"); }, nullptr,
+      Broadcast::allowed);
+  add_device_command(
+      ls5, exit_code, "save", "store the current parameters to non-volatile memory (FL)",
+      [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.store_to_flash(), "saved"); }, nullptr,
+      Broadcast::allowed);
+  add_device_command(
+      ls5, exit_code, "defaults", "restore the table 9.2 defaults in RAM (DF); `save` keeps them over a power cycle",
+      [](ls5::Driver& driver, DeviceCommand&) {
+        return echo_done(driver, driver.restore_defaults(), "defaults restored (RAM only until `save`)");
+      },
+      nullptr, Broadcast::allowed);
 }
 
 }  // namespace rangekit::cli

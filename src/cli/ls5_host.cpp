@@ -10,30 +10,29 @@
 #include "rangekit/ls5/settings.hpp"
 
 namespace rangekit::cli {
-namespace {
 
-Result<SerialSettings> serial_settings(const Ls5Connection& connection) {
+Result<SerialSettings> ls5_serial_settings(std::uint32_t baud, std::string_view byte_format) {
   SerialSettings settings;
-  settings.baud = connection.baud;
+  settings.baud = baud;
   for (const ls5::ByteFormat& format : ls5::byte_format_table()) {
-    if (format.name != connection.byte_format) continue;
+    if (format.name != byte_format) continue;
     settings.parity = format.parity == ls5::Parity::none   ? Parity::none
                       : format.parity == ls5::Parity::even ? Parity::even
                                                            : Parity::odd;
     settings.stop_bits = format.stop_bits;
     return settings;
   }
-  return make_error(Errc::out_of_range, "--byte-format " + connection.byte_format +
+  return make_error(Errc::out_of_range, "--byte-format " + std::string(byte_format) +
                                             " is not one of 8N1 8E1 8O1 8N2 8E2 8O2 (table 9.2, 04)");
 }
-
-}  // namespace
 
 void add_ls5_connection_options(CLI::App& command, Ls5Connection& connection) {
   command.add_option("--port", connection.port, "serial port or pty of the sensor (e.g. /dev/ttyUSB0)")->required();
   command.add_option("--baud", connection.baud, "baud rate (default 115200, the sensor's default)");
   command.add_option("--byte-format", connection.byte_format, "8N1 8E1 8O1 8N2 8E2 8O2 (default 8N1)");
-  command.add_option("--address", connection.address, "network address 1-255, decimal or 0x.. (default 1)");
+  command.add_option("--address", connection.address,
+                     "network address 1-255, decimal or 0x.. (default 1); 0 broadcasts set/on/off/save/defaults/latch "
+                     "to every sensor, unanswered");
   command.add_option("--timeout-ms", connection.timeout_ms, "reply timeout per request (default 500)")
       ->check(CLI::Range(1, 60000));
 }
@@ -54,10 +53,15 @@ Result<std::uint8_t> parse_ls5_address(std::string_view text, bool allow_broadca
   return static_cast<std::uint8_t>(value);
 }
 
-Result<std::unique_ptr<ls5::Driver>> open_ls5_driver(const Ls5Connection& connection) {
-  auto address = parse_ls5_address(connection.address);
+Result<std::unique_ptr<ls5::Driver>> open_ls5_driver(const Ls5Connection& connection, bool allow_broadcast) {
+  auto address = parse_ls5_address(connection.address, true);
   if (!address) return address.error();
-  auto settings = serial_settings(connection);
+  if (*address == ls5::broadcast_address && !allow_broadcast) {
+    return make_error(Errc::wrong_form,
+                      "--address 0 is the broadcast address, which no sensor answers (table 9.1 note 2), and this "
+                      "command needs an answer: give the sensor's address 1-255");
+  }
+  auto settings = ls5_serial_settings(connection.baud, connection.byte_format);
   if (!settings) return settings.error();
   auto port = SerialPort::open(connection.port, *settings);
   if (!port) {

@@ -124,9 +124,12 @@ void add_ls5_stream_commands(CLI::App& ls5, int& exit_code) {
     exit_code = run_stream(**receiver, udp->stream);
     (*receiver)->stop();
     const auto counters = (*receiver)->counters();
-    if (counters.bad_packets > 0 || counters.lost_packets > 0) {
-      fmt::print(stderr, "rangekit ls5 udp: {} packets, {} bad (checksum/size), {} lost ({} records)\n",
-                 counters.packets, counters.bad_packets, counters.lost_packets, counters.lost_records);
+    if (counters.bad_packets > 0 || counters.lost_packets > 0 || counters.duplicates > 0) {
+      fmt::print(stderr,
+                 "rangekit ls5 udp: {} packets, {} bad (checksum/size), {} lost ({} records), {} duplicates "
+                 "dropped\n",
+                 counters.packets, counters.bad_packets, counters.lost_packets, counters.lost_records,
+                 counters.duplicates);
     }
   });
 }

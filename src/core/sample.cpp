@@ -14,6 +14,8 @@ const char* sample_kind_name(SampleKind kind) noexcept {
       return "error";
     case SampleKind::ls5_result:
       return "result";
+    case SampleKind::ls5_derivative:
+      return "derivative";
   }
   return "unknown";
 }

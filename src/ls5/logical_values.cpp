@@ -202,13 +202,18 @@ Status check_value_after_write(std::uint8_t address, std::uint8_t value, const P
                                             "-" + std::to_string(info.max) + " (" + range_source(info) + ")");
 }
 
-Result<ParameterWrites> split_value_in_write_order(const LogicalValueInfo& info, std::uint64_t value) {
-  auto writes = split_value(info, value);
-  if (!writes || info.kind != ValueKind::number || writes->count != 2) return writes;
-  if (!first_write_always_in_range(info, writes->items[0], writes->items[1].address)) {
-    std::swap(writes->items[0], writes->items[1]);
+ParameterWrites in_write_order(const LogicalValueInfo& info, ParameterWrites writes) {
+  if (info.kind != ValueKind::number || writes.count != 2) return writes;
+  if (!first_write_always_in_range(info, writes.items[0], writes.items[1].address)) {
+    std::swap(writes.items[0], writes.items[1]);
   }
   return writes;
+}
+
+Result<ParameterWrites> split_value_in_write_order(const LogicalValueInfo& info, std::uint64_t value) {
+  auto writes = split_value(info, value);
+  if (!writes) return writes;
+  return in_write_order(info, *writes);
 }
 
 std::uint64_t default_value(const LogicalValueInfo& info, std::uint32_t serial_number) noexcept {

@@ -22,6 +22,13 @@ ResultCode classify_result_code(std::uint16_t value) noexcept {
 
 double distance_mm(std::uint16_t code, double range_mm) noexcept { return range_mm * code / max_result_code; }
 
+double discreteness_mm(double range_mm) noexcept {
+  if (range_mm <= 10) return 0.0001;
+  if (range_mm <= 100) return 0.001;
+  if (range_mm <= 1000) return 0.01;
+  return 0.1;
+}
+
 double derivative_mm(std::uint16_t code, double range_mm) noexcept {
   return range_mm * (static_cast<double>(code) - derivative_zero_code) / max_result_code;
 }

@@ -98,6 +98,7 @@ Result<double> udp_distance_mm(const UdpRecord& record, double range_mm) {
 }
 
 std::uint8_t udp_packets_lost(std::uint8_t previous_counter, std::uint8_t counter) noexcept {
+  if (udp_packet_is_duplicate(previous_counter, counter)) return 0;
   return static_cast<std::uint8_t>(counter - previous_counter - 1);
 }
 

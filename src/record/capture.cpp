@@ -17,7 +17,7 @@ constexpr const char* rangekit_version = RANGEKIT_VERSION;
 constexpr const char* schema_sql = R"sql(
 BEGIN;
 CREATE TABLE IF NOT EXISTS meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
-INSERT OR IGNORE INTO meta(key, value) VALUES ('format', 'rangekit-capture'), ('format_version', '1');
+INSERT OR IGNORE INTO meta(key, value) VALUES ('format', 'rangekit-capture'), ('format_version', '2');
 CREATE TABLE IF NOT EXISTS sessions(
   id INTEGER PRIMARY KEY,
   started TEXT NOT NULL,
@@ -41,7 +41,9 @@ CREATE TABLE IF NOT EXISTS samples(
   device_error INTEGER,
   code INTEGER,
   distance_mm REAL,
-  signal TEXT);
+  signal TEXT,
+  derivative_mm REAL,
+  resolution_mm REAL);
 CREATE TABLE IF NOT EXISTS events(
   seq INTEGER PRIMARY KEY,
   session INTEGER NOT NULL,
@@ -54,8 +56,8 @@ COMMIT;
 
 constexpr const char* insert_sample_sql =
     "INSERT INTO samples(seq, session, time_ns, device, source, address, kind, distance_m, pulse_width, targets, "
-    "presence, pulses_between_events, device_error, code, distance_mm, signal) "
-    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16)";
+    "presence, pulses_between_events, device_error, code, distance_mm, signal, derivative_mm, resolution_mm) "
+    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18)";
 constexpr const char* insert_event_sql =
     "INSERT INTO events(seq, session, time_ns, kind, message, count) VALUES (?1, ?2, ?3, ?4, ?5, ?6)";
 
@@ -111,6 +113,7 @@ class SqliteCapture final : public CaptureSink {
       (void)execute(path_, db, "ROLLBACK");
       return status;
     }
+    if (auto status = add_version_2_columns(); !status) return status;
     if (auto status = read_next_seq(); !status) return status;
     if (auto status = insert_session(); !status) return status;
     auto samples = prepare(path_, db, insert_sample_sql);
@@ -150,6 +153,8 @@ class SqliteCapture final : public CaptureSink {
     } else {
       sqlite3_bind_null(statement, 16);
     }
+    bind_optional_real(statement, 17, sample.derivative_mm);
+    bind_optional_real(statement, 18, sample.resolution_mm);
     if (auto status = step(statement, "writing a sample"); !status) return status;
     ++batch_samples_;
     if (sources_.insert(sample.device + " " + sample.source).second) sources_changed_ = true;
@@ -193,6 +198,20 @@ class SqliteCapture final : public CaptureSink {
     insert_event_.reset();
     database_.reset();
     return status;
+  }
+
+  // Format version 2 added the LS5 derivative and the sensor's resolution (the decimals
+  // its millimetres are printed with); a version 1 capture gets the columns, NULL in
+  // its earlier rows, so that new sessions can be appended to it.
+  Status add_version_2_columns() {
+    for (const char* column : version_2_columns) {
+      auto present = has_column(path_, database_.get(), "samples", column);
+      if (!present) return std::move(present).error();
+      if (*present) continue;
+      const std::string alter = std::string("ALTER TABLE samples ADD COLUMN ") + column + " REAL";
+      if (auto status = execute(path_, database_.get(), alter.c_str()); !status) return status;
+    }
+    return execute(path_, database_.get(), "UPDATE meta SET value = '2' WHERE key = 'format_version'");
   }
 
   Status read_next_seq() {

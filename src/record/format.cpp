@@ -1,5 +1,6 @@
 #include "rangekit/record/format.hpp"
 
+#include <algorithm>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -40,18 +41,31 @@ void append_printf(std::string& out, const char* format, Args... args) {
 }
 
 void append_metres(std::string& out, double metres) { append_printf(out, "%.4f", metres); }
-void append_millimetres(std::string& out, double millimetres) { append_printf(out, "%.2f", millimetres); }
+
+// As many decimals as the sensor's discreteness has (0.0001 mm: 4, 0.1 mm: 1; LS5
+// table 3.1, L63); 2 when it is not known, which is how captures without it printed.
+int millimetre_decimals(const Sample& sample) {
+  if (!sample.resolution_mm || !std::isfinite(*sample.resolution_mm) || *sample.resolution_mm <= 0) return 2;
+  const double digits = std::ceil(-std::log10(*sample.resolution_mm) - 1e-9);
+  return std::clamp(static_cast<int>(digits), 0, 6);
+}
+
+// Appends millimetres with the sample's decimals; JSON has no NaN or infinity, so
+// such a value is written as null.
+struct Millimetres {
+  int decimals;
+  void operator()(std::string& out, double millimetres) const {
+    if (std::isfinite(millimetres)) {
+      append_printf(out, "%.*f", decimals, millimetres);
+    } else {
+      out += "null";
+    }
+  }
+};
 // JSON has no NaN or infinity: such a value is written as null.
 void append_json_metres(std::string& out, double metres) {
   if (std::isfinite(metres)) {
     append_metres(out, metres);
-  } else {
-    out += "null";
-  }
-}
-void append_json_millimetres(std::string& out, double millimetres) {
-  if (std::isfinite(millimetres)) {
-    append_millimetres(out, millimetres);
   } else {
     out += "null";
   }
@@ -203,7 +217,15 @@ void append_jsonl(std::string& out, const Sample& sample) {
       append_json_key(out, "code");
       append_json_optional(out, sample.code, append_u16);
       append_json_key(out, "distance_mm");
-      append_json_optional(out, sample.distance_mm, append_json_millimetres);
+      append_json_optional(out, sample.distance_mm, Millimetres{millimetre_decimals(sample)});
+      append_json_key(out, "signal");
+      append_json_optional(out, sample.signal, append_signal_json);
+      break;
+    case SampleKind::ls5_derivative:
+      append_json_key(out, "code");
+      append_json_optional(out, sample.code, append_u16);
+      append_json_key(out, "derivative_mm");
+      append_json_optional(out, sample.derivative_mm, Millimetres{millimetre_decimals(sample)});
       append_json_key(out, "signal");
       append_json_optional(out, sample.signal, append_signal_json);
       break;
@@ -228,7 +250,7 @@ void append_jsonl(std::string& out, const StreamEvent& event) {
 
 const char* csv_header() noexcept {
   return "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,code,"
-         "distance_mm,signal\n";
+         "distance_mm,signal,derivative_mm\n";
 }
 
 void append_csv(std::string& out, const Sample& sample) {
@@ -263,9 +285,12 @@ void append_csv(std::string& out, const Sample& sample) {
   out += ',';
   append_csv_optional(out, sample.code, append_u16);
   out += ',';
-  append_csv_optional(out, sample.distance_mm, append_millimetres);
+  const Millimetres millimetres{millimetre_decimals(sample)};
+  append_csv_optional(out, sample.distance_mm, millimetres);
   out += ',';
   append_csv_optional(out, sample.signal, append_signal_csv);
+  out += ',';
+  append_csv_optional(out, sample.derivative_mm, millimetres);
   out += '\n';
 }
 
@@ -299,8 +324,12 @@ void append_text(std::string& out, const Sample& sample) {
       if (sample.device_error) append_printf(out, " %d", *sample.device_error);
       break;
     case SampleKind::ls5_result:
-      if (sample.distance_mm) {
-        append_printf(out, "  %.2f mm", *sample.distance_mm);
+    case SampleKind::ls5_derivative: {
+      const bool derivative = sample.kind == SampleKind::ls5_derivative;
+      const auto& value = derivative ? sample.derivative_mm : sample.distance_mm;
+      if (derivative) out += "  derivative";
+      if (value) {
+        append_printf(out, derivative ? " %+.*f mm" : "  %.*f mm", millimetre_decimals(sample), *value);
       } else if (sample.signal == SignalState::none_yet) {
         out += "  no measurement yet";
       } else if (sample.signal == SignalState::lost) {
@@ -308,6 +337,7 @@ void append_text(std::string& out, const Sample& sample) {
       }
       if (sample.code) append_printf(out, "  code %u", static_cast<unsigned>(*sample.code));
       break;
+    }
   }
   out += '\n';
 }

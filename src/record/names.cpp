@@ -17,7 +17,7 @@ std::optional<Enum> find_by_name(std::string_view name, const std::array<Enum, N
 
 std::optional<SampleKind> parse_sample_kind(std::string_view name) {
   constexpr std::array values{SampleKind::uls_averaging, SampleKind::uls_binning, SampleKind::uls_look_down,
-                              SampleKind::uls_error, SampleKind::ls5_result};
+                              SampleKind::uls_error,     SampleKind::ls5_result,  SampleKind::ls5_derivative};
   return find_by_name(name, values, sample_kind_name);
 }
 

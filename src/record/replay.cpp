@@ -14,9 +14,9 @@ namespace {
 
 using SystemTime = std::chrono::system_clock::time_point;
 
-constexpr const char* samples_sql =
+constexpr const char* samples_columns =
     "SELECT seq, time_ns, device, source, address, kind, distance_m, pulse_width, targets, presence, "
-    "pulses_between_events, device_error, code, distance_mm, signal FROM samples ORDER BY seq";
+    "pulses_between_events, device_error, code, distance_mm, signal";
 constexpr const char* events_sql = "SELECT seq, time_ns, kind, message, count FROM events ORDER BY seq";
 
 SystemTime from_nanos(std::int64_t nanos) {
@@ -76,6 +76,8 @@ Sample read_sample(sqlite3_stmt* row) {
   sample.code = column_integer<std::uint16_t>(row, 12);
   sample.distance_mm = column_real(row, 13);
   if (!is_null(row, 14)) sample.signal = parse_signal_state(column_text(row, 14));
+  sample.derivative_mm = column_real(row, 15);
+  sample.resolution_mm = column_real(row, 16);
   return sample;
 }
 
@@ -220,7 +222,15 @@ class ReplaySource final : public SampleSource {
 Result<SampleSourcePtr> open_replay(const std::string& path, const ReplayOptions& options) {
   auto database = open_database(path, false, false);
   if (!database) return std::move(database).error();
-  auto samples = prepare(path, database->get(), samples_sql);
+  // A version 1 capture has no derivative or resolution columns: they read as NULL.
+  std::string samples_sql = samples_columns;
+  for (const char* column : version_2_columns) {
+    auto present = has_column(path, database->get(), "samples", column);
+    if (!present) return std::move(present).error();
+    samples_sql += std::string(", ") + (*present ? column : "NULL");
+  }
+  samples_sql += " FROM samples ORDER BY seq";
+  auto samples = prepare(path, database->get(), samples_sql.c_str());
   if (!samples) return make_error(Errc::io, "capture " + path + ": no samples table, not a rangekit capture");
   auto events = prepare(path, database->get(), events_sql);
   if (!events) return make_error(Errc::io, "capture " + path + ": no events table, not a rangekit capture");

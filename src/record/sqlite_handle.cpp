@@ -35,6 +35,16 @@ Result<Statement> prepare(const std::string& path, sqlite3* database, const char
   return statement;
 }
 
+Result<bool> has_column(const std::string& path, sqlite3* database, const char* table, const char* column) {
+  auto query = prepare(path, database, "SELECT count(*) FROM pragma_table_info(?1) WHERE name = ?2");
+  if (!query) return std::move(query).error();
+  sqlite3_bind_text(query->get(), 1, table, -1, SQLITE_STATIC);
+  sqlite3_bind_text(query->get(), 2, column, -1, SQLITE_STATIC);
+  const int code = sqlite3_step(query->get());
+  if (code != SQLITE_ROW) return sqlite_error(path, database, code, "reading the columns of " + std::string(table));
+  return sqlite3_column_int64(query->get(), 0) > 0;
+}
+
 namespace {
 
 // Reads the schema; a text file or a damaged header fails here (SQLITE_NOTADB),

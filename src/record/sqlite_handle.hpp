@@ -27,6 +27,12 @@ Error sqlite_error(const std::string& path, sqlite3* database, int code, const s
 Status execute(const std::string& path, sqlite3* database, const char* sql);
 Result<Statement> prepare(const std::string& path, sqlite3* database, const char* sql);
 
+// Columns that format version 2 added to `samples` (L60, L63); version 1 captures lack them.
+inline constexpr const char* version_2_columns[] = {"derivative_mm", "resolution_mm"};
+
+// Whether `table` has a column named `column`.
+Result<bool> has_column(const std::string& path, sqlite3* database, const char* table, const char* column);
+
 // Opens `path` and checks that it is a readable rangekit capture (or empty when
 // `may_create`). Nothing is written.
 Result<Database> open_database(const std::string& path, bool writable, bool may_create);

@@ -63,4 +63,27 @@ TEST(Detect, NamesAPathThatIsNoSerialPortAndReportsNoReply) {
   EXPECT_TRUE(contains(silent.err, "nothing answered")) << silent.err;
 }
 
+// docs/conformance.md L66. §8.3: "The byte format for serial protocol operation specifies
+// the availability of parity/odd control and the number of stop bits", table 9.2 (04)
+// lists six of them. An LS5 moved to 8N2 (#01W0403) no longer understands 8N1; detect
+// tries the other formats once 8N1 found nothing. Over a pty only the stop bits can be
+// told apart (H2), so 8N2 is the case this test can see.
+TEST(Detect, FindsAnLs5SetToAnotherByteFormatL66) {
+  TempDir dir;
+  const auto ls5_port = (dir.path / "ls5").string();
+  Child ls5({"sim", "ls5", "--port", ls5_port});
+  ASSERT_TRUE(contains(ls5.read_line(), "ready:"));
+  const auto moved = run_cli(dir.path, {"ls5", "set", "--port", ls5_port, "byte-format=8N2"});
+  ASSERT_EQ(moved.exit_code, 0) << moved.out << moved.err;
+  const auto old_format = run_cli(dir.path, {"ls5", "info", "--port", ls5_port, "--timeout-ms", "200"});
+  ASSERT_EQ(old_format.exit_code, 5) << "the sensor still answers 8N1: " << old_format.out;
+
+  const auto found = run_cli(dir.path, {"detect", "--port", ls5_port, "--baud", "115200", "--jsonl"});
+  EXPECT_EQ(found.exit_code, 0) << found.out << found.err;
+  EXPECT_TRUE(contains(found.out, R"("family":"ls5")")) << found.out;
+  EXPECT_TRUE(contains(found.out, R"("byte_format":"8N2")")) << found.out;
+  const auto info = run_cli(dir.path, {"ls5", "info", "--port", ls5_port, "--byte-format", "8N2"});
+  EXPECT_EQ(info.exit_code, 0) << info.err;
+}
+
 }  // namespace

@@ -162,5 +162,14 @@ TEST(Ls5UdpPacket, CounterGapWithWrapL12) {
   EXPECT_EQ(udp_packets_lost(255, 0), 0);
   EXPECT_EQ(udp_packets_lost(255, 1), 1);  // 0 was lost
   EXPECT_EQ(udp_packets_lost(250, 3), 8);  // 251..255, 0, 1, 2
-  EXPECT_EQ(udp_packets_lost(9, 9), 255);
+}
+
+// L19: §10.1 "The cyclic packet number counter is incremented when each packet is
+// transmitted and is used to control the packet loss": a counter that did not move
+// means no packet was transmitted in between, so it is the same packet again.
+TEST(Ls5UdpPacket, RepeatedCounterIsADuplicateNotALossL19) {
+  EXPECT_TRUE(udp_packet_is_duplicate(11, 11));
+  EXPECT_EQ(udp_packets_lost(11, 11), 0);
+  EXPECT_FALSE(udp_packet_is_duplicate(11, 12));
+  EXPECT_FALSE(udp_packet_is_duplicate(255, 0));
 }

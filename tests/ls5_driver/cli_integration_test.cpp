@@ -214,3 +214,102 @@ TEST(Ls5Cli, ConfigSaveChangeDiffLoadVerify) {
   EXPECT_TRUE(contains(bad.err, "thinning")) << bad.err;
   EXPECT_EQ(w.ls5({"get", "--port", w.port, "median-points"}).out, "median-points=5\n") << "nothing was written";
 }
+
+// docs/conformance.md L60. §8.9 formula 8.2 with «Type of preliminary result» = 0x01: a
+// still target has derivative code 25000, which is 0 mm, not the 50 mm of formula 8.1,
+// and the output says it is a derivative (measure, latch and stream alike).
+TEST(Ls5Cli, DerivativeIsPrintedAsADerivativeL60) {
+  Workspace w("derivative");
+  Child sim(sim_arguments(w));
+  ASSERT_TRUE(contains(sim.read_line(), "ready:"));
+  ASSERT_EQ(w.ls5({"set", "--port", w.port, "result-type=derivative"}).exit_code, cli::exit_ok);
+
+  CliRun measure = w.ls5({"measure", "--port", w.port});
+  ASSERT_EQ(measure.exit_code, cli::exit_ok) << measure.err;
+  EXPECT_EQ(measure.out, "code=25000 derivative_mm=0.0000 signal=ok\n");
+  CliRun latch = w.ls5({"latch", "--port", w.port});
+  ASSERT_EQ(latch.exit_code, cli::exit_ok) << latch.err;
+  EXPECT_EQ(latch.out, "code=25000 derivative_mm=0.0000 signal=ok\n");
+  // Table 3.1: a 100 mm range has a discreteness of 0.001 mm (L63).
+  CliRun stream = w.ls5({"stream", "--port", w.port, "--count", "2", "--format", "jsonl"});
+  ASSERT_EQ(stream.exit_code, cli::exit_ok) << stream.err;
+  EXPECT_EQ(count_of(stream.out, R"("kind":"derivative","code":25000,"derivative_mm":0.000,"signal":"ok")"), 2U)
+      << stream.out;
+  EXPECT_FALSE(contains(stream.out, "distance_mm")) << stream.out;
+}
+
+// docs/conformance.md L61, L62. §8.10: "The values of the lower and upper bounds can only
+// be in the range 0÷50000." Raw writes are checked on the combined value: with the
+// default upper limit 0xC350 on the sensor, 13=FF alone would make 0xC3FF = 50175; given
+// together, 19=C3 and 18=FF make the same; 13=FF with 14=00 makes 255 and is written
+// high byte first (never 50175 in between).
+TEST(Ls5Cli, RawWritesAreCheckedOnTheCombinedValueL61) {
+  Workspace w("combined");
+  Child sim(sim_arguments(w));
+  ASSERT_TRUE(contains(sim.read_line(), "ready:"));
+  CliRun alone = w.ls5({"set", "--port", w.port, "13=FF"});
+  EXPECT_EQ(alone.exit_code, cli::exit_usage) << alone.out;
+  EXPECT_TRUE(contains(alone.err, "50175")) << alone.err;
+  CliRun split = w.ls5({"set", "--port", w.port, "19=C3", "18=FF"});
+  EXPECT_EQ(split.exit_code, cli::exit_usage) << split.out;
+  EXPECT_TRUE(contains(split.err, "50175")) << split.err;
+  EXPECT_EQ(w.ls5({"get", "--port", w.port, "analog-upper", "output1-second-swing"}).out,
+            "analog-upper=50000\noutput1-second-swing=50000\n")
+      << "nothing was written";
+
+  CliRun both = w.ls5({"set", "--port", w.port, "13=FF", "14=00"});
+  ASSERT_EQ(both.exit_code, cli::exit_ok) << both.err;
+  EXPECT_EQ(w.ls5({"get", "--port", w.port, "analog-upper"}).out, "analog-upper=255\n");
+}
+
+// docs/conformance.md L63. Table 5.1: the 0.5/5 sensor has a discreteness of 0.0001 mm;
+// code 21124 is 5 × 21124 / 50000 = 2.1124 mm (formula 8.1), and every output form,
+// the capture and its replay keep the four decimals.
+TEST(Ls5Cli, StreamKeepsTheSensorsDiscretenessL63) {
+  Workspace w("precision");
+  // Lower boundary 0.5 mm: the target at 2.6124 mm is 2.1124 mm into the range.
+  std::ofstream(w.scene()) << "[target]\nposition_mm = 2.6124\nnoise_mm = 0.0\n";
+  Child sim({"sim", "ls5", "--port", w.port, "--model", "0.5/5", "--version", "LS5.12.0", "--scene", w.scene()});
+  ASSERT_TRUE(contains(sim.read_line(), "ready:"));
+  const std::string capture = (w.dir / "run.sqlite").string();
+  CliRun jsonl = w.ls5({"stream", "--port", w.port, "--count", "2", "--format", "jsonl", "--capture", capture});
+  ASSERT_EQ(jsonl.exit_code, cli::exit_ok) << jsonl.err;
+  EXPECT_EQ(count_of(jsonl.out, R"("code":21124,"distance_mm":2.1124,"signal":"ok")"), 2U) << jsonl.out;
+  CliRun csv = w.ls5({"stream", "--port", w.port, "--count", "2", "--format", "csv"});
+  ASSERT_EQ(csv.exit_code, cli::exit_ok) << csv.err;
+  EXPECT_EQ(count_of(csv.out, ",21124,2.1124,ok"), 2U) << csv.out;
+  CliRun text = w.ls5({"stream", "--port", w.port, "--count", "2", "--format", "text"});
+  ASSERT_EQ(text.exit_code, cli::exit_ok) << text.err;
+  EXPECT_EQ(count_of(text.out, "  2.1124 mm  code 21124"), 2U) << text.out;
+
+  CliRun replay = run_cli(w.dir, {"replay", capture, "--full-speed", "--format", "jsonl"});
+  ASSERT_EQ(replay.exit_code, cli::exit_ok) << replay.err;
+  EXPECT_EQ(replay.out, jsonl.out);
+}
+
+// docs/conformance.md L67. Table 9.1 note 1: W, FL, ON, OF, FX, SB and DF may go to
+// address 0; note 2: "No response in the case of a broadcast request". Commands that
+// need an answer are refused at address 0 with the reason.
+TEST(Ls5Cli, BroadcastReachesTheSensorForCommandsWithoutReplyL67) {
+  Workspace w("broadcast");
+  Child sim(sim_arguments(w));
+  ASSERT_TRUE(contains(sim.read_line(), "ready:"));
+  CliRun set = w.ls5({"set", "--port", w.port, "--address", "0", "median-points=7"});
+  ASSERT_EQ(set.exit_code, cli::exit_ok) << set.err;
+  EXPECT_EQ(w.ls5({"get", "--port", w.port, "median-points"}).out, "median-points=7\n");
+  for (const char* command : {"off", "on", "save", "defaults"}) {
+    CliRun run = w.ls5({command, "--port", w.port, "--address", "0"});
+    EXPECT_EQ(run.exit_code, cli::exit_ok) << command << ": " << run.err;
+  }
+  EXPECT_EQ(w.ls5({"get", "--port", w.port, "median-points"}).out, "median-points=5\n") << "DF reached it";
+  CliRun latch = w.ls5({"latch", "--port", w.port, "--address", "0"});
+  EXPECT_EQ(latch.exit_code, cli::exit_ok) << latch.err;
+  CliRun read_back = w.ls5({"latch", "--port", w.port, "--address", "0", "--read-only"});
+  EXPECT_EQ(read_back.exit_code, cli::exit_usage) << read_back.out;
+  EXPECT_TRUE(contains(read_back.err, "broadcast")) << read_back.err;
+  for (const char* command : {"info", "measure", "get", "stream"}) {
+    CliRun refused = w.ls5({command, "--port", w.port, "--address", "0"});
+    EXPECT_EQ(refused.exit_code, cli::exit_usage) << command;
+    EXPECT_TRUE(contains(refused.err, "broadcast")) << command << ": " << refused.err;
+  }
+}

@@ -114,9 +114,8 @@ TEST(Ls5Driver, GetCombinesBytesAndFormatsUnits) {
 TEST(Ls5Driver, MillimetreSettingsUseTheRangeFromIdentification) {
   Fixture f;
   f.device->send(id_reply_01);
-  // Half the 40.001 mm range is code 25000 = 0x61A8 (formula 8.5). The low byte
-  // A8 first would make 0xC3A8 > 50000 on a sensor whose high byte is C3, so
-  // the high byte goes first (L50).
+  // Half the 40.001 mm range is code 25000 = 0x61A8 (formula 8.5). High byte first (L62):
+  // A8 after a high byte C3 would make 0xC3A8 = 50088 for a moment.
   f.device->send("!01W1261\r!01W11A8\r");
   auto status = f.driver->set("analog-lower-mm", "20.0005");
   ASSERT_TRUE(status) << status.error().message;
@@ -320,4 +319,123 @@ TEST(Ls5Driver, EveryMalformedReplyOfTheCodecCorpusIsSkippedAndCounted) {
     EXPECT_GT(f.driver->rejected_frames(), rejected_before) << testing::PrintToString(bad);
     EXPECT_EQ(f.device->receive_until("\r"), "#01R0D\r") << "answered at the first attempt";
   }
+}
+
+// docs/conformance.md L60. §8.9: "if the parameter «Type of preliminary result» equals
+// 0x01 (the result is issued as a derivative of the distance) ... distance derivate =
+// range · (code − 25000) / 50000 (8.2)". Code 25050 on a 100 mm sensor is +0.1 mm, not
+// the 50.1 mm formula 8.1 would give.
+TEST(Ls5Driver, DerivativeResultFollowsFormula82NotTheDistanceFormulaL60) {
+  Fixture f;
+  f.device->send("%01LS5.8.0   b0,0000d100,000s/n0000157\r");  // 0E exists from LS5.8.0 (§8.8 footnote)
+  ASSERT_TRUE(f.driver->identify());
+  f.device->send("!01R0E01\r!01LR25050\r");
+  auto last = f.driver->read_last();
+  ASSERT_TRUE(last) << last.error().message;
+  EXPECT_EQ(last->code.value, 25050);
+  EXPECT_FALSE(last->distance_mm.has_value()) << "a derivative is not a distance: " << last->distance_mm.value_or(0);
+  EXPECT_TRUE(last->derivative);
+  EXPECT_DOUBLE_EQ(last->derivative_mm.value_or(-1), 0.1);  // 100 × (25050 − 25000) / 50000
+  EXPECT_EQ(f.device->receive_until("#01LR\r"), "#01ID\r#01R0E\r#01LR\r");
+}
+
+// docs/conformance.md L61 (and the host half of L18). §8.10: "The values of the lower
+// and upper bounds can only be in the range 0÷50000." Byte 13 = FF with 14 = C3 on the sensor makes 0xC3FF = 50175:
+// the other byte is read first and the write is refused before it is sent.
+TEST(Ls5Driver, RawByteWriteIsCheckedWithTheOtherByteAsTheSensorHoldsItL61) {
+  Fixture f(with_firmware(firmware_6_0));
+  f.device->send("!01R14C3\r");
+  Status status = f.driver->write_parameter(0x13, 0xFF);
+  ASSERT_FALSE(status);
+  EXPECT_EQ(status.error().code, Errc::out_of_range) << status.error().message;
+  EXPECT_NE(status.error().message.find("50175"), std::string::npos) << status.error().message;
+  EXPECT_NE(status.error().message.find("0-50000"), std::string::npos) << status.error().message;
+  EXPECT_EQ(f.device->receive_all(), "#01R14\r") << "only the read went out";
+
+  // With 14 = 00 on the sensor the same byte makes 0x00FF = 255: written.
+  f.device->send("!01R1400\r!01W13FF\r");
+  ASSERT_TRUE(f.driver->write_parameter(0x13, 0xFF));
+  EXPECT_EQ(f.device->receive_until("#01W13FF\r"), "#01R14\r#01W13FF\r");
+}
+
+// docs/conformance.md L62. §8.10/§8.11 limit every combined value to 0-50000, and the
+// bytes go out one at a time (§9.3), so the order must keep each step valid: 255
+// (0x00FF) after the default 50000 (0xC350) goes high byte first (0xC3FF = 50175 in
+// between otherwise); table 9.3's 0xC350 stays low byte first; a period of 25.6 ms
+// (0x0100, "0001-FFFF") goes high byte first so that it never passes through 0x0000.
+TEST(Ls5Driver, MultiByteWritesKeepEveryIntermediateValueValidL62) {
+  Fixture f(with_firmware(firmware_6_0));
+  f.device->send("!01W1400\r!01W13FF\r");
+  Status low = f.driver->set("analog-upper", "255");
+  ASSERT_TRUE(low) << low.error().message;
+  EXPECT_EQ(f.device->receive_until("#01W13FF\r"), "#01W1400\r#01W13FF\r");
+
+  f.device->send("!01W1350\r!01W14C3\r");  // table 9.3: #01W1350, #01W14C3
+  Status full = f.driver->set("analog-upper", "50000");
+  ASSERT_TRUE(full) << full.error().message;
+  EXPECT_EQ(f.device->receive_until("#01W14C3\r"), "#01W1350\r#01W14C3\r");
+
+  f.device->send("!01W0701\r!01W0600\r");
+  Status period = f.driver->set("period-ms", "25.6");
+  ASSERT_TRUE(period) << period.error().message;
+  EXPECT_EQ(f.device->receive_until("#01W0600\r"), "#01W0701\r#01W0600\r");
+}
+
+// docs/conformance.md L64. Table 9.2, destination port: "For the parameter itself:
+// 0001-FFFF", so 1024 (0x0400, low byte 00) is a port the sensor can be given; port 0
+// is not. (The table's byte check for 6D is the codec's; see L18.)
+TEST(Ls5Driver, DestinationPort1024IsWrittenAndPortZeroRefusedL64) {
+  Fixture f(with_firmware(firmware_12_x));
+  f.device->send("!01W6C04\r!01W6D00\r");
+  Status port = f.driver->set("destination-port", "1024");
+  ASSERT_TRUE(port) << port.error().message;
+  EXPECT_EQ(f.device->receive_until("#01W6D00\r"), "#01W6C04\r#01W6D00\r");
+
+  f.device->send("!01R6C00\r");  // high byte 00 on the sensor: 6D = 00 would make port 0
+  Status zero = f.driver->write_parameter(0x6D, 0x00);
+  ASSERT_FALSE(zero);
+  EXPECT_EQ(f.device->receive_all(), "#01R6C\r") << "only the read went out";
+}
+
+// docs/conformance.md L67. Table 9.1 note 1: "A broadcast request is supported (send a
+// command to address 0)"; note 2: "No response in the case of a broadcast request".
+// Nothing can be read at 00 (no ID, no R), so the write goes out unasked and unechoed.
+TEST(Ls5Driver, BroadcastWritesGoOutWithoutIdentificationOrEchoL67) {
+  Fixture f(fast_options(0x00));
+  Status median = f.driver->set("pre-filter", "median");
+  ASSERT_TRUE(median) << median.error().message;
+  Status on = f.driver->turn_on();
+  ASSERT_TRUE(on) << on.error().message;
+  EXPECT_EQ(f.device->receive_until("#00ON\r"), "#00W0B01\r#00ON\r");
+
+  // The sensors' other byte of a code cannot be read at 00 (L61): it must be given.
+  Status half = f.driver->write_parameter(0x13, 0xFF);
+  ASSERT_FALSE(half);
+  EXPECT_EQ(half.error().code, Errc::wrong_form) << half.error().message;
+  const ParameterWrite both[] = {{0x13, 0xFF}, {0x14, 0x00}};
+  ASSERT_TRUE(f.driver->write_parameters(both));
+  EXPECT_EQ(f.device->receive_until("#00W13FF\r"), "#00W1400\r#00W13FF\r") << "high byte first (L62)";
+  // No range without ID: the mm forms cannot be converted.
+  EXPECT_FALSE(f.driver->set("analog-lower-mm", "1"));
+  EXPECT_EQ(f.device->receive_all(), "");
+}
+
+// docs/conformance.md L63. Table 3.1, discreteness: "up to 10 mm inclusive 0.0001",
+// "over 10 to 100 inclusive 0.001", "over 100 to 1000 inclusive 0.01", "more than 1000
+// mm 0.1"; the serial stream's samples carry it from the ID range.
+TEST(Ls5Driver, DiscretenessFollowsTable31L63) {
+  EXPECT_DOUBLE_EQ(discreteness_mm(5), 0.0001);  // table 5.1 LS5-0.5/5: 0.0001
+  EXPECT_DOUBLE_EQ(discreteness_mm(10), 0.0001);
+  EXPECT_DOUBLE_EQ(discreteness_mm(15), 0.001);  // LS5-2/15: 0.001
+  EXPECT_DOUBLE_EQ(discreteness_mm(100), 0.001);
+  EXPECT_DOUBLE_EQ(discreteness_mm(200), 0.01);  // LS5-100/200: 0.01
+  EXPECT_DOUBLE_EQ(discreteness_mm(1000), 0.01);
+  EXPECT_DOUBLE_EQ(discreteness_mm(2000), 0.1);
+  const Sample sample = make_ls5_sample(ResultCode{21124, CodeKind::result}, 5.0, "line", 1);
+  EXPECT_EQ(sample.resolution_mm, 0.0001);
+  EXPECT_DOUBLE_EQ(sample.distance_mm.value_or(-1), 2.1124);  // 5 × 21124 / 50000 (formula 8.1)
+  const Sample derivative = make_ls5_sample(ResultCode{24950, CodeKind::result}, 100.0, "line", 1, true);
+  EXPECT_EQ(derivative.kind, SampleKind::ls5_derivative);
+  EXPECT_FALSE(derivative.distance_mm.has_value());
+  EXPECT_DOUBLE_EQ(derivative.derivative_mm.value_or(0), -0.1);  // 100 × (24950 − 25000) / 50000 (8.2, L60)
 }

@@ -141,3 +141,56 @@ TEST(Ls5UdpReceiver, CounterGapsAreLostRecordsAndTheWrapIsNotAGap) {
   EXPECT_EQ(rig.receiver->lost(), 2U * 168U);
   EXPECT_EQ(rig.receiver->counters().packets, 4U);
 }
+
+// docs/conformance.md L65. §10.1: "The cyclic packet number counter is incremented when
+// each packet is transmitted and is used to control the packet loss". The network
+// delivered packet 11 twice: nothing was lost, and its 168 records are not new.
+TEST(Ls5UdpReceiver, DuplicatedDatagramIsDroppedAndCountedNotLostL65) {
+  Rig rig;
+  ASSERT_TRUE(rig.receiver && rig.sender);
+  rig.send(build_packet(11, 0x1000));
+  rig.skip_samples(168);
+  rig.send(build_packet(11, 0x1000));  // the same datagram again
+  rig.send(build_packet(12, 0x3000));
+  std::vector<StreamEvent> events;
+  Sample next;
+  for (;;) {
+    StreamItem item = rig.next();
+    if (const auto* sample = std::get_if<Sample>(&item)) {
+      next = *sample;
+      break;
+    }
+    events.push_back(std::get<StreamEvent>(item));
+    if (events.size() > 5) break;
+  }
+  EXPECT_EQ(next.code, 0x3000) << "the duplicate's records were emitted again";
+  for (const auto& event : events) EXPECT_NE(event.kind, StreamEventKind::lost_records) << event.message;
+  rig.skip_samples(167);
+  EXPECT_EQ(rig.receiver->lost(), 0U);
+  EXPECT_EQ(rig.receiver->counters().lost_packets, 0U);
+  EXPECT_EQ(rig.receiver->counters().packets, 2U);
+  EXPECT_EQ(rig.receiver->counters().duplicates, 1U);
+  ASSERT_EQ(events.size(), 1U);
+  EXPECT_NE(events[0].message.find("duplicate"), std::string::npos) << events[0].message;
+}
+
+// docs/conformance.md L63, L60. Table 3.1: a 100 mm range has a discreteness of 0.001 mm,
+// taken from the packet's range (§10.1 bytes 508-509). State bit 3: "the result
+// corresponds to the distance derivative": kind derivative, with no value since §10.1
+// gives no scale for it (L19).
+TEST(Ls5UdpReceiver, SamplesCarryTheDiscretenessAndMarkDerivativesL63) {
+  Rig rig;
+  ASSERT_TRUE(rig.receiver && rig.sender);
+  rig.send(build_packet(1, 0x2000, 0x07));
+  const Sample distance = rig.next_sample();
+  EXPECT_EQ(distance.kind, SampleKind::ls5_result);
+  EXPECT_EQ(distance.resolution_mm, 0.001);
+  rig.skip_samples(167);
+  rig.send(build_packet(2, 0x2000, 0x0F));  // measured, bit 1, in range, derivative
+  const Sample derivative = rig.next_sample();
+  EXPECT_EQ(derivative.kind, SampleKind::ls5_derivative);
+  EXPECT_EQ(derivative.signal, SignalState::ok);
+  EXPECT_FALSE(derivative.distance_mm.has_value());
+  EXPECT_FALSE(derivative.derivative_mm.has_value());
+  rig.skip_samples(167);
+}

@@ -118,6 +118,69 @@ TEST(Capture, OpeningAgainAppendsANewSession) {
   EXPECT_EQ(query(path, "SELECT count(*) FROM samples WHERE session = 2"), "1");
 }
 
+// docs/conformance.md L60, L63: a derivative (formula 8.2) and the sensor's
+// discreteness (table 3.1: 0.0001 mm for the 0.5/5 sensor) come back from the capture
+// as they went in, so a replay prints the live stream's digits.
+TEST(Capture, Ls5DerivativeAndResolutionRoundTripL63) {
+  TempDir dir;
+  const auto path = dir.file("ls5.sqlite");
+  auto fine = ls5_result(21124, 2.1124, SignalState::ok);
+  fine.resolution_mm = 0.0001;
+  auto rising = ls5_result(25050, std::nullopt, SignalState::ok);
+  rising.kind = SampleKind::ls5_derivative;
+  rising.derivative_mm = 0.1;
+  rising.resolution_mm = 0.001;
+  const std::vector<StreamItem> items{fine, rising};
+  {
+    auto capture = open_capture(path);
+    ASSERT_TRUE(capture.ok()) << capture.error().message;
+    write_items(**capture, items);
+  }
+  expect_same_items(replay_all(path), items);
+  EXPECT_EQ(query(path, "SELECT value FROM meta WHERE key = 'format_version'"), "2");
+  EXPECT_EQ(query(path, "SELECT kind || ' ' || derivative_mm FROM samples WHERE code = 25050"), "derivative 0.1");
+}
+
+// A capture written before format version 2 (schema of docs/capture.md, version 1):
+// its samples replay with no resolution (2 decimals, as they were printed), and a new
+// session appended to it gets the new columns.
+TEST(Capture, Version1CaptureReplaysAndTakesNewSessionsL63) {
+  TempDir dir;
+  const auto path = dir.file("v1.sqlite");
+  {
+    sqlite3* database = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &database), SQLITE_OK);
+    const char* v1 =
+        "CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);"
+        "INSERT INTO meta VALUES ('format','rangekit-capture'),('format_version','1');"
+        "CREATE TABLE sessions(id INTEGER PRIMARY KEY, started TEXT NOT NULL, started_ns INTEGER NOT NULL,"
+        " ended_ns INTEGER, rangekit_version TEXT NOT NULL, sources TEXT NOT NULL DEFAULT '');"
+        "CREATE TABLE samples(seq INTEGER PRIMARY KEY, session INTEGER NOT NULL, time_ns INTEGER NOT NULL,"
+        " device TEXT NOT NULL, source TEXT NOT NULL, address INTEGER, kind TEXT NOT NULL, distance_m REAL,"
+        " pulse_width INTEGER, targets TEXT, presence INTEGER, pulses_between_events INTEGER, device_error INTEGER,"
+        " code INTEGER, distance_mm REAL, signal TEXT);"
+        "CREATE TABLE events(seq INTEGER PRIMARY KEY, session INTEGER NOT NULL, time_ns INTEGER NOT NULL,"
+        " kind TEXT NOT NULL, message TEXT NOT NULL, count INTEGER NOT NULL);"
+        "INSERT INTO sessions VALUES (1, '2026-11-26T01:02:03.456Z', 1795654923456000000, NULL, '0.1.0', '');"
+        "INSERT INTO samples VALUES (1, 1, 1795654923456000000, 'ls5', 'udp:127.0.0.1:5000', NULL, 'result',"
+        " NULL, NULL, NULL, NULL, NULL, NULL, 12345, 1234.5, 'ok');";
+    ASSERT_EQ(sqlite3_exec(database, v1, nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(database);
+    sqlite3_close(database);
+  }
+  const auto old_sample = ls5_result(12345, 1234.5, SignalState::ok);
+  expect_same_items(replay_all(path), {old_sample});
+
+  auto fine = ls5_result(21124, 2.1124, SignalState::ok);
+  fine.resolution_mm = 0.0001;
+  {
+    auto capture = open_capture(path);
+    ASSERT_TRUE(capture.ok()) << capture.error().message;
+    write_items(**capture, {fine});
+  }
+  expect_same_items(replay_all(path), {old_sample, fine});
+  EXPECT_EQ(query(path, "SELECT value FROM meta WHERE key = 'format_version'"), "2");
+}
+
 void expect_refused_untouched(const std::string& path, const std::string& content, const std::string& why) {
   auto capture = open_capture(path);
   ASSERT_FALSE(capture.ok());

@@ -108,24 +108,24 @@ TEST(Jsonl, EventsAndEscapedStrings) {
 TEST(Csv, HeaderNamesTheJsonKeys) {
   EXPECT_STREQ(csv_header(),
                "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
-               "code,distance_mm,signal\n");
+               "code,distance_mm,signal,derivative_mm\n");
 }
 
 TEST(Csv, OneRowPerFamily) {
-  EXPECT_EQ(csv(uls_averaging()), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,\n");
-  EXPECT_EQ(csv(uls_binning()), "2026-11-26T01:02:03.456Z,uls,,/dev/ttyUSB0,binning,,,4.5720:42;7.1000:13,,,,,,\n");
-  EXPECT_EQ(csv(uls_look_down()), "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,250,,,,\n");
-  EXPECT_EQ(csv(uls_error()), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,\n");
+  EXPECT_EQ(csv(uls_averaging()), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,\n");
+  EXPECT_EQ(csv(uls_binning()), "2026-11-26T01:02:03.456Z,uls,,/dev/ttyUSB0,binning,,,4.5720:42;7.1000:13,,,,,,,\n");
+  EXPECT_EQ(csv(uls_look_down()), "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,250,,,,,\n");
+  EXPECT_EQ(csv(uls_error()), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,,\n");
   EXPECT_EQ(csv(ls5_result(12345, 1234.5, SignalState::ok)),
-            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok\n");
+            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,\n");
   EXPECT_EQ(csv(ls5_result(65535, std::nullopt, SignalState::lost)),
-            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,65535,,lost\n");
+            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,65535,,lost,\n");
 }
 
 TEST(Csv, QuotesFieldsWithCommasOrQuotes) {
   auto sample = uls_averaging();
   sample.source = "a,\"b\"";
-  EXPECT_EQ(csv(sample), "2026-11-26T01:02:03.456Z,uls,3,\"a,\"\"b\"\"\",averaging,12.3450,18000,,,,,,,\n");
+  EXPECT_EQ(csv(sample), "2026-11-26T01:02:03.456Z,uls,3,\"a,\"\"b\"\"\",averaging,12.3450,18000,,,,,,,,\n");
 }
 
 TEST(Text, ReadableLinePerFamily) {
@@ -137,6 +137,50 @@ TEST(Text, ReadableLinePerFamily) {
   EXPECT_EQ(text(ls5_result(65535, std::nullopt, SignalState::lost)), "01:02:03.456 ls5  no signal  code 65535\n");
   EXPECT_EQ(text(ls5_result(65534, std::nullopt, SignalState::none_yet)),
             "01:02:03.456 ls5  no measurement yet  code 65534\n");
+}
+
+// docs/conformance.md L63. Table 3.1: discreteness "up to 10 mm inclusive 0.0001",
+// "over 10 to 100 inclusive 0.001", "over 100 to 1000 inclusive 0.01", "more than 1000
+// mm 0.1". Table 5.1: LS5-0.5/5 has 0.0001; code 21124 is 5 × 21124 / 50000 = 2.1124 mm.
+TEST(Ls5Precision, TheSensorsDiscretenessDecidesTheDecimalsL63) {
+  auto fine = ls5_result(21124, 2.1124, SignalState::ok);
+  fine.resolution_mm = 0.0001;
+  EXPECT_EQ(jsonl(fine),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"ls5\",\"address\":null,"
+            "\"source\":\"udp:127.0.0.1:5000\",\"kind\":\"result\",\"code\":21124,\"distance_mm\":2.1124,"
+            "\"signal\":\"ok\"}\n");
+  EXPECT_EQ(csv(fine), "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,21124,2.1124,ok,\n");
+  EXPECT_EQ(text(fine), "01:02:03.456 ls5  2.1124 mm  code 21124\n");
+
+  // A 40 mm range: 0.001 (15432 of 50000 is 12.3456 mm); a 2000 mm range: 0.1 (20000 of 50000 is 800 mm).
+  auto middle = ls5_result(15432, 12.3456, SignalState::ok);
+  middle.resolution_mm = 0.001;
+  EXPECT_EQ(text(middle), "01:02:03.456 ls5  12.346 mm  code 15432\n");
+  auto coarse = ls5_result(20000, 800.0, SignalState::ok);
+  coarse.resolution_mm = 0.1;
+  EXPECT_EQ(text(coarse), "01:02:03.456 ls5  800.0 mm  code 20000\n");
+}
+
+// docs/conformance.md L60. §8.9 formula 8.2: with «Type of preliminary result» = 0x01
+// the code is a derivative: 25050 on a 100 mm sensor is +0.1 mm, 24950 is -0.1 mm.
+TEST(Ls5Derivative, IsItsOwnKindWithDerivativeMmL60) {
+  auto rising = ls5_result(25050, std::nullopt, SignalState::ok);
+  rising.kind = SampleKind::ls5_derivative;
+  rising.derivative_mm = 0.1;
+  rising.resolution_mm = 0.001;
+  EXPECT_EQ(jsonl(rising),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"ls5\",\"address\":null,"
+            "\"source\":\"udp:127.0.0.1:5000\",\"kind\":\"derivative\",\"code\":25050,\"derivative_mm\":0.100,"
+            "\"signal\":\"ok\"}\n");
+  EXPECT_EQ(csv(rising), "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,derivative,,,,,,,25050,,ok,0.100\n");
+  EXPECT_EQ(text(rising), "01:02:03.456 ls5  derivative +0.100 mm  code 25050\n");
+  auto falling = rising;
+  falling.code = 24950;
+  falling.derivative_mm = -0.1;
+  EXPECT_EQ(text(falling), "01:02:03.456 ls5  derivative -0.100 mm  code 24950\n");
+  auto lost = ls5_result(65535, std::nullopt, SignalState::lost);
+  lost.kind = SampleKind::ls5_derivative;
+  EXPECT_EQ(text(lost), "01:02:03.456 ls5  derivative  no signal  code 65535\n");
 }
 
 TEST(Text, Events) {

@@ -121,9 +121,16 @@ void expect_replay_identical_to_live(OutputFormat format) {
   binning_with_odd_values.targets.push_back({0.1 + 0.2, 4294967295u});
   auto averaging = uls_averaging(1ms);
   averaging.distance_m = 1.0 / 3.0;
+  // L60, L63: a 0.5/5 sensor's 0.0001 mm (table 5.1) and a derivative keep their digits.
+  auto fine = ls5_result(21124, 2.1124, SignalState::ok);
+  fine.resolution_mm = 0.0001;
+  auto derivative = ls5_result(25050, std::nullopt, SignalState::ok);
+  derivative.kind = SampleKind::ls5_derivative;
+  derivative.derivative_mm = 0.1;
+  derivative.resolution_mm = 0.001;
   FakeSource source({averaging, binning_with_odd_values, event(StreamEventKind::bad_frame, "half \"frame\""),
                      uls_look_down(), uls_error(), ls5_result(12345, 1234.5, SignalState::ok),
-                     ls5_result(65534, std::nullopt, SignalState::none_yet)});
+                     ls5_result(65534, std::nullopt, SignalState::none_yet), fine, derivative});
   const std::atomic<bool> stop{false};
   StreamLoopOptions options;
   options.format = format;
@@ -138,6 +145,8 @@ void expect_replay_identical_to_live(OutputFormat format) {
   ASSERT_EQ(run_stream_loop(**replay, options, stop).reason, StopReason::source_finished);
   const auto live_bytes = read_file(live);
   EXPECT_GT(live_bytes.size(), 100u);
+  EXPECT_NE(live_bytes.find("2.1124"), std::string::npos) << live_bytes;
+  EXPECT_NE(live_bytes.find("0.100"), std::string::npos) << live_bytes;
   EXPECT_EQ(read_file(replayed), live_bytes);
 }
 

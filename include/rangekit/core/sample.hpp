@@ -12,11 +12,12 @@
 namespace rangekit {
 
 enum class SampleKind : std::uint8_t {
-  uls_averaging,  // distance_m and/or pulse_width
-  uls_binning,    // targets (one complete target array)
-  uls_look_down,  // presence and/or pulses_between_events
-  uls_error,      // device_error (e.g. $ER,4 target not found)
-  ls5_result,     // code, distance_mm, signal
+  uls_averaging,   // distance_m and/or pulse_width
+  uls_binning,     // targets (one complete target array)
+  uls_look_down,   // presence and/or pulses_between_events
+  uls_error,       // device_error (e.g. $ER,4 target not found)
+  ls5_result,      // code, distance_mm, signal
+  ls5_derivative,  // code, derivative_mm, signal: «Type of preliminary result» 01 (LS5 §8.8/§8.9)
 };
 
 const char* sample_kind_name(SampleKind kind) noexcept;
@@ -50,8 +51,11 @@ struct Sample {
   std::optional<int> device_error;
   // LS5
   std::optional<std::uint16_t> code;
-  std::optional<double> distance_mm;  // null on 65534/65535
+  std::optional<double> distance_mm;    // ls5_result: formula 8.1; null on 65534/65535
+  std::optional<double> derivative_mm;  // ls5_derivative: formula 8.2; null on 65534/65535
   std::optional<SignalState> signal;
+  // The sensor's discreteness (LS5 table 3.1): how many decimals its millimetres deserve.
+  std::optional<double> resolution_mm;
 
   friend bool operator==(const Sample&, const Sample&) = default;
 };

@@ -11,6 +11,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -29,7 +30,7 @@ namespace rangekit::ls5 {
 using ReopenFunction = std::function<Result<TransportPtr>()>;
 
 struct DriverOptions {
-  std::uint8_t address = 0x01;                      // network address (parameter 01); 00 broadcasts
+  std::uint8_t address = 0x01;                      // network address (parameter 01); 00 broadcasts (L67)
   std::chrono::milliseconds timeout{500};           // per attempt, from the request's last byte
   int read_retries = 1;                             // extra attempts for ID, R, LR, FR (no side effects)
   std::optional<FirmwareVersion> assumed_firmware;  // skips ID for version checks (tests, old sensors)
@@ -45,7 +46,9 @@ struct SensorInfo {
 // One result read by LR or FR, or one stream record.
 struct Measurement {
   ResultCode code;
-  std::optional<double> distance_mm;  // formula 8.1 with the ID range; none for 65534/65535
+  std::optional<double> distance_mm;    // formula 8.1 with the ID range; none for 65534/65535 and derivatives
+  bool derivative = false;              // «Type of preliminary result» (0E) is 01: the code is a derivative (§8.8)
+  std::optional<double> derivative_mm;  // formula 8.2 with the ID range, for derivatives (L60)
 };
 
 // A parameter's bytes as read from the sensor.
@@ -67,7 +70,7 @@ class Driver {
   // ---- table 9.1 ----
   Result<Identification> identify();                                   // ID
   Result<std::uint8_t> read_parameter(std::uint8_t parameter);         // R (table 9.2 range not checked on read)
-  Status write_parameter(std::uint8_t parameter, std::uint8_t value);  // W, checked before sending
+  Status write_parameter(std::uint8_t parameter, std::uint8_t value);  // W, checked before sending (see below)
   Status store_to_flash();                                             // FL
   Status turn_on();                                                    // ON
   Status turn_off();                                                   // OF
@@ -78,17 +81,30 @@ class Driver {
   Status restore_defaults();                                           // DF (RAM only until FL, L27)
   // ST is start_stream below: its records are the reply.
 
+  // Raw bytes (`ls5 set 13=FF 14=00`): each byte checked against table 9.2 and the
+  // firmware, and every multi-byte value they touch checked combined (§8.10/§8.11 codes
+  // 0-50000, "0001-FFFF" ...) with its other bytes as the sensor holds them, read first
+  // (L61; at broadcast nothing can be read, so they must all be given). The bytes of a
+  // value go out in an order that keeps every value in between valid (L62).
+  Status write_parameters(std::span<const ParameterWrite> writes);
+
   // ---- table 9.2 by readable name ----
   Result<SettingReading> get(const HostSetting& setting);
   Result<SettingReading> get(std::string_view name);
-  // Every value checked (range, firmware) before the first byte is sent; then each byte written and echoed.
+  // Every value checked (range, firmware) before the first byte is sent; then each byte written and
+  // echoed, in an order that keeps every value in between valid (L62).
   Status set(const HostSetting& setting, std::string_view text);
   Status set(std::string_view name, std::string_view text);
 
   // ID once, then R70 on LS5.12+ to learn whether the sensor has Ethernet.
   Result<SensorInfo> info();
   // What set/get check against: firmware from ID (or assumed), range for the *-mm settings.
+  // At broadcast (address 00) nothing can be asked: every parameter of the document is
+  // allowed (a sensor ignores what it lacks, L26) and the range is unknown.
   Result<SettingContext> context();
+  // Whether results are derivatives (0E = 01, §8.8): read once (R0E from LS5.8.0, pure
+  // before), forgotten when 0E is written or the defaults restored.
+  Result<bool> results_are_derivative();
 
   // Starts the stream (optionally writing thinning n, 08, first) and hands the line
   // to a reader thread until the stream is destroyed or stopped; no other call may
@@ -120,6 +136,7 @@ class Driver {
   Result<Reply> transact_once(const Request& request);
   Status expect_echo(const Request& request);
   Result<Measurement> to_measurement(ResultCode code);
+  Status write_checked(const Request& request);
 
   TransportPtr transport_;
   DriverOptions options_;
@@ -127,6 +144,7 @@ class Driver {
   std::unique_ptr<FrameAssembler> assembler_;
   std::optional<Identification> identification_;
   std::optional<bool> ethernet_;
+  std::optional<bool> derivative_results_;
   std::uint64_t rejected_frames_ = 0;
 };
 
@@ -154,8 +172,11 @@ class MeasurementStream final : public SampleSource {
   std::atomic<std::uint64_t> records_{0};
 };
 
-// Decodes one stream record or LR/FR result into a Sample (for the driver and tests).
-Sample make_ls5_sample(ResultCode code, std::optional<double> range_mm, std::string source, int address);
+// Decodes one stream record or LR/FR result into a Sample (for the driver and tests):
+// kind ls5_derivative with formula 8.2 when `derivative`, else ls5_result with formula
+// 8.1; resolution_mm is the range's discreteness (table 3.1).
+Sample make_ls5_sample(ResultCode code, std::optional<double> range_mm, std::string source, int address,
+                       bool derivative = false);
 
 // For `rangekit detect`: does an LS5 answer on this transport? Listens first; a
 // running stream is reported, not stopped (any byte would stop it, L37). Otherwise

@@ -68,6 +68,9 @@ Status check_value_after_write(std::uint8_t address, std::uint8_t value, const P
 // leave the value out of range: a code whose low byte is above 50 (the high byte may still be C3),
 // a 0001-FFFF value whose first-written byte is 00 (the other may still be 00).
 Result<ParameterWrites> split_value_in_write_order(const LogicalValueInfo& info, std::uint64_t value);
+// The same order for writes already split (all part of `info`, e.g. raw bytes given
+// by a user): the two writes of a number swapped when table order is not safe (L50, L62).
+ParameterWrites in_write_order(const LogicalValueInfo& info, ParameterWrites writes);
 // The value the table's default bytes make (MAC from the serial number).
 std::uint64_t default_value(const LogicalValueInfo& info, std::uint32_t serial_number) noexcept;
 

@@ -32,6 +32,11 @@ ResultCode classify_result_code(std::uint16_t value) noexcept;  // precondition:
 double distance_mm(std::uint16_t code, double range_mm) noexcept;
 // Formula 8.2: distance derivative in mm per measurement period. `code` in 0-50000.
 double derivative_mm(std::uint16_t code, double range_mm) noexcept;
+// Table 3.1, "Discreteness depending on the measurement range": up to 10 mm inclusive
+// 0.0001, over 10 to 100 inclusive 0.001, over 100 to 1000 inclusive 0.01, more than
+// 1000 mm 0.1 (table 5.1 steps up at the boundaries instead; the finer of the two is
+// kept, conformance L63). How many decimals a distance of this sensor deserves.
+double discreteness_mm(double range_mm) noexcept;
 // Formula 8.1 for a classified code: an error for the special values.
 Result<double> distance_from_code(ResultCode code, double range_mm);
 

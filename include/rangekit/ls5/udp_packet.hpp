@@ -63,8 +63,13 @@ Status encode_udp_packet(const UdpPacket& packet, std::span<std::uint8_t, udp_pa
 // record with code 0-0x4000 (conformance L19).
 Result<double> udp_distance_mm(const UdpRecord& record, double range_mm);
 
+// A counter equal to the previous packet's: the same packet again (a duplicated
+// datagram), to be dropped, not 255 lost packets (conformance L19).
+constexpr bool udp_packet_is_duplicate(std::uint8_t previous_counter, std::uint8_t counter) noexcept {
+  return counter == previous_counter;
+}
 // Packets lost between two consecutive counters, 8-bit wrap: 255 -> 1 is 1 lost.
-// Equal counters give 255 (a repeat cannot be told from 255 losses).
+// A duplicate (equal counters) loses nothing: 0.
 std::uint8_t udp_packets_lost(std::uint8_t previous_counter, std::uint8_t counter) noexcept;
 
 }  // namespace rangekit::ls5

@@ -1,7 +1,8 @@
 // The LS5 Ethernet stream (§10.1) as a SampleSource: 512-byte UDP packets of 168
 // records on a bound socket, checksum checked (a bad packet is counted and
 // reported as a bad_frame event), the cyclic counter followed (a gap is reported
-// as a lost_records event with the number of records lost, never merged over).
+// as a lost_records event with the number of records lost, never merged over; a
+// repeated counter is a duplicated datagram, dropped, counted and reported).
 #pragma once
 
 #include <atomic>
@@ -27,6 +28,7 @@ struct UdpReceiverCounters {
   std::uint64_t bad_packets = 0;   // wrong size, checksum or state bits
   std::uint64_t lost_packets = 0;  // counter gaps
   std::uint64_t lost_records = 0;  // lost_packets × 168
+  std::uint64_t duplicates = 0;    // packets repeating the previous counter: dropped (L65)
 };
 
 class UdpReceiver final : public SampleSource {

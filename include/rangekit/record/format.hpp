@@ -1,8 +1,9 @@
 // The three text forms of a sample or event, shared by the stream sinks, replay
 // and the benches. Every function appends one complete line (with '\n') so a
 // sink can batch many lines into one write. Numbers use fixed decimals (metres
-// 4, millimetres 2) so the same sample always gives the same bytes, live or
-// replayed. docs/capture.md lists every field.
+// 4; millimetres as many as the sample's resolution_mm has, 2 when unknown) so
+// the same sample always gives the same bytes, live or replayed. docs/capture.md
+// lists every field.
 #pragma once
 
 #include <chrono>

@@ -2,6 +2,7 @@
 // by address, command and parameter (check_reply_answers), stray frames skipped.
 #include "rangekit/ls5/driver.hpp"
 
+#include <algorithm>
 #include <array>
 
 #include "rangekit/ls5/frame.hpp"
@@ -11,6 +12,14 @@ namespace rangekit::ls5 {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// At broadcast the sensors' firmware is unknown: nothing is refused for its version.
+constexpr FirmwareVersion any_version_there_is{0xFFFF, 0xFFFF};
+
+// Addresses (IP, MAC) take every combination of their bytes; codes, period, ports do not.
+bool is_full_range(const LogicalValueInfo& info) noexcept {
+  return info.min == 0 && info.max == (std::uint64_t{1} << (8U * info.addresses.size())) - 1;
+}
 
 bool is_read(CommandId command) noexcept {
   return command == CommandId::identification || command == CommandId::read_parameter ||
@@ -120,19 +129,91 @@ Result<std::uint8_t> Driver::read_parameter(std::uint8_t parameter) {
 }
 
 Status Driver::write_parameter(std::uint8_t parameter, std::uint8_t value) {
-  const ParameterInfo* info = find_parameter(parameter);
-  if (info == nullptr) {
-    return make_error(Errc::unknown_parameter, "LS5 parameter " + hex_byte(parameter) + " is not in table 9.2");
-  }
+  const ParameterWrite write{parameter, value};
+  return write_parameters(std::span<const ParameterWrite>(&write, 1));
+}
+
+Status Driver::write_parameters(std::span<const ParameterWrite> writes) {
   auto sensor = context();
   if (!sensor) return sensor.error();
   SensorModel model = sensor->model;
-  if (info->ethernet_only && model.firmware.at_least(firmware_12_x)) {
-    model.ethernet = true;  // raw writes: let the sensor decide whether it has Ethernet
+  for (const ParameterWrite& byte : writes) {
+    const ParameterInfo* info = find_parameter(byte.address);
+    if (info == nullptr) {
+      return make_error(Errc::unknown_parameter, "LS5 parameter " + hex_byte(byte.address) + " is not in table 9.2");
+    }
+    SensorModel for_byte = model;
+    if (info->ethernet_only && model.firmware.at_least(firmware_12_x)) {
+      for_byte.ethernet = true;  // raw writes: let the sensor decide whether it has Ethernet
+    }
+    Status accepted = check_parameter_byte(byte.address, byte.value, for_byte);
+    if (!accepted) return accepted.error();
   }
-  Status accepted = check_parameter_byte(parameter, value, model);
-  if (!accepted) return accepted.error();
-  return expect_echo(Request::write(options_.address, parameter, value));
+
+  // Every value checked before the first byte goes out; then written value by value.
+  std::vector<ParameterWrite> plan;
+  std::vector<LogicalValueId> planned_values;
+  for (const ParameterWrite& write : writes) {
+    const ParameterInfo& parameter = *find_parameter(write.address);
+    if (parameter.part_of == LogicalValueId::none) {
+      plan.push_back(write);
+      continue;
+    }
+    if (std::find(planned_values.begin(), planned_values.end(), parameter.part_of) != planned_values.end()) continue;
+    planned_values.push_back(parameter.part_of);
+    const LogicalValueInfo& value = logical_value_info(parameter.part_of);
+    ParameterWrites given;
+    std::vector<std::uint8_t> bytes;  // the value after the writes, in table order
+    std::string held;                 // the bytes read from the sensor, for the message
+    for (const std::uint8_t part : value.addresses) {
+      std::optional<std::uint8_t> byte;
+      for (const ParameterWrite& other : writes) {
+        if (other.address == part) byte = other.value;  // the last one given wins
+      }
+      if (byte) {
+        given.items[given.count++] = ParameterWrite{part, *byte};
+      } else if (!is_full_range(value)) {
+        if (options_.address == broadcast_address) {
+          return make_error(Errc::wrong_form,
+                            "LS5 parameter " + hex_byte(part) + " is part of " + std::string(value.cli_name) +
+                                " and a broadcast (address 00) cannot read it to check the combined value: give "
+                                "every byte of it or the setting by name");
+        }
+        auto read = read_parameter(part);
+        if (!read) return read.error();
+        byte = *read;
+        held += (held.empty() ? "" : ", ") + hex_byte(part) + " = " + hex_byte(*byte);
+      }
+      bytes.push_back(byte.value_or(0));
+    }
+    if (!is_full_range(value)) {
+      auto combined = combine_bytes(value, bytes);
+      if (!combined) return combined.error();
+      Status in_range = check_logical_value(value, *combined);
+      if (!in_range) {
+        std::string written;
+        for (const ParameterWrite& part : given.view()) {
+          written += (written.empty() ? "" : ", ") + hex_byte(part.address) + " = " + hex_byte(part.value);
+        }
+        return make_error(Errc::out_of_range, "LS5 parameter " + written +
+                                                  (held.empty() ? "" : " with " + held + " as the sensor holds it") +
+                                                  " makes " + std::string(value.cli_name) + " " +
+                                                  std::to_string(*combined) + ": " + in_range.error().message);
+      }
+    }
+    for (const ParameterWrite& ordered : in_write_order(value, given).view()) plan.push_back(ordered);
+  }
+  for (const ParameterWrite& step : plan) {
+    Status written = write_checked(Request::write(options_.address, step.address, step.value));
+    if (!written) return written;
+  }
+  return ok_status();
+}
+
+// One W whose value was checked; remembers what it changes in the driver's view.
+Status Driver::write_checked(const Request& request) {
+  if (request.parameter == address::result_type) derivative_results_.reset();
+  return expect_echo(request);
 }
 
 Status Driver::store_to_flash() { return expect_echo(Request::simple(options_.address, CommandId::store_to_flash)); }
@@ -141,24 +222,49 @@ Status Driver::turn_off() { return expect_echo(Request::simple(options_.address,
 Status Driver::latch() { return expect_echo(Request::simple(options_.address, CommandId::latch_result)); }
 Status Driver::stop_stream() { return expect_echo(Request::simple(options_.address, CommandId::stop_stream)); }
 Status Driver::restore_defaults() {
+  derivative_results_.reset();  // 0E goes back to its default: asked again when needed
   return expect_echo(Request::simple(options_.address, CommandId::restore_defaults));
 }
 
+Result<bool> Driver::results_are_derivative() {
+  if (derivative_results_) return *derivative_results_;
+  auto sensor = context();
+  if (!sensor) return sensor.error();
+  if (!sensor->model.firmware.at_least(find_parameter(address::result_type)->since)) {
+    derivative_results_ = false;  // no 0E before LS5.8.0 (§8.8): always the pure form
+    return false;
+  }
+  auto type = transact(Request::read(options_.address, address::result_type));
+  if (!type) return type.error();
+  derivative_results_ = type->value == 0x01;
+  return *derivative_results_;
+}
+
 Result<Measurement> Driver::to_measurement(ResultCode code) {
-  Measurement measurement{code, std::nullopt};
+  Measurement measurement;
+  measurement.code = code;
+  measurement.derivative = derivative_results_.value_or(false);
   if (code.is_result() && identification_ && identification_->range_mm > 0) {
-    measurement.distance_mm = distance_mm(code.value, identification_->range_mm);
+    if (measurement.derivative) {
+      measurement.derivative_mm = derivative_mm(code.value, identification_->range_mm);  // formula 8.2
+    } else {
+      measurement.distance_mm = distance_mm(code.value, identification_->range_mm);  // formula 8.1
+    }
   }
   return measurement;
 }
 
 Result<Measurement> Driver::read_latched() {
+  auto derivative = results_are_derivative();  // how to read the code (§8.9)
+  if (!derivative) return derivative.error();
   auto reply = transact(Request::simple(options_.address, CommandId::read_latched));
   if (!reply) return reply.error();
   return to_measurement(reply->result);
 }
 
 Result<Measurement> Driver::read_last() {
+  auto derivative = results_are_derivative();  // how to read the code (§8.9)
+  if (!derivative) return derivative.error();
   auto reply = transact(Request::simple(options_.address, CommandId::read_last));
   if (!reply) return reply.error();
   return to_measurement(reply->result);
@@ -166,6 +272,11 @@ Result<Measurement> Driver::read_last() {
 
 Result<SettingContext> Driver::context() {
   SettingContext context;
+  if (options_.address == broadcast_address) {
+    context.model.firmware = options_.assumed_firmware.value_or(any_version_there_is);
+    context.model.ethernet = true;
+    return context;
+  }
   if (options_.assumed_firmware) {
     context.model.firmware = *options_.assumed_firmware;
   } else {
@@ -223,11 +334,15 @@ Status Driver::set(const HostSetting& setting, std::string_view text) {
   if (!sensor) return sensor.error();
   auto writes = encode_setting(setting, text, *sensor);  // every byte checked before the first is sent
   if (!writes) return writes.error();
-  for (const ParameterWrite& write : writes->view()) {
-    Status written = expect_echo(Request::write(options_.address, write.address, write.value));
+  // In an order the sensor accepts from any value it may hold (L50, L62).
+  const ParameterWrites ordered =
+      setting.value == LogicalValueId::none ? *writes : in_write_order(logical_value_info(setting.value), *writes);
+  for (const ParameterWrite& write : ordered.view()) {
+    Status written = write_checked(Request::write(options_.address, write.address, write.value));
     if (!written) return written.error();
   }
-  if (setting.parameter == address::network_address && setting.value == LogicalValueId::none) {
+  if (setting.parameter == address::network_address && setting.value == LogicalValueId::none &&
+      options_.address != broadcast_address) {
     options_.address = writes->items[0].value;  // L28: the next request goes to the new address
   }
   return ok_status();

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "rangekit/ls5/result_code.hpp"
 #include "rangekit/ls5/settings.hpp"
@@ -300,8 +301,7 @@ Result<ParameterWrites> encode_setting(const HostSetting& setting, std::string_v
   const LogicalValueInfo& info = logical_value_info(setting.value);
   auto raw = raw_from_text(setting, info, text, context);
   if (!raw) return refused(setting, text, context, raw.error());
-  // In an order the sensor accepts from any state it may be in (L50).
-  auto writes = split_value_in_write_order(info, *raw);
+  auto writes = split_value(info, *raw);  // table order; Driver::set sends them in write order (L50, L62)
   if (!writes) return refused(setting, text, context, writes.error());
   for (const ParameterWrite& write : writes->view()) {
     Status accepted = check_parameter_byte(write.address, write.value, context.model);

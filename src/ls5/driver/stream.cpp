@@ -22,18 +22,22 @@ StreamEvent make_event(StreamEventKind kind, std::string message, std::uint64_t 
 
 }  // namespace
 
-Sample make_ls5_sample(ResultCode code, std::optional<double> range_mm, std::string source, int address) {
+Sample make_ls5_sample(ResultCode code, std::optional<double> range_mm, std::string source, int address,
+                       bool derivative) {
+  const bool has_range = range_mm && *range_mm > 0;
   Sample sample;
   sample.time = std::chrono::system_clock::now();
   sample.device = "ls5";
   sample.source = std::move(source);
   sample.address = address;
-  sample.kind = SampleKind::ls5_result;
+  sample.kind = derivative ? SampleKind::ls5_derivative : SampleKind::ls5_result;
   sample.code = code.value;
+  if (has_range) sample.resolution_mm = discreteness_mm(*range_mm);  // table 3.1 (L63)
   switch (code.kind) {
     case CodeKind::result:
       sample.signal = SignalState::ok;
-      if (range_mm && *range_mm > 0) sample.distance_mm = distance_mm(code.value, *range_mm);
+      if (has_range && derivative) sample.derivative_mm = derivative_mm(code.value, *range_mm);  // formula 8.2
+      if (has_range && !derivative) sample.distance_mm = distance_mm(code.value, *range_mm);     // formula 8.1
       break;
     case CodeKind::no_measurement_yet:
       sample.signal = SignalState::none_yet;
@@ -66,6 +70,8 @@ Result<std::unique_ptr<MeasurementStream>> Driver::start_stream(const StreamOpti
     Status written = write_parameter(address::thinning, *options.thinning);
     if (!written) return written.error();
   }
+  auto derivative = results_are_derivative();  // how to read the records (§8.9, L60)
+  if (!derivative) return derivative.error();
   auto start = encode_request(Request::simple(options_.address, CommandId::start_stream));
   if (!start) return start.error();
   Status sent = transport_->write_all(start->bytes());
@@ -109,6 +115,7 @@ void MeasurementStream::run() {
   const std::optional<double> range_mm =
       driver_.identification_ ? std::optional<double>(driver_.identification_->range_mm) : std::nullopt;
   const int address = driver_.address();
+  bool derivative = driver_.derivative_results_.value_or(false);
   std::array<std::uint8_t, 4096> buffer{};
   auto last_record = Clock::now();
   bool link_closed = false;
@@ -161,7 +168,7 @@ void MeasurementStream::run() {
         }
         if (reply->kind != ReplyKind::stream_record) continue;  // e.g. a late echo
         last_record = Clock::now();
-        shared.queue.push(make_ls5_sample(reply->result, range_mm, driver_.transport_name(), address));
+        shared.queue.push(make_ls5_sample(reply->result, range_mm, driver_.transport_name(), address, derivative));
         ++records_;  // after the push: once records() counts it, the queue (and lost()) has it
       }
       continue;
@@ -186,6 +193,18 @@ void MeasurementStream::run() {
       if (identified.error().code != Errc::timeout) link_closed = true;
       continue;
     }
+    // A power cycle brings back 0E from ROM, which need not be what RAM held (L60).
+    if (identified->identification.version.value_or(any_firmware).at_least(firmware_8_0)) {
+      auto type = driver_.transact(Request::read(driver_.address(), address::result_type));
+      if (!type) {
+        if (type.error().code != Errc::timeout) link_closed = true;
+        continue;
+      }
+      derivative = type->value == 0x01;
+    } else {
+      derivative = false;
+    }
+    driver_.derivative_results_ = derivative;
     auto start = encode_request(Request::simple(driver_.address(), CommandId::start_stream));
     if (!start || !driver_.transport_->write_all(start->bytes())) {
       link_closed = true;

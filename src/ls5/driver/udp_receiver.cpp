@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "rangekit/core/stream_queue.hpp"
+#include "rangekit/ls5/result_code.hpp"
 #include "rangekit/ls5/udp_packet.hpp"
 
 namespace rangekit::ls5 {
@@ -21,15 +22,18 @@ Sample record_sample(const UdpRecord& record, const UdpPacket& packet, const std
   sample.device = "ls5";
   sample.source = source;
   sample.address = address;
-  sample.kind = SampleKind::ls5_result;
-  sample.code = record.code;  // the §10.1 code, 0-0x4000 (L45)
+  // State bit 3: "the result corresponds to the distance derivative" (§10.1, L60).
+  sample.kind = record.derivative() ? SampleKind::ls5_derivative : SampleKind::ls5_result;
+  sample.code = record.code;                                                         // the §10.1 code, 0-0x4000 (L45)
+  if (packet.range_mm > 0) sample.resolution_mm = discreteness_mm(packet.range_mm);  // table 3.1 (L63)
   if (!record.measured()) {
     sample.signal = SignalState::none_yet;
   } else if (!record.in_range()) {
     sample.signal = SignalState::lost;
   } else {
     sample.signal = SignalState::ok;
-    auto distance = udp_distance_mm(record, packet.range_mm);  // formula 10.1; none for derivatives (L19)
+    // Formula 10.1; a derivative has no documented scale in §10.1 (L19): code only.
+    auto distance = udp_distance_mm(record, packet.range_mm);
     if (distance) sample.distance_mm = *distance;
   }
   return sample;
@@ -66,8 +70,19 @@ struct UdpReceiver::State {
       queue.push(make_event(StreamEventKind::bad_frame, "UDP packet from " + source + ": " + packet.error().message));
       return;
     }
+    if (last_counter && udp_packet_is_duplicate(*last_counter, packet->counter)) {
+      // The network delivered the same datagram twice (L65): its records are not new.
+      {
+        std::lock_guard lock(counters_mutex);
+        ++counters.duplicates;
+      }
+      queue.push(make_event(StreamEventKind::bad_frame, "UDP packet from " + source + " repeats counter " +
+                                                            std::to_string(packet->counter) + ": duplicate dropped (" +
+                                                            std::to_string(udp_record_count) + " records)"));
+      return;
+    }
     if (last_counter) {
-      // udp_packets_lost gives 255 for a repeated counter (L19): reported, never merged.
+      // A gap is reported, never merged over (L46).
       const std::uint8_t missing = udp_packets_lost(*last_counter, packet->counter);
       if (missing > 0) {
         const std::uint64_t records = std::uint64_t{missing} * udp_record_count;
