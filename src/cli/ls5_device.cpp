@@ -12,6 +12,7 @@
 #include "cli/commands.hpp"
 #include "cli/ls5_cli.hpp"
 #include "rangekit/ls5/parameters.hpp"
+#include "rangekit/ls5/settings.hpp"
 
 namespace rangekit::cli {
 namespace {
@@ -285,7 +286,13 @@ void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
   add_device_command(
       ls5, exit_code, "defaults", "restore the table 9.2 defaults in RAM (DF); `save` keeps them over a power cycle",
       [](ls5::Driver& driver, DeviceCommand&) {
-        return echo_done(driver, driver.restore_defaults(), "defaults restored (RAM only until `save`)");
+        const std::uint8_t was_at = driver.address();
+        Status restored = echo_done(driver, driver.restore_defaults(), "defaults restored (RAM only until `save`)");
+        if (restored && was_at != ls5::broadcast_address && was_at != ls5::default_network_address) {
+          fmt::print("the sensor now answers at address {} (table 9.2 default); it was {}\n",
+                     ls5::default_network_address, was_at);
+        }
+        return restored;
       },
       nullptr, Broadcast::allowed);
 }

@@ -50,6 +50,19 @@ std::size_t count_of(const std::string& text, const std::string& part) {
 
 }  // namespace
 
+// L55: table 9.2 "Network address ... Default values (HEX) 01"; DF restores it, so a
+// sensor at 05 answers at 01 afterwards and the CLI says so.
+TEST(Ls5Cli, DefaultsMoveTheSensorToAddress01AndSaySoL55) {
+  Workspace w("defaults-address");
+  Child sim(sim_arguments(w, {"--address", "5"}));
+  ASSERT_TRUE(contains(sim.read_line(), "ready:"));
+  CliRun defaults = w.ls5({"defaults", "--port", w.port, "--address", "5"});
+  ASSERT_EQ(defaults.exit_code, cli::exit_ok) << defaults.err;
+  EXPECT_TRUE(contains(defaults.out, "now answers at address 1")) << defaults.out;
+  EXPECT_EQ(w.ls5({"info", "--port", w.port, "--address", "1"}).exit_code, cli::exit_ok);
+  EXPECT_EQ(w.ls5({"info", "--port", w.port, "--address", "5", "--timeout-ms", "100"}).exit_code, cli::exit_no_reply);
+}
+
 TEST(Ls5Cli, DeviceSubcommandsEndToEnd) {
   Workspace w("device");
   Child sim(sim_arguments(w));

@@ -53,6 +53,19 @@ TEST(Ls5Driver, SetMedianFilterIsTheSection94Session) {
   EXPECT_EQ(f.device->receive_until("\r"), "#02W0B01\r");
 }
 
+// L55: DF restores table 9.2's network address 01; the echo still comes from the
+// old address, the next request must go to 01.
+TEST(Ls5Driver, RestoreDefaultsFollowsTheSensorToAddress01L55) {
+  Fixture f(with_firmware(firmware_6_0, 0x05));
+  f.device->send("!05DF\r");
+  ASSERT_TRUE(f.driver->restore_defaults());
+  EXPECT_EQ(f.device->receive_until("\r"), "#05DF\r");
+  EXPECT_EQ(f.driver->address(), 0x01);
+  f.device->send("!01R0B00\r");
+  ASSERT_TRUE(f.driver->read_parameter(0x0B));
+  EXPECT_EQ(f.device->receive_until("\r"), "#01R0B\r");
+}
+
 // U67: an RS-485 adapter that echoes the host's bytes puts `#02W0B01` ahead of
 // the reply; requests start with '#', so the reply framer drops it.
 TEST(Ls5Driver, OwnRequestEchoedByAnRs485AdapterIsSkipped) {

@@ -11,6 +11,9 @@
 
 namespace rangekit::ls5 {
 
+// Table 9.2 default of the network address (§8.1 "The initial address set at the manufacturer is 01").
+inline constexpr std::uint8_t default_network_address = 0x01;
+
 // Parameter addresses the codec and formulas refer to by name.
 namespace address {
 inline constexpr std::uint8_t network_address = 0x01;

@@ -223,7 +223,11 @@ Status Driver::latch() { return expect_echo(Request::simple(options_.address, Co
 Status Driver::stop_stream() { return expect_echo(Request::simple(options_.address, CommandId::stop_stream)); }
 Status Driver::restore_defaults() {
   derivative_results_.reset();  // 0E goes back to its default: asked again when needed
-  return expect_echo(Request::simple(options_.address, CommandId::restore_defaults));
+  Status restored = expect_echo(Request::simple(options_.address, CommandId::restore_defaults));
+  // The echo leaves at the old address; from the next request the sensor answers at
+  // table 9.2's default network address 01 (L55), so this driver follows it.
+  if (restored && options_.address != broadcast_address) options_.address = default_network_address;
+  return restored;
 }
 
 Result<bool> Driver::results_are_derivative() {
