@@ -1,4 +1,4 @@
-# Install rules, the CMake package (find_package(rangekit) -> rangekit::core,
+# Install rules, the CMake package (find_package(rangekit) -> rangekit::core, rangekit::sim,
 # rangekit::uls, rangekit::ls5, rangekit::record), the pkg-config file and the
 # Debian package (make package).
 

@@ -100,4 +100,18 @@ TEST(Architecture, DriversAndEmulatorsNeverReachEachOther) {
   }
 }
 
+TEST(Architecture, HostLibrariesNeverReachTheEmulators) {
+  // An embedder of the drivers links no emulator (rangekit::sim), so nothing they compile includes one.
+  for (const std::string folder : {"src/uls", "src/ls5", "src/record", "src/core", "include/rangekit/uls",
+                                   "include/rangekit/ls5", "include/rangekit/record"}) {
+    expect_no_include(folder, R"(^rangekit/sim/)", "the host libraries never depend on rangekit::sim",
+                      "(?!src/(uls|ls5)/emulator/).*");
+  }
+}
+
+TEST(Architecture, CliIncludesNoPrivateHeaderOfALibrary) {
+  // Its own headers (cli/...) and the libraries' public ones (rangekit/...) only.
+  expect_no_include("src/cli", R"(^(?!cli/|rangekit/))", "the CLI uses the libraries' public headers only");
+}
+
 }  // namespace
