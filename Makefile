@@ -5,17 +5,25 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 FUZZ_SECONDS ?= 30
 CMAKE_FLAGS ?=
 
+# `make build` and `make demo` need only the build dependencies and build no
+# tests; the targets below also install the test tools and build the tests.
+WITH_TESTS ?= OFF
+test bench hardware tidy lint consumer package format-check: WITH_TESTS = ON
+DEPS_KIND = $(if $(filter ON,$(WITH_TESTS)),test,build)
+
 SOURCES := $(shell git ls-files '*.cpp' '*.hpp' 2>/dev/null)
 
-.PHONY: all deps configure build test demo asan tsan hardware fuzz bench lint format format-check tidy clean
+.PHONY: all deps configure build test demo asan tsan hardware fuzz bench lint format format-check tidy \
+  consumer package clean
 
 all: build
 
 deps:
-	@bash scripts/install-deps.sh
+	@bash scripts/install-deps.sh $(DEPS_KIND)
 
 configure: deps
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo $(CMAKE_FLAGS) >/dev/null
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRANGEKIT_TESTS=$(WITH_TESTS) \
+	  -DRANGEKIT_BENCH=$(WITH_TESTS) $(CMAKE_FLAGS) >/dev/null
 
 build: configure
 	@cmake --build $(BUILD) -j$(JOBS)
@@ -27,13 +35,15 @@ demo: build
 	@./$(BUILD)/rangekit demo --capture $(BUILD)/demo.sqlite
 
 # Same tests with AddressSanitizer + UndefinedBehaviorSanitizer (CI runs this too).
-asan: deps
+asan:
+	@bash scripts/install-deps.sh test
 	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DRANGEKIT_SANITIZE=ON -DRANGEKIT_BENCH=OFF >/dev/null
 	@cmake --build build-asan -j$(JOBS)
 	@ctest --test-dir build-asan --output-on-failure -j$(JOBS)
 
 # Same tests with ThreadSanitizer: the drivers' reader threads, capture writer and emulator runtimes.
-tsan: deps
+tsan:
+	@bash scripts/install-deps.sh test
 	@cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRANGEKIT_TSAN=ON -DRANGEKIT_BENCH=OFF >/dev/null
 	@cmake --build build-tsan -j$(JOBS)
 	@ctest --test-dir build-tsan --output-on-failure -j$(JOBS)
@@ -44,13 +54,23 @@ hardware: build
 	@./$(BUILD)/rangekit_hardware_tests
 
 # libFuzzer targets (clang 14), each run FUZZ_SECONDS on its seed corpus.
-fuzz: deps
+fuzz:
+	@bash scripts/install-deps.sh test
 	@cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++-14 -DRANGEKIT_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 	@cmake --build build-fuzz -j$(JOBS)
 	@bash scripts/run-fuzz.sh build-fuzz/fuzzers $(FUZZ_SECONDS)
 
 bench: build
 	@./$(BUILD)/rangekit_bench
+
+# tests/consumer built against `cmake --install` of this build (find_package and
+# pkg-config) and against the source tree (add_subdirectory), then run.
+consumer: build
+	@bash scripts/check-consumer.sh $(BUILD)
+
+# The .deb (CPack) of this build; installed with dpkg, run, checked and removed.
+package: build
+	@bash scripts/check-package.sh $(BUILD)
 
 lint: format-check tidy
 

@@ -16,9 +16,9 @@
 #include <vector>
 
 #include "cli/sim_process.hpp"
-#include "rangekit/core/control_socket.hpp"
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/transport.hpp"
+#include "rangekit/sim/control_socket.hpp"
 
 namespace rangekit::bench {
 

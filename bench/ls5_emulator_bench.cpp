@@ -6,7 +6,7 @@
 #include <chrono>
 
 // The firmware header is internal to src/ (bench/ has no src include path).
-#include "ls5/emulator/firmware.hpp"
+#include "rangekit/sim/ls5/firmware.hpp"
 
 namespace {
 

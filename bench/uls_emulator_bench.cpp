@@ -15,10 +15,10 @@
 #include <thread>
 #include <vector>
 
-#include "rangekit/core/emulator_runtime.hpp"
-#include "rangekit/core/pty.hpp"
 #include "rangekit/core/serial_port.hpp"
-#include "uls/emulator/firmware.hpp"
+#include "rangekit/sim/emulator_runtime.hpp"
+#include "rangekit/sim/pty.hpp"
+#include "rangekit/sim/uls/firmware.hpp"
 
 namespace {
 

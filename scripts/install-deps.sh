@@ -1,14 +1,25 @@
 #!/usr/bin/env bash
 # Installs the Debian packages rangekit needs, only those missing.
+#   install-deps.sh build   what building the libraries and the CLI needs (make build)
+#   install-deps.sh test    that, plus the test, benchmark, fuzz and lint tools (make test)
 # apt-get update runs only when something has to be installed.
 set -euo pipefail
 
-packages=(
+build_packages=(
   build-essential cmake make pkg-config
-  libgtest-dev libbenchmark-dev
   libfmt-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libsqlite3-dev
-  clang-14 libclang-rt-14-dev clang-format clang-tidy
 )
+test_packages=(
+  libgtest-dev libbenchmark-dev
+  clang-14 libclang-rt-14-dev clang-format clang-tidy
+  dpkg-dev  # dpkg-shlibdeps, for make package
+)
+
+case "${1:-test}" in
+  build) packages=("${build_packages[@]}") ;;
+  test) packages=("${build_packages[@]}" "${test_packages[@]}") ;;
+  *) echo "usage: install-deps.sh [build|test]" >&2; exit 2 ;;
+esac
 
 missing=()
 for package in "${packages[@]}"; do

@@ -5,13 +5,14 @@
 
 #include "cli/commands.hpp"
 #include "cli/sim.hpp"
+#include "rangekit/version.hpp"
 
 namespace {
 
 int run(int argc, char** argv) {
   CLI::App app{"rangekit: configure, stream and emulate ULS and LS5 laser distance sensors"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("rangekit ") + RANGEKIT_VERSION);
+  app.set_version_flag("--version", std::string("rangekit ") + rangekit::version_string);
   int exit_code = rangekit::cli::exit_ok;
   rangekit::cli::add_demo_command(app, exit_code);
   rangekit::cli::add_decode_command(app, exit_code);

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "rangekit/core/emulator_runtime.hpp"
+#include "rangekit/sim/emulator_runtime.hpp"
 
 namespace rangekit::cli {
 

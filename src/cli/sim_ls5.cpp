@@ -8,8 +8,8 @@
 
 #include "cli/commands.hpp"
 #include "cli/sim.hpp"
-#include "ls5/emulator/firmware.hpp"
 #include "rangekit/core/udp.hpp"
+#include "rangekit/sim/ls5/firmware.hpp"
 
 namespace rangekit::cli {
 

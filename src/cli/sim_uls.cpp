@@ -7,7 +7,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/sim.hpp"
-#include "uls/emulator/firmware.hpp"
+#include "rangekit/sim/uls/firmware.hpp"
 
 namespace rangekit::cli {
 namespace {

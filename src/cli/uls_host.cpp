@@ -11,9 +11,9 @@
 #include "cli/stream_runner.hpp"
 #include "cli/uls_values.hpp"
 #include "rangekit/uls/bus.hpp"
+#include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/host_config.hpp"
-#include "uls/driver/describe.hpp"
 
 namespace rangekit::cli {
 
@@ -194,7 +194,7 @@ int run_set(const LinkOptions& link, const std::vector<std::string>& assignments
     const std::vector<std::string_view> views(fields->begin(), fields->end());
     if (const Verdict verdict = validate_request(*target.command, views, Units::metres);
         !verdict.ok() && !(distance && target.raw))
-      return fail("set", uls::driver_detail::local_refusal(*target.command, value, verdict.error, Units::metres));
+      return fail("set", uls::local_refusal(*target.command, value, verdict.error, Units::metres));
   }
   // BR switches the port after its $OK (U36) and UA the address the unit answers
   // to: the settings after either would go unanswered, so both are written last.

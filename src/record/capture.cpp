@@ -6,13 +6,14 @@
 #include <utility>
 
 #include "rangekit/record/format.hpp"
+#include "rangekit/version.hpp"
 #include "sqlite_handle.hpp"
 
 namespace rangekit::record {
 namespace {
 
 // The project version from CMake (project(... VERSION)), recorded per session.
-constexpr const char* rangekit_version = RANGEKIT_VERSION;
+constexpr const char* rangekit_version = rangekit::version_string;
 
 constexpr const char* schema_sql = R"sql(
 BEGIN;

@@ -161,16 +161,15 @@ class ReplaySource final : public SampleSource {
     return std::visit([](const auto& value) { return value.time; }, item);
   }
 
-  // Recorded pace: the first item comes at once, each later one when as much
-  // time (divided by speed) has passed since the first as between their receive times.
+  // Recorded pace: the first item comes at once, each later one when replay_delay
+  // of its receive-time gap to the first has passed since the first came out.
   std::chrono::steady_clock::time_point due_time(SystemTime time) {
     if (!first_time_) {
       first_time_ = time;
       started_ = std::chrono::steady_clock::now();
     }
-    const auto recorded = std::chrono::duration<double>(time - *first_time_).count() / options_.speed;
     return started_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                          std::chrono::duration<double>(recorded > 0 ? recorded : 0.0));
+                          replay_delay(time - *first_time_, options_.speed));
   }
 
   void load_next() {
@@ -218,6 +217,11 @@ class ReplaySource final : public SampleSource {
 };
 
 }  // namespace
+
+std::chrono::nanoseconds replay_delay(std::chrono::nanoseconds recorded_gap, double speed) {
+  if (speed <= 0 || recorded_gap.count() <= 0) return std::chrono::nanoseconds(0);
+  return std::chrono::nanoseconds(static_cast<std::int64_t>(static_cast<double>(recorded_gap.count()) / speed));
+}
 
 Result<SampleSourcePtr> open_replay(const std::string& path, const ReplayOptions& options) {
   auto database = open_database(path, false, false);

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "ls5_driver/cli_process.hpp"
-#include "rangekit/core/pty.hpp"
+#include "rangekit/sim/pty.hpp"
 
 namespace {
 

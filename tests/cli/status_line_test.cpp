@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "ls5_driver/cli_process.hpp"
-#include "rangekit/core/pty.hpp"
+#include "rangekit/sim/pty.hpp"
 
 namespace {
 

@@ -9,9 +9,9 @@
 #include <thread>
 
 #include "rangekit/core/loopback.hpp"
-#include "rangekit/core/pty.hpp"
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/core/udp.hpp"
+#include "rangekit/sim/pty.hpp"
 
 namespace rangekit {
 namespace {

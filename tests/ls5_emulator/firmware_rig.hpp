@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <string>
 
-#include "ls5/emulator/firmware.hpp"
+#include "rangekit/sim/ls5/firmware.hpp"
 
 namespace rangekit::ls5::emulator::testing {
 

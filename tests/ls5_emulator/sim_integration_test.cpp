@@ -9,10 +9,10 @@
 #include <fstream>
 
 #include "ls5_driver/cli_process.hpp"
-#include "rangekit/core/control_socket.hpp"
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/core/udp.hpp"
 #include "rangekit/ls5/ls5.hpp"
+#include "rangekit/sim/control_socket.hpp"
 
 namespace rangekit {
 namespace {

@@ -29,7 +29,19 @@ std::vector<SteadyTime> arrival_times(SampleSource& source) {
   return times;
 }
 
-TEST(Replay, RecordedPaceKeepsTheGapsBetweenReceiveTimes) {
+// The pacing rule itself, without a clock: the gap to the first item divided by speed.
+TEST(Replay, DelayIsTheRecordedGapDividedBySpeed) {
+  EXPECT_EQ(replay_delay(300ms, 1.0), 300ms);
+  EXPECT_EQ(replay_delay(1200ms, 1.0), 1200ms);
+  EXPECT_EQ(replay_delay(1000ms, 4.0), 250ms);
+  EXPECT_EQ(replay_delay(1000ms, 0.5), 2000ms);
+  EXPECT_EQ(replay_delay(-5ms, 1.0), 0ms);   // a clock step back in the capture never waits
+  EXPECT_EQ(replay_delay(3600s, 0.0), 0ms);  // full speed
+}
+
+// On the real clock only "never early" can be asserted: a loaded machine may
+// deliver late, so there is no upper bound here (the rule is tested above).
+TEST(Replay, RecordedPaceNeverDeliversEarly) {
   TempDir dir;
   const auto path = dir.file("paced.sqlite");
   capture_samples(path, {uls_averaging(0ms), uls_averaging(300ms), uls_averaging(600ms), uls_averaging(1200ms)});
@@ -37,15 +49,12 @@ TEST(Replay, RecordedPaceKeepsTheGapsBetweenReceiveTimes) {
   ASSERT_TRUE(source.ok());
   const auto times = arrival_times(**source);
   ASSERT_EQ(times.size(), 4u);
-  // Never early (small slack for clock rounding), late only within a generous bound.
-  EXPECT_GE(times[1] - times[0], 290ms);
+  EXPECT_GE(times[1] - times[0], 290ms);  // small slack for clock rounding
   EXPECT_GE(times[2] - times[0], 590ms);
   EXPECT_GE(times[3] - times[0], 1190ms);
-  EXPECT_GE(times[3] - times[2], 500ms);  // the longer gap stays longer
-  EXPECT_LT(times[3] - times[0], 6s);
 }
 
-TEST(Replay, SpeedDividesTheGaps) {
+TEST(Replay, SpeedNeverDeliversEarly) {
   TempDir dir;
   const auto path = dir.file("fast.sqlite");
   capture_samples(path, {uls_averaging(0ms), uls_averaging(1000ms)});
@@ -54,18 +63,18 @@ TEST(Replay, SpeedDividesTheGaps) {
   const auto times = arrival_times(**source);
   ASSERT_EQ(times.size(), 2u);
   EXPECT_GE(times[1] - times[0], 240ms);
-  EXPECT_LT(times[1] - times[0], 900ms);
 }
 
+// Items an hour apart at full speed: a replay that waited would time out the
+// short reads below, whatever the machine's load.
 TEST(Replay, FullSpeedDoesNotWait) {
   TempDir dir;
   const auto path = dir.file("full.sqlite");
-  capture_samples(path, {uls_averaging(0ms), uls_averaging(30s), uls_averaging(60s)});
+  capture_samples(path, {uls_averaging(0ms), uls_averaging(3600s), uls_averaging(7200s)});
   auto source = open_replay(path, 0.0);
   ASSERT_TRUE(source.ok());
-  const auto started = std::chrono::steady_clock::now();
-  EXPECT_EQ(arrival_times(**source).size(), 3u);
-  EXPECT_LT(std::chrono::steady_clock::now() - started, 10s);
+  for (int item = 0; item < 3; ++item) EXPECT_TRUE((*source)->next(1ms).has_value()) << "item " << item;
+  EXPECT_TRUE((*source)->finished());
 }
 
 TEST(Replay, StopEndsAWaitAtOnce) {

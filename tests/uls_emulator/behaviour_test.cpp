@@ -8,8 +8,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include "rangekit/sim/uls/firmware.hpp"
 #include "rangekit/uls/uls.hpp"
-#include "uls/emulator/firmware.hpp"
 #include "uls_emulator/helpers.hpp"
 
 namespace rangekit::uls::emulator {

@@ -11,8 +11,8 @@
 #include <bitset>
 #include <filesystem>
 
-#include "rangekit/core/control_socket.hpp"
 #include "rangekit/core/serial_port.hpp"
+#include "rangekit/sim/control_socket.hpp"
 
 namespace rangekit {
 namespace {

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "uls/emulator/firmware.hpp"
+#include "rangekit/sim/uls/firmware.hpp"
 #include "uls_emulator/helpers.hpp"
 
 namespace rangekit::uls::emulator {

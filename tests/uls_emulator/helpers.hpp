@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "uls/emulator/firmware.hpp"
+#include "rangekit/sim/uls/firmware.hpp"
 
 namespace rangekit::uls::emulator::testing {
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "rangekit/sim/uls/firmware.hpp"
 #include "rangekit/uls/uls.hpp"
-#include "uls/emulator/firmware.hpp"
 #include "uls_emulator/helpers.hpp"
 
 namespace rangekit::uls::emulator {

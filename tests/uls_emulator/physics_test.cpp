@@ -5,8 +5,8 @@
 
 #include <cmath>
 
+#include "rangekit/sim/uls/firmware.hpp"
 #include "rangekit/uls/uls.hpp"
-#include "uls/emulator/firmware.hpp"
 #include "uls_emulator/helpers.hpp"
 
 namespace rangekit::uls::emulator {

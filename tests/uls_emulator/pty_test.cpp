@@ -10,10 +10,10 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "rangekit/core/control_socket.hpp"
-#include "rangekit/core/emulator_runtime.hpp"
 #include "rangekit/core/serial_port.hpp"
-#include "uls/emulator/firmware.hpp"
+#include "rangekit/sim/control_socket.hpp"
+#include "rangekit/sim/emulator_runtime.hpp"
+#include "rangekit/sim/uls/firmware.hpp"
 
 namespace rangekit::uls::emulator {
 namespace {

@@ -3,6 +3,7 @@
 // receive times are kept, divided by `speed`) or as fast as the consumer reads.
 #pragma once
 
+#include <chrono>
 #include <string>
 
 #include "rangekit/core/result.hpp"
@@ -14,6 +15,11 @@ struct ReplayOptions {
   double speed = 1.0;  // 1 = recorded pace, 2 = twice as fast; <= 0 = full speed (no waiting)
   std::string device;  // "" = every sample; "uls" or "ls5" = only that family (events always pass)
 };
+
+// Recorded pace: an item received `recorded_gap` after the first item of the
+// replay is due this long after the first item came out (gap / speed; never
+// negative). The replay waits for it; tests check the rule here, without a clock.
+[[nodiscard]] std::chrono::nanoseconds replay_delay(std::chrono::nanoseconds recorded_gap, double speed);
 
 // Opens the capture read-only; a missing file, a non-capture or a corrupt file
 // is Errc::io naming it.

@@ -1,6 +1,6 @@
 // The LS5 firmware model (issue 5). Decisions: docs/conformance.md L25-L36,
 // behaviour and scene format: docs/emulator-ls5.md.
-#include "ls5/emulator/firmware.hpp"
+#include "rangekit/sim/ls5/firmware.hpp"
 
 #include <algorithm>
 #include <cmath>

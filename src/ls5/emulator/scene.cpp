@@ -4,7 +4,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "ls5/emulator/firmware.hpp"
+#include "rangekit/sim/ls5/firmware.hpp"
 
 namespace rangekit::ls5::emulator {
 

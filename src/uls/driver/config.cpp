@@ -9,9 +9,9 @@
 #include <sstream>
 
 #include "rangekit/core/text.hpp"
+#include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/formulas.hpp"
-#include "uls/driver/describe.hpp"
 
 namespace rangekit::uls {
 
@@ -82,7 +82,7 @@ std::vector<std::string> to_wire(const Setting& setting, Units units) {
       }
       case ValueKind::milliamps:
       case ValueKind::seconds:
-        wire.push_back(driver_detail::decimal_text(value));
+        wire.push_back(decimal_text(value));
         break;
       case ValueKind::hex_pulses:
         wire.emplace_back(to_hex_text(static_cast<std::uint64_t>(std::llround(value))).view());
@@ -128,7 +128,7 @@ std::string readable(const Setting& setting) {
       const auto name = command.value_name(static_cast<std::uint32_t>(value));
       text += name.empty() ? integer_text(value) : key_name(name);
     } else if (is_distance(command) || command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
-      text += driver_detail::decimal_text(value);
+      text += decimal_text(value);
     } else {
       text += integer_text(value);
     }
@@ -185,7 +185,7 @@ std::string config_to_toml(const DeviceConfig& config, std::string_view origin) 
         value += (i == 0 ? "" : ", ") + integer_text(setting.values[i]);
       value += "]";
     } else if (is_distance(command) || command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
-      value = driver_detail::decimal_text(setting.values.at(0));
+      value = decimal_text(setting.values.at(0));
       if (value.find('.') == std::string::npos) value += ".0";
     } else {
       value = integer_text(setting.values.at(0));
@@ -229,8 +229,7 @@ Result<DeviceConfig> config_from_toml(std::string_view text, std::string_view fi
         number = static_cast<double>(*integer);
       }
       if (!number)
-        return toml_error(file_name, line, key.str(),
-                          "must be one of: " + driver_detail::allowed_values(*command, Units::metres));
+        return toml_error(file_name, line, key.str(), "must be one of: " + allowed_values(*command, Units::metres));
       setting.values.push_back(*number);
     } else if (const toml::array* array = node.as_array()) {
       for (const auto& element : *array) {
@@ -249,7 +248,7 @@ Result<DeviceConfig> config_from_toml(std::string_view text, std::string_view fi
     const Verdict verdict = validate_request(*command, fields, Units::metres);
     if (!verdict.ok())
       return toml_error(file_name, line, key.str(),
-                        "is outside the allowed values: " + driver_detail::allowed_values(*command, Units::metres));
+                        "is outside the allowed values: " + allowed_values(*command, Units::metres));
     config.settings.push_back(std::move(setting));
   }
   // Keep the order config_commands() gives (MU first).

@@ -7,14 +7,13 @@
 #include <array>
 
 #include "rangekit/core/text.hpp"
+#include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/frame.hpp"
-#include "uls/driver/describe.hpp"
 
 namespace rangekit::uls {
 
 using namespace std::chrono_literals;
-using driver_detail::device_error;
 
 namespace {
 
@@ -305,7 +304,7 @@ Status Driver::check_locally(const CommandInfo& command, std::span<const std::st
   Verdict verdict = form.verdict;
   if (verdict.ok()) verdict = validate_request(command, fields, units);
   if (verdict.ok()) return ok_status();
-  return driver_detail::local_refusal(command, join(fields), verdict.error, units);
+  return local_refusal(command, join(fields), verdict.error, units);
 }
 
 Result<std::vector<std::string>> Driver::transact(const CommandInfo& command, std::span<const std::string_view> fields,
@@ -388,7 +387,7 @@ Result<std::vector<std::string>> Driver::get(std::string_view mnemonic, std::spa
   if (command == nullptr)
     return make_error(Errc::unknown_command, "unknown ULS command '" + std::string(mnemonic) + "'");
   if (!command->has_get() || request_form(*command, arguments.size()).form != RequestForm::get)
-    return driver_detail::local_refusal(*command, "", 1, Units::metres);
+    return local_refusal(*command, "", 1, Units::metres);
   if (auto checked = check_locally(*command, arguments); !checked) return checked.error();
   if (command->mnemonic == "BM")
     return make_error(Errc::wrong_form, "use measure() for BM: its reply is a measurement");
@@ -399,7 +398,7 @@ Status Driver::set(std::string_view mnemonic, std::span<const std::string_view> 
   const CommandInfo* command = find_command(mnemonic);
   if (command == nullptr)
     return make_error(Errc::unknown_command, "unknown ULS command '" + std::string(mnemonic) + "'");
-  if (!command->has_set()) return driver_detail::local_refusal(*command, join(values), 1, Units::metres);
+  if (!command->has_set()) return local_refusal(*command, join(values), 1, Units::metres);
   if (values.empty()) return make_error(Errc::wrong_form, std::string(command->mnemonic) + ": a set needs a value");
   if (auto checked = check_locally(*command, values); !checked) return checked.error();
   if (command->mnemonic == "BR" && values.size() == 1)

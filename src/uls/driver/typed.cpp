@@ -4,10 +4,10 @@
 #include <cstdio>
 
 #include "rangekit/core/text.hpp"
+#include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/formulas.hpp"
-#include "uls/driver/describe.hpp"
 
 namespace rangekit::uls {
 
@@ -236,9 +236,9 @@ Status Driver::set_distance_m(std::string_view mnemonic, double metres) {
 }
 
 Result<double> Driver::fault_current_ma() { return one_decimal(get("AF"), "AF"); }
-Status Driver::set_fault_current_ma(double milliamps) { return set("AF", driver_detail::decimal_text(milliamps)); }
+Status Driver::set_fault_current_ma(double milliamps) { return set("AF", decimal_text(milliamps)); }
 Result<double> Driver::fault_timeout_s() { return one_decimal(get("AT"), "AT"); }
-Status Driver::set_fault_timeout_s(double seconds) { return set("AT", driver_detail::decimal_text(seconds)); }
+Status Driver::set_fault_timeout_s(double seconds) { return set("AT", decimal_text(seconds)); }
 
 Result<MeasurementContext> Driver::read_context() {
   MeasurementContext context;

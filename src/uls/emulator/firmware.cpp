@@ -1,5 +1,5 @@
 // The ULS firmware model; see firmware.hpp and docs/emulator-uls.md.
-#include "uls/emulator/firmware.hpp"
+#include "rangekit/sim/uls/firmware.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // Scene files for the ULS emulator (TOML, docs/emulator-uls.md "Scene").
-#include "uls/emulator/scene.hpp"
+#include "rangekit/sim/uls/scene.hpp"
 
 #include <toml++/toml.h>
 

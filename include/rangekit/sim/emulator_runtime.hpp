@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
-#include "rangekit/core/clock.hpp"
-#include "rangekit/core/control_socket.hpp"
-#include "rangekit/core/device_model.hpp"
-#include "rangekit/core/pty.hpp"
+#include "rangekit/sim/clock.hpp"
+#include "rangekit/sim/control_socket.hpp"
+#include "rangekit/sim/device_model.hpp"
+#include "rangekit/sim/pty.hpp"
 
 namespace rangekit {
 

@@ -1,7 +1,7 @@
 // Byte pacing on a virtual clock: rates emerge from character times.
 #include <gtest/gtest.h>
 
-#include "rangekit/core/serial_pacer.hpp"
+#include "rangekit/sim/serial_pacer.hpp"
 
 namespace rangekit {
 namespace {

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "rangekit/core/clock.hpp"
 #include "rangekit/core/result.hpp"
+#include "rangekit/sim/clock.hpp"
 
 namespace rangekit {
 

@@ -10,8 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rangekit/core/clock.hpp"
 #include "rangekit/core/serial_port.hpp"
+#include "rangekit/sim/clock.hpp"
 
 namespace rangekit {
 

@@ -10,11 +10,11 @@
 #include <random>
 #include <string>
 #include <vector>
-#include "rangekit/core/device_model.hpp"
-#include "rangekit/core/serial_pacer.hpp"
-#include "rangekit/core/state_store.hpp"
+#include "rangekit/sim/device_model.hpp"
+#include "rangekit/sim/serial_pacer.hpp"
+#include "rangekit/sim/state_store.hpp"
+#include "rangekit/sim/uls/scene.hpp"
 #include "rangekit/uls/uls.hpp"
-#include "scene.hpp"  // relative: the bench target has no src/ include path
 
 namespace rangekit::uls::emulator {
 

@@ -1,4 +1,4 @@
-#include "rangekit/core/serial_pacer.hpp"
+#include "rangekit/sim/serial_pacer.hpp"
 
 #include <limits>
 

@@ -1,4 +1,4 @@
-#include "rangekit/core/pty.hpp"
+#include "rangekit/sim/pty.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>

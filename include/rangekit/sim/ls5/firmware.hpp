@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "rangekit/core/device_model.hpp"
-#include "rangekit/core/motion.hpp"
-#include "rangekit/core/serial_pacer.hpp"
-#include "rangekit/core/state_store.hpp"
 #include "rangekit/ls5/ls5.hpp"
 #include "rangekit/ls5/model.hpp"
+#include "rangekit/sim/device_model.hpp"
+#include "rangekit/sim/motion.hpp"
+#include "rangekit/sim/serial_pacer.hpp"
+#include "rangekit/sim/state_store.hpp"
 
 namespace rangekit::ls5::emulator {
 

@@ -8,8 +8,8 @@
 #include <fstream>
 #include <thread>
 
-#include "rangekit/core/emulator_runtime.hpp"
-#include "rangekit/core/serial_pacer.hpp"
+#include "rangekit/sim/emulator_runtime.hpp"
+#include "rangekit/sim/serial_pacer.hpp"
 
 namespace rangekit {
 namespace {

@@ -1,4 +1,4 @@
-// Texts the driver puts in its errors: the allowed values of a command (for
+// Texts for errors about ULS commands: the allowed values of a command (for
 // local refusals) and a device error number with §10's explanation.
 #pragma once
 
@@ -8,7 +8,7 @@
 #include "rangekit/core/result.hpp"
 #include "rangekit/uls/commands.hpp"
 
-namespace rangekit::uls::driver_detail {
+namespace rangekit::uls {
 
 // "10..5000 Hz", "0 off, 1 on", "0..5577.43 feet" (distances in the given units).
 std::string allowed_values(const CommandInfo& command, Units units);
@@ -19,4 +19,4 @@ Error local_refusal(const CommandInfo& command, std::string_view shown_values, i
 // A decimal without trailing zeros: 3.0 -> "3", 2.25 -> "2.25" (AF, AT).
 std::string decimal_text(double value);
 
-}  // namespace rangekit::uls::driver_detail
+}  // namespace rangekit::uls

@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "rangekit/core/motion.hpp"
-#include "rangekit/core/state_store.hpp"
+#include "rangekit/sim/motion.hpp"
+#include "rangekit/sim/state_store.hpp"
 
 namespace rangekit {
 namespace {

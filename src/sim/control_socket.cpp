@@ -1,4 +1,4 @@
-#include "rangekit/core/control_socket.hpp"
+#include "rangekit/sim/control_socket.hpp"
 
 #include <fcntl.h>
 #include <poll.h>

@@ -7,8 +7,8 @@
 #include <string_view>
 #include <utility>
 #include <vector>
-#include "rangekit/core/motion.hpp"
 #include "rangekit/core/result.hpp"
+#include "rangekit/sim/motion.hpp"
 
 namespace rangekit::uls::emulator {
 

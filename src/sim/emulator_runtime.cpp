@@ -1,4 +1,4 @@
-#include "rangekit/core/emulator_runtime.hpp"
+#include "rangekit/sim/emulator_runtime.hpp"
 
 #include <poll.h>
 #include <unistd.h>

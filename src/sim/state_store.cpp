@@ -1,4 +1,4 @@
-#include "rangekit/core/state_store.hpp"
+#include "rangekit/sim/state_store.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>

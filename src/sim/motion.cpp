@@ -1,4 +1,4 @@
-#include "rangekit/core/motion.hpp"
+#include "rangekit/sim/motion.hpp"
 
 #include <cmath>
 

@@ -11,8 +11,8 @@
 #include <deque>
 #include <vector>
 
-#include "rangekit/core/clock.hpp"
 #include "rangekit/core/framer.hpp"
+#include "rangekit/sim/clock.hpp"
 
 namespace rangekit {
 

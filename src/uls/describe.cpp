@@ -1,4 +1,4 @@
-#include "uls/driver/describe.hpp"
+#include "rangekit/uls/describe.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -6,7 +6,7 @@
 #include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/formulas.hpp"
 
-namespace rangekit::uls::driver_detail {
+namespace rangekit::uls {
 
 std::string decimal_text(double value) {
   char buffer[48];
@@ -76,4 +76,4 @@ Error local_refusal(const CommandInfo& command, std::string_view shown_values, i
   return make_error(Errc::out_of_range, text);
 }
 
-}  // namespace rangekit::uls::driver_detail
+}  // namespace rangekit::uls

@@ -1,0 +1,117 @@
+// The architecture of docs/architecture.md, checked on the tree itself:
+// which library may link which (cmake/architecture.cmake, run here on edges it
+// must refuse) and which sources may include which headers.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+const fs::path root = RANGEKIT_SOURCE_DIR;
+
+// Runs the link rule of cmake/architecture.cmake on one edge list; true when allowed.
+bool link_allowed(const std::string& target, const std::string& links) {
+  const std::string command = "cmake -DTARGET=" + target + " \"-DLINKS=" + links + "\" -P " +
+                              (root / "cmake/architecture_selftest.cmake").string() + " >/dev/null 2>&1";
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+TEST(Architecture, LinkRuleAllowsTheDrawnEdges) {
+  EXPECT_TRUE(link_allowed("rangekit_core", "Threads::Threads;nlohmann_json::nlohmann_json"));
+  EXPECT_TRUE(link_allowed("rangekit_uls", "rangekit_core;$<LINK_ONLY:tomlplusplus::tomlplusplus>"));
+  EXPECT_TRUE(link_allowed("rangekit_ls5", "rangekit::core"));
+  EXPECT_TRUE(link_allowed("rangekit_record", "rangekit_core;$<LINK_ONLY:SQLite::SQLite3>"));
+  EXPECT_TRUE(link_allowed("rangekit_sim", "rangekit_core;rangekit_uls;rangekit_ls5"));
+}
+
+TEST(Architecture, LinkRuleRefusesEveryOtherEdge) {
+  EXPECT_FALSE(link_allowed("rangekit_core", "rangekit_uls"));  // core knows no family
+  EXPECT_FALSE(link_allowed("rangekit_core", "rangekit::record"));
+  EXPECT_FALSE(link_allowed("rangekit_uls", "rangekit_ls5"));  // families never reach each other
+  EXPECT_FALSE(link_allowed("rangekit_ls5", "$<LINK_ONLY:rangekit_uls>"));
+  EXPECT_FALSE(link_allowed("rangekit_uls", "rangekit_sim"));  // an embedder links no emulator
+  EXPECT_FALSE(link_allowed("rangekit_record", "rangekit_sim"));
+  EXPECT_FALSE(link_allowed("rangekit_sim", "rangekit_record"));
+}
+
+struct Include {
+  fs::path file;
+  std::string header;
+};
+
+// Every #include "..." of the sources under `folder` (recursively).
+std::vector<Include> includes_under(const fs::path& folder) {
+  std::vector<Include> found;
+  const std::regex include_line(R"re(^\s*#\s*include\s*"([^"]+)")re");
+  for (const auto& entry : fs::recursive_directory_iterator(root / folder)) {
+    if (!entry.is_regular_file()) continue;
+    const auto extension = entry.path().extension();
+    if (extension != ".cpp" && extension != ".hpp") continue;
+    std::ifstream in(entry.path());
+    for (std::string line; std::getline(in, line);) {
+      std::smatch match;
+      if (std::regex_search(line, match, include_line)) found.push_back({fs::relative(entry.path(), root), match[1]});
+    }
+  }
+  return found;
+}
+
+// Fails for each include under `folder` (filtered by `file_filter` on its path) that matches `forbidden`.
+void expect_no_include(const fs::path& folder, const std::string& forbidden, const std::string& why,
+                       const std::string& file_filter = ".*") {
+  const std::regex pattern(forbidden);
+  const std::regex files(file_filter);
+  for (const auto& include : includes_under(folder)) {
+    if (!std::regex_match(include.file.string(), files)) continue;
+    EXPECT_FALSE(std::regex_search(include.header, pattern))
+        << include.file.string() << " includes \"" << include.header << "\": " << why;
+  }
+}
+
+TEST(Architecture, CoreKnowsNoFamily) {
+  const std::string family = R"(^(rangekit/)?(uls|ls5|record|sim)/)";
+  expect_no_include("src/core", family, "core is shared by both families and knows neither");
+  expect_no_include("include/rangekit/core", family, "core is shared by both families and knows neither");
+}
+
+TEST(Architecture, CodecsNeverReachIo) {
+  // The codec is the top level of a family folder; driver/ and emulator/ below it do I/O.
+  const std::string io =
+      R"((transport|serial_port|udp|pty|fd_transport|loopback|stream_queue|emulator_runtime|control_socket)\.hpp$|/driver/|/emulator/|/driver\.hpp$|/bus\.hpp$|udp_receiver\.hpp$)";
+  for (const std::string family : {"uls", "ls5"}) {
+    expect_no_include("src/" + family, io, "a codec does no I/O", "src/" + family + "/[^/]+");
+  }
+}
+
+TEST(Architecture, DriversAndEmulatorsNeverReachEachOther) {
+  for (const std::string family : {"uls", "ls5"}) {
+    expect_no_include("src/" + family + "/driver", R"(emulator|control_socket|emulator_runtime|device_model)",
+                      "a host driver never depends on an emulator");
+    expect_no_include("src/" + family + "/emulator", R"(/driver/|driver\.hpp$|/bus\.hpp$|host_)",
+                      "an emulator never depends on a host driver");
+  }
+}
+
+TEST(Architecture, HostLibrariesNeverReachTheEmulators) {
+  // An embedder of the drivers links no emulator (rangekit::sim), so nothing they compile includes one.
+  for (const std::string folder : {"src/uls", "src/ls5", "src/record", "src/core", "include/rangekit/uls",
+                                   "include/rangekit/ls5", "include/rangekit/record"}) {
+    expect_no_include(folder, R"(^rangekit/sim/)", "the host libraries never depend on rangekit::sim",
+                      "(?!src/(uls|ls5)/emulator/).*");
+  }
+}
+
+TEST(Architecture, CliIncludesNoPrivateHeaderOfALibrary) {
+  // Its own headers (cli/...) and the libraries' public ones (rangekit/...) only.
+  expect_no_include("src/cli", R"(^(?!cli/|rangekit/))", "the CLI uses the libraries' public headers only");
+}
+
+}  // namespace
