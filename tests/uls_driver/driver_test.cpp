@@ -46,9 +46,12 @@ TEST(UlsDriver, GetSkipsMeasurementLinesThatArriveBeforeTheReply) {
   auto mode = rig.driver->mode();
   ASSERT_TRUE(mode) << mode.error().message;
   EXPECT_EQ(*mode, Mode::binning);
-  // Not a reply: handed to the measurement path (which, with no context read, cannot decode it).
+  // Not a reply: handed to the measurement path, which has not read MM/DM/MU/TB yet and so
+  // does not decode it with a guess (U85): neither a measurement nor a bad frame.
   const auto counters = rig.driver->counters();
-  EXPECT_EQ(counters.measurements + counters.bad_frames, 1U);
+  EXPECT_EQ(counters.undecoded, 1U);
+  EXPECT_EQ(counters.measurements, 0U);
+  EXPECT_EQ(counters.bad_frames, 0U);
   EXPECT_EQ(counters.replies, 1U);
 }
 
@@ -97,7 +100,8 @@ TEST(UlsDriver, StreamErrorsAreNotTakenForTheReplyOfASet) {
     return "";
   });
   ASSERT_TRUE(rig.driver->set_power(PowerLevel::medium));
-  EXPECT_EQ(rig.driver->counters().measurements, 2U);
+  // Taken as measurement lines (not decoded: no MM/DM/MU/TB read yet, U85).
+  EXPECT_EQ(rig.driver->counters().undecoded, 2U);
 }
 
 TEST(UlsDriver, NoReplyTimesOutAndGetsAreSentTwice) {
@@ -183,7 +187,7 @@ TEST(UlsDriver, MalformedBytesBeforeTheReplyAreCountedAndSkipped) {
     ASSERT_TRUE(display) << "after '" << garbage << "': " << display.error().message;
     EXPECT_EQ(*display, DisplayMode::intensity) << garbage;
     const auto counters = rig.driver->counters();
-    EXPECT_GE(counters.bad_frames + counters.measurements + counters.unexpected, 1U) << garbage;
+    EXPECT_GE(counters.bad_frames + counters.measurements + counters.unexpected + counters.undecoded, 1U) << garbage;
   }
 }
 
@@ -296,6 +300,39 @@ TEST(UlsDriver, StreamDecodesAveragingLinesAndErrors) {
   EXPECT_EQ(*version, "ULS 1.0,2026");
   rig.driver->stop_stream();
   EXPECT_EQ(rig.device->requests().back(), "$ST");
+}
+
+// U85: a unit already measuring (CO on, averaging, DM 2 "range and pulse width") sends
+// `$BM,n,p` lines (§8 Averaging Mode: "Output from ULS depends on selected display output
+// mode: Range, Pulse Width or Both") between the replies to the stream's MM/DM/MU/TB reads.
+// None may be decoded before DM is known: a guessed "range only" would call each a bad frame.
+TEST(UlsDriver, U85_LinesOfAUnitAlreadyMeasuringAreNotDecodedBeforeItsSettingsAreKnown) {
+  ScriptedDevice* device = nullptr;
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request == "$GO") {
+      device->send("$BM,12.400,2000\r$OK\r$BM,12.500,2100\r$BM,12.600,2200\r");
+      return "";
+    }
+    return "$BM,12.300,1900\r" + typical_reply(request);
+  });
+  device = rig.device.get();
+  ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
+  const auto items = take(*rig.driver, 2);
+  rig.driver->stop_stream();
+  ASSERT_FALSE(items.empty());
+  const auto* first = std::get_if<StreamEvent>(&items.front());
+  ASSERT_NE(first, nullptr);
+  EXPECT_EQ(first->kind, StreamEventKind::connected);
+  for (const auto& item : items) {
+    const auto* event = std::get_if<StreamEvent>(&item);
+    EXPECT_TRUE(event == nullptr || event->kind != StreamEventKind::bad_frame) << event->message;
+  }
+  const auto samples = samples_of(items);
+  ASSERT_EQ(samples.size(), 2U);
+  EXPECT_EQ(*samples[0].pulse_width, 2000U);  // the line before GO's $OK: settings known by then
+  EXPECT_DOUBLE_EQ(*samples[1].distance_m, 12.5);
+  EXPECT_EQ(rig.driver->counters().bad_frames, 0U);
+  EXPECT_GE(rig.driver->counters().undecoded, 1U);  // at least the line before the $MM reply
 }
 
 TEST(UlsDriver, StreamMakesOneSamplePerBinningArrayAndReadsLookDown) {

@@ -61,6 +61,8 @@ struct DriverCounters {
   std::uint64_t unexpected = 0;  // replies nobody asked for
   std::uint64_t retries = 0;
   std::uint64_t echoes = 0;  // our own request read back (RS-485 adapters that echo, U67)
+  // Measurement lines that arrived before MM/DM/MU/TB were read: never decoded with a guess (U85).
+  std::uint64_t undecoded = 0;
 };
 
 // US decoded into its bits (§8 Get Unit Status, U6).
@@ -238,6 +240,7 @@ class Driver final : public SampleSource {
   Pending* pending_ = nullptr;
   DriverCounters counters_;
   MeasurementContext context_;
+  bool context_known_ = false;  // context_ was read from this unit and no set has changed it since
   std::optional<Units> units_;
   std::vector<TargetHit> partial_targets_;
   std::deque<std::string> recent_sent_;  // the last few requests without CR, to recognise echoes (U67)

@@ -64,6 +64,11 @@ void Driver::handle_measurement(const Measurement& measurement) {
 }
 
 Status Driver::begin_measuring(bool reconnecting) {
+  {
+    // Lines that arrive before MM/DM/MU/TB are read again are not decoded (U85).
+    std::lock_guard lock(state_mutex_);
+    context_known_ = false;
+  }
   auto context = read_context();
   if (!context) return context.error();
   StreamMode mode = requested_mode_;
@@ -86,8 +91,15 @@ Status Driver::begin_measuring(bool reconnecting) {
   poll_period_ = std::clamp<std::chrono::milliseconds>(period, 5ms, 10000ms);
   partial_targets_.clear();
   active_mode_ = mode;
-  // Announced before GO so the event comes ahead of the first new sample.
-  if (reconnecting) emit_event(StreamEventKind::reconnected, options_.source + ": link back, measuring again");
+  // From here lines are decoded with the unit's own settings and belong to the
+  // stream. Announced before GO so the event comes ahead of the first new sample.
+  collecting_ = true;
+  if (reconnecting) {
+    emit_event(StreamEventKind::reconnected, options_.source + ": link back, measuring again");
+  } else {
+    emit_event(StreamEventKind::connected,
+               options_.source + ": measuring, " + (mode == StreamMode::polled ? "polled with BM" : "continuous"));
+  }
   if (auto started = start_measuring(); !started) return started;
   last_measurement_ = std::chrono::steady_clock::now();
   return ok_status();
@@ -98,18 +110,16 @@ Status Driver::start_stream(StreamMode mode) {
   requested_mode_ = mode;
   stop_requested_ = false;
   finished_ = false;
-  queue_.reopen();     // closed when a previous stream's reader ended
-  collecting_ = true;  // lines that follow the GO belong to the stream
+  queue_.reopen();  // closed when a previous stream's reader ended
   if (auto begun = begin_measuring(false); !begun) {
     collecting_ = false;
+    queue_.clear();  // a `connected` announced before a refused GO
     return begun;
   }
   {
     std::lock_guard lock(state_mutex_);  // set_address checks it under this lock
     streaming_ = true;
   }
-  emit_event(StreamEventKind::connected, options_.source + ": measuring, " +
-                                             (active_mode_ == StreamMode::polled ? "polled with BM" : "continuous"));
   reader_ = std::thread([this] { reader_loop(); });
   return ok_status();
 }

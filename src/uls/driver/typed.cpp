@@ -250,6 +250,7 @@ Result<MeasurementContext> Driver::read_context() {
   context.time_between_events = *tbe;
   std::lock_guard lock(state_mutex_);
   context_ = context;
+  context_known_ = true;
   return context;
 }
 
