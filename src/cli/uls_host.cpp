@@ -282,7 +282,7 @@ int run_uls_stream(const LinkOptions& link, const StreamOptions& options, const 
                                                       : StreamMode::automatic;
   if (auto started = (*driver)->start_stream(stream_mode); !started) return fail("stream", started.error());
   const int code = run_stream(**driver, options);
-  (*driver)->stop_stream(true);
+  (*driver)->stop_stream(AfterStream::as_found);  // U86: ST only if this stream started the unit
   return code;
 }
 

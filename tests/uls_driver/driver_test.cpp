@@ -3,6 +3,8 @@
 // malformed and half frames, the stream and reconnect (issue 6).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <map>
 
 #include "rangekit/uls/driver.hpp"
@@ -21,7 +23,7 @@ std::string typical_reply(const std::string& request) {
                                                        {"$MU", "$MU,1\r"},        {"$TB", "$TB,0\r"},
                                                        {"$CO", "$CO,1\r"},        {"$PF", "$PF,2000,2000,2000\r"},
                                                        {"$PO", "$PO,100,1024\r"}, {"$ID", "$ID,ULS 1.0,2026\r"},
-                                                       {"$US", "$US,7\r"}};
+                                                       {"$US", "$US,1\r"}};  // ready, not measuring
   if (auto found = gets.find(request); found != gets.end()) return found->second;
   if (request == "$GO" || request == "$ST") return "$OK\r";
   return "";
@@ -335,6 +337,85 @@ TEST(UlsDriver, U85_LinesOfAUnitAlreadyMeasuringAreNotDecodedBeforeItsSettingsAr
   EXPECT_GE(rig.driver->counters().undecoded, 1U);  // at least the line before the $MM reply
 }
 
+// A unit that measures from GO until ST (§8 Get Unit Status: "n = 1 = unit ready, not
+// measuring", "n = 7 = laser firing and Averaging Mode"), sending one averaging line on GO.
+struct MeasuringUnit {
+  std::atomic<bool> measuring{false};
+  ScriptedDevice* device = nullptr;
+  std::string answer(const std::string& request) {
+    if (request == "$US") return measuring ? "$US,7\r" : "$US,1\r";
+    if (request == "$GO") {
+      measuring = true;
+      device->send("$OK\r$BM,12.500,2100\r");
+      return "";
+    }
+    if (request == "$ST") {
+      if (!measuring) return "$ER,86\r";  // §10 86, Instrument Not Measuring
+      measuring = false;
+      return "$OK\r";
+    }
+    return typical_reply(request);
+  }
+};
+
+std::size_t count_requests(ScriptedDevice& device, const std::string& request) {
+  const auto requests = device.requests();
+  return static_cast<std::size_t>(std::count(requests.begin(), requests.end(), request));
+}
+
+// U86: a stream that started an idle unit stops it again however it ends: stop_stream(),
+// SampleSource::stop() (what the CLI's stream loop calls) or the driver going away.
+TEST(UlsDriver, U86_AStreamStopsTheUnitItStartedHoweverItEnds) {
+  for (const char* ending : {"stop_stream", "stop", "destructor"}) {
+    SCOPED_TRACE(ending);
+    MeasuringUnit unit;
+    Rig rig([&](const std::string& request) { return unit.answer(request); });
+    unit.device = rig.device.get();
+    ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
+    ASSERT_EQ(samples_of(take(*rig.driver, 1)).size(), 1U);
+    EXPECT_TRUE(unit.measuring);
+    if (std::string(ending) == "stop_stream") rig.driver->stop_stream();
+    if (std::string(ending) == "stop") rig.driver->stop();
+    if (std::string(ending) == "destructor") rig.driver.reset();
+    EXPECT_FALSE(unit.measuring);
+    EXPECT_EQ(count_requests(*rig.device, "$GO"), 1U);
+    EXPECT_EQ(count_requests(*rig.device, "$ST"), 1U);
+    if (rig.driver) {
+      rig.driver.reset();  // a second ending sends nothing more
+      EXPECT_EQ(count_requests(*rig.device, "$ST"), 1U);
+    }
+  }
+}
+
+// U86: a unit found measuring (§2 ULS Autostart "the unit will automatically start measuring
+// when powered up"; a 4-20 mA loop or a trip line may feed a PLC) is neither restarted with GO
+// nor stopped: the stream reads it and leaves it as it was. ST only when asked for.
+TEST(UlsDriver, U86_AUnitFoundMeasuringIsLeftMeasuring) {
+  for (const char* ending : {"stop_stream", "destructor", "stop_measuring"}) {
+    SCOPED_TRACE(ending);
+    MeasuringUnit unit;
+    unit.measuring = true;
+    Rig rig([&](const std::string& request) { return unit.answer(request); });
+    unit.device = rig.device.get();
+    ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
+    rig.device->send("$BM,13.000,2200\r");
+    const auto samples = samples_of(take(*rig.driver, 1));
+    ASSERT_EQ(samples.size(), 1U);
+    EXPECT_DOUBLE_EQ(*samples[0].distance_m, 13.0);
+    if (std::string(ending) == "stop_stream") rig.driver->stop_stream();
+    if (std::string(ending) == "destructor") rig.driver.reset();
+    if (std::string(ending) == "stop_measuring") {
+      rig.driver->stop_stream(AfterStream::stop_measuring);
+      EXPECT_FALSE(unit.measuring);
+      EXPECT_EQ(count_requests(*rig.device, "$ST"), 1U);
+      continue;
+    }
+    EXPECT_TRUE(unit.measuring);
+    EXPECT_EQ(count_requests(*rig.device, "$GO"), 0U);
+    EXPECT_EQ(count_requests(*rig.device, "$ST"), 0U);
+  }
+}
+
 TEST(UlsDriver, StreamMakesOneSamplePerBinningArrayAndReadsLookDown) {
   ScriptedDevice* device = nullptr;
   std::string mode = "$MM,2\r";
@@ -448,7 +529,7 @@ TEST(UlsDriver, MidFrameDisconnectGivesAnEventAndTheStreamResumesOnReopen) {
   const auto samples = samples_of(items);
   ASSERT_EQ(samples.size(), 1U);
   EXPECT_DOUBLE_EQ(*samples[0].distance_m, 1.0);  // not the half frame "$BM,2.0"
-  driver.stop_stream(false);
+  driver.stop_stream(AfterStream::keep_measuring);
   EXPECT_FALSE(driver.streaming());
 }
 
@@ -468,7 +549,7 @@ TEST(UlsDriver, WithoutReopenTheStreamFinishesOnDisconnect) {
   const auto until = std::chrono::steady_clock::now() + 10s;
   while (!rig.driver->finished() && std::chrono::steady_clock::now() < until) (void)rig.driver->next(50ms);
   EXPECT_TRUE(rig.driver->finished());
-  rig.driver->stop_stream(false);
+  rig.driver->stop_stream(AfterStream::keep_measuring);
 }
 
 TEST(UlsDriver, BroadcastSendsAndWaitsForNothing) {
@@ -525,7 +606,7 @@ TEST(UlsDriver, ProbeReadsIdAndStatusOnly) {
   auto found = probe(*pair.a);
   ASSERT_TRUE(found) << found.error().message;
   EXPECT_EQ(found->version, "ULS 1.0,2026");
-  EXPECT_EQ(found->status.value, 7);
+  EXPECT_EQ(found->status.value, 1);
   EXPECT_EQ(device.requests(), (std::vector<std::string>{"$ID", "$US"}));
   auto none = probe(*pair.a, std::uint8_t{'Q'}, 100ms);
   ASSERT_FALSE(none);

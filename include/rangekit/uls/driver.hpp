@@ -52,6 +52,13 @@ enum class StreamMode {
   polled,      // BM at the output period (PPM / PRF), as the Interface Program's Single Measurement
 };
 
+// What ending a stream does to the unit (U86).
+enum class AfterStream {
+  as_found,        // ST only when the stream's GO started the unit; a unit found measuring keeps measuring
+  stop_measuring,  // ST in any case
+  keep_measuring,  // nothing is sent
+};
+
 // Counters of what the reader saw besides replies.
 struct DriverCounters {
   std::uint64_t replies = 0;
@@ -186,13 +193,15 @@ class Driver final : public SampleSource {
   Result<MeasurementContext> read_context();
 
   // --- Stream (SampleSource) -------------------------------------------------
-  // Reads the context, starts measuring and a reader thread. Samples and link
-  // events are queued; a full queue drops the oldest (counted in lost()).
+  // Reads US and the context, starts measuring (GO, unless the unit already
+  // measures) and a reader thread. Samples and link events are queued; a full
+  // queue drops the oldest (counted in lost()).
   Status start_stream(StreamMode mode = StreamMode::automatic);
-  // Stops the reader (and, with stop_measuring, sends ST).
-  void stop_stream(bool stop_measuring = true);
+  // Stops the reader, then leaves the unit as `after` says (U86).
+  void stop_stream(AfterStream after = AfterStream::as_found);
   std::optional<StreamItem> next(std::chrono::milliseconds timeout) override;
   [[nodiscard]] bool finished() const override;
+  // stop_stream(AfterStream::as_found); the destructor does the same.
   void stop() override;
   [[nodiscard]] std::uint64_t lost() const override;
   [[nodiscard]] bool streaming() const noexcept { return streaming_.load(); }
@@ -254,6 +263,8 @@ class Driver final : public SampleSource {
   std::atomic<bool> stop_requested_{false};
   std::atomic<bool> finished_{false};
   std::atomic<StreamMode> active_mode_{StreamMode::continuous};
+  std::mutex stop_mutex_;                  // one stop_stream at a time (stop(), destructor, caller)
+  bool stream_started_measuring_ = false;  // the stream's GO started an idle unit (U86)
   StreamMode requested_mode_ = StreamMode::automatic;
   std::chrono::milliseconds poll_period_{100};
   std::chrono::steady_clock::time_point last_measurement_{};

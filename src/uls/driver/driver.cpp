@@ -122,10 +122,8 @@ Driver::Driver(TransportPtr transport, DriverOptions options, ReopenFunction reo
   if (options_.source.empty() && transport_) options_.source = transport_->name();
 }
 
-Driver::~Driver() {
-  stop_requested_ = true;
-  if (reader_.joinable()) reader_.join();
-}
+// A unit the stream started is not left measuring by a driver that goes away (U86).
+Driver::~Driver() { stop_stream(AfterStream::as_found); }
 
 Address Driver::request_address() const noexcept {
   return options_.address ? Address::unit(*options_.address) : Address::none();

@@ -2,6 +2,7 @@
 // into Samples, polls with BM when the unit does not send continuously, and
 // reopens the link after it went away (cable pulled, power cycle).
 #include <algorithm>
+#include <utility>
 
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/formulas.hpp"
@@ -91,6 +92,11 @@ Status Driver::begin_measuring(bool reconnecting) {
   poll_period_ = std::clamp<std::chrono::milliseconds>(period, 5ms, 10000ms);
   partial_targets_.clear();
   active_mode_ = mode;
+  // §2 ULS Autostart: a unit may measure already (MA, another host). GO would restart it
+  // (in look down it references again), so it is sent only to an idle unit (U86).
+  auto state = status();
+  if (!state) return state.error();
+  const bool measuring = state->measuring();
   // From here lines are decoded with the unit's own settings and belong to the
   // stream. Announced before GO so the event comes ahead of the first new sample.
   collecting_ = true;
@@ -100,7 +106,10 @@ Status Driver::begin_measuring(bool reconnecting) {
     emit_event(StreamEventKind::connected,
                options_.source + ": measuring, " + (mode == StreamMode::polled ? "polled with BM" : "continuous"));
   }
-  if (auto started = start_measuring(); !started) return started;
+  if (!measuring) {
+    if (auto started = start_measuring(); !started) return started;
+    if (!reconnecting) stream_started_measuring_ = true;
+  }
   last_measurement_ = std::chrono::steady_clock::now();
   return ok_status();
 }
@@ -108,6 +117,7 @@ Status Driver::begin_measuring(bool reconnecting) {
 Status Driver::start_stream(StreamMode mode) {
   if (streaming_ || reader_.joinable()) return make_error(Errc::unsupported, "the stream is already running");
   requested_mode_ = mode;
+  stream_started_measuring_ = false;
   stop_requested_ = false;
   finished_ = false;
   queue_.reopen();  // closed when a previous stream's reader ended
@@ -124,7 +134,8 @@ Status Driver::start_stream(StreamMode mode) {
   return ok_status();
 }
 
-void Driver::stop_stream(bool stop_measuring) {
+void Driver::stop_stream(AfterStream after) {
+  std::lock_guard stopping(stop_mutex_);
   stop_requested_ = true;
   if (reader_.joinable()) reader_.join();
   {
@@ -134,12 +145,14 @@ void Driver::stop_stream(bool stop_measuring) {
     collecting_ = false;
   }
   reply_ready_.notify_all();
-  if (stop_measuring && connected()) (void)action("ST");
+  const bool started_by_us = std::exchange(stream_started_measuring_, false);
+  const bool send_stop = after == AfterStream::stop_measuring || (after == AfterStream::as_found && started_by_us);
+  if (send_stop && connected()) (void)action("ST");
 }
 
 std::optional<StreamItem> Driver::next(std::chrono::milliseconds timeout) { return queue_.pop(timeout); }
 bool Driver::finished() const { return finished_.load() && queue_.size() == 0; }
-void Driver::stop() { stop_requested_ = true; }
+void Driver::stop() { stop_stream(AfterStream::as_found); }
 std::uint64_t Driver::lost() const { return queue_.dropped(); }
 
 bool Driver::reconnect() {

@@ -76,7 +76,7 @@ Result<UnitInfo> Driver::info() {
 
 Status Driver::start_measuring() { return action("GO"); }
 Status Driver::stop_measuring() {
-  if (streaming_) stop_stream(false);
+  if (streaming_) stop_stream(AfterStream::keep_measuring);
   return action("ST");
 }
 Status Driver::save() { return action("SU"); }
