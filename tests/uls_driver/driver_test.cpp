@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <map>
+#include <thread>
 
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/errors.hpp"
@@ -464,6 +465,43 @@ TEST(UlsDriver, PolledStreamAsksWithBm) {
   ASSERT_EQ(samples.size(), 3U);
   EXPECT_EQ(*samples[2].pulse_width, 3U);
   rig.driver->stop_stream();
+}
+
+// U89: with CO off the unit still measures every PPM / PRF seconds (§2 Continuous Output: "When
+// this function is off, the ULS completes measurements, but the display is not updated. You must
+// select Single Measurement to display the last completed measurement"), and BM answers "the most
+// recent measurement" (§2 Single Measurement). A BM sooner than one output period after the last
+// answer gets the same measurement again: 2000 Hz / 100 PPM reported the first one twice, 2 ms apart.
+// Here PF 2000 and PO 101 (50.5 ms); the unit numbers its measurements in the pulse width field and
+// a BM before the first has completed waits for it.
+TEST(UlsDriver, U89_PolledStreamReportsEachMeasurementOnce) {
+  using Clock = std::chrono::steady_clock;
+  const auto period = std::chrono::microseconds(50500);
+  Clock::time_point started;
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request == "$CO") return "$CO,0\r";
+    if (request == "$PO") return "$PO,101,1024\r";
+    if (request == "$GO") {
+      started = Clock::now();
+      return "$OK\r";
+    }
+    if (request == "$BM") {
+      auto completed = (Clock::now() - started) / period;
+      if (completed == 0) {
+        std::this_thread::sleep_until(started + period);  // the unit's first measurement takes one period
+        completed = 1;
+      }
+      return "$BM,7.000," + std::to_string(completed) + "\r";
+    }
+    return typical_reply(request);
+  });
+  ASSERT_TRUE(rig.driver->start_stream());
+  ASSERT_EQ(rig.driver->active_stream_mode(), StreamMode::polled);
+  const auto samples = samples_of(take(*rig.driver, 4));
+  rig.driver->stop_stream();
+  ASSERT_EQ(samples.size(), 4U);
+  for (std::size_t i = 1; i < samples.size(); ++i)
+    EXPECT_GT(*samples[i].pulse_width, *samples[i - 1].pulse_width) << "sample " << i << " repeats a measurement";
 }
 
 TEST(UlsDriver, AutomaticStreamPollsWhenNoContinuousLinesArriveOnThisPort) {

@@ -266,7 +266,7 @@ class Driver final : public SampleSource {
   std::mutex stop_mutex_;                  // one stop_stream at a time (stop(), destructor, caller)
   bool stream_started_measuring_ = false;  // the stream's GO started an idle unit (U86)
   StreamMode requested_mode_ = StreamMode::automatic;
-  std::chrono::milliseconds poll_period_{100};
+  std::chrono::microseconds poll_period_{100000};  // the output period PPM / PRF, rounded up
   std::chrono::steady_clock::time_point last_measurement_{};
 };
 

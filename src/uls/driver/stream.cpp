@@ -81,15 +81,16 @@ Status Driver::begin_measuring(bool reconnecting) {
   // The poll period is the output period PPM / PRF of the mode (§2); look down reports changes.
   auto rates = prf();
   if (!rates) return rates.error();
-  std::chrono::milliseconds period = 50ms;
+  std::chrono::microseconds period = 50ms;
   if (context->mode != Mode::look_down) {
     auto ppm = pulses_per_measurement();
     if (!ppm) return ppm.error();
     const std::size_t index = context->mode == Mode::averaging ? 0 : 1;
     const double seconds = output_period_s((*ppm)[index], (*rates)[index]);
-    period = std::chrono::milliseconds(static_cast<std::int64_t>(seconds * 1000.0));
+    // Rounded up: polling faster than the unit measures returns a measurement twice (U89).
+    period = std::chrono::ceil<std::chrono::microseconds>(std::chrono::duration<double>(seconds));
   }
-  poll_period_ = std::clamp<std::chrono::milliseconds>(period, 5ms, 10000ms);
+  poll_period_ = std::clamp<std::chrono::microseconds>(period, 5ms, 10000ms);
   partial_targets_.clear();
   active_mode_ = mode;
   // §2 ULS Autostart: a unit may measure already (MA, another host). GO would restart it
@@ -184,9 +185,12 @@ void Driver::reader_loop() {
     Status step = ok_status();
     const auto now = std::chrono::steady_clock::now();
     if (active_mode_ == StreamMode::polled && now >= next_poll) {
-      next_poll = now + poll_period_;
       Sample sample;
       auto done = transact(*find_command("BM"), {}, Expect::measurement, 1, options_.measure_timeout, &sample);
+      // BM answers "the most recent measurement" (§2 Single Measurement), and the first
+      // answer waits for the first measurement: the next new one is due one output period
+      // after the answer, not after the request (U89).
+      next_poll = std::chrono::steady_clock::now() + poll_period_;
       if (done) {
         emit_sample(std::move(sample));
       } else if (done.error().code == Errc::closed || done.error().code == Errc::io) {
@@ -203,7 +207,7 @@ void Driver::reader_loop() {
       // No continuous lines on this port (MO sends them elsewhere): poll instead (U62).
       if (step && requested_mode_ == StreamMode::automatic && active_mode_ == StreamMode::continuous &&
           std::chrono::steady_clock::now() - last_measurement_ >
-              std::max<std::chrono::milliseconds>(3 * poll_period_, 1500ms)) {
+              std::max<std::chrono::microseconds>(3 * poll_period_, 1500ms)) {
         active_mode_ = StreamMode::polled;
       }
     }
