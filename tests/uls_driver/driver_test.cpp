@@ -504,6 +504,77 @@ TEST(UlsDriver, U89_PolledStreamReportsEachMeasurementOnce) {
     EXPECT_GT(*samples[i].pulse_width, *samples[i - 1].pulse_width) << "sample " << i << " repeats a measurement";
 }
 
+// A unit in look down with time between events on (§8 Look Down Mode: "$XXXX output at the
+// start of presence detected", "$0 output at the start of no presence detected").
+std::string look_down_reply(const std::string& request) {
+  if (request == "$MM") return "$MM,3\r";
+  if (request == "$TB") return "$TB,1\r";
+  return typical_reply(request);
+}
+
+std::vector<Sample> look_down_samples(const std::vector<StreamItem>& items) {
+  auto samples = samples_of(items);
+  for (const auto& sample : samples) EXPECT_EQ(sample.kind, SampleKind::uls_look_down);
+  return samples;
+}
+
+// U87: §3 Look Down Mode, "the sensor continuously fires pulses and looks for a specific change
+// in distance", and sends a line only at an edge: silence is normal, not a sign that the lines go
+// to the other port (U62). One edge is one sample; the stream never starts polling, so the last
+// edge is not repeated as new events.
+TEST(UlsDriver, U87_LookDownSilenceIsNormalAndStartsNoPolling) {
+  ScriptedDevice* device = nullptr;
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request == "$GO") {
+      device->send("$OK\r$0BB8\r");  // one presence edge, 3000 pulses after the last no-presence edge
+      return "";
+    }
+    if (request == "$BM") return "$0BB8\r";  // a poll would read the last edge again
+    return look_down_reply(request);
+  });
+  device = rig.device.get();
+  ASSERT_TRUE(rig.driver->start_stream());  // automatic: CO is on
+  auto items = take(*rig.driver, 1);
+  // Longer than U62's 1.5 s without a line (the wait is what is tested, not a synchronisation).
+  const auto until = std::chrono::steady_clock::now() + 2s;
+  while (std::chrono::steady_clock::now() < until)
+    if (auto item = rig.driver->next(100ms)) items.push_back(std::move(*item));
+  rig.device->send("$0\r");  // the object leaves: the next edge
+  const auto more = take(*rig.driver, 1);
+  items.insert(items.end(), more.begin(), more.end());
+  EXPECT_EQ(rig.driver->active_stream_mode(), StreamMode::continuous);
+  rig.driver->stop_stream();
+  const auto samples = look_down_samples(items);
+  ASSERT_EQ(samples.size(), 2U);
+  EXPECT_EQ(samples[0].presence, true);
+  EXPECT_EQ(samples[0].pulses_between_events, 3000U);
+  EXPECT_EQ(samples[1].presence, false);
+  EXPECT_EQ(count_requests(*rig.device, "$BM"), 0U);
+}
+
+// U87: polled look down (CO off, or --mode polled) reads the state at each poll (§2 Single
+// Measurement, "the most recent measurement"); a sample is reported when the answer changes, so
+// an edge is one sample however many polls read it.
+TEST(UlsDriver, U87_PolledLookDownReportsAnEdgeOnce) {
+  std::atomic<int> polls{0};
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request == "$BM") {
+      const int poll = ++polls;
+      return poll <= 3 ? "$0BB8\r" : poll <= 6 ? "$0\r" : "$0BB8\r";
+    }
+    return look_down_reply(request);
+  });
+  ASSERT_TRUE(rig.driver->start_stream(StreamMode::polled));
+  const auto samples = look_down_samples(take(*rig.driver, 3));
+  rig.driver->stop_stream();
+  ASSERT_EQ(samples.size(), 3U);
+  EXPECT_EQ(samples[0].presence, true);
+  EXPECT_EQ(samples[1].presence, false);
+  EXPECT_EQ(samples[2].presence, true);  // a new edge, though its count equals the first one's
+  EXPECT_EQ(samples[2].pulses_between_events, 3000U);
+  EXPECT_GE(polls.load(), 7);
+}
+
 TEST(UlsDriver, AutomaticStreamPollsWhenNoContinuousLinesArriveOnThisPort) {
   // docs/conformance.md U62: CO on, but MO sends the lines to the other port.
   int polls = 0;

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/uls/driver.hpp"
@@ -236,6 +237,39 @@ TEST(UlsHostPty, BusOfEightUnitsScanAssignPoll) {
   run = cli("uls bus scan" + on + " --units Bz");
   EXPECT_NE(run.out.find("DUPLICATE"), std::string::npos) << run.out;
   emulator.stop();
+  fs::remove_all(dir);
+}
+
+// U87 end to end: a ground at 20 m and a car that passes under the unit for 1 s every 4.5 s
+// (§3 Look Down Mode: "ON is displayed when the system is tripped by presence detected").
+// With TB on each edge is one line (§8: "$XXXX output at the start of presence detected", "$0
+// output at the start of no presence detected"), and `uls stream` gives one sample per line,
+// also after the 3.5 s of silence between two cars.
+TEST(UlsHostPty, U87_LookDownStreamGivesOneSamplePerEdge) {
+  const auto dir = scratch("lookdown");
+  const std::string port = (dir / "cfg").string();
+  {
+    std::ofstream scene(dir / "scene.toml");
+    scene << "[[targets]]\nname = \"ground\"\ndistance_m = 20\n\n"
+             "[[targets]]\nname = \"car\"\npath = [[0, 30], [1.5, 30], [1.501, 10], [2.5, 10], [2.501, 30], "
+             "[4.5, 30]]\nrepeat = true\n";
+  }
+  Emulator emulator("--config-port " + port + " --scene " + (dir / "scene.toml").string());
+  const std::string on = " --port " + port;
+  ASSERT_EQ(cli("uls set" + on + " mode=look-down TB=1").code, 0);
+  const CliRun run = cli("uls stream" + on + " --count 3 --format jsonl");
+  ASSERT_EQ(run.code, 0) << run.out;
+  std::vector<std::string> samples;
+  std::istringstream lines(run.out);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find("\"kind\":\"look_down\"") != std::string::npos) samples.push_back(line);
+  ASSERT_EQ(samples.size(), 3U) << run.out;
+  // Edges alternate; a repeated state would be the last edge reported again.
+  for (std::size_t i = 1; i < samples.size(); ++i) {
+    const bool present = samples[i].find("\"presence\":true") != std::string::npos;
+    const bool was_present = samples[i - 1].find("\"presence\":true") != std::string::npos;
+    EXPECT_NE(present, was_present) << run.out;
+  }
   fs::remove_all(dir);
 }
 

@@ -234,6 +234,7 @@ class Driver final : public SampleSource {
   void reader_loop();
   bool reconnect();
   Status begin_measuring(bool reconnecting);
+  bool repeats_last_poll(const Sample& sample);
   Result<Units> cached_units();
   [[nodiscard]] bool on_reader_thread() const;
 
@@ -267,6 +268,9 @@ class Driver final : public SampleSource {
   bool stream_started_measuring_ = false;  // the stream's GO started an idle unit (U86)
   StreamMode requested_mode_ = StreamMode::automatic;
   std::chrono::microseconds poll_period_{100000};  // the output period PPM / PRF, rounded up
+  // Look down sends only edges (U87): silence is normal and a poll reports changes only.
+  bool look_down_stream_ = false;
+  std::optional<Sample> last_polled_;  // the previous poll's answer in look down
   std::chrono::steady_clock::time_point last_measurement_{};
 };
 

@@ -64,6 +64,16 @@ void Driver::handle_measurement(const Measurement& measurement) {
   if (collecting_) emit_sample(sample_from_reading(measurement.reading, address, options_.source));
 }
 
+// A look-down poll reads the state the last edge left (§2 Single Measurement, "the most recent
+// measurement"): the same answer again is no new edge (U87).
+bool Driver::repeats_last_poll(const Sample& sample) {
+  const bool same = last_polled_ && last_polled_->kind == sample.kind && last_polled_->presence == sample.presence &&
+                    last_polled_->pulses_between_events == sample.pulses_between_events &&
+                    last_polled_->device_error == sample.device_error;
+  last_polled_ = sample;
+  return same;
+}
+
 Status Driver::begin_measuring(bool reconnecting) {
   {
     // Lines that arrive before MM/DM/MU/TB are read again are not decoded (U85).
@@ -91,6 +101,8 @@ Status Driver::begin_measuring(bool reconnecting) {
     period = std::chrono::ceil<std::chrono::microseconds>(std::chrono::duration<double>(seconds));
   }
   poll_period_ = std::clamp<std::chrono::microseconds>(period, 5ms, 10000ms);
+  look_down_stream_ = context->mode == Mode::look_down;
+  last_polled_.reset();
   partial_targets_.clear();
   active_mode_ = mode;
   // §2 ULS Autostart: a unit may measure already (MA, another host). GO would restart it
@@ -192,7 +204,7 @@ void Driver::reader_loop() {
       // after the answer, not after the request (U89).
       next_poll = std::chrono::steady_clock::now() + poll_period_;
       if (done) {
-        emit_sample(std::move(sample));
+        if (!look_down_stream_ || !repeats_last_poll(sample)) emit_sample(std::move(sample));
       } else if (done.error().code == Errc::closed || done.error().code == Errc::io) {
         step = done.error();
       } else if (done.error().code == Errc::device_error) {
@@ -205,7 +217,9 @@ void Driver::reader_loop() {
               : 50ms;
       step = pump(wait);
       // No continuous lines on this port (MO sends them elsewhere): poll instead (U62).
+      // Not in look down, which is silent while nothing changes (U87).
       if (step && requested_mode_ == StreamMode::automatic && active_mode_ == StreamMode::continuous &&
+          !look_down_stream_ &&
           std::chrono::steady_clock::now() - last_measurement_ >
               std::max<std::chrono::microseconds>(3 * poll_period_, 1500ms)) {
         active_mode_ = StreamMode::polled;
