@@ -108,6 +108,7 @@ std::string format_sample(const Sample& sample) {
     text += fmt::format(" target{}={:.3f}m/{}", i, sample.targets[i].distance_m, sample.targets[i].strength);
   if (sample.presence) text += fmt::format(" presence={}", *sample.presence ? "true" : "false");
   if (sample.pulses_between_events) text += fmt::format(" pulses_between_events={}", *sample.pulses_between_events);
+  if (sample.pulses_overflow) text += " pulses_between_events>65535";
   if (sample.device_error) text += fmt::format(" error={}", *sample.device_error);
   return text;
 }

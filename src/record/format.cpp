@@ -194,6 +194,8 @@ void append_jsonl(std::string& out, const Sample& sample) {
       append_json_optional(out, sample.presence, append_bool);
       append_json_key(out, "pulses_between_events");
       append_json_optional(out, sample.pulses_between_events, append_u32);
+      append_json_key(out, "pulses_overflow");
+      append_bool(out, sample.pulses_overflow);
       break;
     case SampleKind::uls_error:
       append_json_key(out, "error");
@@ -228,7 +230,7 @@ void append_jsonl(std::string& out, const StreamEvent& event) {
 
 const char* csv_header() noexcept {
   return "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,code,"
-         "distance_mm,signal\n";
+         "distance_mm,signal,pulses_overflow\n";
 }
 
 void append_csv(std::string& out, const Sample& sample) {
@@ -266,6 +268,8 @@ void append_csv(std::string& out, const Sample& sample) {
   append_csv_optional(out, sample.distance_mm, append_millimetres);
   out += ',';
   append_csv_optional(out, sample.signal, append_signal_csv);
+  out += ',';
+  if (sample.kind == SampleKind::uls_look_down) append_bool(out, sample.pulses_overflow);
   out += '\n';
 }
 
@@ -293,6 +297,7 @@ void append_text(std::string& out, const Sample& sample) {
     case SampleKind::uls_look_down:
       if (sample.presence) out += *sample.presence ? "  present" : "  absent";
       if (sample.pulses_between_events) append_printf(out, "  pulses %" PRIu32, *sample.pulses_between_events);
+      if (sample.pulses_overflow) out += "  pulses >65535";
       break;
     case SampleKind::uls_error:
       out += "  error";

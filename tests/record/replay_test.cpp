@@ -122,7 +122,7 @@ void expect_replay_identical_to_live(OutputFormat format) {
   auto averaging = uls_averaging(1ms);
   averaging.distance_m = 1.0 / 3.0;
   FakeSource source({averaging, binning_with_odd_values, event(StreamEventKind::bad_frame, "half \"frame\""),
-                     uls_look_down(), uls_error(), ls5_result(12345, 1234.5, SignalState::ok),
+                     uls_look_down(), uls_look_down_overflow(), uls_error(), ls5_result(12345, 1234.5, SignalState::ok),
                      ls5_result(65534, std::nullopt, SignalState::none_yet)});
   const std::atomic<bool> stop{false};
   StreamLoopOptions options;

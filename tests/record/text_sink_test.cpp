@@ -36,8 +36,8 @@ TEST(TextSink, CsvStartsWithTheHeaderAndLeavesEventsOut) {
   }  // closing flushes
   EXPECT_EQ(read_file(path),
             "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
-            "code,distance_mm,signal\n"
-            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,\n");
+            "code,distance_mm,signal,pulses_overflow\n"
+            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,,\n");
 }
 
 TEST(TextSink, DiskFullIsAnIoErrorNamingTheFile) {

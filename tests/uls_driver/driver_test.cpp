@@ -447,8 +447,10 @@ TEST(UlsDriver, StreamMakesOneSamplePerBinningArrayAndReadsLookDown) {
   EXPECT_EQ(samples[0].presence, false);
   EXPECT_EQ(samples[1].presence, true);
   EXPECT_EQ(samples[1].pulses_between_events, 3000U);
-  // docs/conformance.md U61: overflow keeps the wire's 0.
-  EXPECT_EQ(samples[2].pulses_between_events, 0U);
+  // docs/conformance.md U61/U88: $0000 is more than 65535 pulses, not 0.
+  EXPECT_EQ(samples[2].presence, true);
+  EXPECT_TRUE(samples[2].pulses_overflow);
+  EXPECT_FALSE(samples[2].pulses_between_events.has_value());
   rig.driver->stop_stream();
 }
 

@@ -104,8 +104,9 @@ Sample sample_from_reading(const Reading& reading, int address, const std::strin
   } else if (const auto* event = std::get_if<TimeBetweenEvents>(&reading)) {
     sample.kind = SampleKind::uls_look_down;
     sample.presence = event->kind != TimeBetweenEvents::Kind::no_presence;
-    // U61: overflow keeps the wire's 0 ("more than 65535 pulses").
-    if (event->kind != TimeBetweenEvents::Kind::no_presence) sample.pulses_between_events = event->pulses;
+    // U88: `$0000` is more than 65535 pulses, not 0.
+    if (event->kind == TimeBetweenEvents::Kind::pulses) sample.pulses_between_events = event->pulses;
+    sample.pulses_overflow = event->kind == TimeBetweenEvents::Kind::overflow;
   } else if (const auto* error = std::get_if<MeasurementError>(&reading)) {
     sample.kind = SampleKind::uls_error;
     sample.device_error = error->number;

@@ -69,6 +69,7 @@ void Driver::handle_measurement(const Measurement& measurement) {
 bool Driver::repeats_last_poll(const Sample& sample) {
   const bool same = last_polled_ && last_polled_->kind == sample.kind && last_polled_->presence == sample.presence &&
                     last_polled_->pulses_between_events == sample.pulses_between_events &&
+                    last_polled_->pulses_overflow == sample.pulses_overflow &&
                     last_polled_->device_error == sample.device_error;
   last_polled_ = sample;
   return same;
