@@ -96,6 +96,35 @@ TEST(UlsDriver, DeviceErrorsCarryTheNumberAndTheSection10Text) {
       << set.error().message;
 }
 
+// U91: §9 "Baud Rate Choices" 1200 2400 4800 9600 14400 19200 38400 57600 115200, 230400
+// (command); §10 34 Invalid Baud Rate. A refused baud names the bauds, not the ports, and a
+// lone value is not taken for a port.
+TEST(UlsDriver, U91_ARefusedBaudNamesTheAllowedBauds) {
+  Rig rig([](const std::string&) { return std::string("$OK\r"); });
+  auto set = rig.driver->set_baud(BaudPort::configuration, 28800);
+  ASSERT_FALSE(set);
+  EXPECT_EQ(set.error().code, Errc::out_of_range);
+  const std::string& message = set.error().message;
+  EXPECT_NE(message.find("1200, 2400, 4800, 9600, 14400, 19200, 38400, 57600, 115200, 230400"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("error 34, Invalid Baud Rate"), std::string::npos) << message;
+  EXPECT_EQ(message.find("output port"), std::string::npos) << message;
+
+  const std::array<std::string_view, 1> lone{"28800"};
+  auto alone = rig.driver->set("BR", lone);
+  ASSERT_FALSE(alone);
+  EXPECT_NE(alone.error().message.find("the port and the baud"), std::string::npos) << alone.error().message;
+  EXPECT_NE(alone.error().message.find("115200"), std::string::npos) << alone.error().message;
+  EXPECT_EQ(alone.error().message.find("Invalid Port"), std::string::npos) << alone.error().message;
+
+  const std::array<std::string_view, 2> bad_port{"3", "9600"};
+  auto port = rig.driver->set("BR", bad_port);
+  ASSERT_FALSE(port);
+  EXPECT_NE(port.error().message.find("0 configuration port, 1 output port"), std::string::npos)
+      << port.error().message;
+  EXPECT_TRUE(rig.device->requests().empty());  // all refused before sending
+}
+
 TEST(UlsDriver, StreamErrorsAreNotTakenForTheReplyOfASet) {
   // docs/conformance.md U60: $ER,4 and $ER,5 are measurement errors (U13), never an answer.
   Rig rig([](const std::string& request) -> std::string {

@@ -273,6 +273,49 @@ TEST(UlsHostPty, U87_LookDownStreamGivesOneSamplePerEdge) {
   fs::remove_all(dir);
 }
 
+// U90, U91, U92: what `rangekit uls` prints carries the §10 texts and the units.
+TEST(UlsHostPty, U90_U92_OutputNamesErrorsAndUnits) {
+  const auto dir = scratch("wording");
+  const std::string port = (dir / "cfg").string();
+  {
+    // Far beyond the §9 maximum range: no pulse returns, §10 "4 Lock Not Found | Target Not Found".
+    std::ofstream scene(dir / "far.toml");
+    scene << "[[targets]]\ndistance_m = 4000\n";
+  }
+  Emulator emulator("--config-port " + port + " --scene " + (dir / "far.toml").string());
+  const std::string on = " --port " + port;
+  CliRun run = cli("uls measure" + on);
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("error 4: Lock Not Found (display: Target Not Found)"), std::string::npos) << run.out;
+  EXPECT_EQ(run.out.find("error=4"), std::string::npos) << run.out;
+  run = cli("uls stream" + on + " --count 1");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("uls  error 4: Lock Not Found (display: Target Not Found)"), std::string::npos) << run.out;
+
+  // §8 DM 2 "Both": range and pulse width; §9 "yyyyyyy = pulse width (pico seconds)" (U8).
+  {
+    std::ofstream scene(dir / "near.toml");
+    scene << "[[targets]]\ndistance_m = 50\npulse_width_ns = 25\n";
+  }
+  emulator.stop();
+  Emulator near("--config-port " + port + " --scene " + (dir / "near.toml").string());
+  run = cli("uls measure" + on);
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("pulse_width_ns=25.000"), std::string::npos) << run.out;
+  run = cli("uls stream" + on + " --count 1");
+  EXPECT_NE(run.out.find("pw 25.000 ns"), std::string::npos) << run.out;
+
+  // U91: §9 baud choices; 28800 is none of them, and a lone value is not a port.
+  run = cli("uls set" + on + " baud=0,28800");
+  EXPECT_EQ(run.code, 2) << run.out;
+  EXPECT_NE(run.out.find("1200, 2400, 4800, 9600, 14400, 19200, 38400, 57600, 115200, 230400"), std::string::npos)
+      << run.out;
+  run = cli("uls set" + on + " baud=28800");
+  EXPECT_EQ(run.code, 2) << run.out;
+  EXPECT_NE(run.out.find("the port and the baud"), std::string::npos) << run.out;
+  fs::remove_all(dir);
+}
+
 std::vector<StreamItem> take_until(Driver& driver, const std::function<bool(const std::vector<StreamItem>&)>& done) {
   std::vector<StreamItem> items;
   const auto until = std::chrono::steady_clock::now() + 20s;
