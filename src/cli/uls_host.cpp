@@ -421,18 +421,24 @@ int run_bus(const LinkOptions& link, const std::string& what, const std::string&
     for (const auto& unit : (*bus)->scan(*addresses)) list.push_back(unit.address);
     if (list.empty()) return fail(name, make_error(Errc::timeout, "no unit answered on " + link.port));
   }
+  // U93: a unit silent on US or on BM is "no reply" (5); a device error or a collision 6.
   int silent = 0;
+  int failed = 0;
   for (int round = 0; round < rounds; ++round) {
     for (const auto& result : (*bus)->poll(list, measure)) {
       std::string line = address_text(result.address);
       if (result.status) line += fmt::format("  status={}", result.status->value);
       if (result.sample) line += "  " + format_sample(*result.sample);
       if (!result.problem.empty()) line += "  problem: " + result.problem;
-      if (!result.answered) ++silent;
+      if (!result.answered || (result.error && result.error->code == Errc::timeout)) {
+        ++silent;
+      } else if (result.error) {
+        ++failed;
+      }
       fmt::print("{}\n", line);
     }
   }
-  return silent > 0 ? exit_no_reply : exit_ok;
+  return silent > 0 ? exit_no_reply : failed > 0 ? exit_device_error : exit_ok;
 }
 
 }  // namespace

@@ -13,8 +13,10 @@
 #include <fstream>
 #include <sstream>
 
+#include "rangekit/core/pty.hpp"
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/uls/driver.hpp"
+#include "uls_driver/scripted_device.hpp"
 
 namespace rangekit::uls {
 namespace {
@@ -314,6 +316,36 @@ TEST(UlsHostPty, U90_U92_OutputNamesErrorsAndUnits) {
   EXPECT_EQ(run.code, 2) << run.out;
   EXPECT_NE(run.out.find("the port and the baud"), std::string::npos) << run.out;
   fs::remove_all(dir);
+}
+
+// U93: docs/host-uls.md exit codes, "5 no reply (... `bus poll` when a unit stayed silent); 6 a
+// device error". A scripted bus on a pty: unit 'A' answers US and the gets `measure` needs but
+// never BM (silent), unit 'B' answers BM with §10 error 7, Measurement Read Error.
+TEST(UlsHostPty, U93_BusPollExitsFiveWhenAUnitStaysSilentOnBm) {
+  auto pty = PseudoTerminal::open();
+  ASSERT_TRUE(pty) << pty.error().message;
+  ASSERT_TRUE((*pty)->hold_slave_open());  // the CLI opening and closing it is no hang-up
+  const std::string path = (*pty)->slave_path();
+  testing::ScriptedDevice bus(std::move(*pty), [](const std::string& request) -> std::string {
+    if (request.size() < 3 || request[0] != '#') return "";
+    const std::string unit = request.substr(0, 2);
+    const std::string mnemonic = request.substr(2);
+    if (mnemonic == "US") return unit + "US,7\r";
+    if (mnemonic == "MM") return unit + "MM,1\r";
+    if (mnemonic == "DM") return unit + "DM,2\r";
+    if (mnemonic == "MU") return unit + "MU,1\r";
+    if (mnemonic == "TB") return unit + "TB,0\r";
+    if (mnemonic == "BM" && unit == "#B") return "#BER,7\r";
+    return "";
+  });
+  CliRun run = cli("uls bus poll --port " + path + " --units B --measure");
+  EXPECT_EQ(run.code, 6) << run.out;
+  EXPECT_NE(run.out.find("device error 7"), std::string::npos) << run.out;
+  run = cli("uls bus poll --port " + path + " --units AB --measure");
+  EXPECT_EQ(run.code, 5) << run.out;
+  EXPECT_NE(run.out.find("no reply to $BM"), std::string::npos) << run.out;
+  run = cli("uls bus poll --port " + path + " --units A");  // US alone: A answers
+  EXPECT_EQ(run.code, 0) << run.out;
 }
 
 std::vector<StreamItem> take_until(Driver& driver, const std::function<bool(const std::vector<StreamItem>&)>& done) {
