@@ -183,7 +183,7 @@ void BM_HostUlsDriverBinning230400(benchmark::State& state) {
       if (!count) return state.SkipWithError(count.error().describe().c_str());
       (first ? last : first) = Mark{*count, bursts, uls.counters().measurements, bytes->load(), Clock::now()};
     }
-    uls.stop_stream(true);  // ST
+    uls.stop_stream(rangekit::uls::AfterStream::stop_measuring);  // ST
     const double stream_s = std::chrono::duration<double>(Clock::now() - started).count();
     const double cpu_s = rangekit::bench::process_cpu_s() - cpu_before;
     report(state, *first, *last, cpu_s, stream_s, static_cast<double>(uls.lost()));

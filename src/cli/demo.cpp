@@ -17,6 +17,7 @@
 #include "cli/host_sources.hpp"
 #include "cli/sim_process.hpp"
 #include "cli/stream_runner.hpp"
+#include "rangekit/core/control_socket.hpp"
 #include "rangekit/record/merge.hpp"
 #include "rangekit/uls/driver.hpp"
 
@@ -74,6 +75,18 @@ void remove_capture(const std::string& path) {
   for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(path + suffix, ignored);
 }
 
+// "not measuring" when the emulator's `outputs` has `field` false, "still <field>" when true.
+std::string emulator_state(const std::string& control, const char* field, const char* idle_text) {
+  auto client = ControlClient::connect(control);
+  if (!client) return "state unknown (" + client.error().message + ")";
+  auto reply = client->request({{"cmd", "outputs"}});
+  if (!reply) return "state unknown (" + reply.error().message + ")";
+  const nlohmann::json& device = reply->contains("devices") ? (*reply)["devices"][0] : *reply;
+  const auto value = device.find(field);
+  if (value == device.end() || !value->is_boolean()) return "state unknown";
+  return value->get<bool>() ? std::string("still ") + field : std::string(idle_text);
+}
+
 int fail(const std::string& message) {
   fmt::print(stderr, "rangekit demo: {}\n", message);
   return exit_io;
@@ -91,12 +104,15 @@ int run_live_demo(const DemoOptions& options) {
   const std::string uls_config_port = (dir / "uls-config").string();
   const std::string ls5_port = (dir / "ls5").string();
   fmt::print("rangekit demo: starting two emulated sensors on pseudo-terminals in {}\n", dir.string());
-  auto uls_sim = SimProcess::start(
-      {"uls", "--port", uls_port, "--config-port", uls_config_port, "--scene", (dir / "uls-scene.toml").string()},
-      (dir / "uls-sim.log").string(), std::chrono::seconds(15));
+  const std::string uls_control = (dir / "uls.control").string();
+  const std::string ls5_control = (dir / "ls5.control").string();
+  auto uls_sim = SimProcess::start({"uls", "--port", uls_port, "--config-port", uls_config_port, "--scene",
+                                    (dir / "uls-scene.toml").string(), "--control", uls_control},
+                                   (dir / "uls-sim.log").string(), std::chrono::seconds(15));
   if (!uls_sim) return fail(uls_sim.error().message);
-  auto ls5_sim = SimProcess::start({"ls5", "--port", ls5_port, "--scene", (dir / "ls5-scene.toml").string()},
-                                   (dir / "ls5-sim.log").string(), std::chrono::seconds(15));
+  auto ls5_sim = SimProcess::start(
+      {"ls5", "--port", ls5_port, "--scene", (dir / "ls5-scene.toml").string(), "--control", ls5_control},
+      (dir / "ls5-sim.log").string(), std::chrono::seconds(15));
   if (!ls5_sim) return fail(ls5_sim.error().message);
   fmt::print("  {}\n  {}\n", uls_sim->ready_line(), ls5_sim->ready_line());
 
@@ -140,7 +156,10 @@ int run_live_demo(const DemoOptions& options) {
   merged.reset();  // stops both streams before the drivers and emulators go
 
   if (code != exit_ok && code != exit_interrupted) return code;
-  fmt::print("\nCaptured {} samples from both sensors into {}\n", stats.samples, options.capture);
+  // U86: the host stops what it started (ULS ST, LS5 SB); the emulators confirm it.
+  fmt::print("\nLeft as found: ULS {}, LS5 {}\n", emulator_state(uls_control, "measuring", "not measuring"),
+             emulator_state(ls5_control, "streaming", "not streaming"));
+  fmt::print("Captured {} samples from both sensors into {}\n", stats.samples, options.capture);
   fmt::print("Replay it:  build/rangekit replay {} --format jsonl\n", options.capture);
   fmt::print("Emulators:  build/rangekit sim uls --help, build/rangekit sim ls5 --help\n");
   std::error_code ignored;

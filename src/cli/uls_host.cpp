@@ -13,6 +13,7 @@
 #include "rangekit/uls/bus.hpp"
 #include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/driver.hpp"
+#include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/host_config.hpp"
 
 namespace rangekit::cli {
@@ -101,14 +102,17 @@ Result<std::unique_ptr<Driver>> open_driver(const LinkOptions& link, bool with_r
 
 std::string format_sample(const Sample& sample) {
   std::string text = sample_kind_name(sample.kind);
+  // "error 4: Lock Not Found (display: Target Not Found)": §10's words, not a bare number (U90).
+  if (sample.device_error) text += fmt::format(" {}: {}", *sample.device_error, error_text(*sample.device_error));
   if (sample.address >= 0) text += " address=" + address_text(static_cast<std::uint8_t>(sample.address));
   if (sample.distance_m) text += fmt::format(" distance_m={:.3f}", *sample.distance_m);
-  if (sample.pulse_width) text += fmt::format(" pulse_width={}", *sample.pulse_width);
+  // Picoseconds on the wire (U8), shown in ns with the unit in the name (U92).
+  if (sample.pulse_width) text += fmt::format(" pulse_width_ns={:.3f}", *sample.pulse_width / 1000.0);
   for (std::size_t i = 0; i < sample.targets.size(); ++i)
     text += fmt::format(" target{}={:.3f}m/{}", i, sample.targets[i].distance_m, sample.targets[i].strength);
   if (sample.presence) text += fmt::format(" presence={}", *sample.presence ? "true" : "false");
   if (sample.pulses_between_events) text += fmt::format(" pulses_between_events={}", *sample.pulses_between_events);
-  if (sample.device_error) text += fmt::format(" error={}", *sample.device_error);
+  if (sample.pulses_overflow) text += " pulses_between_events>65535";
   return text;
 }
 
@@ -282,7 +286,7 @@ int run_uls_stream(const LinkOptions& link, const StreamOptions& options, const 
                                                       : StreamMode::automatic;
   if (auto started = (*driver)->start_stream(stream_mode); !started) return fail("stream", started.error());
   const int code = run_stream(**driver, options);
-  (*driver)->stop_stream(true);
+  (*driver)->stop_stream(AfterStream::as_found);  // U86: ST only if this stream started the unit
   return code;
 }
 
@@ -417,18 +421,24 @@ int run_bus(const LinkOptions& link, const std::string& what, const std::string&
     for (const auto& unit : (*bus)->scan(*addresses)) list.push_back(unit.address);
     if (list.empty()) return fail(name, make_error(Errc::timeout, "no unit answered on " + link.port));
   }
+  // U93: a unit silent on US or on BM is "no reply" (5); a device error or a collision 6.
   int silent = 0;
+  int failed = 0;
   for (int round = 0; round < rounds; ++round) {
     for (const auto& result : (*bus)->poll(list, measure)) {
       std::string line = address_text(result.address);
       if (result.status) line += fmt::format("  status={}", result.status->value);
       if (result.sample) line += "  " + format_sample(*result.sample);
       if (!result.problem.empty()) line += "  problem: " + result.problem;
-      if (!result.answered) ++silent;
+      if (!result.answered || (result.error && result.error->code == Errc::timeout)) {
+        ++silent;
+      } else if (result.error) {
+        ++failed;
+      }
       fmt::print("{}\n", line);
     }
   }
-  return silent > 0 ? exit_no_reply : exit_ok;
+  return silent > 0 ? exit_no_reply : failed > 0 ? exit_device_error : exit_ok;
 }
 
 }  // namespace

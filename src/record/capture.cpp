@@ -145,7 +145,10 @@ class SqliteCapture final : public CaptureSink {
       sqlite3_bind_null(statement, 10);
     }
     bind_optional_integer(statement, 11, sample.presence);
-    bind_optional_integer(statement, 12, sample.pulses_between_events);
+    // An overflow is stored as the wire's 0000 (no real count is 0: an edge takes 30 pulses, §3),
+    // which is also what captures before the flag hold; replay turns it back (U88).
+    bind_optional_integer(statement, 12,
+                          sample.pulses_overflow ? std::optional<std::uint32_t>(0) : sample.pulses_between_events);
     bind_optional_integer(statement, 13, sample.device_error);
     bind_optional_integer(statement, 14, sample.code);
     bind_optional_real(statement, 15, sample.distance_mm);

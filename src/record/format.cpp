@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <ctime>
 
+#include "rangekit/uls/errors.hpp"
+
 namespace rangekit::record {
 namespace {
 
@@ -208,10 +210,18 @@ void append_jsonl(std::string& out, const Sample& sample) {
       append_json_optional(out, sample.presence, append_bool);
       append_json_key(out, "pulses_between_events");
       append_json_optional(out, sample.pulses_between_events, append_u32);
+      append_json_key(out, "pulses_overflow");
+      append_bool(out, sample.pulses_overflow);
       break;
     case SampleKind::uls_error:
       append_json_key(out, "error");
       append_json_optional(out, sample.device_error, append_int);
+      append_json_key(out, "error_text");
+      if (sample.device_error) {
+        append_json_string(out, uls::error_text(*sample.device_error));
+      } else {
+        out += "null";
+      }
       break;
     case SampleKind::ls5_result:
       append_json_key(out, "code");
@@ -250,7 +260,7 @@ void append_jsonl(std::string& out, const StreamEvent& event) {
 
 const char* csv_header() noexcept {
   return "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,code,"
-         "distance_mm,signal,derivative_mm\n";
+         "distance_mm,signal,derivative_mm,pulses_overflow,error_text\n";
 }
 
 void append_csv(std::string& out, const Sample& sample) {
@@ -291,6 +301,10 @@ void append_csv(std::string& out, const Sample& sample) {
   append_csv_optional(out, sample.signal, append_signal_csv);
   out += ',';
   append_csv_optional(out, sample.derivative_mm, millimetres);
+  out += ',';
+  if (sample.kind == SampleKind::uls_look_down) append_bool(out, sample.pulses_overflow);
+  out += ',';
+  if (sample.device_error) append_csv_text(out, uls::error_text(*sample.device_error));
   out += '\n';
 }
 
@@ -305,7 +319,8 @@ void append_text(std::string& out, const Sample& sample) {
   switch (sample.kind) {
     case SampleKind::uls_averaging:
       if (sample.distance_m) append_printf(out, "  %.3f m", *sample.distance_m);
-      if (sample.pulse_width) append_printf(out, "  pw %" PRIu32, *sample.pulse_width);
+      // Picoseconds on the wire (U8), shown in ns with its unit (U92).
+      if (sample.pulse_width) append_printf(out, "  pw %.3f ns", *sample.pulse_width / 1000.0);
       break;
     case SampleKind::uls_binning:
       if (sample.targets.empty()) {
@@ -318,10 +333,14 @@ void append_text(std::string& out, const Sample& sample) {
     case SampleKind::uls_look_down:
       if (sample.presence) out += *sample.presence ? "  present" : "  absent";
       if (sample.pulses_between_events) append_printf(out, "  pulses %" PRIu32, *sample.pulses_between_events);
+      if (sample.pulses_overflow) out += "  pulses >65535";
       break;
     case SampleKind::uls_error:
       out += "  error";
-      if (sample.device_error) append_printf(out, " %d", *sample.device_error);
+      if (sample.device_error) {
+        append_printf(out, " %d: ", *sample.device_error);
+        out += uls::error_text(*sample.device_error);  // §10's words (U90)
+      }
       break;
     case SampleKind::ls5_result:
     case SampleKind::ls5_derivative: {

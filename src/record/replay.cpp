@@ -72,6 +72,10 @@ Sample read_sample(sqlite3_stmt* row) {
   if (!is_null(row, 8)) sample.targets = parse_targets(column_text(row, 8));
   if (!is_null(row, 9)) sample.presence = sqlite3_column_int64(row, 9) != 0;
   sample.pulses_between_events = column_integer<std::uint32_t>(row, 10);
+  if (sample.kind == SampleKind::uls_look_down && sample.pulses_between_events == 0U) {
+    sample.pulses_between_events.reset();  // the wire's 0000: more than 65535 pulses (U88)
+    sample.pulses_overflow = true;
+  }
   sample.device_error = column_integer<int>(row, 11);
   sample.code = column_integer<std::uint16_t>(row, 12);
   sample.distance_mm = column_real(row, 13);

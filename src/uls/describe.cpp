@@ -18,7 +18,28 @@ std::string decimal_text(double value) {
   return text;
 }
 
+namespace {
+
+// §9 Baud Rate Choices: "1200, 2400, ... 230400".
+std::string baud_list() {
+  std::string text;
+  for (const std::uint32_t baud : baud_choices()) text += (text.empty() ? "" : ", ") + std::to_string(baud);
+  return text;
+}
+
+std::string port_list(const CommandInfo& command) {
+  std::string text;
+  for (const ValueName& entry : command.value_names)
+    text += (text.empty() ? "" : ", ") + std::to_string(entry.value) + " " + std::string(entry.name);
+  return text;
+}
+
+}  // namespace
+
 std::string allowed_values(const CommandInfo& command, Units units) {
+  // BR's value names are its ports; its values are a port and a baud.
+  if (command.kind == ValueKind::baud_with_port)
+    return "port " + port_list(command) + ", then a baud of " + baud_list();
   if (!command.value_names.empty()) {
     std::string text;
     for (const ValueName& entry : command.value_names) {
@@ -32,11 +53,6 @@ std::string allowed_values(const CommandInfo& command, Units units) {
     case ValueKind::signed_distance:
       return decimal_text(from_metres(command.min, units)) + ".." + decimal_text(from_metres(command.max, units)) +
              (units == Units::feet ? " feet" : " metres");
-    case ValueKind::baud_with_port: {
-      std::string text = "port 0 or 1, baud one of";
-      for (const std::uint32_t baud : baud_choices()) text += " " + std::to_string(baud);
-      return text;
-    }
     case ValueKind::hex_pulses:
       return "1 to 8 hex digits (pulses = seconds x 3000)";
     case ValueKind::address_char:
@@ -68,8 +84,19 @@ Error local_refusal(const CommandInfo& command, std::string_view shown_values, i
     return make_error(Errc::wrong_form, name + " cannot be read, only set");
   if (!command.has_set() && !shown_values.empty())
     return make_error(Errc::wrong_form, name + " cannot be set, only read");
-  std::string text =
-      name + ": '" + std::string(shown_values) + "' refused before sending; allowed: " + allowed_values(command, units);
+  std::string allowed = "allowed: " + allowed_values(command, units);
+  if (command.kind == ValueKind::baud_with_port) {
+    // U91: a lone value is no port, and a refused baud names the bauds, not the ports.
+    if (shown_values.find(',') == std::string_view::npos) {
+      return make_error(Errc::out_of_range, name + ": '" + std::string(shown_values) +
+                                                "' refused before sending: a baud setting needs the port and the "
+                                                "baud (0,115200: configuration port; 1,115200: output port); bauds: " +
+                                                baud_list());
+    }
+    if (verdict_error == error_number::invalid_baud) allowed = "allowed bauds: " + baud_list();
+    if (verdict_error == error_number::invalid_port) allowed = "allowed ports: " + port_list(command);
+  }
+  std::string text = name + ": '" + std::string(shown_values) + "' refused before sending; " + allowed;
   if (const ErrorInfo* info = find_error(verdict_error); info != nullptr && verdict_error != 1)
     text +=
         " (the unit would answer error " + std::to_string(verdict_error) + ", " + std::string(info->explanation) + ")";

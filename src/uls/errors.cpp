@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <string>
 
 namespace rangekit::uls {
 namespace {
@@ -107,6 +108,14 @@ const ErrorInfo* find_error(int number) noexcept {
   const auto* found = std::lower_bound(errors.begin(), errors.end(), number,
                                        [](const ErrorInfo& row, int n) { return row.number < n; });
   return (found != errors.end() && found->number == number) ? found : nullptr;
+}
+
+std::string error_text(int number) {
+  const ErrorInfo* info = find_error(number);
+  if (info == nullptr) return "not listed in §10";
+  std::string text(info->explanation);
+  if (info->display != info->explanation) text += " (display: " + std::string(info->display) + ")";
+  return text;
 }
 
 std::string_view error_group_name(ErrorGroup group) noexcept {

@@ -57,6 +57,8 @@ TEST(Cli, LiveDemoStreamsBothSensorsAndCapturesThem) {
   EXPECT_NE(run.output.find("\"distance_m\""), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("\"distance_mm\""), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("replay " + capture.string()), std::string::npos) << run.output;
+  // U86: the demo's streams started both sensors and stop both (ULS ST, LS5 SB).
+  EXPECT_NE(run.output.find("Left as found: ULS not measuring, LS5 not streaming"), std::string::npos) << run.output;
 
   const auto replay = run_cli("replay " + capture.string() + " --full-speed --format jsonl");
   EXPECT_EQ(replay.exit_code, 0) << replay.output;

@@ -104,7 +104,7 @@ TEST(UlsHardware, StreamsTenReadings) {
       ++samples;
     }
   }
-  driver->stop_stream(false);
+  driver->stop_stream(rangekit::uls::AfterStream::keep_measuring);
   EXPECT_EQ(samples, 10);
   EXPECT_EQ(driver->lost(), 0U);
   EXPECT_EQ(driver->counters().bad_frames, 0U);

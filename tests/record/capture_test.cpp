@@ -51,6 +51,7 @@ std::vector<StreamItem> every_kind() {
           uls_binning(),
           event(StreamEventKind::disconnected, "/dev/ttyUSB0 went away"),
           uls_look_down(),
+          uls_look_down_overflow(),  // U88: comes back as an overflow, not as 0 pulses
           uls_error(),
           event(StreamEventKind::lost_records, "UDP counter gap", 3),
           ls5_result(12345, 1234.5, SignalState::ok),
@@ -93,7 +94,7 @@ TEST(Capture, RoundTripGivesEqualSamplesAndEventsInOrder) {
   }
   expect_same_items(replay_all(path), items);
   EXPECT_EQ(query(path, "PRAGMA journal_mode"), "wal");
-  EXPECT_EQ(query(path, "SELECT count(*) FROM samples"), "6");
+  EXPECT_EQ(query(path, "SELECT count(*) FROM samples"), "7");
   EXPECT_EQ(query(path, "SELECT count(*) FROM events"), "2");
   EXPECT_EQ(query(path, "SELECT rangekit_version FROM sessions"), "0.1.0");
   EXPECT_EQ(query(path, "SELECT sources FROM sessions"), "ls5 udp:127.0.0.1:5000, uls /dev/ttyUSB0, uls /dev/ttyUSB1");

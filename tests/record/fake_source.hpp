@@ -54,6 +54,15 @@ inline Sample uls_look_down() {
   return sample;
 }
 
+// §8 "If time exceeds this value, the output will be set to 0000 hex signifying maximum time
+// occurred": more than 65535 pulses between the edges (U88).
+inline Sample uls_look_down_overflow() {
+  Sample sample = uls_look_down();
+  sample.pulses_between_events.reset();
+  sample.pulses_overflow = true;
+  return sample;
+}
+
 inline Sample uls_error() {
   Sample sample;
   sample.time = at();

@@ -72,13 +72,23 @@ TEST(Jsonl, UlsBinningWithoutAddress) {
 TEST(Jsonl, UlsLookDown) {
   EXPECT_EQ(jsonl(uls_look_down()),
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":0,\"source\":\"/dev/ttyUSB1\","
-            "\"kind\":\"look_down\",\"presence\":true,\"pulses_between_events\":250}\n");
+            "\"kind\":\"look_down\",\"presence\":true,\"pulses_between_events\":250,\"pulses_overflow\":false}\n");
+}
+
+// U88: `$0000` reads as more than 65535 pulses, never as 0.
+TEST(Jsonl, U88_UlsLookDownOverflowIsMoreThan65535PulsesNotZero) {
+  EXPECT_EQ(jsonl(uls_look_down_overflow()),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":0,\"source\":\"/dev/ttyUSB1\","
+            "\"kind\":\"look_down\",\"presence\":true,\"pulses_between_events\":null,\"pulses_overflow\":true}\n");
+  EXPECT_EQ(csv(uls_look_down_overflow()),
+            "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,,,,,,true,\n");
+  EXPECT_EQ(text(uls_look_down_overflow()), "01:02:03.456 uls #0  present  pulses >65535\n");
 }
 
 TEST(Jsonl, UlsError) {
   EXPECT_EQ(jsonl(uls_error()),
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":3,\"source\":\"/dev/ttyUSB0\","
-            "\"kind\":\"error\",\"error\":4}\n");
+            "\"kind\":\"error\",\"error\":4,\"error_text\":\"Lock Not Found (display: Target Not Found)\"}\n");
 }
 
 TEST(Jsonl, Ls5DistanceAndNoSignal) {
@@ -108,31 +118,33 @@ TEST(Jsonl, EventsAndEscapedStrings) {
 TEST(Csv, HeaderNamesTheJsonKeys) {
   EXPECT_STREQ(csv_header(),
                "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
-               "code,distance_mm,signal,derivative_mm\n");
+               "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text\n");
 }
 
 TEST(Csv, OneRowPerFamily) {
-  EXPECT_EQ(csv(uls_averaging()), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,\n");
-  EXPECT_EQ(csv(uls_binning()), "2026-11-26T01:02:03.456Z,uls,,/dev/ttyUSB0,binning,,,4.5720:42;7.1000:13,,,,,,,\n");
-  EXPECT_EQ(csv(uls_look_down()), "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,250,,,,,\n");
-  EXPECT_EQ(csv(uls_error()), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,,\n");
+  EXPECT_EQ(csv(uls_averaging()), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,,,\n");
+  EXPECT_EQ(csv(uls_binning()), "2026-11-26T01:02:03.456Z,uls,,/dev/ttyUSB0,binning,,,4.5720:42;7.1000:13,,,,,,,,,\n");
+  EXPECT_EQ(csv(uls_look_down()), "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,250,,,,,,false,\n");
+  EXPECT_EQ(csv(uls_error()), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,,,,Lock Not Found (display: Target Not Found)\n");
   EXPECT_EQ(csv(ls5_result(12345, 1234.5, SignalState::ok)),
-            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,\n");
+            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,,,\n");
   EXPECT_EQ(csv(ls5_result(65535, std::nullopt, SignalState::lost)),
-            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,65535,,lost,\n");
+            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,65535,,lost,,,\n");
 }
 
 TEST(Csv, QuotesFieldsWithCommasOrQuotes) {
   auto sample = uls_averaging();
   sample.source = "a,\"b\"";
-  EXPECT_EQ(csv(sample), "2026-11-26T01:02:03.456Z,uls,3,\"a,\"\"b\"\"\",averaging,12.3450,18000,,,,,,,,\n");
+  EXPECT_EQ(csv(sample), "2026-11-26T01:02:03.456Z,uls,3,\"a,\"\"b\"\"\",averaging,12.3450,18000,,,,,,,,,,\n");
 }
 
 TEST(Text, ReadableLinePerFamily) {
-  EXPECT_EQ(text(uls_averaging()), "01:02:03.456 uls #3  12.345 m  pw 18000\n");
+  // U92: the pulse width with its unit (ps on the wire, U8, shown in ns).
+  EXPECT_EQ(text(uls_averaging()), "01:02:03.456 uls #3  12.345 m  pw 18.000 ns\n");
   EXPECT_EQ(text(uls_binning()), "01:02:03.456 uls  4.572 m (42)  7.100 m (13)\n");
   EXPECT_EQ(text(uls_look_down()), "01:02:03.456 uls #0  present  pulses 250\n");
-  EXPECT_EQ(text(uls_error()), "01:02:03.456 uls #3  error 4\n");
+  // U90: §10 "4 | Lock Not Found | Target Not Found", not a bare number.
+  EXPECT_EQ(text(uls_error()), "01:02:03.456 uls #3  error 4: Lock Not Found (display: Target Not Found)\n");
   EXPECT_EQ(text(ls5_result(12345, 1234.5, SignalState::ok)), "01:02:03.456 ls5  1234.50 mm  code 12345\n");
   EXPECT_EQ(text(ls5_result(65535, std::nullopt, SignalState::lost)), "01:02:03.456 ls5  no signal  code 65535\n");
   EXPECT_EQ(text(ls5_result(65534, std::nullopt, SignalState::none_yet)),

@@ -46,7 +46,7 @@ TEST(ReplayCli, JsonlAtFullSpeedWithEventsOnStderr) {
   EXPECT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(result.out,
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":3,\"source\":\"/dev/ttyUSB0\","
-            "\"kind\":\"error\",\"error\":4}\n"
+            "\"kind\":\"error\",\"error\":4,\"error_text\":\"Lock Not Found (display: Target Not Found)\"}\n"
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"event\":\"disconnected\",\"message\":\"gone\",\"count\":0}\n"
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"ls5\",\"address\":null,"
             "\"source\":\"udp:127.0.0.1:5000\",\"kind\":\"result\",\"code\":12345,\"distance_mm\":1234.50,"
@@ -63,8 +63,8 @@ TEST(ReplayCli, CsvCountAndDeviceFilter) {
   EXPECT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(result.out,
             "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
-            "code,distance_mm,signal,derivative_mm\n"
-            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,\n");
+            "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text\n"
+            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,,,\n");
 }
 
 TEST(ReplayCli, TextToAFile) {
@@ -74,7 +74,7 @@ TEST(ReplayCli, TextToAFile) {
   const auto result = run({"replay", capture, "--full-speed", "--out", out});
   EXPECT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(result.out, "");
-  EXPECT_EQ(read_file(out), "01:02:03.456 uls #3  12.345 m  pw 18000\n");
+  EXPECT_EQ(read_file(out), "01:02:03.456 uls #3  12.345 m  pw 18.000 ns\n");
 }
 
 TEST(ReplayCli, NotACaptureIsExitFourNamingTheFile) {
@@ -116,8 +116,8 @@ TEST(ReplayCli, SigintClosesCleanlyWithExit130) {
   EXPECT_EQ(replay_copy.finish(), 0);
   EXPECT_EQ(replay_copy.out(),
             "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
-            "code,distance_mm,signal,derivative_mm\n"
-            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,\n");
+            "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text\n"
+            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,,,\n");
 }
 
 }  // namespace

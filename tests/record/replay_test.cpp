@@ -138,7 +138,7 @@ void expect_replay_identical_to_live(OutputFormat format) {
   derivative.derivative_mm = 0.1;
   derivative.resolution_mm = 0.001;
   FakeSource source({averaging, binning_with_odd_values, event(StreamEventKind::bad_frame, "half \"frame\""),
-                     uls_look_down(), uls_error(), ls5_result(12345, 1234.5, SignalState::ok),
+                     uls_look_down(), uls_look_down_overflow(), uls_error(), ls5_result(12345, 1234.5, SignalState::ok),
                      ls5_result(65534, std::nullopt, SignalState::none_yet), fine, derivative});
   const std::atomic<bool> stop{false};
   StreamLoopOptions options;

@@ -37,7 +37,7 @@ TEST(StreamLoop, SourceFinishedWritesEveryItemAsJsonLines) {
   EXPECT_EQ(outcome.stats.errors, 1u);  // the ULS error sample
   EXPECT_EQ(read_file(path),
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":3,\"source\":\"/dev/ttyUSB0\","
-            "\"kind\":\"error\",\"error\":4}\n"
+            "\"kind\":\"error\",\"error\":4,\"error_text\":\"Lock Not Found (display: Target Not Found)\"}\n"
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"event\":\"reconnected\",\"message\":\"back\",\"count\":0}\n"
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"ls5\",\"address\":null,"
             "\"source\":\"udp:127.0.0.1:5000\",\"kind\":\"result\",\"code\":65535,\"distance_mm\":null,"

@@ -21,7 +21,7 @@ TEST(TextSink, JsonlFileHoldsOneLinePerItem) {
   }
   EXPECT_EQ(read_file(path),
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":3,\"source\":\"/dev/ttyUSB0\","
-            "\"kind\":\"error\",\"error\":4}\n"
+            "\"kind\":\"error\",\"error\":4,\"error_text\":\"Lock Not Found (display: Target Not Found)\"}\n"
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"event\":\"reconnected\",\"message\":\"back\",\"count\":0}\n");
 }
 
@@ -36,8 +36,8 @@ TEST(TextSink, CsvStartsWithTheHeaderAndLeavesEventsOut) {
   }  // closing flushes
   EXPECT_EQ(read_file(path),
             "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
-            "code,distance_mm,signal,derivative_mm\n"
-            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,,\n");
+            "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text\n"
+            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,,,,Lock Not Found (display: Target Not Found)\n");
 }
 
 TEST(TextSink, DiskFullIsAnIoErrorNamingTheFile) {

@@ -3,7 +3,10 @@
 // malformed and half frames, the stream and reconnect (issue 6).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <map>
+#include <thread>
 
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/errors.hpp"
@@ -21,7 +24,7 @@ std::string typical_reply(const std::string& request) {
                                                        {"$MU", "$MU,1\r"},        {"$TB", "$TB,0\r"},
                                                        {"$CO", "$CO,1\r"},        {"$PF", "$PF,2000,2000,2000\r"},
                                                        {"$PO", "$PO,100,1024\r"}, {"$ID", "$ID,ULS 1.0,2026\r"},
-                                                       {"$US", "$US,7\r"}};
+                                                       {"$US", "$US,1\r"}};  // ready, not measuring
   if (auto found = gets.find(request); found != gets.end()) return found->second;
   if (request == "$GO" || request == "$ST") return "$OK\r";
   return "";
@@ -46,9 +49,12 @@ TEST(UlsDriver, GetSkipsMeasurementLinesThatArriveBeforeTheReply) {
   auto mode = rig.driver->mode();
   ASSERT_TRUE(mode) << mode.error().message;
   EXPECT_EQ(*mode, Mode::binning);
-  // Not a reply: handed to the measurement path (which, with no context read, cannot decode it).
+  // Not a reply: handed to the measurement path, which has not read MM/DM/MU/TB yet and so
+  // does not decode it with a guess (U85): neither a measurement nor a bad frame.
   const auto counters = rig.driver->counters();
-  EXPECT_EQ(counters.measurements + counters.bad_frames, 1U);
+  EXPECT_EQ(counters.undecoded, 1U);
+  EXPECT_EQ(counters.measurements, 0U);
+  EXPECT_EQ(counters.bad_frames, 0U);
   EXPECT_EQ(counters.replies, 1U);
 }
 
@@ -90,6 +96,35 @@ TEST(UlsDriver, DeviceErrorsCarryTheNumberAndTheSection10Text) {
       << set.error().message;
 }
 
+// U91: §9 "Baud Rate Choices" 1200 2400 4800 9600 14400 19200 38400 57600 115200, 230400
+// (command); §10 34 Invalid Baud Rate. A refused baud names the bauds, not the ports, and a
+// lone value is not taken for a port.
+TEST(UlsDriver, U91_ARefusedBaudNamesTheAllowedBauds) {
+  Rig rig([](const std::string&) { return std::string("$OK\r"); });
+  auto set = rig.driver->set_baud(BaudPort::configuration, 28800);
+  ASSERT_FALSE(set);
+  EXPECT_EQ(set.error().code, Errc::out_of_range);
+  const std::string& message = set.error().message;
+  EXPECT_NE(message.find("1200, 2400, 4800, 9600, 14400, 19200, 38400, 57600, 115200, 230400"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("error 34, Invalid Baud Rate"), std::string::npos) << message;
+  EXPECT_EQ(message.find("output port"), std::string::npos) << message;
+
+  const std::array<std::string_view, 1> lone{"28800"};
+  auto alone = rig.driver->set("BR", lone);
+  ASSERT_FALSE(alone);
+  EXPECT_NE(alone.error().message.find("the port and the baud"), std::string::npos) << alone.error().message;
+  EXPECT_NE(alone.error().message.find("115200"), std::string::npos) << alone.error().message;
+  EXPECT_EQ(alone.error().message.find("Invalid Port"), std::string::npos) << alone.error().message;
+
+  const std::array<std::string_view, 2> bad_port{"3", "9600"};
+  auto port = rig.driver->set("BR", bad_port);
+  ASSERT_FALSE(port);
+  EXPECT_NE(port.error().message.find("0 configuration port, 1 output port"), std::string::npos)
+      << port.error().message;
+  EXPECT_TRUE(rig.device->requests().empty());  // all refused before sending
+}
+
 TEST(UlsDriver, StreamErrorsAreNotTakenForTheReplyOfASet) {
   // docs/conformance.md U60: $ER,4 and $ER,5 are measurement errors (U13), never an answer.
   Rig rig([](const std::string& request) -> std::string {
@@ -97,7 +132,8 @@ TEST(UlsDriver, StreamErrorsAreNotTakenForTheReplyOfASet) {
     return "";
   });
   ASSERT_TRUE(rig.driver->set_power(PowerLevel::medium));
-  EXPECT_EQ(rig.driver->counters().measurements, 2U);
+  // Taken as measurement lines (not decoded: no MM/DM/MU/TB read yet, U85).
+  EXPECT_EQ(rig.driver->counters().undecoded, 2U);
 }
 
 TEST(UlsDriver, NoReplyTimesOutAndGetsAreSentTwice) {
@@ -183,7 +219,7 @@ TEST(UlsDriver, MalformedBytesBeforeTheReplyAreCountedAndSkipped) {
     ASSERT_TRUE(display) << "after '" << garbage << "': " << display.error().message;
     EXPECT_EQ(*display, DisplayMode::intensity) << garbage;
     const auto counters = rig.driver->counters();
-    EXPECT_GE(counters.bad_frames + counters.measurements + counters.unexpected, 1U) << garbage;
+    EXPECT_GE(counters.bad_frames + counters.measurements + counters.unexpected + counters.undecoded, 1U) << garbage;
   }
 }
 
@@ -298,6 +334,118 @@ TEST(UlsDriver, StreamDecodesAveragingLinesAndErrors) {
   EXPECT_EQ(rig.device->requests().back(), "$ST");
 }
 
+// U85: a unit already measuring (CO on, averaging, DM 2 "range and pulse width") sends
+// `$BM,n,p` lines (§8 Averaging Mode: "Output from ULS depends on selected display output
+// mode: Range, Pulse Width or Both") between the replies to the stream's MM/DM/MU/TB reads.
+// None may be decoded before DM is known: a guessed "range only" would call each a bad frame.
+TEST(UlsDriver, U85_LinesOfAUnitAlreadyMeasuringAreNotDecodedBeforeItsSettingsAreKnown) {
+  ScriptedDevice* device = nullptr;
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request == "$GO") {
+      device->send("$BM,12.400,2000\r$OK\r$BM,12.500,2100\r$BM,12.600,2200\r");
+      return "";
+    }
+    return "$BM,12.300,1900\r" + typical_reply(request);
+  });
+  device = rig.device.get();
+  ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
+  const auto items = take(*rig.driver, 2);
+  rig.driver->stop_stream();
+  ASSERT_FALSE(items.empty());
+  const auto* first = std::get_if<StreamEvent>(&items.front());
+  ASSERT_NE(first, nullptr);
+  EXPECT_EQ(first->kind, StreamEventKind::connected);
+  for (const auto& item : items) {
+    const auto* event = std::get_if<StreamEvent>(&item);
+    EXPECT_TRUE(event == nullptr || event->kind != StreamEventKind::bad_frame) << event->message;
+  }
+  const auto samples = samples_of(items);
+  ASSERT_EQ(samples.size(), 2U);
+  EXPECT_EQ(*samples[0].pulse_width, 2000U);  // the line before GO's $OK: settings known by then
+  EXPECT_DOUBLE_EQ(*samples[1].distance_m, 12.5);
+  EXPECT_EQ(rig.driver->counters().bad_frames, 0U);
+  EXPECT_GE(rig.driver->counters().undecoded, 1U);  // at least the line before the $MM reply
+}
+
+// A unit that measures from GO until ST (§8 Get Unit Status: "n = 1 = unit ready, not
+// measuring", "n = 7 = laser firing and Averaging Mode"), sending one averaging line on GO.
+struct MeasuringUnit {
+  std::atomic<bool> measuring{false};
+  ScriptedDevice* device = nullptr;
+  std::string answer(const std::string& request) {
+    if (request == "$US") return measuring ? "$US,7\r" : "$US,1\r";
+    if (request == "$GO") {
+      measuring = true;
+      device->send("$OK\r$BM,12.500,2100\r");
+      return "";
+    }
+    if (request == "$ST") {
+      if (!measuring) return "$ER,86\r";  // §10 86, Instrument Not Measuring
+      measuring = false;
+      return "$OK\r";
+    }
+    return typical_reply(request);
+  }
+};
+
+std::size_t count_requests(ScriptedDevice& device, const std::string& request) {
+  const auto requests = device.requests();
+  return static_cast<std::size_t>(std::count(requests.begin(), requests.end(), request));
+}
+
+// U86: a stream that started an idle unit stops it again however it ends: stop_stream(),
+// SampleSource::stop() (what the CLI's stream loop calls) or the driver going away.
+TEST(UlsDriver, U86_AStreamStopsTheUnitItStartedHoweverItEnds) {
+  for (const char* ending : {"stop_stream", "stop", "destructor"}) {
+    SCOPED_TRACE(ending);
+    MeasuringUnit unit;
+    Rig rig([&](const std::string& request) { return unit.answer(request); });
+    unit.device = rig.device.get();
+    ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
+    ASSERT_EQ(samples_of(take(*rig.driver, 1)).size(), 1U);
+    EXPECT_TRUE(unit.measuring);
+    if (std::string(ending) == "stop_stream") rig.driver->stop_stream();
+    if (std::string(ending) == "stop") rig.driver->stop();
+    if (std::string(ending) == "destructor") rig.driver.reset();
+    EXPECT_FALSE(unit.measuring);
+    EXPECT_EQ(count_requests(*rig.device, "$GO"), 1U);
+    EXPECT_EQ(count_requests(*rig.device, "$ST"), 1U);
+    if (rig.driver) {
+      rig.driver.reset();  // a second ending sends nothing more
+      EXPECT_EQ(count_requests(*rig.device, "$ST"), 1U);
+    }
+  }
+}
+
+// U86: a unit found measuring (§2 ULS Autostart "the unit will automatically start measuring
+// when powered up"; a 4-20 mA loop or a trip line may feed a PLC) is neither restarted with GO
+// nor stopped: the stream reads it and leaves it as it was. ST only when asked for.
+TEST(UlsDriver, U86_AUnitFoundMeasuringIsLeftMeasuring) {
+  for (const char* ending : {"stop_stream", "destructor", "stop_measuring"}) {
+    SCOPED_TRACE(ending);
+    MeasuringUnit unit;
+    unit.measuring = true;
+    Rig rig([&](const std::string& request) { return unit.answer(request); });
+    unit.device = rig.device.get();
+    ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
+    rig.device->send("$BM,13.000,2200\r");
+    const auto samples = samples_of(take(*rig.driver, 1));
+    ASSERT_EQ(samples.size(), 1U);
+    EXPECT_DOUBLE_EQ(*samples[0].distance_m, 13.0);
+    if (std::string(ending) == "stop_stream") rig.driver->stop_stream();
+    if (std::string(ending) == "destructor") rig.driver.reset();
+    if (std::string(ending) == "stop_measuring") {
+      rig.driver->stop_stream(AfterStream::stop_measuring);
+      EXPECT_FALSE(unit.measuring);
+      EXPECT_EQ(count_requests(*rig.device, "$ST"), 1U);
+      continue;
+    }
+    EXPECT_TRUE(unit.measuring);
+    EXPECT_EQ(count_requests(*rig.device, "$GO"), 0U);
+    EXPECT_EQ(count_requests(*rig.device, "$ST"), 0U);
+  }
+}
+
 TEST(UlsDriver, StreamMakesOneSamplePerBinningArrayAndReadsLookDown) {
   ScriptedDevice* device = nullptr;
   std::string mode = "$MM,2\r";
@@ -328,8 +476,10 @@ TEST(UlsDriver, StreamMakesOneSamplePerBinningArrayAndReadsLookDown) {
   EXPECT_EQ(samples[0].presence, false);
   EXPECT_EQ(samples[1].presence, true);
   EXPECT_EQ(samples[1].pulses_between_events, 3000U);
-  // docs/conformance.md U61: overflow keeps the wire's 0.
-  EXPECT_EQ(samples[2].pulses_between_events, 0U);
+  // docs/conformance.md U61/U88: $0000 is more than 65535 pulses, not 0.
+  EXPECT_EQ(samples[2].presence, true);
+  EXPECT_TRUE(samples[2].pulses_overflow);
+  EXPECT_FALSE(samples[2].pulses_between_events.has_value());
   rig.driver->stop_stream();
 }
 
@@ -346,6 +496,114 @@ TEST(UlsDriver, PolledStreamAsksWithBm) {
   ASSERT_EQ(samples.size(), 3U);
   EXPECT_EQ(*samples[2].pulse_width, 3U);
   rig.driver->stop_stream();
+}
+
+// U89: with CO off the unit still measures every PPM / PRF seconds (§2 Continuous Output: "When
+// this function is off, the ULS completes measurements, but the display is not updated. You must
+// select Single Measurement to display the last completed measurement"), and BM answers "the most
+// recent measurement" (§2 Single Measurement). A BM sooner than one output period after the last
+// answer gets the same measurement again: 2000 Hz / 100 PPM reported the first one twice, 2 ms apart.
+// Here PF 2000 and PO 101 (50.5 ms); the unit numbers its measurements in the pulse width field and
+// a BM before the first has completed waits for it.
+TEST(UlsDriver, U89_PolledStreamReportsEachMeasurementOnce) {
+  using Clock = std::chrono::steady_clock;
+  const auto period = std::chrono::microseconds(50500);
+  Clock::time_point started;
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request == "$CO") return "$CO,0\r";
+    if (request == "$PO") return "$PO,101,1024\r";
+    if (request == "$GO") {
+      started = Clock::now();
+      return "$OK\r";
+    }
+    if (request == "$BM") {
+      auto completed = (Clock::now() - started) / period;
+      if (completed == 0) {
+        std::this_thread::sleep_until(started + period);  // the unit's first measurement takes one period
+        completed = 1;
+      }
+      return "$BM,7.000," + std::to_string(completed) + "\r";
+    }
+    return typical_reply(request);
+  });
+  ASSERT_TRUE(rig.driver->start_stream());
+  ASSERT_EQ(rig.driver->active_stream_mode(), StreamMode::polled);
+  const auto samples = samples_of(take(*rig.driver, 4));
+  rig.driver->stop_stream();
+  ASSERT_EQ(samples.size(), 4U);
+  for (std::size_t i = 1; i < samples.size(); ++i)
+    EXPECT_GT(*samples[i].pulse_width, *samples[i - 1].pulse_width) << "sample " << i << " repeats a measurement";
+}
+
+// A unit in look down with time between events on (§8 Look Down Mode: "$XXXX output at the
+// start of presence detected", "$0 output at the start of no presence detected").
+std::string look_down_reply(const std::string& request) {
+  if (request == "$MM") return "$MM,3\r";
+  if (request == "$TB") return "$TB,1\r";
+  return typical_reply(request);
+}
+
+std::vector<Sample> look_down_samples(const std::vector<StreamItem>& items) {
+  auto samples = samples_of(items);
+  for (const auto& sample : samples) EXPECT_EQ(sample.kind, SampleKind::uls_look_down);
+  return samples;
+}
+
+// U87: §3 Look Down Mode, "the sensor continuously fires pulses and looks for a specific change
+// in distance", and sends a line only at an edge: silence is normal, not a sign that the lines go
+// to the other port (U62). One edge is one sample; the stream never starts polling, so the last
+// edge is not repeated as new events.
+TEST(UlsDriver, U87_LookDownSilenceIsNormalAndStartsNoPolling) {
+  ScriptedDevice* device = nullptr;
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request == "$GO") {
+      device->send("$OK\r$0BB8\r");  // one presence edge, 3000 pulses after the last no-presence edge
+      return "";
+    }
+    if (request == "$BM") return "$0BB8\r";  // a poll would read the last edge again
+    return look_down_reply(request);
+  });
+  device = rig.device.get();
+  ASSERT_TRUE(rig.driver->start_stream());  // automatic: CO is on
+  auto items = take(*rig.driver, 1);
+  // Longer than U62's 1.5 s without a line (the wait is what is tested, not a synchronisation).
+  const auto until = std::chrono::steady_clock::now() + 2s;
+  while (std::chrono::steady_clock::now() < until)
+    if (auto item = rig.driver->next(100ms)) items.push_back(std::move(*item));
+  rig.device->send("$0\r");  // the object leaves: the next edge
+  const auto more = take(*rig.driver, 1);
+  items.insert(items.end(), more.begin(), more.end());
+  EXPECT_EQ(rig.driver->active_stream_mode(), StreamMode::continuous);
+  rig.driver->stop_stream();
+  const auto samples = look_down_samples(items);
+  ASSERT_EQ(samples.size(), 2U);
+  EXPECT_EQ(samples[0].presence, true);
+  EXPECT_EQ(samples[0].pulses_between_events, 3000U);
+  EXPECT_EQ(samples[1].presence, false);
+  EXPECT_EQ(count_requests(*rig.device, "$BM"), 0U);
+}
+
+// U87: polled look down (CO off, or --mode polled) reads the state at each poll (§2 Single
+// Measurement, "the most recent measurement"); a sample is reported when the answer changes, so
+// an edge is one sample however many polls read it.
+TEST(UlsDriver, U87_PolledLookDownReportsAnEdgeOnce) {
+  std::atomic<int> polls{0};
+  Rig rig([&](const std::string& request) -> std::string {
+    if (request == "$BM") {
+      const int poll = ++polls;
+      return poll <= 3 ? "$0BB8\r" : poll <= 6 ? "$0\r" : "$0BB8\r";
+    }
+    return look_down_reply(request);
+  });
+  ASSERT_TRUE(rig.driver->start_stream(StreamMode::polled));
+  const auto samples = look_down_samples(take(*rig.driver, 3));
+  rig.driver->stop_stream();
+  ASSERT_EQ(samples.size(), 3U);
+  EXPECT_EQ(samples[0].presence, true);
+  EXPECT_EQ(samples[1].presence, false);
+  EXPECT_EQ(samples[2].presence, true);  // a new edge, though its count equals the first one's
+  EXPECT_EQ(samples[2].pulses_between_events, 3000U);
+  EXPECT_GE(polls.load(), 7);
 }
 
 TEST(UlsDriver, AutomaticStreamPollsWhenNoContinuousLinesArriveOnThisPort) {
@@ -411,7 +669,7 @@ TEST(UlsDriver, MidFrameDisconnectGivesAnEventAndTheStreamResumesOnReopen) {
   const auto samples = samples_of(items);
   ASSERT_EQ(samples.size(), 1U);
   EXPECT_DOUBLE_EQ(*samples[0].distance_m, 1.0);  // not the half frame "$BM,2.0"
-  driver.stop_stream(false);
+  driver.stop_stream(AfterStream::keep_measuring);
   EXPECT_FALSE(driver.streaming());
 }
 
@@ -431,7 +689,7 @@ TEST(UlsDriver, WithoutReopenTheStreamFinishesOnDisconnect) {
   const auto until = std::chrono::steady_clock::now() + 10s;
   while (!rig.driver->finished() && std::chrono::steady_clock::now() < until) (void)rig.driver->next(50ms);
   EXPECT_TRUE(rig.driver->finished());
-  rig.driver->stop_stream(false);
+  rig.driver->stop_stream(AfterStream::keep_measuring);
 }
 
 TEST(UlsDriver, BroadcastSendsAndWaitsForNothing) {
@@ -488,7 +746,7 @@ TEST(UlsDriver, ProbeReadsIdAndStatusOnly) {
   auto found = probe(*pair.a);
   ASSERT_TRUE(found) << found.error().message;
   EXPECT_EQ(found->version, "ULS 1.0,2026");
-  EXPECT_EQ(found->status.value, 7);
+  EXPECT_EQ(found->status.value, 1);
   EXPECT_EQ(device.requests(), (std::vector<std::string>{"$ID", "$US"}));
   auto none = probe(*pair.a, std::uint8_t{'Q'}, 100ms);
   ASSERT_FALSE(none);

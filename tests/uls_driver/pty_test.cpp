@@ -11,9 +11,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
+#include "rangekit/core/pty.hpp"
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/uls/driver.hpp"
+#include "uls_driver/scripted_device.hpp"
 
 namespace rangekit::uls {
 namespace {
@@ -282,6 +285,112 @@ TEST(UlsHostPty, BusOfEightUnitsScanAssignPoll) {
   EXPECT_NE(run.out.find("DUPLICATE"), std::string::npos) << run.out;
   emulator.stop();
   fs::remove_all(dir);
+}
+
+// U87 end to end: a ground at 20 m and a car that passes under the unit for 1 s every 4.5 s
+// (§3 Look Down Mode: "ON is displayed when the system is tripped by presence detected").
+// With TB on each edge is one line (§8: "$XXXX output at the start of presence detected", "$0
+// output at the start of no presence detected"), and `uls stream` gives one sample per line,
+// also after the 3.5 s of silence between two cars.
+TEST(UlsHostPty, U87_LookDownStreamGivesOneSamplePerEdge) {
+  const auto dir = scratch("lookdown");
+  const std::string port = (dir / "cfg").string();
+  {
+    std::ofstream scene(dir / "scene.toml");
+    scene << "[[targets]]\nname = \"ground\"\ndistance_m = 20\n\n"
+             "[[targets]]\nname = \"car\"\npath = [[0, 30], [1.5, 30], [1.501, 10], [2.5, 10], [2.501, 30], "
+             "[4.5, 30]]\nrepeat = true\n";
+  }
+  Emulator emulator("--config-port " + port + " --scene " + (dir / "scene.toml").string());
+  const std::string on = " --port " + port;
+  ASSERT_EQ(cli("uls set" + on + " mode=look-down TB=1").code, 0);
+  const CliRun run = cli("uls stream" + on + " --count 3 --format jsonl");
+  ASSERT_EQ(run.code, 0) << run.out;
+  std::vector<std::string> samples;
+  std::istringstream lines(run.out);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find("\"kind\":\"look_down\"") != std::string::npos) samples.push_back(line);
+  ASSERT_EQ(samples.size(), 3U) << run.out;
+  // Edges alternate; a repeated state would be the last edge reported again.
+  for (std::size_t i = 1; i < samples.size(); ++i) {
+    const bool present = samples[i].find("\"presence\":true") != std::string::npos;
+    const bool was_present = samples[i - 1].find("\"presence\":true") != std::string::npos;
+    EXPECT_NE(present, was_present) << run.out;
+  }
+  fs::remove_all(dir);
+}
+
+// U90, U91, U92: what `rangekit uls` prints carries the §10 texts and the units.
+TEST(UlsHostPty, U90_U92_OutputNamesErrorsAndUnits) {
+  const auto dir = scratch("wording");
+  const std::string port = (dir / "cfg").string();
+  {
+    // Far beyond the §9 maximum range: no pulse returns, §10 "4 Lock Not Found | Target Not Found".
+    std::ofstream scene(dir / "far.toml");
+    scene << "[[targets]]\ndistance_m = 4000\n";
+  }
+  Emulator emulator("--config-port " + port + " --scene " + (dir / "far.toml").string());
+  const std::string on = " --port " + port;
+  CliRun run = cli("uls measure" + on);
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("error 4: Lock Not Found (display: Target Not Found)"), std::string::npos) << run.out;
+  EXPECT_EQ(run.out.find("error=4"), std::string::npos) << run.out;
+  run = cli("uls stream" + on + " --count 1");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("uls  error 4: Lock Not Found (display: Target Not Found)"), std::string::npos) << run.out;
+
+  // §8 DM 2 "Both": range and pulse width; §9 "yyyyyyy = pulse width (pico seconds)" (U8).
+  {
+    std::ofstream scene(dir / "near.toml");
+    scene << "[[targets]]\ndistance_m = 50\npulse_width_ns = 25\n";
+  }
+  emulator.stop();
+  Emulator near("--config-port " + port + " --scene " + (dir / "near.toml").string());
+  run = cli("uls measure" + on);
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("pulse_width_ns=25.000"), std::string::npos) << run.out;
+  run = cli("uls stream" + on + " --count 1");
+  EXPECT_NE(run.out.find("pw 25.000 ns"), std::string::npos) << run.out;
+
+  // U91: §9 baud choices; 28800 is none of them, and a lone value is not a port.
+  run = cli("uls set" + on + " baud=0,28800");
+  EXPECT_EQ(run.code, 2) << run.out;
+  EXPECT_NE(run.out.find("1200, 2400, 4800, 9600, 14400, 19200, 38400, 57600, 115200, 230400"), std::string::npos)
+      << run.out;
+  run = cli("uls set" + on + " baud=28800");
+  EXPECT_EQ(run.code, 2) << run.out;
+  EXPECT_NE(run.out.find("the port and the baud"), std::string::npos) << run.out;
+  fs::remove_all(dir);
+}
+
+// U93: docs/host-uls.md exit codes, "5 no reply (... `bus poll` when a unit stayed silent); 6 a
+// device error". A scripted bus on a pty: unit 'A' answers US and the gets `measure` needs but
+// never BM (silent), unit 'B' answers BM with §10 error 7, Measurement Read Error.
+TEST(UlsHostPty, U93_BusPollExitsFiveWhenAUnitStaysSilentOnBm) {
+  auto pty = PseudoTerminal::open();
+  ASSERT_TRUE(pty) << pty.error().message;
+  ASSERT_TRUE((*pty)->hold_slave_open());  // the CLI opening and closing it is no hang-up
+  const std::string path = (*pty)->slave_path();
+  testing::ScriptedDevice bus(std::move(*pty), [](const std::string& request) -> std::string {
+    if (request.size() < 3 || request[0] != '#') return "";
+    const std::string unit = request.substr(0, 2);
+    const std::string mnemonic = request.substr(2);
+    if (mnemonic == "US") return unit + "US,7\r";
+    if (mnemonic == "MM") return unit + "MM,1\r";
+    if (mnemonic == "DM") return unit + "DM,2\r";
+    if (mnemonic == "MU") return unit + "MU,1\r";
+    if (mnemonic == "TB") return unit + "TB,0\r";
+    if (mnemonic == "BM" && unit == "#B") return "#BER,7\r";
+    return "";
+  });
+  CliRun run = cli("uls bus poll --port " + path + " --units B --measure");
+  EXPECT_EQ(run.code, 6) << run.out;
+  EXPECT_NE(run.out.find("device error 7"), std::string::npos) << run.out;
+  run = cli("uls bus poll --port " + path + " --units AB --measure");
+  EXPECT_EQ(run.code, 5) << run.out;
+  EXPECT_NE(run.out.find("no reply to $BM"), std::string::npos) << run.out;
+  run = cli("uls bus poll --port " + path + " --units A");  // US alone: A answers
+  EXPECT_EQ(run.code, 0) << run.out;
 }
 
 std::vector<StreamItem> take_until(Driver& driver, const std::function<bool(const std::vector<StreamItem>&)>& done) {

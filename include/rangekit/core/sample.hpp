@@ -14,7 +14,7 @@ namespace rangekit {
 enum class SampleKind : std::uint8_t {
   uls_averaging,   // distance_m and/or pulse_width
   uls_binning,     // targets (one complete target array)
-  uls_look_down,   // presence and/or pulses_between_events
+  uls_look_down,   // presence and/or pulses_between_events (or pulses_overflow)
   uls_error,       // device_error (e.g. $ER,4 target not found)
   ls5_result,      // code, distance_mm, signal
   ls5_derivative,  // code, derivative_mm, signal: «Type of preliminary result» 01 (LS5 §8.8/§8.9)
@@ -47,6 +47,9 @@ struct Sample {
   // ULS look down
   std::optional<bool> presence;
   std::optional<std::uint32_t> pulses_between_events;
+  // `$0000`: more than 65535 pulses between the edges (§8 "signifying maximum time
+  // occurred"); pulses_between_events is then empty (U88).
+  bool pulses_overflow = false;
   // ULS measurement error number ($ER,n)
   std::optional<int> device_error;
   // LS5

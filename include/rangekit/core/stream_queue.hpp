@@ -59,6 +59,12 @@ class StreamQueue {
     closed_ = false;
   }
 
+  // Drops what is queued without counting it lost (a stream that failed to start).
+  void clear() {
+    std::lock_guard lock(mutex_);
+    items_.clear();
+  }
+
   [[nodiscard]] bool closed() const {
     std::lock_guard lock(mutex_);
     return closed_;

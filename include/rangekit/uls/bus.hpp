@@ -38,6 +38,8 @@ struct PollResult {
   std::optional<StatusInfo> status;
   std::optional<Sample> sample;  // when measurements were asked for
   std::string problem;           // timeout, device error, collision
+  // Why US or BM failed: Errc::timeout when the unit stayed silent, device_error, ... (U93).
+  std::optional<Error> error;
 };
 
 // The addresses a user can type (§8 UA table): '0'-'9', 'A'-'Z', 'a'-'z'.

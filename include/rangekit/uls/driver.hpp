@@ -52,6 +52,13 @@ enum class StreamMode {
   polled,      // BM at the output period (PPM / PRF), as the Interface Program's Single Measurement
 };
 
+// What ending a stream does to the unit (U86).
+enum class AfterStream {
+  as_found,        // ST only when the stream's GO started the unit; a unit found measuring keeps measuring
+  stop_measuring,  // ST in any case
+  keep_measuring,  // nothing is sent
+};
+
 // Counters of what the reader saw besides replies.
 struct DriverCounters {
   std::uint64_t replies = 0;
@@ -61,6 +68,8 @@ struct DriverCounters {
   std::uint64_t unexpected = 0;  // replies nobody asked for
   std::uint64_t retries = 0;
   std::uint64_t echoes = 0;  // our own request read back (RS-485 adapters that echo, U67)
+  // Measurement lines that arrived before MM/DM/MU/TB were read: never decoded with a guess (U85).
+  std::uint64_t undecoded = 0;
 };
 
 // US decoded into its bits (§8 Get Unit Status, U6).
@@ -184,13 +193,15 @@ class Driver final : public SampleSource {
   Result<MeasurementContext> read_context();
 
   // --- Stream (SampleSource) -------------------------------------------------
-  // Reads the context, starts measuring and a reader thread. Samples and link
-  // events are queued; a full queue drops the oldest (counted in lost()).
+  // Reads US and the context, starts measuring (GO, unless the unit already
+  // measures) and a reader thread. Samples and link events are queued; a full
+  // queue drops the oldest (counted in lost()).
   Status start_stream(StreamMode mode = StreamMode::automatic);
-  // Stops the reader (and, with stop_measuring, sends ST).
-  void stop_stream(bool stop_measuring = true);
+  // Stops the reader, then leaves the unit as `after` says (U86).
+  void stop_stream(AfterStream after = AfterStream::as_found);
   std::optional<StreamItem> next(std::chrono::milliseconds timeout) override;
   [[nodiscard]] bool finished() const override;
+  // stop_stream(AfterStream::as_found); the destructor does the same.
   void stop() override;
   [[nodiscard]] std::uint64_t lost() const override;
   [[nodiscard]] bool streaming() const noexcept { return streaming_.load(); }
@@ -223,6 +234,7 @@ class Driver final : public SampleSource {
   void reader_loop();
   bool reconnect();
   Status begin_measuring(bool reconnecting);
+  bool repeats_last_poll(const Sample& sample);
   Result<Units> cached_units();
   [[nodiscard]] bool on_reader_thread() const;
 
@@ -238,6 +250,7 @@ class Driver final : public SampleSource {
   Pending* pending_ = nullptr;
   DriverCounters counters_;
   MeasurementContext context_;
+  bool context_known_ = false;  // context_ was read from this unit and no set has changed it since
   std::optional<Units> units_;
   std::vector<TargetHit> partial_targets_;
   std::deque<std::string> recent_sent_;  // the last few requests without CR, to recognise echoes (U67)
@@ -251,8 +264,13 @@ class Driver final : public SampleSource {
   std::atomic<bool> stop_requested_{false};
   std::atomic<bool> finished_{false};
   std::atomic<StreamMode> active_mode_{StreamMode::continuous};
+  std::mutex stop_mutex_;                  // one stop_stream at a time (stop(), destructor, caller)
+  bool stream_started_measuring_ = false;  // the stream's GO started an idle unit (U86)
   StreamMode requested_mode_ = StreamMode::automatic;
-  std::chrono::milliseconds poll_period_{100};
+  std::chrono::microseconds poll_period_{100000};  // the output period PPM / PRF, rounded up
+  // Look down sends only edges (U87): silence is normal and a poll reports changes only.
+  bool look_down_stream_ = false;
+  std::optional<Sample> last_polled_;  // the previous poll's answer in look down
   std::chrono::steady_clock::time_point last_measurement_{};
 };
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <span>
+#include <string>
 #include <string_view>
 
 namespace rangekit::uls {
@@ -22,6 +23,10 @@ std::span<const ErrorInfo> error_table() noexcept;
 // Null for numbers the table does not hold.
 const ErrorInfo* find_error(int number) noexcept;
 std::string_view error_group_name(ErrorGroup group) noexcept;
+// A number's §10 text for people: "Lock Not Found (display: Target Not Found)" (the
+// explanation, and the Interface Program's display when it says something else);
+// "not listed in §10" for a number the table does not hold (U90).
+std::string error_text(int number);
 
 // The numbers the codec itself produces or interprets.
 namespace error_number {

@@ -126,12 +126,17 @@ std::vector<PollResult> Bus::poll(const std::vector<std::uint8_t>& addresses, bo
           result.sample = std::move(*sample);
         } else {
           result.problem = sample.error().message;
+          result.error = sample.error();
         }
       }
     } else {
       result.problem = status.error().message;
+      result.error = status.error();
     }
-    if (driver_.counters().bad_frames > before.bad_frames) result.problem = "garbled replies (duplicate address?)";
+    if (driver_.counters().bad_frames > before.bad_frames) {
+      result.problem = "garbled replies (duplicate address?)";
+      result.error = make_error(Errc::invalid_frame, result.problem);
+    }
     results.push_back(std::move(result));
   }
   return results;

@@ -29,6 +29,11 @@ bool same_mnemonic(std::string_view a, std::string_view b) {
   return true;
 }
 
+// The settings a measurement line is decoded with (U11): a set of one makes the context stale.
+bool changes_context(std::string_view mnemonic) {
+  return mnemonic == "MM" || mnemonic == "DM" || mnemonic == "MU" || mnemonic == "TB";
+}
+
 std::string join(std::span<const std::string_view> fields) {
   std::string text;
   for (const auto field : fields) {
@@ -98,8 +103,9 @@ Sample sample_from_reading(const Reading& reading, int address, const std::strin
   } else if (const auto* event = std::get_if<TimeBetweenEvents>(&reading)) {
     sample.kind = SampleKind::uls_look_down;
     sample.presence = event->kind != TimeBetweenEvents::Kind::no_presence;
-    // U61: overflow keeps the wire's 0 ("more than 65535 pulses").
-    if (event->kind != TimeBetweenEvents::Kind::no_presence) sample.pulses_between_events = event->pulses;
+    // U88: `$0000` is more than 65535 pulses, not 0.
+    if (event->kind == TimeBetweenEvents::Kind::pulses) sample.pulses_between_events = event->pulses;
+    sample.pulses_overflow = event->kind == TimeBetweenEvents::Kind::overflow;
   } else if (const auto* error = std::get_if<MeasurementError>(&reading)) {
     sample.kind = SampleKind::uls_error;
     sample.device_error = error->number;
@@ -116,10 +122,8 @@ Driver::Driver(TransportPtr transport, DriverOptions options, ReopenFunction reo
   if (options_.source.empty() && transport_) options_.source = transport_->name();
 }
 
-Driver::~Driver() {
-  stop_requested_ = true;
-  if (reader_.joinable()) reader_.join();
-}
+// A unit the stream started is not left measuring by a driver that goes away (U86).
+Driver::~Driver() { stop_stream(AfterStream::as_found); }
 
 Address Driver::request_address() const noexcept {
   return options_.address ? Address::unit(*options_.address) : Address::none();
@@ -133,6 +137,7 @@ Status Driver::set_address(std::optional<std::uint8_t> address) {
   if (streaming_) return make_error(Errc::unsupported, "cannot change the address while streaming");
   options_.address = address;
   units_.reset();
+  context_known_ = false;  // another unit
   return ok_status();
 }
 
@@ -147,6 +152,10 @@ Status Driver::replace_transport(TransportPtr transport) {
   // The reader uses the transport and the assembler without holding the lock.
   if (streaming_ && !on_reader_thread()) {
     return make_error(Errc::unsupported, "cannot replace the transport while streaming: stop the stream first");
+  }
+  {
+    std::lock_guard lock(state_mutex_);
+    context_known_ = false;  // perhaps another unit, or the same one reconfigured
   }
   std::lock_guard lock(transport_mutex_);
   transport_ = std::move(transport);
@@ -242,6 +251,12 @@ void Driver::dispatch(Bytes frame_bytes) {
   Pending* pending = (pending_ != nullptr && !pending_->done && ours) ? pending_ : nullptr;
 
   if (measurement_line || is_stream_error(error_number)) {
+    // A unit already measuring sends lines before MM/DM/MU/TB are known: a line
+    // decoded with a guessed context would be a false bad_frame or a wrong value (U85).
+    if (!context_known_) {
+      ++counters_.undecoded;
+      return;
+    }
     auto decoded = decode_measurement(frame, context_);
     if (!decoded) {
       ++counters_.bad_frames;
@@ -409,6 +424,10 @@ Status Driver::set(std::string_view mnemonic, std::span<const std::string_view> 
     std::lock_guard lock(state_mutex_);
     units_.reset();
   }
+  if (changes_context(command->mnemonic)) {
+    std::lock_guard lock(state_mutex_);
+    context_known_ = false;  // read again before the next line is decoded (U85)
+  }
   return ok_status();
 }
 
@@ -445,7 +464,12 @@ Status Driver::broadcast(std::string_view mnemonic, std::span<const std::string_
   if (command->mnemonic == "BM") frame = encode_get(to, "BM");
   if (!frame) return frame.error();
   std::lock_guard request_lock(request_mutex_);
-  return write_frame(frame->bytes());
+  auto written = write_frame(frame->bytes());
+  if (written && changes_context(command->mnemonic)) {
+    std::lock_guard lock(state_mutex_);
+    context_known_ = false;  // read again before the next line is decoded (U85)
+  }
+  return written;
 }
 
 Result<Units> Driver::cached_units() {

@@ -2,6 +2,7 @@
 // into Samples, polls with BM when the unit does not send continuously, and
 // reopens the link after it went away (cable pulled, power cycle).
 #include <algorithm>
+#include <utility>
 
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/formulas.hpp"
@@ -63,7 +64,23 @@ void Driver::handle_measurement(const Measurement& measurement) {
   if (collecting_) emit_sample(sample_from_reading(measurement.reading, address, options_.source));
 }
 
+// A look-down poll reads the state the last edge left (§2 Single Measurement, "the most recent
+// measurement"): the same answer again is no new edge (U87).
+bool Driver::repeats_last_poll(const Sample& sample) {
+  const bool same = last_polled_ && last_polled_->kind == sample.kind && last_polled_->presence == sample.presence &&
+                    last_polled_->pulses_between_events == sample.pulses_between_events &&
+                    last_polled_->pulses_overflow == sample.pulses_overflow &&
+                    last_polled_->device_error == sample.device_error;
+  last_polled_ = sample;
+  return same;
+}
+
 Status Driver::begin_measuring(bool reconnecting) {
+  {
+    // Lines that arrive before MM/DM/MU/TB are read again are not decoded (U85).
+    std::lock_guard lock(state_mutex_);
+    context_known_ = false;
+  }
   auto context = read_context();
   if (!context) return context.error();
   StreamMode mode = requested_mode_;
@@ -75,20 +92,38 @@ Status Driver::begin_measuring(bool reconnecting) {
   // The poll period is the output period PPM / PRF of the mode (§2); look down reports changes.
   auto rates = prf();
   if (!rates) return rates.error();
-  std::chrono::milliseconds period = 50ms;
+  std::chrono::microseconds period = 50ms;
   if (context->mode != Mode::look_down) {
     auto ppm = pulses_per_measurement();
     if (!ppm) return ppm.error();
     const std::size_t index = context->mode == Mode::averaging ? 0 : 1;
     const double seconds = output_period_s((*ppm)[index], (*rates)[index]);
-    period = std::chrono::milliseconds(static_cast<std::int64_t>(seconds * 1000.0));
+    // Rounded up: polling faster than the unit measures returns a measurement twice (U89).
+    period = std::chrono::ceil<std::chrono::microseconds>(std::chrono::duration<double>(seconds));
   }
-  poll_period_ = std::clamp<std::chrono::milliseconds>(period, 5ms, 10000ms);
+  poll_period_ = std::clamp<std::chrono::microseconds>(period, 5ms, 10000ms);
+  look_down_stream_ = context->mode == Mode::look_down;
+  last_polled_.reset();
   partial_targets_.clear();
   active_mode_ = mode;
-  // Announced before GO so the event comes ahead of the first new sample.
-  if (reconnecting) emit_event(StreamEventKind::reconnected, options_.source + ": link back, measuring again");
-  if (auto started = start_measuring(); !started) return started;
+  // §2 ULS Autostart: a unit may measure already (MA, another host). GO would restart it
+  // (in look down it references again), so it is sent only to an idle unit (U86).
+  auto state = status();
+  if (!state) return state.error();
+  const bool measuring = state->measuring();
+  // From here lines are decoded with the unit's own settings and belong to the
+  // stream. Announced before GO so the event comes ahead of the first new sample.
+  collecting_ = true;
+  if (reconnecting) {
+    emit_event(StreamEventKind::reconnected, options_.source + ": link back, measuring again");
+  } else {
+    emit_event(StreamEventKind::connected,
+               options_.source + ": measuring, " + (mode == StreamMode::polled ? "polled with BM" : "continuous"));
+  }
+  if (!measuring) {
+    if (auto started = start_measuring(); !started) return started;
+    if (!reconnecting) stream_started_measuring_ = true;
+  }
   last_measurement_ = std::chrono::steady_clock::now();
   return ok_status();
 }
@@ -96,25 +131,25 @@ Status Driver::begin_measuring(bool reconnecting) {
 Status Driver::start_stream(StreamMode mode) {
   if (streaming_ || reader_.joinable()) return make_error(Errc::unsupported, "the stream is already running");
   requested_mode_ = mode;
+  stream_started_measuring_ = false;
   stop_requested_ = false;
   finished_ = false;
-  queue_.reopen();     // closed when a previous stream's reader ended
-  collecting_ = true;  // lines that follow the GO belong to the stream
+  queue_.reopen();  // closed when a previous stream's reader ended
   if (auto begun = begin_measuring(false); !begun) {
     collecting_ = false;
+    queue_.clear();  // a `connected` announced before a refused GO
     return begun;
   }
   {
     std::lock_guard lock(state_mutex_);  // set_address checks it under this lock
     streaming_ = true;
   }
-  emit_event(StreamEventKind::connected, options_.source + ": measuring, " +
-                                             (active_mode_ == StreamMode::polled ? "polled with BM" : "continuous"));
   reader_ = std::thread([this] { reader_loop(); });
   return ok_status();
 }
 
-void Driver::stop_stream(bool stop_measuring) {
+void Driver::stop_stream(AfterStream after) {
+  std::lock_guard stopping(stop_mutex_);
   stop_requested_ = true;
   if (reader_.joinable()) reader_.join();
   {
@@ -124,12 +159,14 @@ void Driver::stop_stream(bool stop_measuring) {
     collecting_ = false;
   }
   reply_ready_.notify_all();
-  if (stop_measuring && connected()) (void)action("ST");
+  const bool started_by_us = std::exchange(stream_started_measuring_, false);
+  const bool send_stop = after == AfterStream::stop_measuring || (after == AfterStream::as_found && started_by_us);
+  if (send_stop && connected()) (void)action("ST");
 }
 
 std::optional<StreamItem> Driver::next(std::chrono::milliseconds timeout) { return queue_.pop(timeout); }
 bool Driver::finished() const { return finished_.load() && queue_.size() == 0; }
-void Driver::stop() { stop_requested_ = true; }
+void Driver::stop() { stop_stream(AfterStream::as_found); }
 std::uint64_t Driver::lost() const { return queue_.dropped(); }
 
 bool Driver::reconnect() {
@@ -161,11 +198,14 @@ void Driver::reader_loop() {
     Status step = ok_status();
     const auto now = std::chrono::steady_clock::now();
     if (active_mode_ == StreamMode::polled && now >= next_poll) {
-      next_poll = now + poll_period_;
       Sample sample;
       auto done = transact(*find_command("BM"), {}, Expect::measurement, 1, options_.measure_timeout, &sample);
+      // BM answers "the most recent measurement" (§2 Single Measurement), and the first
+      // answer waits for the first measurement: the next new one is due one output period
+      // after the answer, not after the request (U89).
+      next_poll = std::chrono::steady_clock::now() + poll_period_;
       if (done) {
-        emit_sample(std::move(sample));
+        if (!look_down_stream_ || !repeats_last_poll(sample)) emit_sample(std::move(sample));
       } else if (done.error().code == Errc::closed || done.error().code == Errc::io) {
         step = done.error();
       } else if (done.error().code == Errc::device_error) {
@@ -178,9 +218,11 @@ void Driver::reader_loop() {
               : 50ms;
       step = pump(wait);
       // No continuous lines on this port (MO sends them elsewhere): poll instead (U62).
+      // Not in look down, which is silent while nothing changes (U87).
       if (step && requested_mode_ == StreamMode::automatic && active_mode_ == StreamMode::continuous &&
+          !look_down_stream_ &&
           std::chrono::steady_clock::now() - last_measurement_ >
-              std::max<std::chrono::milliseconds>(3 * poll_period_, 1500ms)) {
+              std::max<std::chrono::microseconds>(3 * poll_period_, 1500ms)) {
         active_mode_ = StreamMode::polled;
       }
     }

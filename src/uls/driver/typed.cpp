@@ -82,7 +82,7 @@ Status Driver::start_measuring() {
   return started;
 }
 Status Driver::stop_measuring() {
-  if (streaming_) stop_stream(false);
+  if (streaming_) stop_stream(AfterStream::keep_measuring);
   return action("ST");
 }
 Status Driver::save() { return action("SU"); }
@@ -256,6 +256,7 @@ Result<MeasurementContext> Driver::read_context() {
   context.time_between_events = *tbe;
   std::lock_guard lock(state_mutex_);
   context_ = context;
+  context_known_ = true;
   return context;
 }
 
