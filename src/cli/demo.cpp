@@ -17,8 +17,8 @@
 #include "cli/host_sources.hpp"
 #include "cli/sim_process.hpp"
 #include "cli/stream_runner.hpp"
-#include "rangekit/core/control_socket.hpp"
 #include "rangekit/record/merge.hpp"
+#include "rangekit/sim/control_socket.hpp"
 #include "rangekit/uls/driver.hpp"
 
 namespace rangekit::cli {

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "ls5_driver/cli_process.hpp"
-#include "rangekit/core/control_socket.hpp"
+#include "rangekit/sim/control_socket.hpp"
 
 namespace {
 

@@ -13,8 +13,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "rangekit/core/pty.hpp"
 #include "rangekit/core/serial_port.hpp"
+#include "rangekit/sim/pty.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "uls_driver/scripted_device.hpp"
 
