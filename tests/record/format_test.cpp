@@ -81,7 +81,7 @@ TEST(Jsonl, U88_UlsLookDownOverflowIsMoreThan65535PulsesNotZero) {
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":0,\"source\":\"/dev/ttyUSB1\","
             "\"kind\":\"look_down\",\"presence\":true,\"pulses_between_events\":null,\"pulses_overflow\":true}\n");
   EXPECT_EQ(csv(uls_look_down_overflow()),
-            "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,,,,,,true,\n");
+            "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,,,,,,,true,\n");
   EXPECT_EQ(text(uls_look_down_overflow()), "01:02:03.456 uls #0  present  pulses >65535\n");
 }
 
@@ -161,7 +161,7 @@ TEST(Ls5Precision, TheSensorsDiscretenessDecidesTheDecimalsL63) {
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"ls5\",\"address\":null,"
             "\"source\":\"udp:127.0.0.1:5000\",\"kind\":\"result\",\"code\":21124,\"distance_mm\":2.1124,"
             "\"signal\":\"ok\"}\n");
-  EXPECT_EQ(csv(fine), "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,21124,2.1124,ok,\n");
+  EXPECT_EQ(csv(fine), "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,21124,2.1124,ok,,,\n");
   EXPECT_EQ(text(fine), "01:02:03.456 ls5  2.1124 mm  code 21124\n");
 
   // A 40 mm range: 0.001 (15432 of 50000 is 12.3456 mm); a 2000 mm range: 0.1 (20000 of 50000 is 800 mm).
@@ -184,7 +184,7 @@ TEST(Ls5Derivative, IsItsOwnKindWithDerivativeMmL60) {
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"ls5\",\"address\":null,"
             "\"source\":\"udp:127.0.0.1:5000\",\"kind\":\"derivative\",\"code\":25050,\"derivative_mm\":0.100,"
             "\"signal\":\"ok\"}\n");
-  EXPECT_EQ(csv(rising), "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,derivative,,,,,,,25050,,ok,0.100\n");
+  EXPECT_EQ(csv(rising), "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,derivative,,,,,,,25050,,ok,0.100,,\n");
   EXPECT_EQ(text(rising), "01:02:03.456 ls5  derivative +0.100 mm  code 25050\n");
   auto falling = rising;
   falling.code = 24950;
