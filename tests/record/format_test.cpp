@@ -125,7 +125,9 @@ TEST(Csv, OneRowPerFamily) {
   EXPECT_EQ(csv(uls_averaging()), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,,,\n");
   EXPECT_EQ(csv(uls_binning()), "2026-11-26T01:02:03.456Z,uls,,/dev/ttyUSB0,binning,,,4.5720:42;7.1000:13,,,,,,,,,\n");
   EXPECT_EQ(csv(uls_look_down()), "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,250,,,,,,false,\n");
-  EXPECT_EQ(csv(uls_error()), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,,,,Lock Not Found (display: Target Not Found)\n");
+  EXPECT_EQ(
+      csv(uls_error()),
+      "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,,,,Lock Not Found (display: Target Not Found)\n");
   EXPECT_EQ(csv(ls5_result(12345, 1234.5, SignalState::ok)),
             "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,,,\n");
   EXPECT_EQ(csv(ls5_result(65535, std::nullopt, SignalState::lost)),
