@@ -260,8 +260,10 @@ TEST(Ls5ParameterTable, WriteOrderKeepsEveryIntermediateInRangeL50) {
             const std::uint64_t after = std::uint64_t{new_high} << 8 | new_low;
             if (before < info.min || before > info.max || !split_value(info, after).ok()) continue;
             std::uint8_t memory[256] = {};
-            for (const auto& write : split_value(info, before)->view()) memory[write.address] = write.value;
-            for (const auto& write : split_value_in_write_order(info, after)->view()) {
+            const auto old_writes = split_value(info, before);  // kept: view() points into it
+            for (const auto& write : old_writes->view()) memory[write.address] = write.value;
+            const auto new_writes = split_value_in_write_order(info, after);
+            for (const auto& write : new_writes->view()) {
               EXPECT_TRUE(
                   check_value_after_write(write.address, write.value, [&](std::uint8_t a) { return memory[a]; }).ok())
                   << info.cli_name << " " << before << " -> " << after;

@@ -201,7 +201,8 @@ Status Driver::write_parameters(std::span<const ParameterWrite> writes) {
                                                   std::to_string(*combined) + ": " + in_range.error().message);
       }
     }
-    for (const ParameterWrite& ordered : in_write_order(value, given).view()) plan.push_back(ordered);
+    const ParameterWrites ordered = in_write_order(value, given);  // kept: view() points into it
+    for (const ParameterWrite& step : ordered.view()) plan.push_back(step);
   }
   for (const ParameterWrite& step : plan) {
     Status written = write_checked(Request::write(options_.address, step.address, step.value));
