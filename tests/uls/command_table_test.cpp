@@ -113,6 +113,15 @@ TEST(UlsCommandTable, LookupById) {
   EXPECT_EQ(ids.size(), 36u);
 }
 
+// §8 AH/AL: "Range at 20mA in user units (decimal feet or meters)"; LG, SG, TP and OF
+// are distances the same way. AF (mA), AT (seconds) and the counts are not.
+TEST(UlsCommandTable, DistancesAreTheUserUnitValues) {
+  for (const std::string_view mnemonic : {"LG", "SG", "TP", "AH", "AL", "OF"})
+    EXPECT_TRUE(find_command(mnemonic)->is_distance()) << mnemonic;
+  for (const std::string_view mnemonic : {"AF", "AT", "AW", "BH", "TT", "MU", "BM"})
+    EXPECT_FALSE(find_command(mnemonic)->is_distance()) << mnemonic;
+}
+
 TEST(UlsCommandTable, ValueKindsAndNames) {  // §8 value definitions
   EXPECT_EQ(find_command("DD")->kind, ValueKind::flag);
   EXPECT_EQ(find_command("BR")->kind, ValueKind::baud_with_port);

@@ -112,6 +112,10 @@ struct CommandInfo {
 
   [[nodiscard]] bool has_get() const noexcept { return access == Access::get_set || access == Access::get_only; }
   [[nodiscard]] bool has_set() const noexcept { return access == Access::get_set || access == Access::set_only; }
+  // A distance in user units (LG, SG, TP, AH, AL, OF): read and written in MU's units (U18, U76).
+  [[nodiscard]] bool is_distance() const noexcept {
+    return kind == ValueKind::distance || kind == ValueKind::signed_distance;
+  }
   // Name of a value (enumerations and flags), empty when it has none.
   [[nodiscard]] std::string_view value_name(std::uint32_t value) const noexcept;
 };

@@ -17,10 +17,6 @@ namespace rangekit::uls {
 
 namespace {
 
-bool is_distance(const CommandInfo& command) {
-  return command.kind == ValueKind::distance || command.kind == ValueKind::signed_distance;
-}
-
 // "look down" -> "look-down", "off (polled)" -> "off"; how names are written and typed.
 std::string key_name(std::string_view name) {
   std::string text;
@@ -40,7 +36,7 @@ std::string integer_text(double value) { return std::to_string(static_cast<std::
 
 std::string unit_comment(const CommandInfo& command) {
   std::string text = "# " + std::string(command.mnemonic) + ", " + std::string(command.title);
-  if (is_distance(command))
+  if (command.is_distance())
     text += ", metres";
   else if (command.kind == ValueKind::hex_pulses)
     text += ", pulses (seconds x 3000)";
@@ -99,7 +95,7 @@ Result<Setting> from_wire(const CommandInfo& command, const std::vector<std::str
   setting.command = &command;
   for (const auto& text : values) {
     std::optional<double> value;
-    if (is_distance(command)) {
+    if (command.is_distance()) {
       // A limit read in feet is that limit (U76): 5577.43 ft -> 1700 m, not 1700.0007.
       if (auto number = text::parse_decimal(text)) value = distance_to_metres(*number, units, command.min, command.max);
     } else if (command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
@@ -127,13 +123,13 @@ std::string readable(const Setting& setting) {
     } else if (command.kind == ValueKind::enumeration) {
       const auto name = command.value_name(static_cast<std::uint32_t>(value));
       text += name.empty() ? integer_text(value) : key_name(name);
-    } else if (is_distance(command) || command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
+    } else if (command.is_distance() || command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
       text += decimal_text(value);
     } else {
       text += integer_text(value);
     }
   }
-  if (is_distance(command))
+  if (command.is_distance())
     text += " m";
   else if (command.kind == ValueKind::milliamps)
     text += " mA";
@@ -184,7 +180,7 @@ std::string config_to_toml(const DeviceConfig& config, std::string_view origin) 
       for (std::size_t i = 0; i < setting.values.size(); ++i)
         value += (i == 0 ? "" : ", ") + integer_text(setting.values[i]);
       value += "]";
-    } else if (is_distance(command) || command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
+    } else if (command.is_distance() || command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
       value = decimal_text(setting.values.at(0));
       if (value.find('.') == std::string::npos) value += ".0";
     } else {

@@ -310,7 +310,7 @@ void Driver::dispatch(Bytes frame_bytes) {
 Status Driver::check_locally(const CommandInfo& command, std::span<const std::string_view> fields) {
   const FormResult form = request_form(command, fields.size());
   Units units = Units::metres;
-  const bool distance = command.kind == ValueKind::distance || command.kind == ValueKind::signed_distance;
+  const bool distance = command.is_distance();
   if (form.verdict.ok() && form.form == RequestForm::set && distance) {
     auto current = cached_units();
     if (!current) return current.error();
