@@ -51,6 +51,15 @@ std::uint32_t parse_unsigned(std::string_view text) {
 
 double seconds(Nanos span) { return static_cast<double>(span.count()) / 1e9; }
 
+// Whether a target at `d` can answer at all: beyond the minimum range, inside the short and
+// long gates (0 = off) and, with the cooperative filter on, a cooperative target (§8 SG, LG, FL).
+bool passes_gates(const Settings& settings, double d, bool cooperative) noexcept {
+  if (d < minimum_range_m) return false;
+  if (settings.short_gate_m > 0 && d < settings.short_gate_m) return false;
+  if (settings.long_gate_m > 0 && d > settings.long_gate_m) return false;
+  return !settings.cooperative_filter || cooperative;
+}
+
 }  // namespace
 
 // --- Settings in non-volatile memory ---
@@ -701,10 +710,7 @@ std::optional<Firmware::PulseReturn> Firmware::first_return(Nanos t, bool certai
   std::optional<PulseReturn> best;
   for (const auto& target : scene_.targets) {
     const double d = target.motion.position_at(t);
-    if (d < minimum_range_m) continue;
-    if (settings_.short_gate_m > 0 && d < settings_.short_gate_m) continue;
-    if (settings_.long_gate_m > 0 && d > settings_.long_gate_m) continue;
-    if (settings_.cooperative_filter && !target.cooperative) continue;
+    if (!passes_gates(settings_, d, target.cooperative)) continue;
     const double range = max_range_m(target.reflectivity, target.cooperative);
     if (d > range) continue;  // below the detection threshold
     if (best && best->distance_m <= d) continue;
@@ -823,10 +829,7 @@ void Firmware::fire_binning(Nanos t) {
   if (!fault_no_return_) {
     for (const auto& target : scene_.targets) {
       const double d = target.motion.position_at(t);
-      if (d < minimum_range_m) continue;
-      if (settings_.short_gate_m > 0 && d < settings_.short_gate_m) continue;
-      if (settings_.long_gate_m > 0 && d > settings_.long_gate_m) continue;
-      if (settings_.cooperative_filter && !target.cooperative) continue;
+      if (!passes_gates(settings_, d, target.cooperative)) continue;
       // No threshold in binning (§3): weak returns still land, with a probability
       // falling with the signal strength (range / distance)^2.
       const double ratio = max_range_m(target.reflectivity, target.cooperative) / d;
