@@ -1,9 +1,9 @@
 // Scene files for the LS5 emulator (TOML, docs/emulator-ls5.md "Scene").
-#include <toml++/toml.h>
 
 #include <fstream>
 #include <sstream>
 
+#include "rangekit/core/toml.hpp"
 #include "rangekit/sim/ls5/firmware.hpp"
 
 namespace rangekit::ls5::emulator {
@@ -133,22 +133,9 @@ Result<Scene> from_table(const toml::table& root, const std::string& source) {
 }  // namespace
 
 Result<Scene> parse_scene(std::string_view text, const std::string& source_name) {
-#if TOML_EXCEPTIONS
-  try {
-    const toml::table root = toml::parse(text, source_name);
-    return from_table(root, source_name);
-  } catch (const toml::parse_error& error) {
-    return make_error(Errc::invalid_frame, source_name + ":" + std::to_string(error.source().begin.line) + ": " +
-                                               std::string(error.description()));
-  }
-#else
-  toml::parse_result parsed = toml::parse(text, source_name);
-  if (!parsed) {
-    return make_error(Errc::invalid_frame, source_name + ":" + std::to_string(parsed.error().source().begin.line) +
-                                               ": " + std::string(parsed.error().description()));
-  }
-  return from_table(parsed.table(), source_name);
-#endif
+  auto root = parse_toml(text, source_name);
+  if (!root) return std::move(root).error();
+  return from_table(*root, source_name);
 }
 
 Result<Scene> load_scene(const std::string& path) {

@@ -2,13 +2,12 @@
 // Program's .uls file, §2), loading with read-back verification, and diff.
 #include "rangekit/uls/host_config.hpp"
 
-#include <toml++/toml.h>
-
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
 #include "rangekit/core/text.hpp"
+#include "rangekit/core/toml.hpp"
 #include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/formulas.hpp"
@@ -192,13 +191,9 @@ std::string config_to_toml(const DeviceConfig& config, std::string_view origin) 
 }
 
 Result<DeviceConfig> config_from_toml(std::string_view text, std::string_view file_name) {
-  toml::table root;
-  try {
-    root = toml::parse(text, file_name);
-  } catch (const toml::parse_error& error) {
-    return make_error(Errc::invalid_frame, std::string(file_name) + ":" + std::to_string(error.source().begin.line) +
-                                               ": " + std::string(error.description()));
-  }
+  auto parsed = parse_toml(text, file_name);
+  if (!parsed) return std::move(parsed).error();
+  toml::table& root = *parsed;
   const toml::table* table = root["settings"].as_table();
   if (table == nullptr) return make_error(Errc::invalid_frame, std::string(file_name) + ": no [settings] table");
   DeviceConfig config;

@@ -1,10 +1,10 @@
 // Scene files for the ULS emulator (TOML, docs/emulator-uls.md "Scene").
 #include "rangekit/sim/uls/scene.hpp"
 
-#include <toml++/toml.h>
-
 #include <fstream>
 #include <sstream>
+
+#include "rangekit/core/toml.hpp"
 
 namespace rangekit::uls::emulator {
 namespace {
@@ -134,22 +134,9 @@ Scene default_scene() {
 
 Result<Scene> parse_scene(std::string_view toml_text, std::string_view source) {
   const std::string name(source);
-#if TOML_EXCEPTIONS
-  try {
-    const toml::table root = toml::parse(toml_text, name);
-    return from_table(root, name);
-  } catch (const toml::parse_error& error) {
-    return make_error(Errc::invalid_frame,
-                      name + ":" + std::to_string(error.source().begin.line) + ": " + std::string(error.description()));
-  }
-#else
-  toml::parse_result parsed = toml::parse(toml_text, name);
-  if (!parsed) {
-    return make_error(Errc::invalid_frame, name + ":" + std::to_string(parsed.error().source().begin.line) + ": " +
-                                               std::string(parsed.error().description()));
-  }
-  return from_table(parsed.table(), name);
-#endif
+  auto root = parse_toml(toml_text, name);
+  if (!root) return std::move(root).error();
+  return from_table(*root, name);
 }
 
 Result<Scene> load_scene(const std::string& path) {
