@@ -193,8 +193,7 @@ int run_set(const LinkOptions& link, const std::vector<std::string>& assignments
   for (const auto& [target, value] : work) {
     auto fields = uls_values::to_fields(target, value, Units::metres);
     if (!fields) return fail("set", fields.error());
-    const bool distance =
-        target.command->kind == ValueKind::distance || target.command->kind == ValueKind::signed_distance;
+    const bool distance = target.command->is_distance();
     const std::vector<std::string_view> views(fields->begin(), fields->end());
     if (const Verdict verdict = validate_request(*target.command, views, Units::metres);
         !verdict.ok() && !(distance && target.raw))
@@ -210,8 +209,7 @@ int run_set(const LinkOptions& link, const std::vector<std::string>& assignments
   if (!driver) return fail("set", driver.error());
   std::optional<Units> units;
   for (const auto& [target, value] : work) {
-    const bool distance =
-        target.command->kind == ValueKind::distance || target.command->kind == ValueKind::signed_distance;
+    const bool distance = target.command->is_distance();
     if (distance && !units) {
       auto read = (*driver)->units();
       if (!read) return fail("set", read.error());

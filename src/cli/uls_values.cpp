@@ -96,7 +96,7 @@ Result<std::vector<std::string>> to_fields(const Target& target, std::string_vie
         !text::parse_unsigned(field).has_value()) {
       if (auto number = named_value(command, field)) field = std::to_string(*number);
       // else left as typed: validation names the allowed values
-    } else if (command.kind == ValueKind::distance || command.kind == ValueKind::signed_distance) {
+    } else if (command.is_distance()) {
       // Readable distances are metres; a trailing "ft" or "m" says otherwise (U64).
       std::string number = field;
       Units typed = Units::metres;

@@ -82,4 +82,10 @@ void write_hex(std::uint64_t value, std::size_t width, char* out) noexcept {
   }
 }
 
+std::string hex_byte(std::uint8_t value) {
+  std::string text(2, '0');
+  write_hex(value, 2, text.data());
+  return text;
+}
+
 }  // namespace rangekit::text

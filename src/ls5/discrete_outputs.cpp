@@ -25,7 +25,7 @@ unsigned encode_digit(const DiscreteOutputSetting& setting) noexcept {
 Result<DiscreteOutputsSetting> decode_discrete_outputs(std::uint8_t value) {
   DiscreteOutputsSetting setting;
   if (!decode_digit(value >> 4U, setting.output1) || !decode_digit(value & 0x0FU, setting.output2)) {
-    return make_error(Errc::out_of_range, "LS5 discrete outputs setting " + detail::hex2(value) +
+    return make_error(Errc::out_of_range, "LS5 discrete outputs setting " + text::hex_byte(value) +
                                               " is not one of 00-02, 10-12, 20-22 (table 9.2, parameter 15)");
   }
   return setting;

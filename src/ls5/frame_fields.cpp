@@ -11,7 +11,7 @@ Status check_printable(std::string_view frame) {
   for (std::size_t i = 0; i < frame.size(); ++i) {
     const auto byte = static_cast<std::uint8_t>(frame[i]);
     if (byte < 0x20 || byte >= 0x7f) {
-      return frame_error(Errc::invalid_frame, "control or non-ASCII byte 0x" + hex2(byte) + " at position " +
+      return frame_error(Errc::invalid_frame, "control or non-ASCII byte 0x" + text::hex_byte(byte) + " at position " +
                                                   std::to_string(i) + " of " + quote(frame));
     }
   }

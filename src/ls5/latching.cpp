@@ -37,7 +37,7 @@ Result<LatchRecalculation> recalculate_on_latch(std::uint8_t mode_byte, ResultCo
                                                 std::uint16_t analog_fixed_range, std::uint16_t discrete_fixed_range) {
   const std::optional<LatchingMode> mode = latching_mode_from_byte(mode_byte);
   if (!mode) {
-    return make_error(Errc::out_of_range, "LS5 latching mode " + detail::hex2(mode_byte) +
+    return make_error(Errc::out_of_range, "LS5 latching mode " + text::hex_byte(mode_byte) +
                                               " is not one of 00-09 (table 9.2, parameter 1F)");
   }
   LatchRecalculation outcome;

@@ -22,12 +22,6 @@ std::string quote(std::string_view text) {
   return out;
 }
 
-std::string hex2(std::uint8_t value) {
-  char digits[2];
-  text::write_hex(value, 2, digits);
-  return std::string(digits, 2);
-}
-
 Error frame_error(Errc code, std::string message) { return make_error(code, "LS5 frame: " + std::move(message)); }
 
 }  // namespace rangekit::ls5::detail

@@ -6,13 +6,12 @@
 #include <string_view>
 
 #include "rangekit/core/result.hpp"
+#include "rangekit/core/text.hpp"
 
 namespace rangekit::ls5::detail {
 
 // 'text' with control and non-ASCII bytes as \xNN, so messages stay printable.
 std::string quote(std::string_view text);
-// Two upper-case hex digits.
-std::string hex2(std::uint8_t value);
 
 // Error whose message starts with "LS5 frame: ".
 Error frame_error(Errc code, std::string message);

@@ -331,6 +331,6 @@ std::string describe_accepted_values(const ParameterInfo& parameter) {
   return text;
 }
 
-std::string hex_byte(std::uint8_t value) { return detail::hex2(value); }
+std::string hex_byte(std::uint8_t value) { return text::hex_byte(value); }
 
 }  // namespace rangekit::ls5

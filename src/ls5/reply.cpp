@@ -268,8 +268,8 @@ Status check_reply_answers(const Request& request, const Reply& reply) {
     return frame_error(Errc::wrong_form, "a stream record does not answer " + std::string(info.code));
   }
   if (reply.address != request.address) {
-    return frame_error(Errc::wrong_form, "reply from address " + detail::hex2(reply.address) + " to a request for " +
-                                             detail::hex2(request.address));
+    return frame_error(Errc::wrong_form, "reply from address " + text::hex_byte(reply.address) + " to a request for " +
+                                             text::hex_byte(request.address));
   }
   if (reply.command != request.command) {
     return frame_error(Errc::wrong_form, "reply " + std::string(command_info(reply.command).code) + " to a " +
@@ -277,13 +277,13 @@ Status check_reply_answers(const Request& request, const Reply& reply) {
   }
   if ((request.command == CommandId::read_parameter || request.command == CommandId::write_parameter) &&
       reply.parameter != request.parameter) {
-    return frame_error(Errc::wrong_form, "reply for parameter " + detail::hex2(reply.parameter) +
-                                             " to a request for parameter " + detail::hex2(request.parameter));
+    return frame_error(Errc::wrong_form, "reply for parameter " + text::hex_byte(reply.parameter) +
+                                             " to a request for parameter " + text::hex_byte(request.parameter));
   }
   if (request.command == CommandId::write_parameter && reply.value != request.value) {
-    return frame_error(Errc::wrong_form, "parameter " + detail::hex2(request.parameter) + " written as " +
-                                             detail::hex2(request.value) + " but echoed as " +
-                                             detail::hex2(reply.value));
+    return frame_error(Errc::wrong_form, "parameter " + text::hex_byte(request.parameter) + " written as " +
+                                             text::hex_byte(request.value) + " but echoed as " +
+                                             text::hex_byte(reply.value));
   }
   return ok_status();
 }

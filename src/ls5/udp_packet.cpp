@@ -26,7 +26,7 @@ bool valid_state(std::uint8_t state) noexcept {
 Error state_error(std::size_t record, std::uint8_t state) {
   const char* why =
       (state & udp_state::always_one) == 0 ? "bit 1 must always be 1" : "bits 4-7 are reserved and must be 0";
-  return make_error(Errc::invalid_frame, "LS5 UDP packet: state word 0x" + detail::hex2(state) + " of measurement " +
+  return make_error(Errc::invalid_frame, "LS5 UDP packet: state word 0x" + text::hex_byte(state) + " of measurement " +
                                              std::to_string(record + 1) + ": " + why + " (§10.1)");
 }
 
@@ -50,8 +50,8 @@ Result<UdpPacket> decode_udp_packet(Bytes datagram) {
   const std::uint8_t computed = xor_of(datagram.first(udp_offset::counter));
   if (computed != datagram[udp_offset::checksum]) {
     return make_error(Errc::bad_checksum, "LS5 UDP packet: checksum byte 0x" +
-                                              detail::hex2(datagram[udp_offset::checksum]) +
-                                              ", the XOR of bytes 0-509 is 0x" + detail::hex2(computed));
+                                              text::hex_byte(datagram[udp_offset::checksum]) +
+                                              ", the XOR of bytes 0-509 is 0x" + text::hex_byte(computed));
   }
   UdpPacket packet;
   for (std::size_t i = 0; i < udp_record_count; ++i) {

@@ -37,6 +37,7 @@ constexpr std::array<ValueName, 5> status_names{{{0, "error: initialisation fail
                                                  {11, "firing, binning"}}};
 
 using A = Access;
+using Id = CommandId;
 using K = ValueKind;
 
 // U24: whether a set (or GO, U77) is refused with error 31 while the unit measures.
@@ -46,10 +47,12 @@ constexpr auto rejected = WhileMeasuring::rejected;
 
 // Row shapes. Most commands are a plain setting: "$CC" gets, "$CC,n" sets,
 // "$CC,n" replies; the few others adjust one of these (U16, U29, U30).
-constexpr CommandInfo setting(std::string_view mnemonic, std::string_view title, std::string_view cli, ValueKind kind,
-                              double min, double max, int value_error, WhileMeasuring measuring, std::string_view unit,
-                              std::string_view reference, std::span<const ValueName> names = {}) {
-  return CommandInfo{.mnemonic = mnemonic,
+constexpr CommandInfo setting(CommandId id, std::string_view mnemonic, std::string_view title, std::string_view cli,
+                              ValueKind kind, double min, double max, int value_error, WhileMeasuring measuring,
+                              std::string_view unit, std::string_view reference,
+                              std::span<const ValueName> names = {}) {
+  return CommandInfo{.id = id,
+                     .mnemonic = mnemonic,
                      .title = title,
                      .cli_name = cli,
                      .access = A::get_set,
@@ -69,25 +72,25 @@ constexpr CommandInfo setting(std::string_view mnemonic, std::string_view title,
                      .reference = reference};
 }
 
-constexpr CommandInfo flag(std::string_view mnemonic, std::string_view title, std::string_view cli,
+constexpr CommandInfo flag(CommandId id, std::string_view mnemonic, std::string_view title, std::string_view cli,
                            WhileMeasuring measuring, std::string_view reference,
                            std::span<const ValueName> names = off_on) {
-  return setting(mnemonic, title, cli, K::flag, 0, 1, 1, measuring, "", reference, names);
+  return setting(id, mnemonic, title, cli, K::flag, 0, 1, 1, measuring, "", reference, names);
 }
 
-constexpr CommandInfo action(std::string_view mnemonic, std::string_view title, std::string_view cli,
+constexpr CommandInfo action(CommandId id, std::string_view mnemonic, std::string_view title, std::string_view cli,
                              std::string_view reference, WhileMeasuring measuring = accepted) {
-  CommandInfo row = setting(mnemonic, title, cli, K::none, 0, 0, 1, measuring, "", reference);
+  CommandInfo row = setting(id, mnemonic, title, cli, K::none, 0, 0, 1, measuring, "", reference);
   row.access = A::action;
   row.set_fields_min = row.set_fields_max = 0;
   row.reply_fields_min = row.reply_fields_max = 0;
   return row;
 }
 
-constexpr CommandInfo reading(std::string_view mnemonic, std::string_view title, std::string_view cli, ValueKind kind,
-                              std::uint8_t reply_fields_max, std::string_view reference,
+constexpr CommandInfo reading(CommandId id, std::string_view mnemonic, std::string_view title, std::string_view cli,
+                              ValueKind kind, std::uint8_t reply_fields_max, std::string_view reference,
                               std::span<const ValueName> names = {}) {
-  CommandInfo row = setting(mnemonic, title, cli, kind, 0, 0, 1, accepted, "", reference, names);
+  CommandInfo row = setting(id, mnemonic, title, cli, kind, 0, 0, 1, accepted, "", reference, names);
   row.access = A::get_only;
   row.set_fields_min = row.set_fields_max = 0;
   row.reply_fields_max = reply_fields_max;
@@ -116,60 +119,84 @@ constexpr CommandInfo per_port(CommandInfo row, int port_error) {
   return row;
 }
 
-constexpr std::array<CommandInfo, 36> commands{{
-    flag("DD", "Dither On/Off", "dither", rejected, "§8 p.25"),
-    reading("BM", "Get Measurement", "measure", K::measurement, 4, "§8 p.25, formats p.23-24"),
-    reading("ID", "Get Software Version", "version", K::text, 8, "§8 p.25"),
-    reading("US", "Get Unit Status", "status", K::status, 1, "§8 p.26", status_names),
-    flag("MA", "Measurement Autostart On/Off", "autostart", accepted, "§8 p.26", autostart_names),
-    action("GO", "Measurement Start", "start", "§8 p.26", rejected),  // "Instrument Is Already Measuring" (U77)
-    action("ST", "Measurement Stop", "stop", "§8 p.27"),
-    flag("PA", "Pointer Autostart On/Off", "pointer-autostart", accepted, "§8 p.27"),
-    set_only(flag("PT", "Pointer On/Off", "pointer", accepted, "§8 p.27")),
-    action("SU", "Save User Settings into Non-Volatile Memory", "save", "§8 p.27"),
-    flag("CL", "Set/Get 4-20 mA Current Loop On/Off", "current-loop", accepted, "§8 p.28"),
-    setting("AW", "Set/Get Averaging Weight (Number of Good Pulses)", "averaging-weight", K::unsigned_int, 1, 65535, 35,
-            rejected, "pulses", "§8 p.28"),
-    per_port(setting("BR", "Set/Get Baud Rate", "baud", K::baud_with_port, 1200, 230400, 34, rejected, "baud",
+constexpr std::array<CommandInfo, command_count> commands{{
+    flag(Id::dither, "DD", "Dither On/Off", "dither", rejected, "§8 p.25"),
+    reading(Id::measure, "BM", "Get Measurement", "measure", K::measurement, 4, "§8 p.25, formats p.23-24"),
+    reading(Id::version, "ID", "Get Software Version", "version", K::text, 8, "§8 p.25"),
+    reading(Id::status, "US", "Get Unit Status", "status", K::status, 1, "§8 p.26", status_names),
+    flag(Id::autostart, "MA", "Measurement Autostart On/Off", "autostart", accepted, "§8 p.26", autostart_names),
+    action(Id::start, "GO", "Measurement Start", "start", "§8 p.26",
+           rejected),  // "Instrument Is Already Measuring" (U77)
+    action(Id::stop, "ST", "Measurement Stop", "stop", "§8 p.27"),
+    flag(Id::pointer_autostart, "PA", "Pointer Autostart On/Off", "pointer-autostart", accepted, "§8 p.27"),
+    set_only(flag(Id::pointer, "PT", "Pointer On/Off", "pointer", accepted, "§8 p.27")),
+    action(Id::save, "SU", "Save User Settings into Non-Volatile Memory", "save", "§8 p.27"),
+    flag(Id::current_loop, "CL", "Set/Get 4-20 mA Current Loop On/Off", "current-loop", accepted, "§8 p.28"),
+    setting(Id::averaging_weight, "AW", "Set/Get Averaging Weight (Number of Good Pulses)", "averaging-weight",
+            K::unsigned_int, 1, 65535, 35, rejected, "pulses", "§8 p.28"),
+    per_port(setting(Id::baud, "BR", "Set/Get Baud Rate", "baud", K::baud_with_port, 1200, 230400, 34, rejected, "baud",
                      "§8 p.28, choices §9 p.37", port_names),
              84),
-    setting("BS", "Set/Get Bin Size", "bin-size", K::enumeration, 0, 8, 1, rejected, "", "§8 p.29, §9 p.40",
-            bin_size_names),
-    setting("BH", "Set/Get Bin Threshold", "bin-threshold", K::unsigned_int, 1, 65535, 1, rejected, "hits", "§8 p.29"),
-    flag("CO", "Set/Get Continuous Measurement Output Mode", "continuous", accepted, "§8 p.29", continuous_names),
-    flag("FL", "Set/Get Cooperative Filter", "cooperative-filter", rejected, "§8 p.30", filter_names),
-    setting("DM", "Set/Get Display Mode in Averaging", "display", K::enumeration, 1, 3, 1, rejected, "", "§8 p.30",
-            display_names),
-    setting("AF", "Set/Get 4-20 mA Fault Current Value", "fault-current", K::milliamps, 0, 24, 83, accepted, "mA",
-            "§8 p.30, §6"),
-    setting("AT", "Set/Get Fault Timeout for 4-20 mA Current Loop", "fault-timeout", K::seconds, 0, 3600, 83, accepted,
-            "s", "§8 p.31, §6"),
-    setting("LG", "Set/Get Long Gate", "long-gate", K::distance, 0, 1700, 1, rejected, "user units", "§8 p.31"),
-    setting("MM", "Set/Get Measurement Mode", "mode", K::enumeration, 1, 3, 85, rejected, "", "§8 p.31", mode_names),
-    setting("MO", "Set/Get Measurement Output Port", "output-port", K::enumeration, 0, 2, 84, rejected, "", "§8 p.32",
-            output_port_names),
-    setting("MU", "Set/Get Measurement Units", "units", K::enumeration, 0, 1, 1, rejected, "", "§8 p.32", units_names),
-    setting("PL", "Set/Get Power Level", "power", K::enumeration, 0, 2, 1, rejected, "", "§8 p.32", power_names),
-    value_list(setting("PF", "Set/Get PRF", "prf", K::prf_list, 10, 5000, 32, rejected, "Hz", "§8 p.33, §2 p.10"), 3),
+    setting(Id::bin_size, "BS", "Set/Get Bin Size", "bin-size", K::enumeration, 0, 8, 1, rejected, "",
+            "§8 p.29, §9 p.40", bin_size_names),
+    setting(Id::bin_threshold, "BH", "Set/Get Bin Threshold", "bin-threshold", K::unsigned_int, 1, 65535, 1, rejected,
+            "hits", "§8 p.29"),
+    flag(Id::continuous, "CO", "Set/Get Continuous Measurement Output Mode", "continuous", accepted, "§8 p.29",
+         continuous_names),
+    flag(Id::cooperative_filter, "FL", "Set/Get Cooperative Filter", "cooperative-filter", rejected, "§8 p.30",
+         filter_names),
+    setting(Id::display, "DM", "Set/Get Display Mode in Averaging", "display", K::enumeration, 1, 3, 1, rejected, "",
+            "§8 p.30", display_names),
+    setting(Id::fault_current, "AF", "Set/Get 4-20 mA Fault Current Value", "fault-current", K::milliamps, 0, 24, 83,
+            accepted, "mA", "§8 p.30, §6"),
+    setting(Id::fault_timeout, "AT", "Set/Get Fault Timeout for 4-20 mA Current Loop", "fault-timeout", K::seconds, 0,
+            3600, 83, accepted, "s", "§8 p.31, §6"),
+    setting(Id::long_gate, "LG", "Set/Get Long Gate", "long-gate", K::distance, 0, 1700, 1, rejected, "user units",
+            "§8 p.31"),
+    setting(Id::mode, "MM", "Set/Get Measurement Mode", "mode", K::enumeration, 1, 3, 85, rejected, "", "§8 p.31",
+            mode_names),
+    setting(Id::output_port, "MO", "Set/Get Measurement Output Port", "output-port", K::enumeration, 0, 2, 84, rejected,
+            "", "§8 p.32", output_port_names),
+    setting(Id::units, "MU", "Set/Get Measurement Units", "units", K::enumeration, 0, 1, 1, rejected, "", "§8 p.32",
+            units_names),
+    setting(Id::power, "PL", "Set/Get Power Level", "power", K::enumeration, 0, 2, 1, rejected, "", "§8 p.32",
+            power_names),
     value_list(
-        setting("PO", "Set/Get Pulses Per Measurement", "ppm", K::ppm_list, 1, 65535, 1, rejected, "pulses", "§8 p.33"),
-        2),
-    setting("AH", "Set/Get Range at 20 mA", "range-20ma", K::distance, 0, 1700, 83, accepted, "user units",
-            "§8 p.33, §6"),
-    setting("AL", "Set/Get Range at 4 mA", "range-4ma", K::distance, 0, 1700, 83, accepted, "user units",
-            "§8 p.34, §6"),
-    flag("TE", "Set/Get RS485 Bus Termination On/Off", "termination", accepted, "§8 p.34"),
-    setting("SG", "Set/Get Short Gate", "short-gate", K::distance, 0, 1700, 1, rejected, "user units", "§8 p.34"),
-    flag("TB", "Set/Get Time between Events", "time-between-events", rejected, "§8 p.35, §3 p.15"),
-    setting("TP", "Set/Get Trip Point", "trip-point", K::distance, 0, 1700, 1, rejected, "user units", "§8 p.35"),
-    setting("TT", "Set/Get Trip Point Timeout", "trip-timeout", K::hex_pulses, 0, 4294967295.0, 1, rejected,
-            "pulses (hex, seconds x 3000)", "§8 p.35, §3"),
-    setting("UA", "Set/Get Unit Address", "address", K::address_char, 0x30, 0xEF, 1, rejected, "", "§8 p.36, §7"),
-    setting("OF", "Set/Get User Offset", "offset", K::signed_distance, -1700, 1700, 1, rejected, "user units",
-            "§8 p.36"),
+        setting(Id::prf, "PF", "Set/Get PRF", "prf", K::prf_list, 10, 5000, 32, rejected, "Hz", "§8 p.33, §2 p.10"), 3),
+    value_list(setting(Id::ppm, "PO", "Set/Get Pulses Per Measurement", "ppm", K::ppm_list, 1, 65535, 1, rejected,
+                       "pulses", "§8 p.33"),
+               2),
+    setting(Id::range_at_20ma, "AH", "Set/Get Range at 20 mA", "range-20ma", K::distance, 0, 1700, 83, accepted,
+            "user units", "§8 p.33, §6"),
+    setting(Id::range_at_4ma, "AL", "Set/Get Range at 4 mA", "range-4ma", K::distance, 0, 1700, 83, accepted,
+            "user units", "§8 p.34, §6"),
+    flag(Id::termination, "TE", "Set/Get RS485 Bus Termination On/Off", "termination", accepted, "§8 p.34"),
+    setting(Id::short_gate, "SG", "Set/Get Short Gate", "short-gate", K::distance, 0, 1700, 1, rejected, "user units",
+            "§8 p.34"),
+    flag(Id::time_between_events, "TB", "Set/Get Time between Events", "time-between-events", rejected,
+         "§8 p.35, §3 p.15"),
+    setting(Id::trip_point, "TP", "Set/Get Trip Point", "trip-point", K::distance, 0, 1700, 1, rejected, "user units",
+            "§8 p.35"),
+    setting(Id::trip_timeout, "TT", "Set/Get Trip Point Timeout", "trip-timeout", K::hex_pulses, 0, 4294967295.0, 1,
+            rejected, "pulses (hex, seconds x 3000)", "§8 p.35, §3"),
+    setting(Id::address, "UA", "Set/Get Unit Address", "address", K::address_char, 0x30, 0xEF, 1, rejected, "",
+            "§8 p.36, §7"),
+    setting(Id::offset, "OF", "Set/Get User Offset", "offset", K::signed_distance, -1700, 1700, 1, rejected,
+            "user units", "§8 p.36"),
 }};
 
+// command_info() indexes the table by id: the rows must stand in the enum's order.
+constexpr bool rows_in_id_order() {
+  for (std::size_t i = 0; i < commands.size(); ++i) {
+    if (static_cast<std::size_t>(commands[i].id) != i) return false;
+  }
+  return true;
+}
+static_assert(rows_in_id_order(), "ULS command rows out of CommandId order");
+
 }  // namespace
+
+const CommandInfo& command_info(CommandId id) noexcept { return commands[static_cast<std::size_t>(id)]; }
 
 std::string_view CommandInfo::value_name(std::uint32_t value) const noexcept {
   for (const ValueName& entry : value_names) {

@@ -79,11 +79,7 @@ std::size_t write_fixed(std::int64_t scaled, int decimals, char* out) noexcept {
   return size;
 }
 
-std::string hex_byte(std::uint8_t byte) {
-  std::string text = "0x00";
-  text::write_hex(byte, 2, text.data() + 2);
-  return text;
-}
+std::string hex_byte(std::uint8_t byte) { return "0x" + text::hex_byte(byte); }
 
 std::string quoted(std::string_view field) {
   std::string text = "'";

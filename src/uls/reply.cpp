@@ -33,7 +33,7 @@ Status check_decimal(const CommandInfo& command, std::string_view value, Units u
   if (!number)
     return reply_error(Errc::bad_number,
                        std::string(command.mnemonic) + " value " + detail::quoted(value) + " is not a number");
-  const bool distance = command.kind == ValueKind::distance || command.kind == ValueKind::signed_distance;
+  const bool distance = command.is_distance();
   const bool within = distance ? distance_within(*number, units, command.min, command.max)
                                : *number >= command.min && *number <= command.max;
   if (!within) return value_error(command, value, "is out of range");  // distances: U76

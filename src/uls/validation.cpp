@@ -27,10 +27,9 @@ Verdict check_integer(std::string_view field, double min, double max, int range_
 Verdict check_decimal(std::string_view field, const CommandInfo& row, Units units) noexcept {
   const std::optional<double> value = text::parse_decimal(field, '.');
   if (!value) return invalid_command;
-  const bool is_distance = row.kind == ValueKind::distance || row.kind == ValueKind::signed_distance;
   // Distance limits as the unit writes them in its units (U76): what a get reports is accepted back.
   const bool within =
-      is_distance ? distance_within(*value, units, row.min, row.max) : *value >= row.min && *value <= row.max;
+      row.is_distance() ? distance_within(*value, units, row.min, row.max) : *value >= row.min && *value <= row.max;
   if (!within) return Verdict::reject(row.value_error);
   return Verdict::accept();
 }

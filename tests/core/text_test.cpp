@@ -59,5 +59,14 @@ TEST(Text, WriteHex) {
   EXPECT_EQ(std::string_view(out.data(), 4), "0BB8");
 }
 
+// LS5 table 9.1: "aa - parameter's address (HEX)", two digits in every frame; messages
+// name addresses and bytes the same way.
+TEST(Text, HexByte) {
+  EXPECT_EQ(hex_byte(0x00), "00");
+  EXPECT_EQ(hex_byte(0x0B), "0B");
+  EXPECT_EQ(hex_byte(0x7F), "7F");
+  EXPECT_EQ(hex_byte(0xFF), "FF");
+}
+
 }  // namespace
 }  // namespace rangekit::text

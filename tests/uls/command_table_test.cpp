@@ -97,6 +97,31 @@ TEST(UlsCommandTable, LookupByMnemonicAndCliName) {
   EXPECT_EQ(find_command_by_cli_name("PRF"), nullptr);
 }
 
+// Code dispatches on a row's id (the emulator's firmware does): each id names its own row.
+TEST(UlsCommandTable, LookupById) {
+  EXPECT_EQ(command_info(CommandId::dither).mnemonic, "DD");  // §8 p.25, the first command
+  EXPECT_EQ(command_info(CommandId::measure).mnemonic, "BM");
+  EXPECT_EQ(command_info(CommandId::long_gate).mnemonic, "LG");
+  EXPECT_EQ(command_info(CommandId::range_at_4ma).mnemonic, "AL");
+  EXPECT_EQ(command_info(CommandId::range_at_20ma).mnemonic, "AH");
+  EXPECT_EQ(command_info(CommandId::offset).mnemonic, "OF");  // §8 p.36, the last command
+  std::set<CommandId> ids;
+  for (const CommandInfo& row : command_table()) {
+    ids.insert(row.id);
+    EXPECT_EQ(&command_info(row.id), &row) << row.mnemonic;
+  }
+  EXPECT_EQ(ids.size(), 36u);
+}
+
+// §8 AH/AL: "Range at 20mA in user units (decimal feet or meters)"; LG, SG, TP and OF
+// are distances the same way. AF (mA), AT (seconds) and the counts are not.
+TEST(UlsCommandTable, DistancesAreTheUserUnitValues) {
+  for (const std::string_view mnemonic : {"LG", "SG", "TP", "AH", "AL", "OF"})
+    EXPECT_TRUE(find_command(mnemonic)->is_distance()) << mnemonic;
+  for (const std::string_view mnemonic : {"AF", "AT", "AW", "BH", "TT", "MU", "BM"})
+    EXPECT_FALSE(find_command(mnemonic)->is_distance()) << mnemonic;
+}
+
 TEST(UlsCommandTable, ValueKindsAndNames) {  // §8 value definitions
   EXPECT_EQ(find_command("DD")->kind, ValueKind::flag);
   EXPECT_EQ(find_command("BR")->kind, ValueKind::baud_with_port);

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 
 namespace rangekit::text {
@@ -27,6 +28,10 @@ std::size_t split(std::string_view text, char separator, std::span<std::string_v
 
 // Writes `value` as exactly `width` upper-case hex digits into out (size >= width).
 void write_hex(std::uint64_t value, std::size_t width, char* out) noexcept;
+
+// A byte as two upper-case hex digits: 0x0B -> "0B". Every message that names an
+// address or a byte in hex is written with it.
+std::string hex_byte(std::uint8_t value);
 
 // Upper-case ASCII letters in place of lower-case ones.
 inline char to_upper(char c) noexcept { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }

@@ -3,6 +3,7 @@
 // unit applies to a command's values before acting on it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string_view>
@@ -10,6 +11,49 @@
 #include "rangekit/uls/types.hpp"
 
 namespace rangekit::uls {
+
+// One id per row of the table, in §8's order; code switches on it rather than
+// comparing mnemonics (the LS5 table does the same).
+enum class CommandId : std::uint8_t {
+  dither,               // DD
+  measure,              // BM
+  version,              // ID
+  status,               // US
+  autostart,            // MA
+  start,                // GO
+  stop,                 // ST
+  pointer_autostart,    // PA
+  pointer,              // PT
+  save,                 // SU
+  current_loop,         // CL
+  averaging_weight,     // AW
+  baud,                 // BR
+  bin_size,             // BS
+  bin_threshold,        // BH
+  continuous,           // CO
+  cooperative_filter,   // FL
+  display,              // DM
+  fault_current,        // AF
+  fault_timeout,        // AT
+  long_gate,            // LG
+  mode,                 // MM
+  output_port,          // MO
+  units,                // MU
+  power,                // PL
+  prf,                  // PF
+  ppm,                  // PO
+  range_at_20ma,        // AH
+  range_at_4ma,         // AL
+  termination,          // TE
+  short_gate,           // SG
+  time_between_events,  // TB
+  trip_point,           // TP
+  trip_timeout,         // TT
+  address,              // UA
+  offset,               // OF
+};
+
+inline constexpr std::size_t command_count = 36;
 
 enum class Access {
   get_set,   // $CC reads, $CC,values writes
@@ -46,6 +90,7 @@ struct ValueName {
 };
 
 struct CommandInfo {
+  CommandId id;
   std::string_view mnemonic;  // "MM" (upper case, as encoders write it, U17)
   std::string_view title;     // heading in §8
   std::string_view cli_name;  // "mode"
@@ -67,12 +112,18 @@ struct CommandInfo {
 
   [[nodiscard]] bool has_get() const noexcept { return access == Access::get_set || access == Access::get_only; }
   [[nodiscard]] bool has_set() const noexcept { return access == Access::get_set || access == Access::set_only; }
+  // A distance in user units (LG, SG, TP, AH, AL, OF): read and written in MU's units (U18, U76).
+  [[nodiscard]] bool is_distance() const noexcept {
+    return kind == ValueKind::distance || kind == ValueKind::signed_distance;
+  }
   // Name of a value (enumerations and flags), empty when it has none.
   [[nodiscard]] std::string_view value_name(std::uint32_t value) const noexcept;
 };
 
 // All 36 rows, in the order §8 presents them.
 std::span<const CommandInfo> command_table() noexcept;
+// The row of `id`.
+const CommandInfo& command_info(CommandId id) noexcept;
 // Case-insensitive (U17); null when unknown.
 const CommandInfo* find_command(std::string_view mnemonic) noexcept;
 // Exact CLI name ("prf", "bin-size"); null when unknown.

@@ -2,12 +2,13 @@
 // read with toml++; uploads checked in full before the first byte is sent.
 #include "rangekit/ls5/host_config.hpp"
 
-#include <toml++/toml.h>
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include "rangekit/core/toml.hpp"
 
 namespace rangekit::ls5 {
 namespace {
@@ -90,22 +91,9 @@ std::string config_to_toml(const DeviceConfig& config) {
 }
 
 Result<DeviceConfig> parse_config_toml(std::string_view text, const std::string& source_name) {
-  toml::table table;
-#if TOML_EXCEPTIONS
-  try {
-    table = toml::parse(text, source_name);
-  } catch (const toml::parse_error& error) {
-    return make_error(Errc::invalid_frame, source_name + ":" + std::to_string(error.source().begin.line) + ": " +
-                                               std::string(error.description()));
-  }
-#else
-  toml::parse_result parsed = toml::parse(text, source_name);
-  if (!parsed) {
-    return make_error(Errc::invalid_frame, source_name + ":" + std::to_string(parsed.error().source().begin.line) +
-                                               ": " + std::string(parsed.error().description()));
-  }
-  table = std::move(parsed.table());
-#endif
+  auto parsed = parse_toml(text, source_name);
+  if (!parsed) return std::move(parsed).error();
+  toml::table& table = *parsed;
   DeviceConfig config;
   if (auto address = table["sensor"]["address"].value<std::int64_t>()) {
     if (*address < 1 || *address > 255) {

@@ -2,9 +2,10 @@
 // behaviour and scene format: docs/emulator-ls5.md.
 #include "rangekit/sim/ls5/firmware.hpp"
 
+#include "rangekit/core/text.hpp"
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 namespace rangekit::ls5::emulator {
 
@@ -31,12 +32,6 @@ rangekit::SerialSettings settings_from(std::uint32_t baud, const ByteFormat& for
 }
 
 const rangekit::SerialSettings standby_settings{19200, rangekit::Parity::none, 1};
-
-std::string hex2(std::uint8_t value) {
-  char text[3];
-  std::snprintf(text, sizeof text, "%02X", value);
-  return text;
-}
 
 }  // namespace
 
@@ -66,7 +61,8 @@ Result<OrderingCode> parse_model(std::string_view text) {
 
 Firmware::Firmware(FirmwareConfig config)
     : config_(std::move(config)),
-      store_(config_.state_dir, "ls5-" + std::to_string(config_.serial_number) + "-" + hex2(config_.factory_address)),
+      store_(config_.state_dir,
+             "ls5-" + std::to_string(config_.serial_number) + "-" + text::hex_byte(config_.factory_address)),
       random_(config_.seed + config_.factory_address),
       pacer_(115200, 1000) {}
 
@@ -221,7 +217,7 @@ Nanos Firmware::period() const noexcept {
   return Nanos(static_cast<std::int64_t>(code) * 100'000);  // 0.1 ms units
 }
 
-std::string Firmware::label() const { return "LS5 " + hex2(ram_[address::network_address]); }
+std::string Firmware::label() const { return "LS5 " + text::hex_byte(ram_[address::network_address]); }
 
 // ---- Serial side ----
 

@@ -1,43 +1,29 @@
 // Scene files for the LS5 emulator (TOML, docs/emulator-ls5.md "Scene").
-#include <toml++/toml.h>
 
 #include <fstream>
 #include <sstream>
 
 #include "rangekit/sim/ls5/firmware.hpp"
+#include "sim/scene_toml.hpp"
 
 namespace rangekit::ls5::emulator {
 
 namespace {
 
+// Keys are named plainly in messages: "scene.toml:3: reflectivity must be within 0 .. 1"
+// (docs/emulator-ls5.md).
 std::string where(const std::string& source, const toml::node& node, std::string_view key) {
-  return source + ":" + std::to_string(node.source().begin.line) + ": " + std::string(key);
+  return sim::where(source, node, key, sim::KeyStyle::plain);
 }
 
 Result<double> number(const std::string& source, const toml::table& table, std::string_view key, double fallback,
                       double min, double max) {
-  const toml::node* node = table.get(key);
-  if (!node) return fallback;
-  const auto value = node->value<double>();
-  if (!value) return make_error(Errc::bad_number, where(source, *node, key) + " must be a number");
-  if (*value < min || *value > max) {
-    return make_error(Errc::out_of_range, where(source, *node, key) + " must be within " + std::to_string(min) +
-                                              " .. " + std::to_string(max));
-  }
-  return *value;
+  return sim::number(source, table, key, fallback, min, max, sim::KeyStyle::plain);
 }
 
 Status check_keys(const std::string& source, const toml::table& table, std::initializer_list<std::string_view> known,
                   std::string_view section) {
-  for (const auto& [key, node] : table) {
-    bool found = false;
-    for (const auto k : known) found = found || key.str() == k;
-    if (!found) {
-      return make_error(Errc::invalid_frame,
-                        where(source, node, key.str()) + ": unknown key in " + std::string(section));
-    }
-  }
-  return ok_status();
+  return sim::check_keys(source, table, known, section, sim::KeyStyle::plain);
 }
 
 Result<Scene> from_table(const toml::table& root, const std::string& source) {
@@ -133,22 +119,9 @@ Result<Scene> from_table(const toml::table& root, const std::string& source) {
 }  // namespace
 
 Result<Scene> parse_scene(std::string_view text, const std::string& source_name) {
-#if TOML_EXCEPTIONS
-  try {
-    const toml::table root = toml::parse(text, source_name);
-    return from_table(root, source_name);
-  } catch (const toml::parse_error& error) {
-    return make_error(Errc::invalid_frame, source_name + ":" + std::to_string(error.source().begin.line) + ": " +
-                                               std::string(error.description()));
-  }
-#else
-  toml::parse_result parsed = toml::parse(text, source_name);
-  if (!parsed) {
-    return make_error(Errc::invalid_frame, source_name + ":" + std::to_string(parsed.error().source().begin.line) +
-                                               ": " + std::string(parsed.error().description()));
-  }
-  return from_table(parsed.table(), source_name);
-#endif
+  auto root = parse_toml(text, source_name);
+  if (!root) return std::move(root).error();
+  return from_table(*root, source_name);
 }
 
 Result<Scene> load_scene(const std::string& path) {

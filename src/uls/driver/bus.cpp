@@ -1,7 +1,5 @@
 #include "rangekit/uls/bus.hpp"
 
-#include <cstdio>
-
 #include "rangekit/core/text.hpp"
 
 namespace rangekit::uls {
@@ -34,9 +32,7 @@ std::vector<std::uint8_t> all_unit_addresses() {
 
 std::string address_text(std::uint8_t address) {
   if (address >= 0x21 && address < 0x7F) return std::string(1, static_cast<char>(address));
-  char buffer[8];
-  std::snprintf(buffer, sizeof buffer, "0x%02X", address);
-  return buffer;
+  return "0x" + text::hex_byte(address);
 }
 
 std::optional<std::uint8_t> parse_unit_address(std::string_view text) {

@@ -2,13 +2,12 @@
 // Program's .uls file, §2), loading with read-back verification, and diff.
 #include "rangekit/uls/host_config.hpp"
 
-#include <toml++/toml.h>
-
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
 #include "rangekit/core/text.hpp"
+#include "rangekit/core/toml.hpp"
 #include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/formulas.hpp"
@@ -16,10 +15,6 @@
 namespace rangekit::uls {
 
 namespace {
-
-bool is_distance(const CommandInfo& command) {
-  return command.kind == ValueKind::distance || command.kind == ValueKind::signed_distance;
-}
 
 // "look down" -> "look-down", "off (polled)" -> "off"; how names are written and typed.
 std::string key_name(std::string_view name) {
@@ -40,7 +35,7 @@ std::string integer_text(double value) { return std::to_string(static_cast<std::
 
 std::string unit_comment(const CommandInfo& command) {
   std::string text = "# " + std::string(command.mnemonic) + ", " + std::string(command.title);
-  if (is_distance(command))
+  if (command.is_distance())
     text += ", metres";
   else if (command.kind == ValueKind::hex_pulses)
     text += ", pulses (seconds x 3000)";
@@ -99,7 +94,7 @@ Result<Setting> from_wire(const CommandInfo& command, const std::vector<std::str
   setting.command = &command;
   for (const auto& text : values) {
     std::optional<double> value;
-    if (is_distance(command)) {
+    if (command.is_distance()) {
       // A limit read in feet is that limit (U76): 5577.43 ft -> 1700 m, not 1700.0007.
       if (auto number = text::parse_decimal(text)) value = distance_to_metres(*number, units, command.min, command.max);
     } else if (command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
@@ -127,13 +122,13 @@ std::string readable(const Setting& setting) {
     } else if (command.kind == ValueKind::enumeration) {
       const auto name = command.value_name(static_cast<std::uint32_t>(value));
       text += name.empty() ? integer_text(value) : key_name(name);
-    } else if (is_distance(command) || command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
+    } else if (command.is_distance() || command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
       text += decimal_text(value);
     } else {
       text += integer_text(value);
     }
   }
-  if (is_distance(command))
+  if (command.is_distance())
     text += " m";
   else if (command.kind == ValueKind::milliamps)
     text += " mA";
@@ -184,7 +179,7 @@ std::string config_to_toml(const DeviceConfig& config, std::string_view origin) 
       for (std::size_t i = 0; i < setting.values.size(); ++i)
         value += (i == 0 ? "" : ", ") + integer_text(setting.values[i]);
       value += "]";
-    } else if (is_distance(command) || command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
+    } else if (command.is_distance() || command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
       value = decimal_text(setting.values.at(0));
       if (value.find('.') == std::string::npos) value += ".0";
     } else {
@@ -196,13 +191,9 @@ std::string config_to_toml(const DeviceConfig& config, std::string_view origin) 
 }
 
 Result<DeviceConfig> config_from_toml(std::string_view text, std::string_view file_name) {
-  toml::table root;
-  try {
-    root = toml::parse(text, file_name);
-  } catch (const toml::parse_error& error) {
-    return make_error(Errc::invalid_frame, std::string(file_name) + ":" + std::to_string(error.source().begin.line) +
-                                               ": " + std::string(error.description()));
-  }
+  auto parsed = parse_toml(text, file_name);
+  if (!parsed) return std::move(parsed).error();
+  toml::table& root = *parsed;
   const toml::table* table = root["settings"].as_table();
   if (table == nullptr) return make_error(Errc::invalid_frame, std::string(file_name) + ": no [settings] table");
   DeviceConfig config;

@@ -10,6 +10,7 @@
 #include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/frame.hpp"
+#include "uls/driver/binning_array.hpp"
 
 namespace rangekit::uls {
 
@@ -50,15 +51,9 @@ struct BinAssembly {
   std::vector<TargetHit> targets;
   // True when the array is complete; an out-of-order line drops what was collected.
   bool add(const BinningTarget& target, bool& broken) {
-    broken = false;
-    if (target.index == 0) targets.clear();
-    if (target.index != targets.size()) {
-      targets.clear();
-      broken = true;
-      return false;
-    }
-    targets.push_back(TargetHit{target.range.metres, target.strength});
-    return targets.size() >= target.count;
+    const detail::BinningArray step = detail::collect_binning_target(targets, target);
+    broken = step == detail::BinningArray::out_of_order;
+    return step == detail::BinningArray::complete;
   }
 };
 
@@ -310,7 +305,7 @@ void Driver::dispatch(Bytes frame_bytes) {
 Status Driver::check_locally(const CommandInfo& command, std::span<const std::string_view> fields) {
   const FormResult form = request_form(command, fields.size());
   Units units = Units::metres;
-  const bool distance = command.kind == ValueKind::distance || command.kind == ValueKind::signed_distance;
+  const bool distance = command.is_distance();
   if (form.verdict.ok() && form.form == RequestForm::set && distance) {
     auto current = cached_units();
     if (!current) return current.error();

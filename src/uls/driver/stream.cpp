@@ -6,6 +6,7 @@
 
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/formulas.hpp"
+#include "uls/driver/binning_array.hpp"
 
 namespace rangekit::uls {
 
@@ -47,14 +48,12 @@ void Driver::handle_measurement(const Measurement& measurement) {
   const int address = measurement.source.addressed ? measurement.source.byte : -1;
   if (const auto* target = std::get_if<BinningTarget>(&measurement.reading)) {
     // U10: one sample per complete target array `BM,i,m,n,s`.
-    if (target->index == 0) partial_targets_.clear();
-    if (target->index != partial_targets_.size()) {
-      partial_targets_.clear();
+    const detail::BinningArray step = detail::collect_binning_target(partial_targets_, *target);
+    if (step == detail::BinningArray::out_of_order) {
       if (collecting_) emit_event(StreamEventKind::bad_frame, "binning target array out of order; dropped");
       return;
     }
-    partial_targets_.push_back(TargetHit{target->range.metres, target->strength});
-    if (partial_targets_.size() < target->count) return;
+    if (step == detail::BinningArray::incomplete) return;
     Sample sample = sample_from_reading(measurement.reading, address, options_.source);
     sample.targets = std::move(partial_targets_);
     partial_targets_.clear();

@@ -51,6 +51,15 @@ std::uint32_t parse_unsigned(std::string_view text) {
 
 double seconds(Nanos span) { return static_cast<double>(span.count()) / 1e9; }
 
+// Whether a target at `d` can answer at all: beyond the minimum range, inside the short and
+// long gates (0 = off) and, with the cooperative filter on, a cooperative target (§8 SG, LG, FL).
+bool passes_gates(const Settings& settings, double d, bool cooperative) noexcept {
+  if (d < minimum_range_m) return false;
+  if (settings.short_gate_m > 0 && d < settings.short_gate_m) return false;
+  if (settings.long_gate_m > 0 && d > settings.long_gate_m) return false;
+  return !settings.cooperative_filter || cooperative;
+}
+
 }  // namespace
 
 // --- Settings in non-volatile memory ---
@@ -360,180 +369,220 @@ void Firmware::execute(std::size_t port, Address to, bool silent, const CommandI
     }
   };
 
-  if (m == "GO") {
-    start_measuring(now);
-    ok();
-  } else if (m == "ST") {
-    if (!measuring_) return error(86);  // Instrument Not Measuring (§10, U43)
-    stop_measuring();
-    ok();
-  } else if (m == "SU") {
-    if (store_.save(settings_.to_json())) {
+  switch (command.id) {
+    case CommandId::start:
+      start_measuring(now);
       ok();
-    } else {
-      error(10);  // "☒ must be resolved by LTI": memory failure
+      break;
+    case CommandId::stop:
+      if (!measuring_) return error(86);  // Instrument Not Measuring (§10, U43)
+      stop_measuring();
+      ok();
+      break;
+    case CommandId::save:
+      if (store_.save(settings_.to_json())) {
+        ok();
+      } else {
+        error(10);  // "☒ must be resolved by LTI": memory failure
+      }
+      break;
+    case CommandId::version:
+      reply_values(port, to, silent, m, {"ULS emulator rangekit 1.0 protocol 0.97", "2026-11-25"}, now);
+      break;
+    case CommandId::status:
+      value(std::to_string(wire_value(status_for(measuring_, settings_.mode))));
+      break;
+    case CommandId::measure:
+      if (silent) {
+        if (!measuring_) start_measuring(now);
+        return;
+      }
+      if (settings_.mode == Mode::look_down) {
+        // §8 Get Measurement: "Varies with measurement mode". Look down has a state at every
+        // moment (the trip line), so a poll is answered at once with it, never queued (U70-U72).
+        if (!measuring_) start_measuring(now);  // §2 ULS Autostart
+        reply(port, false, encode_measurement(to, look_down_state()), now);
+        return;
+      }
+      if (!measuring_) {
+        start_measuring(now);  // §2 ULS Autostart: Get Measurement starts the unit
+        polls_.push_back({port, to});
+        return;
+      }
+      if (latest_.empty()) {
+        polls_.push_back({port, to});
+        return;
+      }
+      for (const auto& reading : latest_) reply(port, false, encode_measurement(to, reading), now);
+      break;
+    case CommandId::pointer:
+      pointer_ = fields[0] == "1";
+      ok();
+      break;
+    case CommandId::autostart:
+      flag(settings_.autostart);
+      break;
+    case CommandId::pointer_autostart:
+      flag(settings_.pointer_autostart);
+      break;
+    case CommandId::current_loop:
+      flag(settings_.current_loop);
+      break;
+    case CommandId::continuous:
+      flag(settings_.continuous);
+      break;
+    case CommandId::cooperative_filter:
+      flag(settings_.cooperative_filter);
+      break;
+    case CommandId::dither:
+      flag(settings_.dither);
+      break;
+    case CommandId::termination:
+      flag(settings_.termination);
+      break;
+    case CommandId::time_between_events:
+      flag(settings_.time_between_events);
+      break;
+    case CommandId::averaging_weight: {
+      if (get) {
+        value(std::to_string(settings_.averaging_weight));
+        return;
+      }
+      const std::uint32_t weight = parse_unsigned(fields[0]);
+      if (auto v = check_ppm_against_weight(settings_.ppm[0], weight); !v.ok()) return error(v.error);
+      settings_.averaging_weight = weight;
+      ok();
+      break;
     }
-  } else if (m == "ID") {
-    reply_values(port, to, silent, m, {"ULS emulator rangekit 1.0 protocol 0.97", "2026-11-25"}, now);
-  } else if (m == "US") {
-    value(std::to_string(wire_value(status_for(measuring_, settings_.mode))));
-  } else if (m == "BM") {
-    if (silent) {
-      if (!measuring_) start_measuring(now);
-      return;
+    case CommandId::ppm: {
+      if (get) {
+        reply_values(port, to, silent, m, {std::to_string(settings_.ppm[0]), std::to_string(settings_.ppm[1])}, now);
+        return;
+      }
+      // §2 "Pulses/Measure ... not available in the Look Down Mode": one value names no PPM there (U79).
+      if (fields.size() == 1 && settings_.mode == Mode::look_down) return error(error_number::invalid_for_mode);
+      auto ppm = settings_.ppm;
+      if (fields.size() == 2) {
+        ppm = {parse_unsigned(fields[0]), parse_unsigned(fields[1])};
+      } else {
+        ppm[settings_.mode == Mode::binning ? 1 : 0] = parse_unsigned(fields[0]);
+      }
+      if (auto v = check_ppm_against_weight(ppm[0], settings_.averaging_weight); !v.ok()) return error(v.error);
+      settings_.ppm = ppm;
+      ok();
+      break;
     }
-    if (settings_.mode == Mode::look_down) {
-      // §8 Get Measurement: "Varies with measurement mode". Look down has a state at every
-      // moment (the trip line), so a poll is answered at once with it, never queued (U70-U72).
-      if (!measuring_) start_measuring(now);  // §2 ULS Autostart
-      reply(port, false, encode_measurement(to, look_down_state()), now);
-      return;
+    case CommandId::prf:
+      if (get) {
+        reply_values(
+            port, to, silent, m,
+            {std::to_string(settings_.prf[0]), std::to_string(settings_.prf[1]), std::to_string(settings_.prf[2])},
+            now);
+        return;
+      }
+      if (fields.size() == 3) {
+        for (std::size_t i = 0; i < 3; ++i) settings_.prf[i] = parse_unsigned(fields[i]);
+      } else {
+        settings_.prf[static_cast<std::size_t>(wire_value(settings_.mode) - 1)] = parse_unsigned(fields[0]);
+      }
+      ok();
+      break;
+    case CommandId::baud: {
+      const std::size_t which = fields[0] == "1" ? 1 : 0;
+      if (get) {
+        reply_values(port, to, silent, m, {fields[0], std::to_string(settings_.baud[which])}, now);
+        return;
+      }
+      ok();
+      auto& target = ports_[which];
+      target.pending_baud = parse_unsigned(fields[1]);
+      target.pending_at = std::max(now, ports_[port].pacer.idle_at(now));
+      target.pending_port = port;
+      break;
     }
-    if (!measuring_) {
-      start_measuring(now);  // §2 ULS Autostart: Get Measurement starts the unit
-      polls_.push_back({port, to});
-      return;
+    case CommandId::bin_size:
+      if (get) {
+        value(std::to_string(settings_.bin_size));
+        return;
+      }
+      settings_.bin_size = static_cast<std::uint8_t>(parse_unsigned(fields[0]));
+      ok();
+      break;
+    case CommandId::bin_threshold:
+      unsigned_value(settings_.bin_hits);
+      break;
+    case CommandId::display:
+      if (get) return value(std::to_string(wire_value(settings_.display)));
+      settings_.display = to_display_mode(parse_unsigned(fields[0])).value_or(settings_.display);
+      ok();
+      break;
+    case CommandId::mode:
+      if (get) return value(std::to_string(wire_value(settings_.mode)));
+      settings_.mode = to_mode(parse_unsigned(fields[0])).value_or(settings_.mode);
+      ok();
+      break;
+    case CommandId::output_port:
+      if (get) return value(std::to_string(wire_value(settings_.output_port)));
+      settings_.output_port = to_output_port(parse_unsigned(fields[0])).value_or(settings_.output_port);
+      ok();
+      break;
+    case CommandId::units:
+      if (get) return value(std::to_string(wire_value(settings_.units)));
+      settings_.units = to_units(parse_unsigned(fields[0])).value_or(settings_.units);
+      ok();
+      break;
+    case CommandId::power:
+      if (get) return value(std::to_string(wire_value(settings_.power)));
+      settings_.power = to_power_level(parse_unsigned(fields[0])).value_or(settings_.power);
+      ok();
+      break;
+    case CommandId::fault_current:
+      if (get) return value(number_text(settings_.fault_current_ma));
+      settings_.fault_current_ma = parse_number(fields[0]);
+      ok();
+      break;
+    case CommandId::fault_timeout:
+      if (get) return value(number_text(settings_.fault_timeout_s));
+      settings_.fault_timeout_s = parse_number(fields[0]);
+      ok();
+      break;
+    case CommandId::range_at_20ma:
+    case CommandId::range_at_4ma: {
+      double& field = command.id == CommandId::range_at_20ma ? settings_.range_at_20ma_m : settings_.range_at_4ma_m;
+      if (get) return value(distance_text(field, units));
+      const double metres = distance_to_metres(parse_number(fields[0]), units, command.min, command.max);  // U76
+      const double low = command.id == CommandId::range_at_4ma ? metres : settings_.range_at_4ma_m;
+      const double high = command.id == CommandId::range_at_20ma ? metres : settings_.range_at_20ma_m;
+      if (auto v = check_current_loop_range(low, high); !v.ok()) return error(v.error);
+      field = metres;
+      ok();
+      break;
     }
-    if (latest_.empty()) {
-      polls_.push_back({port, to});
-      return;
-    }
-    for (const auto& reading : latest_) reply(port, false, encode_measurement(to, reading), now);
-  } else if (m == "PT") {
-    pointer_ = fields[0] == "1";
-    ok();
-  } else if (m == "MA") {
-    flag(settings_.autostart);
-  } else if (m == "PA") {
-    flag(settings_.pointer_autostart);
-  } else if (m == "CL") {
-    flag(settings_.current_loop);
-  } else if (m == "CO") {
-    flag(settings_.continuous);
-  } else if (m == "FL") {
-    flag(settings_.cooperative_filter);
-  } else if (m == "DD") {
-    flag(settings_.dither);
-  } else if (m == "TE") {
-    flag(settings_.termination);
-  } else if (m == "TB") {
-    flag(settings_.time_between_events);
-  } else if (m == "AW") {
-    if (get) {
-      value(std::to_string(settings_.averaging_weight));
-      return;
-    }
-    const std::uint32_t weight = parse_unsigned(fields[0]);
-    if (auto v = check_ppm_against_weight(settings_.ppm[0], weight); !v.ok()) return error(v.error);
-    settings_.averaging_weight = weight;
-    ok();
-  } else if (m == "PO") {
-    if (get) {
-      reply_values(port, to, silent, m, {std::to_string(settings_.ppm[0]), std::to_string(settings_.ppm[1])}, now);
-      return;
-    }
-    // §2 "Pulses/Measure ... not available in the Look Down Mode": one value names no PPM there (U79).
-    if (fields.size() == 1 && settings_.mode == Mode::look_down) return error(error_number::invalid_for_mode);
-    auto ppm = settings_.ppm;
-    if (fields.size() == 2) {
-      ppm = {parse_unsigned(fields[0]), parse_unsigned(fields[1])};
-    } else {
-      ppm[settings_.mode == Mode::binning ? 1 : 0] = parse_unsigned(fields[0]);
-    }
-    if (auto v = check_ppm_against_weight(ppm[0], settings_.averaging_weight); !v.ok()) return error(v.error);
-    settings_.ppm = ppm;
-    ok();
-  } else if (m == "PF") {
-    if (get) {
-      reply_values(
-          port, to, silent, m,
-          {std::to_string(settings_.prf[0]), std::to_string(settings_.prf[1]), std::to_string(settings_.prf[2])}, now);
-      return;
-    }
-    if (fields.size() == 3) {
-      for (std::size_t i = 0; i < 3; ++i) settings_.prf[i] = parse_unsigned(fields[i]);
-    } else {
-      settings_.prf[static_cast<std::size_t>(wire_value(settings_.mode) - 1)] = parse_unsigned(fields[0]);
-    }
-    ok();
-  } else if (m == "BR") {
-    const std::size_t which = fields[0] == "1" ? 1 : 0;
-    if (get) {
-      reply_values(port, to, silent, m, {fields[0], std::to_string(settings_.baud[which])}, now);
-      return;
-    }
-    ok();
-    auto& target = ports_[which];
-    target.pending_baud = parse_unsigned(fields[1]);
-    target.pending_at = std::max(now, ports_[port].pacer.idle_at(now));
-    target.pending_port = port;
-  } else if (m == "BS") {
-    if (get) {
-      value(std::to_string(settings_.bin_size));
-      return;
-    }
-    settings_.bin_size = static_cast<std::uint8_t>(parse_unsigned(fields[0]));
-    ok();
-  } else if (m == "BH") {
-    unsigned_value(settings_.bin_hits);
-  } else if (m == "DM") {
-    if (get) return value(std::to_string(wire_value(settings_.display)));
-    settings_.display = to_display_mode(parse_unsigned(fields[0])).value_or(settings_.display);
-    ok();
-  } else if (m == "MM") {
-    if (get) return value(std::to_string(wire_value(settings_.mode)));
-    settings_.mode = to_mode(parse_unsigned(fields[0])).value_or(settings_.mode);
-    ok();
-  } else if (m == "MO") {
-    if (get) return value(std::to_string(wire_value(settings_.output_port)));
-    settings_.output_port = to_output_port(parse_unsigned(fields[0])).value_or(settings_.output_port);
-    ok();
-  } else if (m == "MU") {
-    if (get) return value(std::to_string(wire_value(settings_.units)));
-    settings_.units = to_units(parse_unsigned(fields[0])).value_or(settings_.units);
-    ok();
-  } else if (m == "PL") {
-    if (get) return value(std::to_string(wire_value(settings_.power)));
-    settings_.power = to_power_level(parse_unsigned(fields[0])).value_or(settings_.power);
-    ok();
-  } else if (m == "AF") {
-    if (get) return value(number_text(settings_.fault_current_ma));
-    settings_.fault_current_ma = parse_number(fields[0]);
-    ok();
-  } else if (m == "AT") {
-    if (get) return value(number_text(settings_.fault_timeout_s));
-    settings_.fault_timeout_s = parse_number(fields[0]);
-    ok();
-  } else if (m == "AH" || m == "AL") {
-    double& field = m == "AH" ? settings_.range_at_20ma_m : settings_.range_at_4ma_m;
-    if (get) return value(distance_text(field, units));
-    const double metres = distance_to_metres(parse_number(fields[0]), units, command.min, command.max);  // U76
-    const double low = m == "AL" ? metres : settings_.range_at_4ma_m;
-    const double high = m == "AH" ? metres : settings_.range_at_20ma_m;
-    if (auto v = check_current_loop_range(low, high); !v.ok()) return error(v.error);
-    field = metres;
-    ok();
-  } else if (m == "LG") {
-    distance(settings_.long_gate_m);
-  } else if (m == "SG") {
-    distance(settings_.short_gate_m);
-  } else if (m == "TP") {
-    distance(settings_.trip_point_m);
-  } else if (m == "OF") {
-    distance(settings_.offset_m);
-  } else if (m == "TT") {
-    if (get) return value(to_hex_text(settings_.trip_timeout_pulses).view());
-    settings_.trip_timeout_pulses = parse_trip_timeout(fields[0]).value_or(settings_.trip_timeout_pulses);
-    ok();
-  } else if (m == "UA") {
-    if (get) {
-      if (settings_.address == 0) return error(82);  // U3
-      return value(std::to_string(unit_address_value(settings_.address)));
-    }
-    ok();  // the reply still carries the old address
-    settings_.address = static_cast<std::uint8_t>(fields[0][0]);
-  } else {
-    error(1);
+    case CommandId::long_gate:
+      distance(settings_.long_gate_m);
+      break;
+    case CommandId::short_gate:
+      distance(settings_.short_gate_m);
+      break;
+    case CommandId::trip_point:
+      distance(settings_.trip_point_m);
+      break;
+    case CommandId::offset:
+      distance(settings_.offset_m);
+      break;
+    case CommandId::trip_timeout:
+      if (get) return value(to_hex_text(settings_.trip_timeout_pulses).view());
+      settings_.trip_timeout_pulses = parse_trip_timeout(fields[0]).value_or(settings_.trip_timeout_pulses);
+      ok();
+      break;
+    case CommandId::address:
+      if (get) {
+        if (settings_.address == 0) return error(82);  // U3
+        return value(std::to_string(unit_address_value(settings_.address)));
+      }
+      ok();  // the reply still carries the old address
+      settings_.address = static_cast<std::uint8_t>(fields[0][0]);
+      break;
   }
 }
 
@@ -661,10 +710,7 @@ std::optional<Firmware::PulseReturn> Firmware::first_return(Nanos t, bool certai
   std::optional<PulseReturn> best;
   for (const auto& target : scene_.targets) {
     const double d = target.motion.position_at(t);
-    if (d < minimum_range_m) continue;
-    if (settings_.short_gate_m > 0 && d < settings_.short_gate_m) continue;
-    if (settings_.long_gate_m > 0 && d > settings_.long_gate_m) continue;
-    if (settings_.cooperative_filter && !target.cooperative) continue;
+    if (!passes_gates(settings_, d, target.cooperative)) continue;
     const double range = max_range_m(target.reflectivity, target.cooperative);
     if (d > range) continue;  // below the detection threshold
     if (best && best->distance_m <= d) continue;
@@ -783,10 +829,7 @@ void Firmware::fire_binning(Nanos t) {
   if (!fault_no_return_) {
     for (const auto& target : scene_.targets) {
       const double d = target.motion.position_at(t);
-      if (d < minimum_range_m) continue;
-      if (settings_.short_gate_m > 0 && d < settings_.short_gate_m) continue;
-      if (settings_.long_gate_m > 0 && d > settings_.long_gate_m) continue;
-      if (settings_.cooperative_filter && !target.cooperative) continue;
+      if (!passes_gates(settings_, d, target.cooperative)) continue;
       // No threshold in binning (§3): weak returns still land, with a probability
       // falling with the signal strength (range / distance)^2.
       const double ratio = max_range_m(target.reflectivity, target.cooperative) / d;

@@ -1,44 +1,29 @@
 // Scene files for the ULS emulator (TOML, docs/emulator-uls.md "Scene").
 #include "rangekit/sim/uls/scene.hpp"
 
-#include <toml++/toml.h>
-
 #include <fstream>
 #include <sstream>
+
+#include "sim/scene_toml.hpp"
 
 namespace rangekit::uls::emulator {
 namespace {
 
 constexpr double max_distance_m = 5000.0;
 
+// Keys are quoted in messages: "s.toml:2: 'distnce_m': unknown key" (docs/emulator-uls.md).
 std::string where(std::string_view source, const toml::node& node, std::string_view key) {
-  return std::string(source) + ":" + std::to_string(node.source().begin.line) + ": '" + std::string(key) + "'";
+  return sim::where(source, node, key, sim::KeyStyle::quoted);
 }
 
 Result<double> toml_number(std::string_view source, const toml::table& table, std::string_view key, double fallback,
                            double min, double max) {
-  const toml::node* node = table.get(key);
-  if (node == nullptr) return fallback;
-  const auto value = node->value<double>();
-  if (!value) return make_error(Errc::bad_number, where(source, *node, key) + " must be a number");
-  if (*value < min || *value > max) {
-    return make_error(Errc::out_of_range, where(source, *node, key) + " must be within " + std::to_string(min) +
-                                              " .. " + std::to_string(max));
-  }
-  return *value;
+  return sim::number(source, table, key, fallback, min, max, sim::KeyStyle::quoted);
 }
 
 Status check_keys(std::string_view source, const toml::table& table, std::initializer_list<std::string_view> known,
                   std::string_view section) {
-  for (const auto& [key, node] : table) {
-    bool found = false;
-    for (const auto k : known) found = found || key.str() == k;
-    if (!found) {
-      return make_error(Errc::invalid_frame,
-                        where(source, node, key.str()) + ": unknown key in " + std::string(section));
-    }
-  }
-  return ok_status();
+  return sim::check_keys(source, table, known, section, sim::KeyStyle::quoted);
 }
 
 Result<SceneTarget> toml_target(std::string_view source, const toml::table& table, std::size_t index) {
@@ -134,22 +119,9 @@ Scene default_scene() {
 
 Result<Scene> parse_scene(std::string_view toml_text, std::string_view source) {
   const std::string name(source);
-#if TOML_EXCEPTIONS
-  try {
-    const toml::table root = toml::parse(toml_text, name);
-    return from_table(root, name);
-  } catch (const toml::parse_error& error) {
-    return make_error(Errc::invalid_frame,
-                      name + ":" + std::to_string(error.source().begin.line) + ": " + std::string(error.description()));
-  }
-#else
-  toml::parse_result parsed = toml::parse(toml_text, name);
-  if (!parsed) {
-    return make_error(Errc::invalid_frame, name + ":" + std::to_string(parsed.error().source().begin.line) + ": " +
-                                               std::string(parsed.error().description()));
-  }
-  return from_table(parsed.table(), name);
-#endif
+  auto root = parse_toml(toml_text, name);
+  if (!root) return std::move(root).error();
+  return from_table(*root, name);
 }
 
 Result<Scene> load_scene(const std::string& path) {

@@ -1,0 +1,35 @@
+// Reading a TOML text, for the files rangekit reads (ULS and LS5 host configuration,
+// emulator scenes). Needs toml++, which the libraries that read TOML link; nothing else
+// in core does.
+#pragma once
+
+#include <toml++/toml.h>
+
+#include <string>
+#include <string_view>
+#include <utility>
+
+#include "rangekit/core/result.hpp"
+
+namespace rangekit {
+
+// The root table of `text`, or invalid_frame "<source_name>:<line>: <what is wrong>".
+inline Result<toml::table> parse_toml(std::string_view text, std::string_view source_name) {
+  const auto failure = [&](const toml::parse_error& error) {
+    return make_error(Errc::invalid_frame, std::string(source_name) + ":" + std::to_string(error.source().begin.line) +
+                                               ": " + std::string(error.description()));
+  };
+#if TOML_EXCEPTIONS
+  try {
+    return toml::parse(text, source_name);
+  } catch (const toml::parse_error& error) {
+    return failure(error);
+  }
+#else
+  toml::parse_result parsed = toml::parse(text, source_name);
+  if (!parsed) return failure(parsed.error());
+  return std::move(parsed).table();
+#endif
+}
+
+}  // namespace rangekit

@@ -1,0 +1,51 @@
+// Reading the fields of an emulator scene file (TOML), shared by the ULS and LS5 scenes.
+// Private to rangekit::sim.
+#pragma once
+
+#include <initializer_list>
+#include <string>
+#include <string_view>
+
+#include "rangekit/core/result.hpp"
+#include "rangekit/core/toml.hpp"
+
+namespace rangekit::sim {
+
+// How a message names a key: "s.toml:3: 'reflectivity'" (ULS scenes, docs/emulator-uls.md)
+// or "s.toml:3: reflectivity" (LS5 scenes, docs/emulator-ls5.md).
+enum class KeyStyle { quoted, plain };
+
+inline std::string where(std::string_view source, const toml::node& node, std::string_view key, KeyStyle style) {
+  const std::string name = style == KeyStyle::quoted ? "'" + std::string(key) + "'" : std::string(key);
+  return std::string(source) + ":" + std::to_string(node.source().begin.line) + ": " + name;
+}
+
+// The number at `key`, `fallback` when absent; bad_number or out_of_range naming file, line and key.
+inline Result<double> number(std::string_view source, const toml::table& table, std::string_view key, double fallback,
+                             double min, double max, KeyStyle style) {
+  const toml::node* node = table.get(key);
+  if (node == nullptr) return fallback;
+  const auto value = node->value<double>();
+  if (!value) return make_error(Errc::bad_number, where(source, *node, key, style) + " must be a number");
+  if (*value < min || *value > max) {
+    return make_error(Errc::out_of_range, where(source, *node, key, style) + " must be within " + std::to_string(min) +
+                                              " .. " + std::to_string(max));
+  }
+  return *value;
+}
+
+// invalid_frame for the first key of `table` that is not in `known`.
+inline Status check_keys(std::string_view source, const toml::table& table,
+                         std::initializer_list<std::string_view> known, std::string_view section, KeyStyle style) {
+  for (const auto& [key, node] : table) {
+    bool found = false;
+    for (const auto k : known) found = found || key.str() == k;
+    if (!found) {
+      return make_error(Errc::invalid_frame,
+                        where(source, node, key.str(), style) + ": unknown key in " + std::string(section));
+    }
+  }
+  return ok_status();
+}
+
+}  // namespace rangekit::sim
