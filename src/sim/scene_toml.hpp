@@ -6,8 +6,8 @@
 #include <string>
 #include <string_view>
 
+#include "core/toml.hpp"  // private: toml++ is no part of the public API
 #include "rangekit/core/result.hpp"
-#include "rangekit/core/toml.hpp"
 
 namespace rangekit::sim {
 

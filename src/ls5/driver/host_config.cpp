@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "rangekit/core/toml.hpp"
+#include "core/toml.hpp"  // private: toml++ is no part of the public API
 
 namespace rangekit::ls5 {
 namespace {

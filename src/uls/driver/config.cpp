@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "core/toml.hpp"  // private: toml++ is no part of the public API
 #include "rangekit/core/text.hpp"
-#include "rangekit/core/toml.hpp"
 #include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/formulas.hpp"
