@@ -149,6 +149,11 @@ bool Driver::connected() const {
 }
 
 Status Driver::replace_transport(TransportPtr transport) {
+  // A caller's request reads the transport and the assembler without transport_mutex_:
+  // the old link is destroyed only after the request in flight has finished. The
+  // reader thread (reconnecting) owns both while it streams and takes no request lock.
+  std::unique_lock request_lock(request_mutex_, std::defer_lock);
+  if (!on_reader_thread()) request_lock.lock();
   // The reader uses the transport and the assembler without holding the lock.
   if (streaming_ && !on_reader_thread()) {
     return make_error(Errc::unsupported, "cannot replace the transport while streaming: stop the stream first");
@@ -164,7 +169,7 @@ Status Driver::replace_transport(TransportPtr transport) {
 }
 
 DriverCounters Driver::counters() const {
-  std::lock_guard lock(const_cast<std::mutex&>(state_mutex_));
+  std::lock_guard lock(state_mutex_);
   return counters_;
 }
 
