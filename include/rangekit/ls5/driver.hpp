@@ -59,6 +59,9 @@ struct SettingReading {
 };
 
 class MeasurementStream;
+namespace detail {
+struct LiveStream;  // what a stream and the driver that started it share
+}
 
 class Driver {
  public:
@@ -107,8 +110,9 @@ class Driver {
   Result<bool> results_are_derivative();
 
   // Starts the stream (optionally writing thinning n, 08, first) and hands the line
-  // to a reader thread until the stream is destroyed or stopped; no other call may
-  // be made on the driver meanwhile.
+  // to a reader thread until the stream is stopped or destroyed, or the driver is
+  // destroyed (which stops it: SB, the stream then finished). Meanwhile every call
+  // that would use the line is refused (Errc::unsupported naming the stream).
   struct StreamOptions {
     std::optional<std::uint8_t> thinning;  // n of §8.4; unchanged when empty
     std::size_t queue_capacity = 65536;
@@ -118,6 +122,9 @@ class Driver {
     std::chrono::milliseconds silence_timeout{3000};
   };
   Result<std::unique_ptr<MeasurementStream>> start_stream(const StreamOptions& options);
+
+  // A stream this driver started holds the line (its reader runs).
+  [[nodiscard]] bool streaming() const noexcept;
 
   [[nodiscard]] std::uint8_t address() const noexcept { return options_.address; }
   void set_address(std::uint8_t address) noexcept { options_.address = address; }
@@ -137,6 +144,8 @@ class Driver {
   Status expect_echo(const Request& request);
   Result<Measurement> to_measurement(ResultCode code);
   Status write_checked(const Request& request);
+  // Errc::unsupported while a stream holds the line, except on its own reader thread.
+  Status refuse_while_streaming(std::string_view call) const;
 
   TransportPtr transport_;
   DriverOptions options_;
@@ -146,12 +155,14 @@ class Driver {
   std::optional<bool> ethernet_;
   std::optional<bool> derivative_results_;
   std::uint64_t rejected_frames_ = 0;
+  std::shared_ptr<detail::LiveStream> live_stream_;  // the last stream started
 };
 
 // Measurement records !ddddd as rangekit::Sample (device "ls5", code, distance_mm,
 // signal), pushed by a reader thread into a StreamQueue that never blocks it. On a
 // closed link or silence: StreamEvent disconnected, reopen/ask every
-// reconnect_interval, StreamEvent reconnected and ST again.
+// reconnect_interval, StreamEvent reconnected and ST again. Destroying the driver
+// first stops the stream (SB); the stream object stays safe to read (finished).
 class MeasurementStream final : public SampleSource {
  public:
   ~MeasurementStream() override;
@@ -163,12 +174,12 @@ class MeasurementStream final : public SampleSource {
 
  private:
   friend class Driver;
-  struct Shared;
-  MeasurementStream(Driver& driver, const Driver::StreamOptions& options);
+  MeasurementStream(std::shared_ptr<detail::LiveStream> shared, const Driver::StreamOptions& options);
   void run();
-  Driver& driver_;
   Driver::StreamOptions options_;
-  std::shared_ptr<Shared> shared_;
+  // Shared with the driver, which stops the stream when it goes first: the reader
+  // never outlives the driver it reads through.
+  std::shared_ptr<detail::LiveStream> shared_;
   std::atomic<std::uint64_t> records_{0};
 };
 
