@@ -125,7 +125,9 @@ TEST(Csv, OneRowPerFamily) {
   EXPECT_EQ(csv(uls_averaging()), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,,,\n");
   EXPECT_EQ(csv(uls_binning()), "2026-11-26T01:02:03.456Z,uls,,/dev/ttyUSB0,binning,,,4.5720:42;7.1000:13,,,,,,,,,\n");
   EXPECT_EQ(csv(uls_look_down()), "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,250,,,,,,false,\n");
-  EXPECT_EQ(csv(uls_error()), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,,,,Lock Not Found (display: Target Not Found)\n");
+  EXPECT_EQ(
+      csv(uls_error()),
+      "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,,,,Lock Not Found (display: Target Not Found)\n");
   EXPECT_EQ(csv(ls5_result(12345, 1234.5, SignalState::ok)),
             "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,,,\n");
   EXPECT_EQ(csv(ls5_result(65535, std::nullopt, SignalState::lost)),
@@ -200,6 +202,11 @@ TEST(Text, Events) {
             "01:02:03.456 disconnected: /dev/ttyUSB0 went away\n");
   EXPECT_EQ(text(event(StreamEventKind::lost_records, "UDP counter gap", 3)),
             "01:02:03.456 lost_records: UDP counter gap (3 lost)\n");
+  // Issue 11 point 2: the ULS stream's switch to polling is shown, not silent.
+  EXPECT_EQ(text(event(StreamEventKind::polling, "/dev/ttyUSB0: polling with BM every 50 ms")),
+            "01:02:03.456 polling: /dev/ttyUSB0: polling with BM every 50 ms\n");
+  EXPECT_EQ(jsonl(event(StreamEventKind::polling, "p")),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"event\":\"polling\",\"message\":\"p\",\"count\":0}\n");
 }
 
 }  // namespace

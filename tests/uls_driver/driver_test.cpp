@@ -618,9 +618,24 @@ TEST(UlsDriver, AutomaticStreamPollsWhenNoContinuousLinesArriveOnThisPort) {
   });
   ASSERT_TRUE(rig.driver->start_stream());
   EXPECT_EQ(rig.driver->active_stream_mode(), StreamMode::continuous);
-  const auto samples = samples_of(take(*rig.driver, 2));
+  const auto items = take(*rig.driver, 2);
+  const auto samples = samples_of(items);
   ASSERT_EQ(samples.size(), 2U);
   EXPECT_EQ(rig.driver->active_stream_mode(), StreamMode::polled);
+  // Issue 11 point 2 "the silent switch to polling becomes an event": a polling event comes
+  // before the first polled sample and names the port.
+  std::vector<StreamEventKind> kinds;
+  for (const auto& item : items) {
+    if (const auto* event = std::get_if<StreamEvent>(&item)) {
+      kinds.push_back(event->kind);
+      if (event->kind == StreamEventKind::polling) {
+        EXPECT_NE(event->message.find("host"), std::string::npos);
+      }
+    } else {
+      break;
+    }
+  }
+  EXPECT_NE(std::find(kinds.begin(), kinds.end(), StreamEventKind::polling), kinds.end());
   EXPECT_DOUBLE_EQ(*samples[0].distance_m, 8.0);
   rig.driver->stop_stream();
 }

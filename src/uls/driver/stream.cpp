@@ -224,6 +224,12 @@ void Driver::reader_loop() {
           std::chrono::steady_clock::now() - last_measurement_ >
               std::max<std::chrono::microseconds>(3 * poll_period_, 1500ms)) {
         active_mode_ = StreamMode::polled;
+        // Said, not done silently: the data now come one BM at a time, and a unit that
+        // sends its lines to the other port (MO) is worth knowing about.
+        emit_event(StreamEventKind::polling,
+                   options_.source +
+                       ": no continuous lines on this port (CO on, MO elsewhere?): polling with BM every " +
+                       std::to_string(std::chrono::ceil<std::chrono::milliseconds>(poll_period_).count()) + " ms");
       }
     }
     if (step) continue;
