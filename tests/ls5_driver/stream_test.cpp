@@ -274,3 +274,23 @@ TEST(Ls5Stream, CallsWhileTheStreamHoldsTheLineAreRefusedNamingTheStream) {
   ASSERT_TRUE(again) << again.error().message;
   EXPECT_EQ(again->code.value, 25000);
 }
+
+// Issue 11 point 2 "what stop() means" in both families: the driver's stop_stream() ends the
+// stream it started (reader joined, SB sent: §8.13 "To stop the stream, use the #[AA]SB<cr>
+// command"), as the ULS driver's does; the stream object is then finished.
+TEST(Ls5Stream, StopStreamOnTheDriverEndsTheStreamItStarted) {
+  auto pair = make_loopback_pair("ls5 line", "device");
+  ScriptedDevice device(std::move(pair.b));
+  Driver driver(std::move(pair.a), fast_options());
+  device.send(id_reply_01);
+  auto stream = driver.start_stream({});
+  ASSERT_TRUE(stream) << stream.error().message;
+  EXPECT_EQ(device.receive_until("#01ST\r"), "#01ID\r#01ST\r");
+  device.send("!01SB\r");
+  EXPECT_TRUE(driver.stop_stream());
+  EXPECT_EQ(device.receive_until("#01SB\r"), "#01SB\r");
+  EXPECT_FALSE(driver.streaming());
+  EXPECT_TRUE((*stream)->finished());
+  stream->reset();
+  EXPECT_EQ(device.receive_all(), "");  // the stream sends no second SB
+}

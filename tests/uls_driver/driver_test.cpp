@@ -831,7 +831,7 @@ TEST(UlsDriver, ReplaceTransportWaitsForTheRequestInFlight) {
   auto state = std::make_shared<BlockingReadState>();
   DriverOptions options;
   options.timeout = 200ms;
-  options.get_retries = 0;
+  options.read_retries = 0;
   Driver driver(std::make_unique<BlockingReadTransport>(state), options);
   std::thread asking([&] { (void)driver.version(); });
   {

@@ -61,7 +61,8 @@ struct SettingReading {
 class MeasurementStream;
 namespace detail {
 struct LiveStream;  // what a stream and the driver that started it share
-}
+Status stop_live_stream(LiveStream& live);
+}  // namespace detail
 
 class Driver {
  public:
@@ -75,13 +76,17 @@ class Driver {
   Result<std::uint8_t> read_parameter(std::uint8_t parameter);         // R (table 9.2 range not checked on read)
   Status write_parameter(std::uint8_t parameter, std::uint8_t value);  // W, checked before sending (see below)
   Status store_to_flash();                                             // FL
-  Status turn_on();                                                    // ON
-  Status turn_off();                                                   // OF
-  Status latch();                                                      // FX
-  Status stop_stream();                                                // SB
-  Result<Measurement> read_latched();                                  // FR
-  Result<Measurement> read_last();                                     // LR
-  Status restore_defaults();                                           // DF (RAM only until FL, L27)
+  Status start_measuring();  // ON "Turn on the sensor": it measures (the ULS driver's GO has this name)
+  Status stop_measuring();   // OF "Turn off the sensor"
+  [[deprecated("use start_measuring()")]] Status turn_on() { return start_measuring(); }
+  [[deprecated("use stop_measuring()")]] Status turn_off() { return stop_measuring(); }
+  Status latch();  // FX
+  // SB. While a stream this driver started holds the line, ends it first (joins its reader):
+  // the same meaning as the ULS driver's stop_stream(). The stream object is then finished.
+  Status stop_stream();
+  Result<Measurement> read_latched();  // FR
+  Result<Measurement> read_last();     // LR
+  Status restore_defaults();           // DF (RAM only until FL, L27)
   // ST is start_stream below: its records are the reply.
 
   // Raw bytes (`ls5 set 13=FF 14=00`): each byte checked against table 9.2 and the
@@ -140,10 +145,12 @@ class Driver {
 
  private:
   friend class MeasurementStream;
+  friend Status detail::stop_live_stream(detail::LiveStream& live);
   Result<Reply> transact_once(const Request& request);
   Status expect_echo(const Request& request);
   Result<Measurement> to_measurement(ResultCode code);
   Status write_checked(const Request& request);
+  Status send_stop_stream();  // SB on the wire
   // Errc::unsupported while a stream holds the line, except on its own reader thread.
   Status refuse_while_streaming(std::string_view call) const;
 

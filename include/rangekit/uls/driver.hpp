@@ -38,7 +38,7 @@ struct DriverOptions {
   std::optional<std::uint8_t> address;
   std::chrono::milliseconds timeout{1000};          // per call, waiting for the reply
   std::chrono::milliseconds measure_timeout{5000};  // a polled BM: a whole measurement period
-  int get_retries = 1;                              // gets are idempotent: sent again once on no reply
+  int read_retries = 1;  // gets are idempotent: sent again once on no reply (the LS5 driver's name too)
   std::chrono::milliseconds reconnect_interval{250};
   std::optional<std::chrono::milliseconds> give_up_after;  // none: retry the reopen forever
   std::size_t queue_capacity = 65536;

@@ -221,10 +221,10 @@ Status Driver::write_checked(const Request& request) {
 }
 
 Status Driver::store_to_flash() { return expect_echo(Request::simple(options_.address, CommandId::store_to_flash)); }
-Status Driver::turn_on() { return expect_echo(Request::simple(options_.address, CommandId::turn_on)); }
-Status Driver::turn_off() { return expect_echo(Request::simple(options_.address, CommandId::turn_off)); }
+Status Driver::start_measuring() { return expect_echo(Request::simple(options_.address, CommandId::turn_on)); }
+Status Driver::stop_measuring() { return expect_echo(Request::simple(options_.address, CommandId::turn_off)); }
 Status Driver::latch() { return expect_echo(Request::simple(options_.address, CommandId::latch_result)); }
-Status Driver::stop_stream() { return expect_echo(Request::simple(options_.address, CommandId::stop_stream)); }
+Status Driver::send_stop_stream() { return expect_echo(Request::simple(options_.address, CommandId::stop_stream)); }
 Status Driver::restore_defaults() {
   if (auto refused = refuse_while_streaming("DF"); !refused) return refused;
   derivative_results_.reset();  // 0E goes back to its default: asked again when needed

@@ -67,23 +67,29 @@ struct LiveStream {
   Driver* driver = nullptr;  // cleared when the driver goes away (after it stopped the stream)
 };
 
-namespace {
+namespace {}  // namespace
 
-// Joins the reader, then sends SB (best effort: any byte stops the stream anyway, L37).
-void stop_live_stream(LiveStream& live) {
+// Joins the reader, then sends SB (any byte stops the stream anyway, L37): its result.
+Status stop_live_stream(LiveStream& live) {
   std::lock_guard stopping(live.stopping);
   {
     std::lock_guard lock(live.mutex);
-    if (live.stop_requested && !live.reader.joinable()) return;
+    if (live.stop_requested && !live.reader.joinable()) return ok_status();
     live.stop_requested = true;
   }
   live.wake.notify_all();
   if (live.reader.joinable()) live.reader.join();
   live.owns_line = false;
-  if (live.driver != nullptr && live.connected.load() && !live.finished.load()) (void)live.driver->stop_stream();
+  Status stopped = ok_status();
+  if (live.driver != nullptr && live.connected.load() && !live.finished.load()) {
+    stopped = live.driver->send_stop_stream();
+  }
   live.finished = true;
   live.queue.close();
+  return stopped;
 }
+
+namespace {
 
 // The driver no longer exists, or no longer belongs to this (finished) stream.
 void detach_driver(LiveStream& live) {
@@ -96,7 +102,7 @@ void detach_driver(LiveStream& live) {
 
 Driver::~Driver() {
   if (!live_stream_) return;
-  detail::stop_live_stream(*live_stream_);  // the sensor is left idle (SB) and the reader joined
+  (void)detail::stop_live_stream(*live_stream_);  // the sensor is left idle (SB) and the reader joined
   detail::detach_driver(*live_stream_);
 }
 
@@ -148,7 +154,13 @@ bool MeasurementStream::finished() const { return shared_->finished.load(); }
 
 std::uint64_t MeasurementStream::lost() const { return shared_->queue.dropped(); }
 
-void MeasurementStream::stop() { detail::stop_live_stream(*shared_); }
+void MeasurementStream::stop() { (void)detail::stop_live_stream(*shared_); }
+
+Status Driver::stop_stream() {
+  const bool on_reader = live_stream_ && std::this_thread::get_id() == live_stream_->reader_id.load();
+  if (streaming() && !on_reader) return detail::stop_live_stream(*live_stream_);
+  return send_stop_stream();
+}
 
 void MeasurementStream::run() {
   detail::LiveStream& shared = *shared_;

@@ -411,7 +411,7 @@ Result<std::vector<std::string>> Driver::get(std::string_view mnemonic, std::spa
   if (auto checked = check_locally(*command, arguments); !checked) return checked.error();
   if (command->mnemonic == "BM")
     return make_error(Errc::wrong_form, "use measure() for BM: its reply is a measurement");
-  return transact(*command, arguments, Expect::value, 1 + options_.get_retries, options_.timeout);
+  return transact(*command, arguments, Expect::value, 1 + options_.read_retries, options_.timeout);
 }
 
 Status Driver::set(std::string_view mnemonic, std::span<const std::string_view> values) {
@@ -483,7 +483,7 @@ Result<Units> Driver::cached_units() {
     if (units_) return *units_;
   }
   const CommandInfo* command = find_command("MU");
-  auto values = transact(*command, {}, Expect::value, 1 + options_.get_retries, options_.timeout);
+  auto values = transact(*command, {}, Expect::value, 1 + options_.read_retries, options_.timeout);
   if (!values) return values.error();
   const auto units = values->size() == 1 ? to_units(text::parse_unsigned((*values)[0], 1).value_or(9)) : std::nullopt;
   if (!units) return make_error(Errc::invalid_frame, "MU reply is not 0 or 1");

@@ -261,7 +261,7 @@ Result<ProbeResult> probe(Transport& transport, std::optional<std::uint8_t> addr
   DriverOptions options;
   options.address = address;
   options.timeout = timeout;
-  options.get_retries = 0;
+  options.read_retries = 0;
   Driver driver(std::make_unique<BorrowedTransport>(transport), options);
   // ID and US only read (§8): the unit is left as it was.
   auto version = driver.version();
