@@ -62,6 +62,7 @@ struct LiveStream {
   std::atomic<bool> owns_line{true};  // the reader runs: the driver refuses calls
   std::atomic<std::thread::id> reader_id{};
   std::uint8_t address = 0x01;  // the driver's address at start; set_address later does not move the stream
+  std::string port;             // the link's name at start, for refusals (the reader may reopen the link)
   std::thread reader;
   std::mutex stopping;       // stop() from two threads (Ctrl-C and a destructor) joins once; guards driver
   Driver* driver = nullptr;  // cleared when the driver goes away (after it stopped the stream)
@@ -111,7 +112,7 @@ bool Driver::streaming() const noexcept { return live_stream_ && live_stream_->o
 Status Driver::refuse_while_streaming(std::string_view call) const {
   if (!streaming() || std::this_thread::get_id() == live_stream_->reader_id.load()) return ok_status();
   return make_error(Errc::unsupported, std::string(call) + " refused: the measurement stream started on " +
-                                           transport_name() +
+                                           live_stream_->port +
                                            " holds the line; stop or destroy the stream first (SB ends it)");
 }
 
@@ -135,6 +136,7 @@ Result<std::unique_ptr<MeasurementStream>> Driver::start_stream(const StreamOpti
   auto live = std::make_shared<detail::LiveStream>(options.queue_capacity);
   live->driver = this;
   live->address = options_.address;
+  live->port = transport_name();
   live_stream_ = live;
   std::unique_ptr<MeasurementStream> stream(new MeasurementStream(std::move(live), options));
   stream->shared_->reader = std::thread([raw = stream.get()] { raw->run(); });
