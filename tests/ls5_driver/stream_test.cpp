@@ -286,9 +286,13 @@ TEST(Ls5Stream, StopStreamOnTheDriverEndsTheStreamItStarted) {
   auto stream = driver.start_stream({});
   ASSERT_TRUE(stream) << stream.error().message;
   EXPECT_EQ(device.receive_until("#01ST\r"), "#01ID\r#01ST\r");
-  device.send("!01SB\r");
-  EXPECT_TRUE(driver.stop_stream());
+  // The echo is sent once SB arrived: the reader is joined by then, so the driver reads it.
+  Status stopped = ok_status();
+  std::thread stopping([&] { stopped = driver.stop_stream(); });
   EXPECT_EQ(device.receive_until("#01SB\r"), "#01SB\r");
+  device.send("!01SB\r");
+  stopping.join();
+  EXPECT_TRUE(stopped) << stopped.error().message;
   EXPECT_FALSE(driver.streaming());
   EXPECT_TRUE((*stream)->finished());
   stream->reset();
