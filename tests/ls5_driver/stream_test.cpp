@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <thread>
+#include <type_traits>
 
 #include "rangekit/ls5/settings.hpp"
 #include "scripted_device.hpp"
@@ -298,3 +299,10 @@ TEST(Ls5Stream, StopStreamOnTheDriverEndsTheStreamItStarted) {
   stream->reset();
   EXPECT_EQ(device.receive_all(), "");  // the stream sends no second SB
 }
+
+// Issue 11 point 2 "misuse cannot compile": a stream points at the driver that started it, so
+// neither a driver nor a stream can be copied or moved away from under the other.
+static_assert(!std::is_copy_constructible_v<Driver> && !std::is_move_constructible_v<Driver>);
+static_assert(!std::is_copy_assignable_v<Driver> && !std::is_move_assignable_v<Driver>);
+static_assert(!std::is_copy_constructible_v<MeasurementStream> && !std::is_move_constructible_v<MeasurementStream>);
+static_assert(!std::is_constructible_v<MeasurementStream, Driver&, const Driver::StreamOptions&>);

@@ -10,6 +10,7 @@
 #include <memory>
 #include <mutex>
 #include <thread>
+#include <type_traits>
 
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/errors.hpp"
@@ -845,6 +846,11 @@ TEST(UlsDriver, ReplaceTransportWaitsForTheRequestInFlight) {
   EXPECT_TRUE(state->destroyed);
   EXPECT_FALSE(state->destroyed_during_read);
 }
+
+// Issue 11 point 2: the ULS driver is its own stream, whose reader thread points at it:
+// it cannot be copied or moved away from under the reader.
+static_assert(!std::is_copy_constructible_v<Driver> && !std::is_move_constructible_v<Driver>);
+static_assert(!std::is_copy_assignable_v<Driver> && !std::is_move_assignable_v<Driver>);
 
 }  // namespace
 }  // namespace rangekit::uls
