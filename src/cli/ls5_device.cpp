@@ -273,11 +273,11 @@ void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
                      });
   add_device_command(
       ls5, exit_code, "on", "turn the sensor on (ON): laser and measurements",
-      [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.turn_on(), "on"); }, nullptr,
+      [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.start_measuring(), "on"); }, nullptr,
       Broadcast::allowed);
   add_device_command(
       ls5, exit_code, "off", "turn the sensor off (OF): no measurements (§8.2)",
-      [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.turn_off(), "off"); }, nullptr,
+      [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.stop_measuring(), "off"); }, nullptr,
       Broadcast::allowed);
   add_device_command(
       ls5, exit_code, "save", "store the current parameters to non-volatile memory (FL)",

@@ -46,6 +46,8 @@ const char* stream_event_kind_name(StreamEventKind kind) noexcept {
       return "lost_records";
     case StreamEventKind::device_error:
       return "device_error";
+    case StreamEventKind::polling:
+      return "polling";
   }
   return "unknown";
 }

@@ -28,7 +28,8 @@ std::optional<SignalState> parse_signal_state(std::string_view name) {
 
 std::optional<StreamEventKind> parse_stream_event_kind(std::string_view name) {
   constexpr std::array values{StreamEventKind::connected, StreamEventKind::disconnected, StreamEventKind::reconnected,
-                              StreamEventKind::bad_frame, StreamEventKind::lost_records, StreamEventKind::device_error};
+                              StreamEventKind::bad_frame, StreamEventKind::lost_records, StreamEventKind::device_error,
+                              StreamEventKind::polling};
   return find_by_name(name, values, stream_event_kind_name);
 }
 

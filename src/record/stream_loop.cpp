@@ -94,6 +94,8 @@ class StreamLoop {
       case StreamEventKind::lost_records:
         lost_from_events_ += event.count;
         break;
+      case StreamEventKind::polling:
+        break;  // news, not trouble
     }
     update_lost();
     if (observer_.on_event) observer_.on_event(event);

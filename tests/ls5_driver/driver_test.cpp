@@ -82,7 +82,7 @@ TEST(Ls5Driver, OwnRequestEchoedByAnRs485AdapterIsSkipped) {
 TEST(Ls5Driver, TurnOnIsTheSection94Session) {
   Fixture f;
   f.device->send("!01ON\r");
-  ASSERT_TRUE(f.driver->turn_on());
+  ASSERT_TRUE(f.driver->start_measuring());
   EXPECT_EQ(f.device->receive_until("\r"), "#01ON\r");
 }
 
@@ -93,7 +93,7 @@ TEST(Ls5Driver, EveryEchoedCommandSendsItsCode) {
     const char* code;
   };
   const Case cases[] = {{&Driver::store_to_flash, "FL"},
-                        {&Driver::turn_off, "OF"},
+                        {&Driver::stop_measuring, "OF"},
                         {&Driver::latch, "FX"},
                         {&Driver::stop_stream, "SB"},
                         {&Driver::restore_defaults, "DF"}};
@@ -103,6 +103,20 @@ TEST(Ls5Driver, EveryEchoedCommandSendsItsCode) {
     EXPECT_TRUE(status) << c.code << ": " << status.error().message;
     EXPECT_EQ(f.device->receive_until("\r"), std::string("#01") + c.code + "\r");
   }
+}
+
+// Issue 11 point 2: the old names still compile (deprecated) and send the same command.
+TEST(Ls5Driver, DeprecatedTurnOnAndTurnOffStillSendOnAndOf) {
+  auto pair = make_loopback_pair();
+  ScriptedDevice device(std::move(pair.b));
+  Driver driver(std::move(pair.a), fast_options());
+  device.send("!01ON\r!01OF\r");  // table 9.1 "Turn on the sensor" / "Turn off the sensor" echoes
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+  EXPECT_TRUE(driver.turn_on());
+  EXPECT_TRUE(driver.turn_off());
+#pragma GCC diagnostic pop
+  EXPECT_EQ(device.receive_until("#01OF\r"), "#01ON\r#01OF\r");
 }
 
 TEST(Ls5Driver, SwingsOfTable93AreWrittenLowByteFirst) {
@@ -417,7 +431,7 @@ TEST(Ls5Driver, BroadcastWritesGoOutWithoutIdentificationOrEchoL67) {
   Fixture f(fast_options(0x00));
   Status median = f.driver->set("pre-filter", "median");
   ASSERT_TRUE(median) << median.error().message;
-  Status on = f.driver->turn_on();
+  Status on = f.driver->start_measuring();
   ASSERT_TRUE(on) << on.error().message;
   EXPECT_EQ(f.device->receive_until("#00ON\r"), "#00W0B01\r#00ON\r");
 

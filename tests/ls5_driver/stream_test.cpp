@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <thread>
+#include <type_traits>
 
 #include "rangekit/ls5/settings.hpp"
 #include "scripted_device.hpp"
@@ -216,3 +217,92 @@ TEST(Ls5Stream, WithoutAReopenFunctionAClosedLinkEndsTheStream) {
   EXPECT_TRUE((*stream)->finished());
   EXPECT_TRUE(has_event(got, StreamEventKind::disconnected));
 }
+
+// U86, issue 11 point 1 "the device is idle after ... a destroyed driver": the driver going
+// first stops the stream it started. §8.13 "To stop the stream, use the #[AA]SB<cr> command."
+// The stream left behind is finished and safe to read and stop (it shares what it reads with).
+TEST(Ls5Stream, U86_DestroyingTheDriverFirstStopsItsStreamAndLeavesTheSensorIdle) {
+  auto pair = make_loopback_pair("ls5 line", "device");
+  ScriptedDevice device(std::move(pair.b));
+  auto driver = std::make_unique<Driver>(std::move(pair.a), fast_options());
+  device.send(id_reply_01);
+  auto stream = driver->start_stream({});
+  ASSERT_TRUE(stream) << stream.error().message;
+  EXPECT_EQ(device.receive_until("#01ST\r"), "#01ID\r#01ST\r");
+  device.send("!25000\r");
+  auto got = collect(**stream, [](const Collected& c) { return !c.samples.empty(); });
+  ASSERT_EQ(got.samples.size(), 1U);
+
+  device.send("!01SB\r");  // the echo of SB (table 9.1 "Stop the stream")
+  driver.reset();
+  EXPECT_EQ(device.receive_until("#01SB\r"), "#01SB\r");
+  EXPECT_TRUE((*stream)->finished());
+  EXPECT_FALSE((*stream)->next(10ms).has_value());
+  (*stream)->stop();  // nothing more is sent, nothing is touched
+  stream->reset();
+  EXPECT_EQ(device.receive_all(), "");
+}
+
+// Issue 11 point 2: while a stream holds the line, the driver refuses every call that would
+// use it (its reply would be lost among the records, and the reader owns the line), naming
+// the stream; after stop() the driver answers again.
+TEST(Ls5Stream, CallsWhileTheStreamHoldsTheLineAreRefusedNamingTheStream) {
+  auto pair = make_loopback_pair("ls5 line", "device");
+  ScriptedDevice device(std::move(pair.b));
+  Driver driver(std::move(pair.a), fast_options());
+  device.send(id_reply_01);
+  auto stream = driver.start_stream({});
+  ASSERT_TRUE(stream) << stream.error().message;
+  EXPECT_EQ(device.receive_until("#01ST\r"), "#01ID\r#01ST\r");
+  EXPECT_TRUE(driver.streaming());
+
+  auto last = driver.read_last();
+  ASSERT_FALSE(last);
+  EXPECT_EQ(last.error().code, Errc::unsupported);
+  EXPECT_NE(last.error().message.find("measurement stream started on ls5 line"), std::string::npos)
+      << last.error().message;
+  EXPECT_FALSE(driver.write_parameter(0x08, 4));
+  EXPECT_FALSE(driver.context());
+  EXPECT_FALSE(driver.start_stream({}));
+  EXPECT_EQ(device.receive_all(), "");  // nothing reached the line
+
+  device.send("!01SB\r");
+  (*stream)->stop();
+  EXPECT_EQ(device.receive_until("#01SB\r"), "#01SB\r");
+  EXPECT_FALSE(driver.streaming());
+  device.send("!01LR25000\r");  // table 9.1 LR
+  auto again = driver.read_last();
+  ASSERT_TRUE(again) << again.error().message;
+  EXPECT_EQ(again->code.value, 25000);
+}
+
+// Issue 11 point 2 "what stop() means" in both families: the driver's stop_stream() ends the
+// stream it started (reader joined, SB sent: §8.13 "To stop the stream, use the #[AA]SB<cr>
+// command"), as the ULS driver's does; the stream object is then finished.
+TEST(Ls5Stream, StopStreamOnTheDriverEndsTheStreamItStarted) {
+  auto pair = make_loopback_pair("ls5 line", "device");
+  ScriptedDevice device(std::move(pair.b));
+  Driver driver(std::move(pair.a), fast_options());
+  device.send(id_reply_01);
+  auto stream = driver.start_stream({});
+  ASSERT_TRUE(stream) << stream.error().message;
+  EXPECT_EQ(device.receive_until("#01ST\r"), "#01ID\r#01ST\r");
+  // The echo is sent once SB arrived: the reader is joined by then, so the driver reads it.
+  Status stopped = ok_status();
+  std::thread stopping([&] { stopped = driver.stop_stream(); });
+  EXPECT_EQ(device.receive_until("#01SB\r"), "#01SB\r");
+  device.send("!01SB\r");
+  stopping.join();
+  EXPECT_TRUE(stopped) << stopped.error().message;
+  EXPECT_FALSE(driver.streaming());
+  EXPECT_TRUE((*stream)->finished());
+  stream->reset();
+  EXPECT_EQ(device.receive_all(), "");  // the stream sends no second SB
+}
+
+// Issue 11 point 2 "misuse cannot compile": a stream points at the driver that started it, so
+// neither a driver nor a stream can be copied or moved away from under the other.
+static_assert(!std::is_copy_constructible_v<Driver> && !std::is_move_constructible_v<Driver>);
+static_assert(!std::is_copy_assignable_v<Driver> && !std::is_move_assignable_v<Driver>);
+static_assert(!std::is_copy_constructible_v<MeasurementStream> && !std::is_move_constructible_v<MeasurementStream>);
+static_assert(!std::is_constructible_v<MeasurementStream, Driver&, const Driver::StreamOptions&>);

@@ -5,8 +5,12 @@
 
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <thread>
+#include <type_traits>
 
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/errors.hpp"
@@ -615,9 +619,24 @@ TEST(UlsDriver, AutomaticStreamPollsWhenNoContinuousLinesArriveOnThisPort) {
   });
   ASSERT_TRUE(rig.driver->start_stream());
   EXPECT_EQ(rig.driver->active_stream_mode(), StreamMode::continuous);
-  const auto samples = samples_of(take(*rig.driver, 2));
+  const auto items = take(*rig.driver, 2);
+  const auto samples = samples_of(items);
   ASSERT_EQ(samples.size(), 2U);
   EXPECT_EQ(rig.driver->active_stream_mode(), StreamMode::polled);
+  // Issue 11 point 2 "the silent switch to polling becomes an event": a polling event comes
+  // before the first polled sample and names the port.
+  std::vector<StreamEventKind> kinds;
+  for (const auto& item : items) {
+    if (const auto* event = std::get_if<StreamEvent>(&item)) {
+      kinds.push_back(event->kind);
+      if (event->kind == StreamEventKind::polling) {
+        EXPECT_NE(event->message.find("host"), std::string::npos);
+      }
+    } else {
+      break;
+    }
+  }
+  EXPECT_NE(std::find(kinds.begin(), kinds.end(), StreamEventKind::polling), kinds.end());
   EXPECT_DOUBLE_EQ(*samples[0].distance_m, 8.0);
   rig.driver->stop_stream();
 }
@@ -771,6 +790,67 @@ TEST(UlsDriver, U77_StartOnAUnitAlreadyMeasuringIsNoError) {
   EXPECT_DOUBLE_EQ(*samples[0].distance_m, 12.5);
   rig.driver->stop_stream();
 }
+
+// A link whose read blocks until released or until the transport is destroyed, and that
+// records a destruction during a read (which in a real transport would be a use after free).
+struct BlockingReadState {
+  std::mutex mutex;
+  std::condition_variable changed;
+  bool reading = false;
+  bool destroyed = false;
+  bool destroyed_during_read = false;
+};
+class BlockingReadTransport final : public Transport {
+ public:
+  explicit BlockingReadTransport(std::shared_ptr<BlockingReadState> state) : state_(std::move(state)) {}
+  ~BlockingReadTransport() override {
+    std::lock_guard lock(state_->mutex);
+    state_->destroyed = true;
+    state_->destroyed_during_read = state_->reading;
+    state_->changed.notify_all();
+  }
+  Status write_all(Bytes) override { return ok_status(); }
+  Result<std::size_t> read_some(std::span<std::uint8_t>, std::chrono::milliseconds timeout) override {
+    const auto state = state_;  // `this` may be gone when the wait ends
+    std::unique_lock lock(state->mutex);
+    state->reading = true;
+    state->changed.notify_all();
+    state->changed.wait_for(lock, timeout, [&] { return state->destroyed; });
+    state->reading = false;
+    return make_error(Errc::timeout, "nothing");
+  }
+  void close() noexcept override {}
+  [[nodiscard]] std::string name() const override { return "blocking"; }
+
+ private:
+  std::shared_ptr<BlockingReadState> state_;
+};
+
+// replace_transport waits for the request in flight: it takes the request lock, so a
+// caller's read never runs on a transport that was destroyed under it (issue 11 point 2).
+TEST(UlsDriver, ReplaceTransportWaitsForTheRequestInFlight) {
+  auto state = std::make_shared<BlockingReadState>();
+  DriverOptions options;
+  options.timeout = 200ms;
+  options.read_retries = 0;
+  Driver driver(std::make_unique<BlockingReadTransport>(state), options);
+  std::thread asking([&] { (void)driver.version(); });
+  {
+    std::unique_lock lock(state->mutex);
+    state->changed.wait(lock, [&] { return state->reading; });
+  }
+  auto other = make_loopback_pair("host", "device");
+  EXPECT_TRUE(driver.replace_transport(std::move(other.a)).ok());
+  asking.join();
+  std::lock_guard lock(state->mutex);
+  EXPECT_TRUE(state->destroyed);
+  EXPECT_FALSE(state->destroyed_during_read);
+}
+
+// Issue 11 point 2: the ULS driver is its own stream, whose reader thread points at it:
+// it cannot be copied or moved away from under the reader.
+static_assert(!std::is_copy_constructible_v<Driver> && !std::is_move_constructible_v<Driver>);
+static_assert(!std::is_copy_assignable_v<Driver> && !std::is_move_assignable_v<Driver>);
 
 }  // namespace
 }  // namespace rangekit::uls

@@ -71,7 +71,8 @@ enum class StreamEventKind : std::uint8_t {
   reconnected,
   bad_frame,
   lost_records,
-  device_error
+  device_error,
+  polling  // the stream switched to asking for each measurement (ULS: no continuous lines here, U62)
 };
 const char* stream_event_kind_name(StreamEventKind kind) noexcept;
 

@@ -59,6 +59,10 @@ struct SettingReading {
 };
 
 class MeasurementStream;
+namespace detail {
+struct LiveStream;  // what a stream and the driver that started it share
+Status stop_live_stream(LiveStream& live);
+}  // namespace detail
 
 class Driver {
  public:
@@ -72,13 +76,17 @@ class Driver {
   Result<std::uint8_t> read_parameter(std::uint8_t parameter);         // R (table 9.2 range not checked on read)
   Status write_parameter(std::uint8_t parameter, std::uint8_t value);  // W, checked before sending (see below)
   Status store_to_flash();                                             // FL
-  Status turn_on();                                                    // ON
-  Status turn_off();                                                   // OF
-  Status latch();                                                      // FX
-  Status stop_stream();                                                // SB
-  Result<Measurement> read_latched();                                  // FR
-  Result<Measurement> read_last();                                     // LR
-  Status restore_defaults();                                           // DF (RAM only until FL, L27)
+  Status start_measuring();  // ON "Turn on the sensor": it measures (the ULS driver's GO has this name)
+  Status stop_measuring();   // OF "Turn off the sensor"
+  [[deprecated("use start_measuring()")]] Status turn_on() { return start_measuring(); }
+  [[deprecated("use stop_measuring()")]] Status turn_off() { return stop_measuring(); }
+  Status latch();  // FX
+  // SB. While a stream this driver started holds the line, ends it first (joins its reader):
+  // the same meaning as the ULS driver's stop_stream(). The stream object is then finished.
+  Status stop_stream();
+  Result<Measurement> read_latched();  // FR
+  Result<Measurement> read_last();     // LR
+  Status restore_defaults();           // DF (RAM only until FL, L27)
   // ST is start_stream below: its records are the reply.
 
   // Raw bytes (`ls5 set 13=FF 14=00`): each byte checked against table 9.2 and the
@@ -107,8 +115,9 @@ class Driver {
   Result<bool> results_are_derivative();
 
   // Starts the stream (optionally writing thinning n, 08, first) and hands the line
-  // to a reader thread until the stream is destroyed or stopped; no other call may
-  // be made on the driver meanwhile.
+  // to a reader thread until the stream is stopped or destroyed, or the driver is
+  // destroyed (which stops it: SB, the stream then finished). Meanwhile every call
+  // that would use the line is refused (Errc::unsupported naming the stream).
   struct StreamOptions {
     std::optional<std::uint8_t> thinning;  // n of §8.4; unchanged when empty
     std::size_t queue_capacity = 65536;
@@ -118,6 +127,9 @@ class Driver {
     std::chrono::milliseconds silence_timeout{3000};
   };
   Result<std::unique_ptr<MeasurementStream>> start_stream(const StreamOptions& options);
+
+  // A stream this driver started holds the line (its reader runs).
+  [[nodiscard]] bool streaming() const noexcept;
 
   [[nodiscard]] std::uint8_t address() const noexcept { return options_.address; }
   void set_address(std::uint8_t address) noexcept { options_.address = address; }
@@ -133,10 +145,14 @@ class Driver {
 
  private:
   friend class MeasurementStream;
+  friend Status detail::stop_live_stream(detail::LiveStream& live);
   Result<Reply> transact_once(const Request& request);
   Status expect_echo(const Request& request);
   Result<Measurement> to_measurement(ResultCode code);
   Status write_checked(const Request& request);
+  Status send_stop_stream();  // SB on the wire
+  // Errc::unsupported while a stream holds the line, except on its own reader thread.
+  Status refuse_while_streaming(std::string_view call) const;
 
   TransportPtr transport_;
   DriverOptions options_;
@@ -146,12 +162,14 @@ class Driver {
   std::optional<bool> ethernet_;
   std::optional<bool> derivative_results_;
   std::uint64_t rejected_frames_ = 0;
+  std::shared_ptr<detail::LiveStream> live_stream_;  // the last stream started
 };
 
 // Measurement records !ddddd as rangekit::Sample (device "ls5", code, distance_mm,
 // signal), pushed by a reader thread into a StreamQueue that never blocks it. On a
 // closed link or silence: StreamEvent disconnected, reopen/ask every
-// reconnect_interval, StreamEvent reconnected and ST again.
+// reconnect_interval, StreamEvent reconnected and ST again. Destroying the driver
+// first stops the stream (SB); the stream object stays safe to read (finished).
 class MeasurementStream final : public SampleSource {
  public:
   ~MeasurementStream() override;
@@ -163,12 +181,12 @@ class MeasurementStream final : public SampleSource {
 
  private:
   friend class Driver;
-  struct Shared;
-  MeasurementStream(Driver& driver, const Driver::StreamOptions& options);
+  MeasurementStream(std::shared_ptr<detail::LiveStream> shared, const Driver::StreamOptions& options);
   void run();
-  Driver& driver_;
   Driver::StreamOptions options_;
-  std::shared_ptr<Shared> shared_;
+  // Shared with the driver, which stops the stream when it goes first: the reader
+  // never outlives the driver it reads through.
+  std::shared_ptr<detail::LiveStream> shared_;
   std::atomic<std::uint64_t> records_{0};
 };
 

@@ -38,7 +38,7 @@ struct DriverOptions {
   std::optional<std::uint8_t> address;
   std::chrono::milliseconds timeout{1000};          // per call, waiting for the reply
   std::chrono::milliseconds measure_timeout{5000};  // a polled BM: a whole measurement period
-  int get_retries = 1;                              // gets are idempotent: sent again once on no reply
+  int read_retries = 1;  // gets are idempotent: sent again once on no reply (the LS5 driver's name too)
   std::chrono::milliseconds reconnect_interval{250};
   std::optional<std::chrono::milliseconds> give_up_after;  // none: retry the reopen forever
   std::size_t queue_capacity = 65536;
@@ -213,7 +213,8 @@ class Driver final : public SampleSource {
   // Talks to another unit from now on (a bus); refused while streaming.
   Status set_address(std::optional<std::uint8_t> address);
   // Replaces the link (after the caller reopened the port at another baud).
-  Status replace_transport(TransportPtr transport);  // unsupported while a stream runs
+  // Waits for a request in flight; unsupported while a stream runs.
+  Status replace_transport(TransportPtr transport);
   [[nodiscard]] bool connected() const;
 
  private:
@@ -244,8 +245,8 @@ class Driver final : public SampleSource {
   TransportPtr transport_;
   FrameAssembler assembler_;
 
-  std::mutex request_mutex_;  // one request at a time
-  std::mutex state_mutex_;    // pending, counters, context
+  std::mutex request_mutex_;        // one request at a time
+  mutable std::mutex state_mutex_;  // pending, counters, context (counters() is const)
   std::condition_variable reply_ready_;
   Pending* pending_ = nullptr;
   DriverCounters counters_;

@@ -42,11 +42,10 @@ Driver::Driver(TransportPtr transport, DriverOptions options, ReopenFunction reo
       reopen_(std::move(reopen)),
       assembler_(std::make_unique<FrameAssembler>(&scan_reply_frame, 4096)) {}
 
-Driver::~Driver() = default;
-
 std::string Driver::transport_name() const { return transport_ ? transport_->name() : "(no transport)"; }
 
 Status Driver::reopen() {
+  if (auto refused = refuse_while_streaming("reopen"); !refused) return refused;
   if (!reopen_) return make_error(Errc::unsupported, "no way to reopen " + transport_name());
   if (transport_) transport_->close();
   auto opened = reopen_();
@@ -97,6 +96,10 @@ Result<Reply> Driver::transact_once(const Request& request) {
 }
 
 Result<Reply> Driver::transact(const Request& request) {
+  // Every request goes through here: none may interleave with the stream's reader.
+  if (streaming()) {
+    if (auto refused = refuse_while_streaming(wire_text(request)); !refused) return refused.error();
+  }
   const int attempts = 1 + (is_read(request.command) ? options_.read_retries : 0);
   Result<Reply> reply = make_error(Errc::timeout, "not sent");
   for (int attempt = 0; attempt < attempts; ++attempt) {
@@ -213,16 +216,18 @@ Status Driver::write_parameters(std::span<const ParameterWrite> writes) {
 
 // One W whose value was checked; remembers what it changes in the driver's view.
 Status Driver::write_checked(const Request& request) {
+  if (auto refused = refuse_while_streaming("W"); !refused) return refused;
   if (request.parameter == address::result_type) derivative_results_.reset();
   return expect_echo(request);
 }
 
 Status Driver::store_to_flash() { return expect_echo(Request::simple(options_.address, CommandId::store_to_flash)); }
-Status Driver::turn_on() { return expect_echo(Request::simple(options_.address, CommandId::turn_on)); }
-Status Driver::turn_off() { return expect_echo(Request::simple(options_.address, CommandId::turn_off)); }
+Status Driver::start_measuring() { return expect_echo(Request::simple(options_.address, CommandId::turn_on)); }
+Status Driver::stop_measuring() { return expect_echo(Request::simple(options_.address, CommandId::turn_off)); }
 Status Driver::latch() { return expect_echo(Request::simple(options_.address, CommandId::latch_result)); }
-Status Driver::stop_stream() { return expect_echo(Request::simple(options_.address, CommandId::stop_stream)); }
+Status Driver::send_stop_stream() { return expect_echo(Request::simple(options_.address, CommandId::stop_stream)); }
 Status Driver::restore_defaults() {
+  if (auto refused = refuse_while_streaming("DF"); !refused) return refused;
   derivative_results_.reset();  // 0E goes back to its default: asked again when needed
   Status restored = expect_echo(Request::simple(options_.address, CommandId::restore_defaults));
   // The echo leaves at the old address; from the next request the sensor answers at
@@ -232,6 +237,7 @@ Status Driver::restore_defaults() {
 }
 
 Result<bool> Driver::results_are_derivative() {
+  if (auto refused = refuse_while_streaming("results_are_derivative"); !refused) return refused.error();
   if (derivative_results_) return *derivative_results_;
   auto sensor = context();
   if (!sensor) return sensor.error();
@@ -276,6 +282,7 @@ Result<Measurement> Driver::read_last() {
 }
 
 Result<SettingContext> Driver::context() {
+  if (auto refused = refuse_while_streaming("context"); !refused) return refused.error();
   SettingContext context;
   if (options_.address == broadcast_address) {
     context.model.firmware = options_.assumed_firmware.value_or(any_version_there_is);

@@ -49,19 +49,75 @@ Sample make_ls5_sample(ResultCode code, std::optional<double> range_mm, std::str
   return sample;
 }
 
-struct MeasurementStream::Shared {
-  explicit Shared(std::size_t capacity) : queue(capacity) {}
+namespace detail {
+
+struct LiveStream {
+  explicit LiveStream(std::size_t capacity) : queue(capacity) {}
   StreamQueue<StreamItem> queue;
   std::mutex mutex;
   std::condition_variable wake;
   bool stop_requested = false;
   std::atomic<bool> finished{false};
   std::atomic<bool> connected{true};
+  std::atomic<bool> owns_line{true};  // the reader runs: the driver refuses calls
+  std::atomic<std::thread::id> reader_id{};
+  std::uint8_t address = 0x01;  // the driver's address at start; set_address later does not move the stream
+  std::string port;             // the link's name at start, for refusals (the reader may reopen the link)
   std::thread reader;
-  std::mutex stopping;  // stop() from two threads (Ctrl-C and a destructor) joins once
+  std::mutex stopping;       // stop() from two threads (Ctrl-C and a destructor) joins once; guards driver
+  Driver* driver = nullptr;  // cleared when the driver goes away (after it stopped the stream)
 };
 
+namespace {}  // namespace
+
+// Joins the reader, then sends SB (any byte stops the stream anyway, L37): its result.
+Status stop_live_stream(LiveStream& live) {
+  std::lock_guard stopping(live.stopping);
+  {
+    std::lock_guard lock(live.mutex);
+    if (live.stop_requested && !live.reader.joinable()) return ok_status();
+    live.stop_requested = true;
+  }
+  live.wake.notify_all();
+  if (live.reader.joinable()) live.reader.join();
+  live.owns_line = false;
+  Status stopped = ok_status();
+  if (live.driver != nullptr && live.connected.load() && !live.finished.load()) {
+    stopped = live.driver->send_stop_stream();
+  }
+  live.finished = true;
+  live.queue.close();
+  return stopped;
+}
+
+namespace {
+
+// The driver no longer exists, or no longer belongs to this (finished) stream.
+void detach_driver(LiveStream& live) {
+  std::lock_guard stopping(live.stopping);
+  live.driver = nullptr;
+}
+
+}  // namespace
+}  // namespace detail
+
+Driver::~Driver() {
+  if (!live_stream_) return;
+  (void)detail::stop_live_stream(*live_stream_);  // the sensor is left idle (SB) and the reader joined
+  detail::detach_driver(*live_stream_);
+}
+
+bool Driver::streaming() const noexcept { return live_stream_ && live_stream_->owns_line.load(); }
+
+Status Driver::refuse_while_streaming(std::string_view call) const {
+  if (!streaming() || std::this_thread::get_id() == live_stream_->reader_id.load()) return ok_status();
+  return make_error(Errc::unsupported, std::string(call) + " refused: the measurement stream started on " +
+                                           live_stream_->port +
+                                           " holds the line; stop or destroy the stream first (SB ends it)");
+}
+
 Result<std::unique_ptr<MeasurementStream>> Driver::start_stream(const StreamOptions& options) {
+  if (auto refused = refuse_while_streaming("start_stream"); !refused) return refused.error();
   if (!identification_) {
     auto identified = identify();  // the range turns codes into mm
     if (!identified) return identified.error();
@@ -76,13 +132,19 @@ Result<std::unique_ptr<MeasurementStream>> Driver::start_stream(const StreamOpti
   if (!start) return start.error();
   Status sent = transport_->write_all(start->bytes());
   if (!sent) return sent.error();
-  std::unique_ptr<MeasurementStream> stream(new MeasurementStream(*this, options));
+  if (live_stream_) detail::detach_driver(*live_stream_);  // a finished stream: it sends nothing more
+  auto live = std::make_shared<detail::LiveStream>(options.queue_capacity);
+  live->driver = this;
+  live->address = options_.address;
+  live->port = transport_name();
+  live_stream_ = live;
+  std::unique_ptr<MeasurementStream> stream(new MeasurementStream(std::move(live), options));
   stream->shared_->reader = std::thread([raw = stream.get()] { raw->run(); });
   return stream;
 }
 
-MeasurementStream::MeasurementStream(Driver& driver, const Driver::StreamOptions& options)
-    : driver_(driver), options_(options), shared_(std::make_shared<Shared>(options.queue_capacity)) {}
+MeasurementStream::MeasurementStream(std::shared_ptr<detail::LiveStream> shared, const Driver::StreamOptions& options)
+    : options_(options), shared_(std::move(shared)) {}
 
 MeasurementStream::~MeasurementStream() { stop(); }
 
@@ -94,28 +156,23 @@ bool MeasurementStream::finished() const { return shared_->finished.load(); }
 
 std::uint64_t MeasurementStream::lost() const { return shared_->queue.dropped(); }
 
-void MeasurementStream::stop() {
-  std::lock_guard stopping(shared_->stopping);
-  {
-    std::lock_guard lock(shared_->mutex);
-    if (shared_->stop_requested && !shared_->reader.joinable()) return;
-    shared_->stop_requested = true;
-  }
-  shared_->wake.notify_all();
-  if (shared_->reader.joinable()) shared_->reader.join();
-  if (shared_->connected.load() && !shared_->finished.load()) {
-    (void)driver_.stop_stream();  // best effort: any byte stops the stream anyway (L37)
-  }
-  shared_->finished = true;
-  shared_->queue.close();
+void MeasurementStream::stop() { (void)detail::stop_live_stream(*shared_); }
+
+Status Driver::stop_stream() {
+  const bool on_reader = live_stream_ && std::this_thread::get_id() == live_stream_->reader_id.load();
+  if (streaming() && !on_reader) return detail::stop_live_stream(*live_stream_);
+  return send_stop_stream();
 }
 
 void MeasurementStream::run() {
-  Shared& shared = *shared_;
+  detail::LiveStream& shared = *shared_;
+  shared.reader_id = std::this_thread::get_id();  // the driver answers this thread's requests
+  // Valid until this thread is joined: the driver stops the stream before it goes away.
+  Driver& driver = *shared.driver;
   const std::optional<double> range_mm =
-      driver_.identification_ ? std::optional<double>(driver_.identification_->range_mm) : std::nullopt;
-  const int address = driver_.address();
-  bool derivative = driver_.derivative_results_.value_or(false);
+      driver.identification_ ? std::optional<double>(driver.identification_->range_mm) : std::nullopt;
+  const int address = shared.address;
+  bool derivative = driver.derivative_results_.value_or(false);
   std::array<std::uint8_t, 4096> buffer{};
   auto last_record = Clock::now();
   bool link_closed = false;
@@ -125,10 +182,10 @@ void MeasurementStream::run() {
     return shared.stop_requested;
   };
   auto lose_link = [&](std::string why, bool closed) {
-    if (driver_.assembler_->buffered() > 0) {
+    if (driver.assembler_->buffered() > 0) {
       shared.queue.push(make_event(StreamEventKind::bad_frame,
-                                   std::to_string(driver_.assembler_->buffered()) + " bytes of a half frame dropped"));
-      driver_.assembler_->clear();
+                                   std::to_string(driver.assembler_->buffered()) + " bytes of a half frame dropped"));
+      driver.assembler_->clear();
     }
     shared.queue.push(make_event(StreamEventKind::disconnected, std::move(why)));
     shared.connected = false;
@@ -137,11 +194,11 @@ void MeasurementStream::run() {
 
   while (!stopping()) {
     if (shared.connected.load()) {
-      auto got = driver_.transport_->read_some(buffer, read_slice);
+      auto got = driver.transport_->read_some(buffer, read_slice);
       if (!got) {
         if (got.error().code == Errc::timeout) {
           if (Clock::now() - last_record > options_.silence_timeout) {
-            lose_link("no record from " + driver_.transport_name() + " for " +
+            lose_link("no record from " + driver.transport_name() + " for " +
                           std::to_string(options_.silence_timeout.count()) +
                           " ms (sensor power-cycled, turned off or stopped?)",
                       false);
@@ -151,9 +208,9 @@ void MeasurementStream::run() {
         lose_link(got.error().message, true);
         continue;
       }
-      driver_.assembler_->push(Bytes(buffer.data(), *got));
+      driver.assembler_->push(Bytes(buffer.data(), *got));
       FrameAssembler::Event event;
-      while (driver_.assembler_->next(event)) {
+      while (driver.assembler_->next(event)) {
         if (event.kind == FrameAssembler::Event::Kind::rejected) {
           if (event.reason != nullptr) {
             shared.queue.push(make_event(StreamEventKind::bad_frame,
@@ -168,7 +225,7 @@ void MeasurementStream::run() {
         }
         if (reply->kind != ReplyKind::stream_record) continue;  // e.g. a late echo
         last_record = Clock::now();
-        shared.queue.push(make_ls5_sample(reply->result, range_mm, driver_.transport_name(), address, derivative));
+        shared.queue.push(make_ls5_sample(reply->result, range_mm, driver.transport_name(), address, derivative));
         ++records_;  // after the push: once records() counts it, the queue (and lost()) has it
       }
       continue;
@@ -181,21 +238,21 @@ void MeasurementStream::run() {
       if (shared.stop_requested) break;
     }
     if (link_closed) {
-      Status reopened = driver_.reopen();
+      Status reopened = driver.reopen();
       if (!reopened) {
         if (reopened.error().code == Errc::unsupported) break;  // nothing to reopen with: the stream ends
         continue;
       }
       link_closed = false;
     }
-    auto identified = driver_.transact(Request::simple(driver_.address(), CommandId::identification));
+    auto identified = driver.transact(Request::simple(shared.address, CommandId::identification));
     if (!identified) {
       if (identified.error().code != Errc::timeout) link_closed = true;
       continue;
     }
     // A power cycle brings back 0E from ROM, which need not be what RAM held (L60).
     if (identified->identification.version.value_or(any_firmware).at_least(firmware_8_0)) {
-      auto type = driver_.transact(Request::read(driver_.address(), address::result_type));
+      auto type = driver.transact(Request::read(shared.address, address::result_type));
       if (!type) {
         if (type.error().code != Errc::timeout) link_closed = true;
         continue;
@@ -204,17 +261,18 @@ void MeasurementStream::run() {
     } else {
       derivative = false;
     }
-    driver_.derivative_results_ = derivative;
-    auto start = encode_request(Request::simple(driver_.address(), CommandId::start_stream));
-    if (!start || !driver_.transport_->write_all(start->bytes())) {
+    driver.derivative_results_ = derivative;
+    auto start = encode_request(Request::simple(shared.address, CommandId::start_stream));
+    if (!start || !driver.transport_->write_all(start->bytes())) {
       link_closed = true;
       continue;
     }
-    driver_.assembler_->clear();
+    driver.assembler_->clear();
     last_record = Clock::now();
     shared.connected = true;
-    shared.queue.push(make_event(StreamEventKind::reconnected, "stream restarted on " + driver_.transport_name()));
+    shared.queue.push(make_event(StreamEventKind::reconnected, "stream restarted on " + driver.transport_name()));
   }
+  shared.owns_line = false;  // the driver may be used again
   if (!shared.connected.load() && !stopping()) {
     shared.finished = true;
     shared.queue.close();

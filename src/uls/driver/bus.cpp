@@ -10,7 +10,7 @@ DriverOptions bus_driver_options(const BusOptions& options) {
   DriverOptions driver;
   driver.timeout = options.timeout;
   driver.measure_timeout = options.measure_timeout;
-  driver.get_retries = 0;  // a silent address is the common case on a scan
+  driver.read_retries = 0;  // a silent address is the common case on a scan
   return driver;
 }
 

@@ -144,6 +144,11 @@ bool Driver::connected() const {
 }
 
 Status Driver::replace_transport(TransportPtr transport) {
+  // A caller's request reads the transport and the assembler without transport_mutex_:
+  // the old link is destroyed only after the request in flight has finished. The
+  // reader thread (reconnecting) owns both while it streams and takes no request lock.
+  std::unique_lock request_lock(request_mutex_, std::defer_lock);
+  if (!on_reader_thread()) request_lock.lock();
   // The reader uses the transport and the assembler without holding the lock.
   if (streaming_ && !on_reader_thread()) {
     return make_error(Errc::unsupported, "cannot replace the transport while streaming: stop the stream first");
@@ -159,7 +164,7 @@ Status Driver::replace_transport(TransportPtr transport) {
 }
 
 DriverCounters Driver::counters() const {
-  std::lock_guard lock(const_cast<std::mutex&>(state_mutex_));
+  std::lock_guard lock(state_mutex_);
   return counters_;
 }
 
@@ -401,7 +406,7 @@ Result<std::vector<std::string>> Driver::get(std::string_view mnemonic, std::spa
   if (auto checked = check_locally(*command, arguments); !checked) return checked.error();
   if (command->mnemonic == "BM")
     return make_error(Errc::wrong_form, "use measure() for BM: its reply is a measurement");
-  return transact(*command, arguments, Expect::value, 1 + options_.get_retries, options_.timeout);
+  return transact(*command, arguments, Expect::value, 1 + options_.read_retries, options_.timeout);
 }
 
 Status Driver::set(std::string_view mnemonic, std::span<const std::string_view> values) {
@@ -473,7 +478,7 @@ Result<Units> Driver::cached_units() {
     if (units_) return *units_;
   }
   const CommandInfo* command = find_command("MU");
-  auto values = transact(*command, {}, Expect::value, 1 + options_.get_retries, options_.timeout);
+  auto values = transact(*command, {}, Expect::value, 1 + options_.read_retries, options_.timeout);
   if (!values) return values.error();
   const auto units = values->size() == 1 ? to_units(text::parse_unsigned((*values)[0], 1).value_or(9)) : std::nullopt;
   if (!units) return make_error(Errc::invalid_frame, "MU reply is not 0 or 1");

@@ -223,6 +223,12 @@ void Driver::reader_loop() {
           std::chrono::steady_clock::now() - last_measurement_ >
               std::max<std::chrono::microseconds>(3 * poll_period_, 1500ms)) {
         active_mode_ = StreamMode::polled;
+        // Said, not done silently: the data now come one BM at a time, and a unit that
+        // sends its lines to the other port (MO) is worth knowing about.
+        emit_event(StreamEventKind::polling,
+                   options_.source +
+                       ": no continuous lines on this port (CO on, MO elsewhere?): polling with BM every " +
+                       std::to_string(std::chrono::ceil<std::chrono::milliseconds>(poll_period_).count()) + " ms");
       }
     }
     if (step) continue;
@@ -254,7 +260,7 @@ Result<ProbeResult> probe(Transport& transport, std::optional<std::uint8_t> addr
   DriverOptions options;
   options.address = address;
   options.timeout = timeout;
-  options.get_retries = 0;
+  options.read_retries = 0;
   Driver driver(std::make_unique<BorrowedTransport>(transport), options);
   // ID and US only read (§8): the unit is left as it was.
   auto version = driver.version();
