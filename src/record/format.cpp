@@ -224,21 +224,18 @@ void append_jsonl(std::string& out, const Sample& sample) {
       }
       break;
     case SampleKind::ls5_result:
+    case SampleKind::ls5_derivative: {
+      // The same record; only its value's meaning differs (formula 8.1 or 8.2, L60).
+      const bool derivative = sample.kind == SampleKind::ls5_derivative;
       append_json_key(out, "code");
       append_json_optional(out, sample.code, append_u16);
-      append_json_key(out, "distance_mm");
-      append_json_optional(out, sample.distance_mm, Millimetres{millimetre_decimals(sample)});
+      append_json_key(out, derivative ? "derivative_mm" : "distance_mm");
+      append_json_optional(out, derivative ? sample.derivative_mm : sample.distance_mm,
+                           Millimetres{millimetre_decimals(sample)});
       append_json_key(out, "signal");
       append_json_optional(out, sample.signal, append_signal_json);
       break;
-    case SampleKind::ls5_derivative:
-      append_json_key(out, "code");
-      append_json_optional(out, sample.code, append_u16);
-      append_json_key(out, "derivative_mm");
-      append_json_optional(out, sample.derivative_mm, Millimetres{millimetre_decimals(sample)});
-      append_json_key(out, "signal");
-      append_json_optional(out, sample.signal, append_signal_json);
-      break;
+    }
   }
   out += "}\n";
 }
