@@ -33,7 +33,7 @@ int run_capture(CaptureArguments& arguments) {
     auto source = start_uls_source(UlsSourceOptions{port, arguments.uls_baud, std::nullopt, port});
     if (!source) {
       fmt::print(stderr, "rangekit capture: {}\n", source.error().describe());
-      return source.error().code == Errc::timeout ? exit_no_reply : exit_io;
+      return exit_code_for(source.error());
     }
     sources.push_back(std::move(source).value());
   }
@@ -44,7 +44,7 @@ int run_capture(CaptureArguments& arguments) {
         Ls5SourceOptions{port, arguments.ls5_baud, static_cast<std::uint8_t>(arguments.ls5_address), thinning});
     if (!source) {
       fmt::print(stderr, "rangekit capture: {}\n", source.error().describe());
-      return source.error().code == Errc::timeout ? exit_no_reply : exit_io;
+      return exit_code_for(source.error());
     }
     sources.push_back(std::move(source).value());
   }

@@ -5,6 +5,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "rangekit/core/result.hpp"
+
 namespace rangekit::cli {
 
 // Exit codes (documented in docs/cli.md).
@@ -17,6 +19,12 @@ inline constexpr int exit_device_error = 6;   // the device answered with an err
 inline constexpr int exit_write_failed = 7;   // output or capture file could not be written (disk full)
 inline constexpr int exit_link_lost = 8;      // the link went away and did not come back in time
 inline constexpr int exit_interrupted = 130;  // Ctrl-C; files were closed cleanly
+
+// The one map from a library error to an exit code, for both families and every
+// subcommand (the table "Which error gives which code" in docs/cli.md). A port that
+// cannot be opened, whatever the reason, is turned into Errc::io by open_port
+// (host_sources.hpp) before it gets here.
+int exit_code_for(const Error& error);
 
 void add_tables_command(CLI::App& app, int& exit_code);
 void add_decode_command(CLI::App& app, int& exit_code);

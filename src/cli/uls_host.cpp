@@ -38,27 +38,6 @@ void add_link_options(CLI::App* command, LinkOptions& link) {
   command->add_option("--timeout", link.timeout_ms, "milliseconds to wait for each reply")->capture_default_str();
 }
 
-int exit_code_for(const Error& error) {
-  switch (error.code) {
-    case Errc::device_error:
-      return exit_device_error;
-    case Errc::timeout:
-      return exit_no_reply;
-    case Errc::out_of_range:
-    case Errc::wrong_form:
-    case Errc::unknown_command:
-    case Errc::unknown_parameter:
-      return exit_usage;
-    case Errc::closed:
-      return exit_link_lost;
-    case Errc::io:
-    case Errc::unsupported:
-      return exit_io;
-    default:
-      return exit_bad_input;
-  }
-}
-
 int fail(std::string_view command, const Error& error) {
   fmt::print(stderr, "rangekit uls {}: {}\n", command, error.message);
   return exit_code_for(error);
@@ -73,31 +52,18 @@ Result<std::optional<std::uint8_t>> address_of(const LinkOptions& link) {
   return std::optional<std::uint8_t>{*address};
 }
 
-ReopenFunction reopen_function(const LinkOptions& link) {
-  return [path = link.port, baud = link.baud] { return open_serial(path, baud); };
-}
-
-Result<TransportPtr> open_port(const LinkOptions& link) {
-  auto port = reopen_function(link)();
-  if (!port) {
-    Error error = port.error();
-    if (error.code != Errc::unsupported) error.code = Errc::io;
-    error.message = "cannot open " + link.port + ": " + error.message;
-    return error;
-  }
-  return port;
-}
-
 Result<std::unique_ptr<Driver>> open_driver(const LinkOptions& link, bool with_reopen = false) {
   auto address = address_of(link);
   if (!address) return address.error();
-  auto port = open_port(link);
+  const SerialSettings line{link.baud, Parity::none, 1};  // 8N1, §9
+  auto port = open_port(link.port, line);
   if (!port) return port.error();
   DriverOptions options;
   options.address = *address;
   options.timeout = std::chrono::milliseconds(link.timeout_ms);
   options.source = link.port;
-  return std::make_unique<Driver>(std::move(*port), options, with_reopen ? reopen_function(link) : ReopenFunction{});
+  return std::make_unique<Driver>(std::move(*port), options,
+                                  with_reopen ? reopen_port(link.port, line) : ReopenFunction{});
 }
 
 std::string format_sample(const Sample& sample) {
@@ -361,7 +327,8 @@ int run_reset(const LinkOptions& link, bool save) {
 // --- bus -------------------------------------------------------------------
 
 Result<std::unique_ptr<Bus>> open_bus(const LinkOptions& link) {
-  auto port = open_port(link);
+  const SerialSettings line{link.baud, Parity::none, 1};  // 8N1, §9
+  auto port = open_port(link.port, line);
   if (!port) return port.error();
   BusOptions options;
   options.timeout = std::chrono::milliseconds(std::min(link.timeout_ms, 1000));
