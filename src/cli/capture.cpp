@@ -76,8 +76,9 @@ void add_capture_command(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   command->add_option("--ls5-thinning", arguments.ls5_thinning, "LS5 stream thinning n (§8.4)")
       ->check(CLI::Range(1, 255));
-  command->add_option("--count", arguments.stream.count, "stop after this many samples");
-  command->add_option("--duration", arguments.stream.duration_s, "stop after this many seconds");
+  command->add_option("--count", arguments.stream.count, "stop after this many samples")->check(sample_count());
+  command->add_option("--duration", arguments.stream.duration_s, "stop after this many seconds")
+      ->check(duration_seconds());
   command->add_option("--echo", arguments.echo, "also print the samples: jsonl, csv or text")
       ->check(CLI::IsMember({"jsonl", "csv", "text"}));
   command->add_flag("--quiet", arguments.stream.quiet, "no live status line");

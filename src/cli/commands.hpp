@@ -26,6 +26,18 @@ inline constexpr int exit_interrupted = 130;  // Ctrl-C; files were closed clean
 // (host_sources.hpp) before it gets here.
 int exit_code_for(const Error& error);
 
+// Checks for numbers given on the command line, so that every subcommand refuses a
+// negative or absurd duration, count or timeout the same way, naming the range
+// ("--count -2 is out of range: give 1 to 1000000000 samples"), before the value is
+// converted (an unsigned option would otherwise wrap -2 round to a 20-digit number).
+inline constexpr double max_duration_s = 31'536'000;  // a year
+inline constexpr double max_count = 1'000'000'000;
+inline constexpr double max_timeout_ms = 60'000;
+CLI::Validator in_range(double lowest, double highest, const std::string& unit);
+inline CLI::Validator duration_seconds() { return in_range(0, max_duration_s, "seconds"); }
+inline CLI::Validator sample_count() { return in_range(1, max_count, "samples"); }
+inline CLI::Validator timeout_milliseconds() { return in_range(1, max_timeout_ms, "milliseconds"); }
+
 void add_tables_command(CLI::App& app, int& exit_code);
 void add_decode_command(CLI::App& app, int& exit_code);
 void add_demo_command(CLI::App& app, int& exit_code);

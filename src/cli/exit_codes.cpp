@@ -2,6 +2,11 @@
 // error gives which code"). Before it there were three, and they disagreed.
 #include "cli/commands.hpp"
 
+#include <fmt/core.h>
+
+#include <cmath>
+#include <cstdlib>
+
 namespace rangekit::cli {
 
 int exit_code_for(const Error& error) {
@@ -33,6 +38,20 @@ int exit_code_for(const Error& error) {
       return exit_bad_input;
   }
   return exit_bad_input;
+}
+
+CLI::Validator in_range(double lowest, double highest, const std::string& unit) {
+  const std::string range = fmt::format("{:g} to {:.0f} {}", lowest, highest, unit);
+  return CLI::Validator(
+      [lowest, highest, range](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value))
+          return "'" + text + "' is not a number: give " + range;
+        if (value < lowest || value > highest) return text + " is out of range: give " + range;
+        return {};
+      },
+      range);
 }
 
 }  // namespace rangekit::cli

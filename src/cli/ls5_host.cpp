@@ -35,7 +35,7 @@ void add_ls5_connection_options(CLI::App& command, Ls5Connection& connection) {
                      "network address 1-255, decimal or 0x.. (default 1); 0 broadcasts set/on/off/save/defaults/latch "
                      "to every sensor, unanswered");
   command.add_option("--timeout-ms", connection.timeout_ms, "reply timeout per request (default 500)")
-      ->check(CLI::Range(1, 60000));
+      ->check(timeout_milliseconds());
 }
 
 Result<std::uint8_t> parse_ls5_address(std::string_view text, bool allow_broadcast) {

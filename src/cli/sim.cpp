@@ -31,7 +31,7 @@ void add_common_sim_options(CLI::App& command, SimCommonOptions& options) {
   command.add_option("--scene", options.scene, "TOML scene file (docs/emulators.md)");
   command.add_option("--seed", options.seed, "seed for repeatable noise");
   command.add_option("--time-scale", options.time_scale, "run the clock X times faster than real time")
-      ->check(CLI::PositiveNumber);
+      ->check(in_range(0.001, 1000, "times real time"));
   command.add_flag("--virtual-clock", options.virtual_clock,
                    "time moves only on {\"cmd\":\"advance\"} from the control socket (for tests)");
 }

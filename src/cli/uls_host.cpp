@@ -35,7 +35,9 @@ void add_link_options(CLI::App* command, LinkOptions& link) {
   command->add_option("--address", link.address,
                       "RS-485 unit address: one character 0x30-0xEF ('A'), 0xNN or decimal; "
                       "without it the '$' protocol");
-  command->add_option("--timeout", link.timeout_ms, "milliseconds to wait for each reply")->capture_default_str();
+  command->add_option("--timeout", link.timeout_ms, "milliseconds to wait for each reply")
+      ->check(timeout_milliseconds())
+      ->capture_default_str();
 }
 
 int fail(std::string_view command, const Error& error) {
@@ -451,7 +453,7 @@ void add_uls_command(CLI::App& app, int& exit_code) {
   auto count = std::make_shared<int>(1);
   auto* measure = uls->add_subcommand("measure", "one measurement with BM (starts the unit if idle, §2 Autostart)");
   add_link_options(measure, *link);
-  measure->add_option("--count", *count, "measurements to read")->capture_default_str();
+  measure->add_option("--count", *count, "measurements to read")->check(sample_count())->capture_default_str();
   measure->callback([&exit_code, link, count] { exit_code = run_measure(*link, *count); });
 
   auto* start = uls->add_subcommand("start", "start measuring (GO)");
