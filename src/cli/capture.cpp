@@ -32,7 +32,7 @@ int run_capture(CaptureArguments& arguments) {
   for (const auto& port : arguments.uls_ports) {
     auto source = start_uls_source(UlsSourceOptions{port, arguments.uls_baud, std::nullopt, port});
     if (!source) {
-      fmt::print(stderr, "rangekit capture: {}\n", source.error().describe());
+      fmt::print(stderr, "rangekit capture: {}\n", source.error().message);
       return exit_code_for(source.error());
     }
     sources.push_back(std::move(source).value());
@@ -43,7 +43,7 @@ int run_capture(CaptureArguments& arguments) {
     auto source = start_ls5_source(
         Ls5SourceOptions{port, arguments.ls5_baud, static_cast<std::uint8_t>(arguments.ls5_address), thinning});
     if (!source) {
-      fmt::print(stderr, "rangekit capture: {}\n", source.error().describe());
+      fmt::print(stderr, "rangekit capture: {}\n", source.error().message);
       return exit_code_for(source.error());
     }
     sources.push_back(std::move(source).value());

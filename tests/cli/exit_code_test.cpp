@@ -56,10 +56,13 @@ TEST_F(ExitCodes, AMissingPortIsExit4ForEveryCommandThatOpensOne) {
 // Issue 11 point 5: "Errors are not wrapped twice ("cannot open X: cannot open serial port X")".
 TEST_F(ExitCodes, ThePortIsNamedOnceWhenItCannotBeOpened) {
   const std::string port = (dir_ / "nothing-here").string();
-  for (const char* family : {"uls", "ls5"}) {
-    const CliResult run = run_cli(std::string(family) + " info --port " + port);
+  const std::vector<std::string> commands{"uls info --port ", "ls5 info --port ", "uls stream --port ",
+                                          "capture --out " + (dir_ / "e.sqlite").string() + " --uls "};
+  for (const std::string& command : commands) {
+    const CliResult run = run_cli(command + port);
     EXPECT_EQ(count_of(run.output, port), 1U) << run.output;
     EXPECT_EQ(count_of(run.output, "cannot open"), 1U) << run.output;
+    EXPECT_EQ(count_of(run.output, "I/O error"), 0U) << "no category word before the message: " << run.output;
   }
 }
 
