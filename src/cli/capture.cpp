@@ -56,7 +56,12 @@ int run_capture(CaptureArguments& arguments) {
   } else {
     options.format = arguments.echo;
   }
-  return run_stream_as(*merged, options, "capture");
+  record::StreamStats stats;
+  const int code = run_stream_as(*merged, options, "capture", &stats);
+  // No silent end (issue 11 point 5): what the file holds and how to look at it.
+  fmt::print(stderr, "rangekit capture: {} samples \u2192 {}; replay with: rangekit replay {}\n", stats.samples,
+             options.capture, options.capture);
+  return code;
 }
 
 }  // namespace
