@@ -3,6 +3,8 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -49,6 +51,36 @@ Result<std::chrono::milliseconds> silence_timeout(ls5::Driver& driver, const Ser
   const auto three_periods = std::chrono::milliseconds(static_cast<std::int64_t>(3 * output_period_ms) + 1);
   return std::max(std::chrono::milliseconds(command.silence_ms), three_periods);
 }
+
+// No silent waits (issue 11 point 5): when nothing has arrived after `patience`, says
+// once on stderr what to check. Everything else is passed through unchanged.
+class HintWhenSilent final : public SampleSource {
+ public:
+  HintWhenSilent(SampleSource& inner, std::chrono::milliseconds patience, std::string hint)
+      : inner_(inner), patience_(patience), hint_(std::move(hint)), started_(std::chrono::steady_clock::now()) {}
+  std::optional<StreamItem> next(std::chrono::milliseconds timeout) override {
+    auto item = inner_.next(timeout);
+    if (item) {
+      heard_ = true;
+    } else if (!heard_ && !hinted_ && std::chrono::steady_clock::now() - started_ >= patience_) {
+      hinted_ = true;
+      fmt::print(stderr, "{}\n", hint_);
+      std::fflush(stderr);
+    }
+    return item;
+  }
+  [[nodiscard]] bool finished() const override { return inner_.finished(); }
+  void stop() override { inner_.stop(); }
+  [[nodiscard]] std::uint64_t lost() const override { return inner_.lost(); }
+
+ private:
+  SampleSource& inner_;
+  std::chrono::milliseconds patience_;
+  std::string hint_;
+  std::chrono::steady_clock::time_point started_;
+  bool heard_ = false;
+  bool hinted_ = false;
+};
 
 }  // namespace
 
@@ -121,7 +153,12 @@ void add_ls5_stream_commands(CLI::App& ls5, int& exit_code) {
       exit_code = exit_io;
       return;
     }
-    exit_code = run_stream(**receiver, udp->stream);
+    HintWhenSilent watched(**receiver, std::chrono::seconds(3),
+                           fmt::format("rangekit ls5 udp: nothing has arrived on {} for 3 s: is the sensor's "
+                                       "destination IP address this host and its destination port {} (its Ethernet "
+                                       "settings, §10.1), and is it streaming?",
+                                       endpoint->to_string(), endpoint->port));
+    exit_code = run_stream_as(watched, udp->stream, "ls5 udp");
     (*receiver)->stop();
     const auto counters = (*receiver)->counters();
     if (counters.bad_packets > 0 || counters.lost_packets > 0 || counters.duplicates > 0) {
