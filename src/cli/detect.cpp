@@ -97,6 +97,26 @@ void print_finding(const Finding& finding, bool jsonl) {
   std::fflush(stdout);
 }
 
+// No silent waits (issue 11 point 5): a port where nothing answers takes about 22 s,
+// so on a terminal (stdout and stderr, as for the status line of docs/cli.md) one line
+// on stderr, redrawn in place, says which rate and format is being tried.
+bool progress_wanted() {
+  static const bool wanted = ::isatty(STDOUT_FILENO) == 1 && ::isatty(STDERR_FILENO) == 1;
+  return wanted;
+}
+
+void show_progress(const std::string& path, std::uint32_t baud, const std::string& format) {
+  if (!progress_wanted()) return;
+  fmt::print(stderr, "\r\x1b[Krangekit detect: trying {} at {} {} ...", path, baud, format);
+  std::fflush(stderr);
+}
+
+void clear_progress() {
+  if (!progress_wanted()) return;
+  fmt::print(stderr, "\r\x1b[K");
+  std::fflush(stderr);
+}
+
 // A path that is not there or is not a terminal is reported once, not per baud.
 Status check_is_terminal(const std::string& path) {
   const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
@@ -133,6 +153,7 @@ PortScan scan_port(const DetectOptions& options, const std::string& path, const 
   const auto formats = candidate_formats(options);
   const bool try_8n1 = std::find(formats.begin(), formats.end(), "8N1") != formats.end();
   auto report = [&](const Finding& finding) {
+    clear_progress();
     print_finding(finding, options.jsonl);
     ++scan.found;
   };
@@ -145,6 +166,7 @@ PortScan scan_port(const DetectOptions& options, const std::string& path, const 
       scan.failed = true;
       return std::nullopt;
     }
+    show_progress(path, baud, format);
     auto port = SerialPort::open(path, *settings);
     if (!port) {
       // A rate this system cannot set (14400, H1) is skipped; anything else ends the scan of the port.
@@ -207,6 +229,7 @@ int run_detect(const DetectOptions& options) {
       continue;
     }
     const PortScan scan = scan_port(options, path, bauds, timeout);
+    clear_progress();
     found += scan.found;
     any_port_failed = any_port_failed || scan.failed;
     if (scan.found == 0 && !scan.failed) {
