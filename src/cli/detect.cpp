@@ -258,7 +258,8 @@ void add_detect_command(CLI::App& app, int& exit_code) {
                    "only these byte formats (8N1 8E1 8O1 8N2 8E2 8O2; default: 8N1, then the LS5's other five where "
                    "nothing answered at 8N1)")
       ->check(CLI::IsMember({"8N1", "8E1", "8O1", "8N2", "8E2", "8O2"}));
-  command->add_option("--timeout-ms", options.timeout_ms, "wait per request")
+  command->add_option("--timeout-ms", options.timeout_ms)->check(timeout_milliseconds())->group("");  // old spelling
+  command->add_option("--timeout", options.timeout_ms, "milliseconds to wait per request")
       ->check(timeout_milliseconds())
       ->capture_default_str();
   command->add_flag("--all-bauds", options.all_bauds, "keep trying other rates after a port answered");

@@ -1,4 +1,4 @@
-// `rangekit ls5 info|get|set|latch|measure|on|off|save|defaults`: one request
+// `rangekit ls5 info|get|set|latch|measure|start|stop|save|reset` (on, off, defaults: hidden aliases): one request
 // (or a few) each, through ls5::Driver; values by readable name or raw address.
 #include <fmt/core.h>
 
@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli/commands.hpp"
@@ -271,30 +272,41 @@ void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
                        fmt::print("{}\n", measurement_text(*result));
                        return ok_status();
                      });
-  add_device_command(
-      ls5, exit_code, "on", "turn the sensor on (ON): laser and measurements",
-      [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.turn_on(), "on"); }, nullptr,
-      Broadcast::allowed);
-  add_device_command(
-      ls5, exit_code, "off", "turn the sensor off (OF): no measurements (§8.2)",
-      [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.turn_off(), "off"); }, nullptr,
-      Broadcast::allowed);
+  // The same verbs as `rangekit uls` (issue 11 point 5): start, stop, reset. The LS5's own
+  // words (on, off, defaults) stay as hidden aliases so that scripts keep working.
+  for (const auto& [name, hidden] : {std::pair{"start", false}, std::pair{"on", true}}) {
+    auto* start = add_device_command(
+        ls5, exit_code, name, "turn the sensor on (ON): laser and measurements",
+        [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.turn_on(), "on"); }, nullptr,
+        Broadcast::allowed);
+    if (hidden) start->group("");
+  }
+  for (const auto& [name, hidden] : {std::pair{"stop", false}, std::pair{"off", true}}) {
+    auto* stop = add_device_command(
+        ls5, exit_code, name, "turn the sensor off (OF): no measurements (§8.2)",
+        [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.turn_off(), "off"); }, nullptr,
+        Broadcast::allowed);
+    if (hidden) stop->group("");
+  }
   add_device_command(
       ls5, exit_code, "save", "store the current parameters to non-volatile memory (FL)",
       [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.store_to_flash(), "saved"); }, nullptr,
       Broadcast::allowed);
-  add_device_command(
-      ls5, exit_code, "defaults", "restore the table 9.2 defaults in RAM (DF); `save` keeps them over a power cycle",
-      [](ls5::Driver& driver, DeviceCommand&) {
-        const std::uint8_t was_at = driver.address();
-        Status restored = echo_done(driver, driver.restore_defaults(), "defaults restored (RAM only until `save`)");
-        if (restored && was_at != ls5::broadcast_address && was_at != ls5::default_network_address) {
-          fmt::print("the sensor now answers at address {} (table 9.2 default); it was {}\n",
-                     ls5::default_network_address, was_at);
-        }
-        return restored;
-      },
-      nullptr, Broadcast::allowed);
+  for (const auto& [name, hidden] : {std::pair{"reset", false}, std::pair{"defaults", true}}) {
+    auto* reset = add_device_command(
+        ls5, exit_code, name, "restore the table 9.2 defaults in RAM (DF); `save` keeps them over a power cycle",
+        [](ls5::Driver& driver, DeviceCommand&) {
+          const std::uint8_t was_at = driver.address();
+          Status restored = echo_done(driver, driver.restore_defaults(), "defaults restored (RAM only until `save`)");
+          if (restored && was_at != ls5::broadcast_address && was_at != ls5::default_network_address) {
+            fmt::print("the sensor now answers at address {} (table 9.2 default); it was {}\n",
+                       ls5::default_network_address, was_at);
+          }
+          return restored;
+        },
+        nullptr, Broadcast::allowed);
+    if (hidden) reset->group("");
+  }
 }
 
 }  // namespace rangekit::cli

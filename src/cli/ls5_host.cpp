@@ -34,8 +34,10 @@ void add_ls5_connection_options(CLI::App& command, Ls5Connection& connection) {
   command.add_option("--address", connection.address,
                      "network address 1-255, decimal or 0x.. (default 1); 0 broadcasts set/on/off/save/defaults/latch "
                      "to every sensor, unanswered");
-  command.add_option("--timeout-ms", connection.timeout_ms, "reply timeout per request (default 500)")
+  command.add_option("--timeout", connection.timeout_ms, "milliseconds to wait for each reply (default 500)")
       ->check(timeout_milliseconds());
+  // The LS5's earlier spelling, kept for scripts; `--timeout` as for the ULS (issue 11 point 5).
+  command.add_option("--timeout-ms", connection.timeout_ms)->check(timeout_milliseconds())->group("");
 }
 
 Result<std::uint8_t> parse_ls5_address(std::string_view text, bool allow_broadcast) {
@@ -54,7 +56,8 @@ Result<std::uint8_t> parse_ls5_address(std::string_view text, bool allow_broadca
   return static_cast<std::uint8_t>(value);
 }
 
-Result<std::unique_ptr<ls5::Driver>> open_ls5_driver(const Ls5Connection& connection, bool allow_broadcast) {
+Result<std::unique_ptr<ls5::Driver>> open_ls5_driver(const Ls5Connection& connection, bool allow_broadcast,
+                                                     bool with_reopen) {
   auto address = parse_ls5_address(connection.address, true);
   if (!address) return address.error();
   if (*address == ls5::broadcast_address && !allow_broadcast) {
@@ -69,7 +72,8 @@ Result<std::unique_ptr<ls5::Driver>> open_ls5_driver(const Ls5Connection& connec
   ls5::DriverOptions options;
   options.address = *address;
   options.timeout = std::chrono::milliseconds(connection.timeout_ms);
-  return std::make_unique<ls5::Driver>(std::move(*port), options, reopen_port(connection.port, *settings));
+  return std::make_unique<ls5::Driver>(std::move(*port), options,
+                                       with_reopen ? reopen_port(connection.port, *settings) : ls5::ReopenFunction{});
 }
 int report_ls5_failure(std::string_view command, const Error& error, const Ls5Connection& connection) {
   fmt::print(stderr, "rangekit ls5 {}: {}\n", command, error.message);

@@ -23,6 +23,7 @@ struct SerialStreamCommand {
   int thinning = 0;  // 0: leave parameter 08 as it is
   int reconnect_ms = 500;
   int silence_ms = 3000;
+  bool no_reconnect = false;
 };
 
 struct UdpStreamCommand {
@@ -99,8 +100,9 @@ void add_ls5_stream_commands(CLI::App& ls5, int& exit_code) {
                    "no record for this long (at least 3 output periods; never with sync triggering) counts as a lost "
                    "sensor; default 3000")
       ->check(CLI::Range(100, 3600000));
+  stream->add_flag("--no-reconnect", serial->no_reconnect, "end the stream when the port goes away");
   stream->callback([&exit_code, serial] {
-    auto driver = open_ls5_driver(serial->connection);
+    auto driver = open_ls5_driver(serial->connection, false, !serial->no_reconnect);
     if (!driver) {
       exit_code = report_ls5_failure("stream", driver.error(), serial->connection);
       return;

@@ -38,4 +38,29 @@ TEST(Vocabulary, AnUnknownSubcommandIsNamedAtEveryLevel) {
   EXPECT_TRUE(contains(sim.output, "rangekit sim: unknown subcommand 'frobnicate'")) << sim.output;
 }
 
+// "The same option and verb names: `--timeout`, `start/stop`, `reset`, `--no-reconnect`."
+TEST(Vocabulary, BothFamiliesOfferTheSameVerbsAndOptions) {
+  for (const std::string& family : {std::string("uls"), std::string("ls5")}) {
+    const auto verbs = run_cli(family + " --help");
+    for (const char* verb : {"start", "stop", "reset", "stream", "info", "get", "set", "save", "config"})
+      EXPECT_TRUE(contains(verbs.output, std::string("\n  ") + verb + " ")) << family << " lacks " << verb;
+    EXPECT_TRUE(contains(run_cli(family + " info --help").output, "--timeout")) << family;
+    EXPECT_TRUE(contains(run_cli(family + " stream --help").output, "--no-reconnect")) << family;
+  }
+  EXPECT_TRUE(contains(run_cli("detect --help").output, "--timeout")) << "detect";
+}
+
+// The LS5's earlier words stay accepted, unlisted, so that scripts do not break.
+TEST(Vocabulary, TheLs5sEarlierSpellingsStillWorkButAreNotListed) {
+  const auto listed = run_cli("ls5 --help").output;
+  for (const char* old_verb : {"on", "off", "defaults"}) {
+    EXPECT_FALSE(contains(listed, std::string("\n  ") + old_verb + " ")) << old_verb;
+    // Parsed as a subcommand: it gets as far as opening the port (exit 4, docs/cli.md).
+    const auto run = run_cli(std::string("ls5 ") + old_verb + " --port /dev/null --timeout-ms 100");
+    EXPECT_EQ(run.exit_code, 4) << old_verb << ": " << run.output;
+  }
+  EXPECT_FALSE(contains(run_cli("ls5 info --help").output, "--timeout-ms"));
+  EXPECT_EQ(run_cli("detect --port /dev/null --timeout-ms 100").exit_code, 4);
+}
+
 }  // namespace

@@ -106,6 +106,9 @@ TEST(Ls5Cli, DeviceSubcommandsEndToEnd) {
   CliRun latched = w.ls5({"latch", "--port", w.port, "--read-only"});
   EXPECT_EQ(latched.out, latch.out);
 
+  // Issue 11 point 5: the ULS's verbs start/stop/reset and option --timeout work here too.
+  EXPECT_EQ(w.ls5({"stop", "--port", w.port, "--timeout", "300"}).out, "off\n");
+  EXPECT_EQ(w.ls5({"start", "--port", w.port}).out, "on\n");
   EXPECT_EQ(w.ls5({"off", "--port", w.port}).exit_code, cli::exit_ok);
   EXPECT_EQ(w.ls5({"on", "--port", w.port}).exit_code, cli::exit_ok);
   EXPECT_EQ(w.ls5({"save", "--port", w.port}).exit_code, cli::exit_ok);
@@ -206,6 +209,19 @@ TEST(Ls5Cli, UdpWithNothingArrivingHintsAtTheDestination) {
   EXPECT_TRUE(contains(hint, "nothing has arrived on 127.0.0.1:" + port + " for 3 s")) << hint;
   EXPECT_TRUE(contains(hint, "destination IP address")) << hint;
   EXPECT_TRUE(contains(hint, "destination port " + port)) << hint;
+}
+
+// Issue 11 point 5: `--no-reconnect`, as for the ULS: the stream ends when the port goes
+// away, with exit 8 ("the link went away and did not come back", docs/cli.md).
+TEST(Ls5Cli, NoReconnectEndsTheStreamWhenThePortGoesAway) {
+  Workspace w("no-reconnect");
+  auto sim = std::make_unique<Child>(sim_arguments(w));
+  ASSERT_TRUE(contains(sim->read_line(), "ready:"));
+  Child stream({"ls5", "stream", "--port", w.port, "--format", "jsonl", "--duration", "600", "--no-reconnect"});
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(contains(stream.read_line(), "\"code\":25000"));
+  sim->terminate();
+  EXPECT_EQ(sim->wait(), 0);
+  EXPECT_EQ(stream.wait(), cli::exit_link_lost);
 }
 
 // docs/conformance.md L43
