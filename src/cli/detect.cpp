@@ -263,7 +263,8 @@ void add_detect_command(CLI::App& app, int& exit_code) {
       ->check(timeout_milliseconds())
       ->capture_default_str();
   command->add_flag("--all-bauds", options.all_bauds, "keep trying other rates after a port answered");
-  command->add_flag("--jsonl", options.jsonl, "one JSON object per finding");
+  command->add_flag("--json", options.jsonl, "one JSON object per finding, one per line");
+  command->add_flag("--jsonl", options.jsonl)->group("");  // the earlier spelling, kept for scripts
   command->callback([&exit_code] { exit_code = run_detect(options); });
 }
 
