@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "cli/key_values.hpp"
 #include "cli/ls5_cli.hpp"
 #include "rangekit/ls5/parameters.hpp"
 #include "rangekit/ls5/settings.hpp"
@@ -22,6 +23,7 @@ struct DeviceCommand {
   Ls5Connection connection;
   std::vector<std::string> items;  // get: names; set: NAME=VALUE
   bool read_only = false;          // latch --read-only
+  bool json = false;               // info, get --json
 };
 
 // "0B" -> parameter 0B when it is a table 9.2 address.
@@ -57,17 +59,22 @@ std::string measurement_text(const ls5::Measurement& measurement) {
   return fmt::format("code={} signal=ok", measurement.code.value);
 }
 
-Status run_info(ls5::Driver& driver) {
+Status run_info(ls5::Driver& driver, bool json) {
   auto info = driver.info();
   if (!info) return info.error();
   const auto& id = info->identification;
-  fmt::print("address={}\nversion={}\nlower_boundary_mm={}\nrange_mm={}\nserial={}\nethernet={}\n", info->address,
-             id.version_text.view(), id.lower_boundary_mm, id.range_mm, id.serial_number,
-             info->ethernet ? "yes" : "no");
+  KeyValues out(json);
+  out.add("address", fmt::format("{}", info->address));
+  out.add("version", std::string(id.version_text.view()));
+  out.add("lower_boundary_mm", fmt::format("{}", id.lower_boundary_mm));
+  out.add("range_mm", fmt::format("{}", id.range_mm));
+  out.add("serial", fmt::format("{}", id.serial_number));
+  out.add("ethernet", info->ethernet ? "yes" : "no");
+  out.finish();
   return ok_status();
 }
 
-Status print_all(ls5::Driver& driver) {
+Status print_all(ls5::Driver& driver, KeyValues& out) {
   auto info = driver.info();  // firmware, range and Ethernet decide what exists
   if (!info) return info.error();
   auto context = driver.context();
@@ -76,31 +83,37 @@ Status print_all(ls5::Driver& driver) {
     if (!setting.canonical || !ls5::check_setting_available(setting, context->model)) continue;
     auto reading = driver.get(setting);
     if (!reading) return reading.error();
-    fmt::print("{}={}\n", setting.name, reading->text);
+    out.add(std::string(setting.name), reading->text);
     // The mm form of a code value, from the same bytes.
     const ls5::HostSetting* in_mm = ls5::find_host_setting(std::string(setting.name) + "-mm");
     if (in_mm != nullptr) {
       auto mm = ls5::format_setting(*in_mm, reading->bytes, *context);
-      if (mm) fmt::print("{}={}\n", in_mm->name, *mm);
+      if (mm) out.add(std::string(in_mm->name), *mm);
     }
   }
   return ok_status();
 }
 
-Status run_get(ls5::Driver& driver, const std::vector<std::string>& names) {
-  if (names.empty()) return print_all(driver);
+Status run_get(ls5::Driver& driver, const std::vector<std::string>& names, bool json) {
+  KeyValues out(json);
+  if (names.empty()) {
+    Status all = print_all(driver, out);
+    if (all) out.finish();
+    return all;
+  }
   for (const std::string& name : names) {
     if (const ls5::ParameterInfo* parameter = raw_parameter(name)) {
       auto value = driver.read_parameter(parameter->address);
       if (!value) return value.error();
-      fmt::print("{}={}\n", ls5::hex_byte(parameter->address), ls5::hex_byte(*value));
+      out.add(ls5::hex_byte(parameter->address), ls5::hex_byte(*value));
       continue;
     }
     if (ls5::find_host_setting(name) == nullptr) return unknown_name(name);
     auto reading = driver.get(name);
     if (!reading) return reading.error();
-    fmt::print("{}={}\n", name, reading->text);
+    out.add(name, reading->text);
   }
+  out.finish();
   return ok_status();
 }
 
@@ -221,13 +234,17 @@ Status echo_done(const ls5::Driver& driver, Status status, std::string_view what
 }  // namespace
 
 void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
-  add_device_command(ls5, exit_code, "info", "identification (ID, §9.2): version, lower boundary, range, serial",
-                     [](ls5::Driver& driver, DeviceCommand&) { return run_info(driver); });
+  auto info_state = std::make_shared<DeviceCommand>();
+  auto* info = add_device_command(
+      ls5, exit_code, "info", "identification (ID, §9.2): version, lower boundary, range, serial",
+      [](ls5::Driver& driver, DeviceCommand& state) { return run_info(driver, state.json); }, info_state);
+  info->add_flag("--json", info_state->json, "one JSON object instead of NAME=VALUE lines");
 
   auto get_state = std::make_shared<DeviceCommand>();
   auto* get = add_device_command(
       ls5, exit_code, "get", "read settings by name (median-points, period-ms, ...) or address (0B); all without names",
-      [](ls5::Driver& driver, DeviceCommand& state) { return run_get(driver, state.items); }, get_state);
+      [](ls5::Driver& driver, DeviceCommand& state) { return run_get(driver, state.items, state.json); }, get_state);
+  get->add_flag("--json", get_state->json, "one JSON object instead of NAME=VALUE lines");
   get->add_option("names", get_state->items, "setting names or two-digit parameter addresses");
 
   auto set_state = std::make_shared<DeviceCommand>();

@@ -8,6 +8,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/host_sources.hpp"
+#include "cli/key_values.hpp"
 #include "cli/stream_runner.hpp"
 #include "cli/uls_values.hpp"
 #include "rangekit/uls/bus.hpp"
@@ -27,6 +28,7 @@ struct LinkOptions {
   std::uint32_t baud = 115200;
   std::string address;
   int timeout_ms = 1000;
+  bool json = false;  // info, get: one JSON object instead of NAME=VALUE lines
 };
 
 void add_link_options(CLI::App* command, LinkOptions& link) {
@@ -86,7 +88,7 @@ std::string format_sample(const Sample& sample) {
 
 // --- get -------------------------------------------------------------------
 
-int print_setting(Driver& driver, const CommandInfo& command, Units units) {
+int print_setting(Driver& driver, const CommandInfo& command, Units units, KeyValues& out) {
   if (command.mnemonic == "BR") {
     int code = exit_ok;
     for (const char* port : {"0", "1"}) {
@@ -96,23 +98,23 @@ int print_setting(Driver& driver, const CommandInfo& command, Units units) {
         code = fail("get", values.error());
         continue;
       }
-      fmt::print("baud.{}={}  # BR,{}={}\n", port[0] == '0' ? "configuration" : "output", values->at(1), port,
-                 values->at(1));
+      out.add(fmt::format("baud.{}", port[0] == '0' ? "configuration" : "output"), values->at(1),
+              fmt::format("BR,{}={}", port, values->at(1)));
     }
     return code;
   }
   auto values = driver.get(command.mnemonic);
   if (!values) {
     if (command.mnemonic == "UA" && values.error().device_code == 82) {
-      fmt::print("address=unassigned  # UA: error 82, Unit Address Not Assigned\n");
+      out.add("address", "unassigned", "UA: error 82, Unit Address Not Assigned");
       return exit_ok;
     }
     return fail("get", values.error());
   }
   std::string wire;
   for (const auto& value : *values) wire += (wire.empty() ? "" : ",") + value;
-  fmt::print("{}={}  # {}={}\n", command.cli_name, uls_values::describe_reply(command, *values, units),
-             command.mnemonic, wire);
+  out.add(std::string(command.cli_name), uls_values::describe_reply(command, *values, units),
+          fmt::format("{}={}", command.mnemonic, wire));
   return exit_ok;
 }
 
@@ -135,11 +137,13 @@ int run_get(const LinkOptions& link, const std::vector<std::string>& names) {
   auto units = (*driver)->units();
   if (!units) return fail("get", units.error());
   int code = exit_ok;
+  KeyValues out(link.json);
   for (const CommandInfo* command : commands) {
-    const int one = print_setting(**driver, *command, *units);
+    const int one = print_setting(**driver, *command, *units, out);
     if (one == exit_no_reply) return one;
     if (code == exit_ok) code = one;
   }
+  if (code == exit_ok) out.finish();
   return code;
 }
 
@@ -208,20 +212,23 @@ int run_info(const LinkOptions& link) {
   if (!driver) return fail("info", driver.error());
   auto info = (*driver)->info();
   if (!info) return fail("info", info.error());
-  fmt::print("port={}\n", link.port);
-  if (info->address) fmt::print("address={}\n", address_text(*info->address));
-  fmt::print("version={}\n", info->version);
+  KeyValues out(link.json);
+  out.add("port", link.port);
+  if (info->address) out.add("address", address_text(*info->address));
+  out.add("version", info->version);
   const StatusInfo& s = info->status;
-  fmt::print("status={}  # US={} (active={}, laser_firing={}, averaging_calc={}, binning_calc={})\n",
-             s.value == 0    ? "error"
-             : s.measuring() ? "measuring"
-                             : "ready",
-             s.value, s.active, s.laser_firing, s.averaging_calc, s.binning_calc);
+  out.add("status",
+          s.value == 0    ? "error"
+          : s.measuring() ? "measuring"
+                          : "ready",
+          fmt::format("US={} (active={}, laser_firing={}, averaging_calc={}, binning_calc={})", s.value, s.active,
+                      s.laser_firing, s.averaging_calc, s.binning_calc));
   auto units = (*driver)->units();
   if (!units) return fail("info", units.error());
   for (const char* mnemonic : {"MM", "MU", "PF", "PO", "CO", "MO"}) {
-    if (const int code = print_setting(**driver, *find_command(mnemonic), *units); code != exit_ok) return code;
+    if (const int code = print_setting(**driver, *find_command(mnemonic), *units, out); code != exit_ok) return code;
   }
+  out.finish();
   return exit_ok;
 }
 
@@ -419,6 +426,7 @@ void add_uls_command(CLI::App& app, int& exit_code) {
 
   auto* info = uls->add_subcommand("info", "version (ID), status bits (US) and the main settings");
   add_link_options(info, *link);
+  info->add_flag("--json", link->json, "one JSON object instead of NAME=VALUE lines");
   info->callback([&exit_code, link] { exit_code = run_info(*link); });
 
   auto names = std::make_shared<std::vector<std::string>>();
@@ -426,6 +434,7 @@ void add_uls_command(CLI::App& app, int& exit_code) {
       "get", "read settings by name (mode, prf, units, ...) or mnemonic (MM, PF); all without names");
   add_link_options(get, *link);
   get->add_option("names", *names, "settings to read");
+  get->add_flag("--json", link->json, "one JSON object instead of NAME=VALUE lines");
   get->callback([&exit_code, link, names] { exit_code = run_get(*link, *names); });
 
   auto assignments = std::make_shared<std::vector<std::string>>();

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "cli/cli_run.hpp"
+#include "ls5_driver/cli_process.hpp"
 
 namespace {
 
@@ -61,6 +62,42 @@ TEST(Vocabulary, TheLs5sEarlierSpellingsStillWorkButAreNotListed) {
   }
   EXPECT_FALSE(contains(run_cli("ls5 info --help").output, "--timeout-ms"));
   EXPECT_EQ(run_cli("detect --port /dev/null --timeout-ms 100").exit_code, 4);
+}
+
+// "`--json` for `info`, `get` and `detect`": one JSON object with the names and values of
+// the NAME=VALUE lines, for both families.
+TEST(Vocabulary, InfoAndGetPrintOneJsonObjectWithJson) {
+  const ls5_driver_test::TempDir dir;
+  const std::string uls_port = (dir.path / "uls").string();
+  const std::string ls5_port = (dir.path / "ls5").string();
+  ls5_driver_test::Child uls({"sim", "uls", "--port", uls_port});
+  ASSERT_TRUE(contains(uls.read_line(), "ready:"));
+  ls5_driver_test::Child ls5({"sim", "ls5", "--port", ls5_port});
+  ASSERT_TRUE(contains(ls5.read_line(), "ready:"));
+
+  const auto uls_info = run_cli("uls info --json --port " + uls_port);
+  EXPECT_EQ(uls_info.exit_code, 0) << uls_info.output;
+  EXPECT_EQ(uls_info.output.front(), '{') << uls_info.output;
+  EXPECT_EQ(cli_test::count_of(uls_info.output, "\n"), 1U) << uls_info.output;
+  EXPECT_TRUE(contains(uls_info.output, "\"port\":\"" + uls_port + "\"")) << uls_info.output;
+  EXPECT_TRUE(contains(uls_info.output, "\"version\":")) << uls_info.output;
+
+  const auto uls_get = run_cli("uls get --json --port " + uls_port + " prf");
+  EXPECT_EQ(uls_get.exit_code, 0) << uls_get.output;
+  EXPECT_EQ(uls_get.output.front(), '{') << uls_get.output;
+  EXPECT_TRUE(contains(uls_get.output, "\"prf\":")) << uls_get.output;
+  EXPECT_FALSE(contains(uls_get.output, "#")) << "no wire comment in JSON: " << uls_get.output;
+
+  const auto ls5_info = run_cli("ls5 info --json --port " + ls5_port);
+  EXPECT_EQ(ls5_info.exit_code, 0) << ls5_info.output;
+  EXPECT_EQ(ls5_info.output.front(), '{') << ls5_info.output;
+  EXPECT_TRUE(contains(ls5_info.output, "\"address\":\"1\"")) << ls5_info.output;
+  EXPECT_TRUE(contains(ls5_info.output, "\"range_mm\":")) << ls5_info.output;
+
+  // Table 9.2: median filter points, default 5.
+  const auto ls5_get = run_cli("ls5 get --json --port " + ls5_port + " median-points");
+  EXPECT_EQ(ls5_get.exit_code, 0) << ls5_get.output;
+  EXPECT_EQ(ls5_get.output, "{\"median-points\":\"5\"}\n");
 }
 
 }  // namespace
