@@ -3,6 +3,8 @@
 // issue and docs/cli.md.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <regex>
 #include <string>
 
 #include "cli/cli_run.hpp"
@@ -98,6 +100,22 @@ TEST(Vocabulary, InfoAndGetPrintOneJsonObjectWithJson) {
   const auto ls5_get = run_cli("ls5 get --json --port " + ls5_port + " median-points");
   EXPECT_EQ(ls5_get.exit_code, 0) << ls5_get.output;
   EXPECT_EQ(ls5_get.output, "{\"median-points\":\"5\"}\n");
+}
+
+// "`sim --help` points to docs that exist": every docs/NAME.md a help text names is a file.
+TEST(Vocabulary, HelpNamesOnlyDocsThatExist) {
+  const std::regex doc_path(R"(docs/[A-Za-z0-9_-]+\.md)");
+  std::size_t named = 0;
+  for (const char* command : {"--help", "sim --help", "sim uls --help", "sim ls5 --help", "uls --help", "ls5 --help",
+                              "capture --help", "detect --help", "replay --help", "decode --help", "demo --help"}) {
+    const auto help = run_cli(command).output;
+    for (std::sregex_iterator it(help.begin(), help.end(), doc_path), end; it != end; ++it) {
+      ++named;
+      EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(RANGEKIT_SOURCE_DIR) / it->str()))
+          << command << " names " << it->str();
+    }
+  }
+  EXPECT_GT(named, 0U) << "sim's --control and --scene name their docs";
 }
 
 }  // namespace
