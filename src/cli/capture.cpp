@@ -32,8 +32,8 @@ int run_capture(CaptureArguments& arguments) {
   for (const auto& port : arguments.uls_ports) {
     auto source = start_uls_source(UlsSourceOptions{port, arguments.uls_baud, std::nullopt, port});
     if (!source) {
-      fmt::print(stderr, "rangekit capture: {}\n", source.error().describe());
-      return source.error().code == Errc::timeout ? exit_no_reply : exit_io;
+      fmt::print(stderr, "rangekit capture: {}\n", source.error().message);
+      return exit_code_for(source.error());
     }
     sources.push_back(std::move(source).value());
   }
@@ -43,8 +43,8 @@ int run_capture(CaptureArguments& arguments) {
     auto source = start_ls5_source(
         Ls5SourceOptions{port, arguments.ls5_baud, static_cast<std::uint8_t>(arguments.ls5_address), thinning});
     if (!source) {
-      fmt::print(stderr, "rangekit capture: {}\n", source.error().describe());
-      return source.error().code == Errc::timeout ? exit_no_reply : exit_io;
+      fmt::print(stderr, "rangekit capture: {}\n", source.error().message);
+      return exit_code_for(source.error());
     }
     sources.push_back(std::move(source).value());
   }
@@ -56,7 +56,12 @@ int run_capture(CaptureArguments& arguments) {
   } else {
     options.format = arguments.echo;
   }
-  return run_stream_as(*merged, options, "capture");
+  record::StreamStats stats;
+  const int code = run_stream_as(*merged, options, "capture", &stats);
+  // No silent end (issue 11 point 5): what the file holds and how to look at it.
+  fmt::print(stderr, "rangekit capture: {} samples \u2192 {}; replay with: rangekit replay {}\n", stats.samples,
+             options.capture, options.capture);
+  return code;
 }
 
 }  // namespace
@@ -76,8 +81,9 @@ void add_capture_command(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   command->add_option("--ls5-thinning", arguments.ls5_thinning, "LS5 stream thinning n (§8.4)")
       ->check(CLI::Range(1, 255));
-  command->add_option("--count", arguments.stream.count, "stop after this many samples");
-  command->add_option("--duration", arguments.stream.duration_s, "stop after this many seconds");
+  command->add_option("--count", arguments.stream.count, "stop after this many samples")->check(sample_count());
+  command->add_option("--duration", arguments.stream.duration_s, "stop after this many seconds")
+      ->check(duration_seconds());
   command->add_option("--echo", arguments.echo, "also print the samples: jsonl, csv or text")
       ->check(CLI::IsMember({"jsonl", "csv", "text"}));
   command->add_flag("--quiet", arguments.stream.quiet, "no live status line");

@@ -5,6 +5,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "rangekit/core/result.hpp"
+
 namespace rangekit::cli {
 
 // Exit codes (documented in docs/cli.md).
@@ -17,6 +19,24 @@ inline constexpr int exit_device_error = 6;   // the device answered with an err
 inline constexpr int exit_write_failed = 7;   // output or capture file could not be written (disk full)
 inline constexpr int exit_link_lost = 8;      // the link went away and did not come back in time
 inline constexpr int exit_interrupted = 130;  // Ctrl-C; files were closed cleanly
+
+// The one map from a library error to an exit code, for both families and every
+// subcommand (the table "Which error gives which code" in docs/cli.md). A port that
+// cannot be opened, whatever the reason, is turned into Errc::io by open_port
+// (host_sources.hpp) before it gets here.
+int exit_code_for(const Error& error);
+
+// Checks for numbers given on the command line, so that every subcommand refuses a
+// negative or absurd duration, count or timeout the same way, naming the range
+// ("--count -2 is out of range: give 1 to 1000000000 samples"), before the value is
+// converted (an unsigned option would otherwise wrap -2 round to a 20-digit number).
+inline constexpr double max_duration_s = 31'536'000;  // a year
+inline constexpr double max_count = 1'000'000'000;
+inline constexpr double max_timeout_ms = 60'000;
+CLI::Validator in_range(double lowest, double highest, const std::string& unit);
+inline CLI::Validator duration_seconds() { return in_range(0, max_duration_s, "seconds"); }
+inline CLI::Validator sample_count() { return in_range(1, max_count, "samples"); }
+inline CLI::Validator timeout_milliseconds() { return in_range(1, max_timeout_ms, "milliseconds"); }
 
 void add_tables_command(CLI::App& app, int& exit_code);
 void add_decode_command(CLI::App& app, int& exit_code);

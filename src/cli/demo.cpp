@@ -174,7 +174,9 @@ int run_live_demo(const DemoOptions& options) {
 void add_demo_command(CLI::App& app, int& exit_code) {
   static DemoOptions options;
   auto* command = app.add_subcommand("demo", "Run the demonstration: two emulated sensors streamed live and captured");
-  command->add_option("--seconds", options.seconds, "how long to stream")->capture_default_str();
+  command->add_option("--seconds", options.seconds, "how long to stream")
+      ->check(duration_seconds())
+      ->capture_default_str();
   command->add_option("--capture", options.capture, "SQLite file for the capture")->capture_default_str();
   command->add_option("--format", options.format, "jsonl, csv or text")->capture_default_str();
   command->add_flag("--walkthrough", options.walkthrough,

@@ -97,6 +97,26 @@ void print_finding(const Finding& finding, bool jsonl) {
   std::fflush(stdout);
 }
 
+// No silent waits (issue 11 point 5): a port where nothing answers takes about 22 s,
+// so on a terminal (stdout and stderr, as for the status line of docs/cli.md) one line
+// on stderr, redrawn in place, says which rate and format is being tried.
+bool progress_wanted() {
+  static const bool wanted = ::isatty(STDOUT_FILENO) == 1 && ::isatty(STDERR_FILENO) == 1;
+  return wanted;
+}
+
+void show_progress(const std::string& path, std::uint32_t baud, const std::string& format) {
+  if (!progress_wanted()) return;
+  fmt::print(stderr, "\r\x1b[Krangekit detect: trying {} at {} {} ...", path, baud, format);
+  std::fflush(stderr);
+}
+
+void clear_progress() {
+  if (!progress_wanted()) return;
+  fmt::print(stderr, "\r\x1b[K");
+  std::fflush(stderr);
+}
+
 // A path that is not there or is not a terminal is reported once, not per baud.
 Status check_is_terminal(const std::string& path) {
   const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
@@ -133,6 +153,7 @@ PortScan scan_port(const DetectOptions& options, const std::string& path, const 
   const auto formats = candidate_formats(options);
   const bool try_8n1 = std::find(formats.begin(), formats.end(), "8N1") != formats.end();
   auto report = [&](const Finding& finding) {
+    clear_progress();
     print_finding(finding, options.jsonl);
     ++scan.found;
   };
@@ -145,6 +166,7 @@ PortScan scan_port(const DetectOptions& options, const std::string& path, const 
       scan.failed = true;
       return std::nullopt;
     }
+    show_progress(path, baud, format);
     auto port = SerialPort::open(path, *settings);
     if (!port) {
       // A rate this system cannot set (14400, H1) is skipped; anything else ends the scan of the port.
@@ -207,6 +229,7 @@ int run_detect(const DetectOptions& options) {
       continue;
     }
     const PortScan scan = scan_port(options, path, bauds, timeout);
+    clear_progress();
     found += scan.found;
     any_port_failed = any_port_failed || scan.failed;
     if (scan.found == 0 && !scan.failed) {
@@ -235,9 +258,13 @@ void add_detect_command(CLI::App& app, int& exit_code) {
                    "only these byte formats (8N1 8E1 8O1 8N2 8E2 8O2; default: 8N1, then the LS5's other five where "
                    "nothing answered at 8N1)")
       ->check(CLI::IsMember({"8N1", "8E1", "8O1", "8N2", "8E2", "8O2"}));
-  command->add_option("--timeout-ms", options.timeout_ms, "wait per request")->capture_default_str();
+  command->add_option("--timeout-ms", options.timeout_ms)->check(timeout_milliseconds())->group("");  // old spelling
+  command->add_option("--timeout", options.timeout_ms, "milliseconds to wait per request")
+      ->check(timeout_milliseconds())
+      ->capture_default_str();
   command->add_flag("--all-bauds", options.all_bauds, "keep trying other rates after a port answered");
-  command->add_flag("--jsonl", options.jsonl, "one JSON object per finding");
+  command->add_flag("--json", options.jsonl, "one JSON object per finding, one per line");
+  command->add_flag("--jsonl", options.jsonl)->group("");  // the earlier spelling, kept for scripts
   command->callback([&exit_code] { exit_code = run_detect(options); });
 }
 

@@ -32,10 +32,22 @@ Error named(const std::string& what, Error error) {
 
 }  // namespace
 
-Result<TransportPtr> open_serial(const std::string& path, std::uint32_t baud) {
-  auto port = SerialPort::open(path, SerialSettings{baud, Parity::none, 1});
-  if (!port) return std::move(port).error();
+Result<TransportPtr> open_port(const std::string& path, const SerialSettings& settings) {
+  auto port = SerialPort::open(path, settings);
+  if (!port) {
+    Error error = std::move(port).error();
+    error.code = Errc::io;
+    return error;
+  }
   return TransportPtr(std::move(port).value());
+}
+
+Result<TransportPtr> open_serial(const std::string& path, std::uint32_t baud) {
+  return open_port(path, SerialSettings{baud, Parity::none, 1});
+}
+
+std::function<Result<TransportPtr>()> reopen_port(const std::string& path, const SerialSettings& settings) {
+  return [path, settings] { return open_port(path, settings); };
 }
 
 Result<SampleSourcePtr> start_uls_source(const UlsSourceOptions& options) {
@@ -44,9 +56,8 @@ Result<SampleSourcePtr> start_uls_source(const UlsSourceOptions& options) {
   uls::DriverOptions driver_options;
   driver_options.address = options.address;
   driver_options.source = options.label.empty() ? options.port : options.label;
-  auto driver =
-      std::make_unique<uls::Driver>(std::move(link).value(), driver_options,
-                                    [path = options.port, baud = options.baud] { return open_serial(path, baud); });
+  auto driver = std::make_unique<uls::Driver>(std::move(link).value(), driver_options,
+                                              reopen_port(options.port, SerialSettings{options.baud, Parity::none, 1}));
   if (auto started = driver->start_stream(); !started) return named("ULS on " + options.port, started.error());
   return SampleSourcePtr(std::move(driver));
 }
@@ -56,9 +67,8 @@ Result<SampleSourcePtr> start_ls5_source(const Ls5SourceOptions& options) {
   if (!link) return std::move(link).error();
   ls5::DriverOptions driver_options;
   driver_options.address = options.address;
-  auto driver =
-      std::make_unique<ls5::Driver>(std::move(link).value(), driver_options,
-                                    [path = options.port, baud = options.baud] { return open_serial(path, baud); });
+  auto driver = std::make_unique<ls5::Driver>(std::move(link).value(), driver_options,
+                                              reopen_port(options.port, SerialSettings{options.baud, Parity::none, 1}));
   ls5::Driver::StreamOptions stream_options;
   stream_options.thinning = options.thinning;
   auto stream = driver->start_stream(stream_options);

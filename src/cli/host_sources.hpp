@@ -4,16 +4,25 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/sample.hpp"
+#include "rangekit/core/serial_port.hpp"
 #include "rangekit/core/transport.hpp"
 
 namespace rangekit::cli {
 
+// Opens a serial port or pty, the one way every subcommand does. Any failure to
+// open (missing path, no permission, not a terminal, a speed the system cannot set)
+// is Errc::io, exit 4 (docs/cli.md), with the port named once in the message.
+Result<TransportPtr> open_port(const std::string& path, const SerialSettings& settings);
+// 8N1 at `baud`, the ULS's only byte format (§9) and the LS5's default.
 Result<TransportPtr> open_serial(const std::string& path, std::uint32_t baud);
+// The reopen function a driver reconnects with: the same path and line settings.
+std::function<Result<TransportPtr>()> reopen_port(const std::string& path, const SerialSettings& settings);
 
 struct UlsSourceOptions {
   std::string port;

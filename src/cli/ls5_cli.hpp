@@ -23,7 +23,7 @@ struct Ls5Connection {
   int timeout_ms = 500;
 };
 
-// --port, --baud, --byte-format, --address, --timeout-ms.
+// --port, --baud, --byte-format, --address, --timeout (and the hidden --timeout-ms).
 void add_ls5_connection_options(CLI::App& command, Ls5Connection& connection);
 
 // "5", "0x1A", "1A" (hex when it has hex letters) -> 1..255; 0 only with allow_broadcast.
@@ -34,14 +34,16 @@ Result<SerialSettings> ls5_serial_settings(std::uint32_t baud, std::string_view 
 
 // Opens the port at the given baud and byte format and makes a driver on it. Address 0
 // (broadcast, table 9.1 notes 1-2) only for commands that need no answer (L67).
-Result<std::unique_ptr<ls5::Driver>> open_ls5_driver(const Ls5Connection& connection, bool allow_broadcast = false);
+// Without `with_reopen` the driver cannot reconnect: a stream ends when the port goes away.
+Result<std::unique_ptr<ls5::Driver>> open_ls5_driver(const Ls5Connection& connection, bool allow_broadcast = false,
+                                                     bool with_reopen = true);
 
 // Prints "rangekit ls5 <command>: <message>" (plus a hint naming --port/--baud/--address
 // when the sensor did not answer) and returns the exit code for the error.
 int report_ls5_failure(std::string_view command, const Error& error, const Ls5Connection& connection);
 
 // Registration, one file each.
-void add_ls5_device_commands(CLI::App& ls5, int& exit_code);  // info get set latch measure on off save defaults
+void add_ls5_device_commands(CLI::App& ls5, int& exit_code);  // info get set latch measure start stop save reset
 void add_ls5_stream_commands(CLI::App& ls5, int& exit_code);  // stream udp
 void add_ls5_config_command(CLI::App& ls5, int& exit_code);   // config save|load|diff
 

@@ -1,4 +1,4 @@
-// `rangekit ls5 info|get|set|latch|measure|on|off|save|defaults`: one request
+// `rangekit ls5 info|get|set|latch|measure|start|stop|save|reset` (on, off, defaults: hidden aliases): one request
 // (or a few) each, through ls5::Driver; values by readable name or raw address.
 #include <fmt/core.h>
 
@@ -7,9 +7,11 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "cli/key_values.hpp"
 #include "cli/ls5_cli.hpp"
 #include "rangekit/ls5/parameters.hpp"
 #include "rangekit/ls5/settings.hpp"
@@ -21,6 +23,7 @@ struct DeviceCommand {
   Ls5Connection connection;
   std::vector<std::string> items;  // get: names; set: NAME=VALUE
   bool read_only = false;          // latch --read-only
+  bool json = false;               // info, get --json
 };
 
 // "0B" -> parameter 0B when it is a table 9.2 address.
@@ -56,17 +59,22 @@ std::string measurement_text(const ls5::Measurement& measurement) {
   return fmt::format("code={} signal=ok", measurement.code.value);
 }
 
-Status run_info(ls5::Driver& driver) {
+Status run_info(ls5::Driver& driver, bool json) {
   auto info = driver.info();
   if (!info) return info.error();
   const auto& id = info->identification;
-  fmt::print("address={}\nversion={}\nlower_boundary_mm={}\nrange_mm={}\nserial={}\nethernet={}\n", info->address,
-             id.version_text.view(), id.lower_boundary_mm, id.range_mm, id.serial_number,
-             info->ethernet ? "yes" : "no");
+  KeyValues out(json);
+  out.add("address", fmt::format("{}", info->address));
+  out.add("version", std::string(id.version_text.view()));
+  out.add("lower_boundary_mm", fmt::format("{}", id.lower_boundary_mm));
+  out.add("range_mm", fmt::format("{}", id.range_mm));
+  out.add("serial", fmt::format("{}", id.serial_number));
+  out.add("ethernet", info->ethernet ? "yes" : "no");
+  out.finish();
   return ok_status();
 }
 
-Status print_all(ls5::Driver& driver) {
+Status print_all(ls5::Driver& driver, KeyValues& out) {
   auto info = driver.info();  // firmware, range and Ethernet decide what exists
   if (!info) return info.error();
   auto context = driver.context();
@@ -75,31 +83,37 @@ Status print_all(ls5::Driver& driver) {
     if (!setting.canonical || !ls5::check_setting_available(setting, context->model)) continue;
     auto reading = driver.get(setting);
     if (!reading) return reading.error();
-    fmt::print("{}={}\n", setting.name, reading->text);
+    out.add(std::string(setting.name), reading->text);
     // The mm form of a code value, from the same bytes.
     const ls5::HostSetting* in_mm = ls5::find_host_setting(std::string(setting.name) + "-mm");
     if (in_mm != nullptr) {
       auto mm = ls5::format_setting(*in_mm, reading->bytes, *context);
-      if (mm) fmt::print("{}={}\n", in_mm->name, *mm);
+      if (mm) out.add(std::string(in_mm->name), *mm);
     }
   }
   return ok_status();
 }
 
-Status run_get(ls5::Driver& driver, const std::vector<std::string>& names) {
-  if (names.empty()) return print_all(driver);
+Status run_get(ls5::Driver& driver, const std::vector<std::string>& names, bool json) {
+  KeyValues out(json);
+  if (names.empty()) {
+    Status all = print_all(driver, out);
+    if (all) out.finish();
+    return all;
+  }
   for (const std::string& name : names) {
     if (const ls5::ParameterInfo* parameter = raw_parameter(name)) {
       auto value = driver.read_parameter(parameter->address);
       if (!value) return value.error();
-      fmt::print("{}={}\n", ls5::hex_byte(parameter->address), ls5::hex_byte(*value));
+      out.add(ls5::hex_byte(parameter->address), ls5::hex_byte(*value));
       continue;
     }
     if (ls5::find_host_setting(name) == nullptr) return unknown_name(name);
     auto reading = driver.get(name);
     if (!reading) return reading.error();
-    fmt::print("{}={}\n", name, reading->text);
+    out.add(name, reading->text);
   }
+  out.finish();
   return ok_status();
 }
 
@@ -220,13 +234,17 @@ Status echo_done(const ls5::Driver& driver, Status status, std::string_view what
 }  // namespace
 
 void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
-  add_device_command(ls5, exit_code, "info", "identification (ID, §9.2): version, lower boundary, range, serial",
-                     [](ls5::Driver& driver, DeviceCommand&) { return run_info(driver); });
+  auto info_state = std::make_shared<DeviceCommand>();
+  auto* info = add_device_command(
+      ls5, exit_code, "info", "identification (ID, §9.2): version, lower boundary, range, serial",
+      [](ls5::Driver& driver, DeviceCommand& state) { return run_info(driver, state.json); }, info_state);
+  info->add_flag("--json", info_state->json, "one JSON object instead of NAME=VALUE lines");
 
   auto get_state = std::make_shared<DeviceCommand>();
   auto* get = add_device_command(
       ls5, exit_code, "get", "read settings by name (median-points, period-ms, ...) or address (0B); all without names",
-      [](ls5::Driver& driver, DeviceCommand& state) { return run_get(driver, state.items); }, get_state);
+      [](ls5::Driver& driver, DeviceCommand& state) { return run_get(driver, state.items, state.json); }, get_state);
+  get->add_flag("--json", get_state->json, "one JSON object instead of NAME=VALUE lines");
   get->add_option("names", get_state->items, "setting names or two-digit parameter addresses");
 
   auto set_state = std::make_shared<DeviceCommand>();
@@ -271,30 +289,41 @@ void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
                        fmt::print("{}\n", measurement_text(*result));
                        return ok_status();
                      });
-  add_device_command(
-      ls5, exit_code, "on", "turn the sensor on (ON): laser and measurements",
-      [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.start_measuring(), "on"); }, nullptr,
-      Broadcast::allowed);
-  add_device_command(
-      ls5, exit_code, "off", "turn the sensor off (OF): no measurements (§8.2)",
-      [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.stop_measuring(), "off"); }, nullptr,
-      Broadcast::allowed);
+  // The same verbs as `rangekit uls` (issue 11 point 5): start, stop, reset. The LS5's own
+  // words (on, off, defaults) stay as hidden aliases so that scripts keep working.
+  for (const auto& [name, hidden] : {std::pair{"start", false}, std::pair{"on", true}}) {
+    auto* start = add_device_command(
+        ls5, exit_code, name, "turn the sensor on (ON): laser and measurements",
+        [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.start_measuring(), "on"); }, nullptr,
+        Broadcast::allowed);
+    if (hidden) start->group("");
+  }
+  for (const auto& [name, hidden] : {std::pair{"stop", false}, std::pair{"off", true}}) {
+    auto* stop = add_device_command(
+        ls5, exit_code, name, "turn the sensor off (OF): no measurements (§8.2)",
+        [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.stop_measuring(), "off"); }, nullptr,
+        Broadcast::allowed);
+    if (hidden) stop->group("");
+  }
   add_device_command(
       ls5, exit_code, "save", "store the current parameters to non-volatile memory (FL)",
       [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.store_to_flash(), "saved"); }, nullptr,
       Broadcast::allowed);
-  add_device_command(
-      ls5, exit_code, "defaults", "restore the table 9.2 defaults in RAM (DF); `save` keeps them over a power cycle",
-      [](ls5::Driver& driver, DeviceCommand&) {
-        const std::uint8_t was_at = driver.address();
-        Status restored = echo_done(driver, driver.restore_defaults(), "defaults restored (RAM only until `save`)");
-        if (restored && was_at != ls5::broadcast_address && was_at != ls5::default_network_address) {
-          fmt::print("the sensor now answers at address {} (table 9.2 default); it was {}\n",
-                     ls5::default_network_address, was_at);
-        }
-        return restored;
-      },
-      nullptr, Broadcast::allowed);
+  for (const auto& [name, hidden] : {std::pair{"reset", false}, std::pair{"defaults", true}}) {
+    auto* reset = add_device_command(
+        ls5, exit_code, name, "restore the table 9.2 defaults in RAM (DF); `save` keeps them over a power cycle",
+        [](ls5::Driver& driver, DeviceCommand&) {
+          const std::uint8_t was_at = driver.address();
+          Status restored = echo_done(driver, driver.restore_defaults(), "defaults restored (RAM only until `save`)");
+          if (restored && was_at != ls5::broadcast_address && was_at != ls5::default_network_address) {
+            fmt::print("the sensor now answers at address {} (table 9.2 default); it was {}\n",
+                       ls5::default_network_address, was_at);
+          }
+          return restored;
+        },
+        nullptr, Broadcast::allowed);
+    if (hidden) reset->group("");
+  }
 }
 
 }  // namespace rangekit::cli

@@ -3,6 +3,8 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -21,6 +23,7 @@ struct SerialStreamCommand {
   int thinning = 0;  // 0: leave parameter 08 as it is
   int reconnect_ms = 500;
   int silence_ms = 3000;
+  bool no_reconnect = false;
 };
 
 struct UdpStreamCommand {
@@ -50,6 +53,36 @@ Result<std::chrono::milliseconds> silence_timeout(ls5::Driver& driver, const Ser
   return std::max(std::chrono::milliseconds(command.silence_ms), three_periods);
 }
 
+// No silent waits (issue 11 point 5): when nothing has arrived after `patience`, says
+// once on stderr what to check. Everything else is passed through unchanged.
+class HintWhenSilent final : public SampleSource {
+ public:
+  HintWhenSilent(SampleSource& inner, std::chrono::milliseconds patience, std::string hint)
+      : inner_(inner), patience_(patience), hint_(std::move(hint)), started_(std::chrono::steady_clock::now()) {}
+  std::optional<StreamItem> next(std::chrono::milliseconds timeout) override {
+    auto item = inner_.next(timeout);
+    if (item) {
+      heard_ = true;
+    } else if (!heard_ && !hinted_ && std::chrono::steady_clock::now() - started_ >= patience_) {
+      hinted_ = true;
+      fmt::print(stderr, "{}\n", hint_);
+      std::fflush(stderr);
+    }
+    return item;
+  }
+  [[nodiscard]] bool finished() const override { return inner_.finished(); }
+  void stop() override { inner_.stop(); }
+  [[nodiscard]] std::uint64_t lost() const override { return inner_.lost(); }
+
+ private:
+  SampleSource& inner_;
+  std::chrono::milliseconds patience_;
+  std::string hint_;
+  std::chrono::steady_clock::time_point started_;
+  bool heard_ = false;
+  bool hinted_ = false;
+};
+
 }  // namespace
 
 void add_ls5_stream_commands(CLI::App& ls5, int& exit_code) {
@@ -67,8 +100,9 @@ void add_ls5_stream_commands(CLI::App& ls5, int& exit_code) {
                    "no record for this long (at least 3 output periods; never with sync triggering) counts as a lost "
                    "sensor; default 3000")
       ->check(CLI::Range(100, 3600000));
+  stream->add_flag("--no-reconnect", serial->no_reconnect, "end the stream when the port goes away");
   stream->callback([&exit_code, serial] {
-    auto driver = open_ls5_driver(serial->connection);
+    auto driver = open_ls5_driver(serial->connection, false, !serial->no_reconnect);
     if (!driver) {
       exit_code = report_ls5_failure("stream", driver.error(), serial->connection);
       return;
@@ -121,7 +155,12 @@ void add_ls5_stream_commands(CLI::App& ls5, int& exit_code) {
       exit_code = exit_io;
       return;
     }
-    exit_code = run_stream(**receiver, udp->stream);
+    HintWhenSilent watched(**receiver, std::chrono::seconds(3),
+                           fmt::format("rangekit ls5 udp: nothing has arrived on {} for 3 s: is the sensor's "
+                                       "destination IP address this host and its destination port {} (its Ethernet "
+                                       "settings, §10.1), and is it streaming?",
+                                       endpoint->to_string(), endpoint->port));
+    exit_code = run_stream_as(watched, udp->stream, "ls5 udp");
     (*receiver)->stop();
     const auto counters = (*receiver)->counters();
     if (counters.bad_packets > 0 || counters.lost_packets > 0 || counters.duplicates > 0) {

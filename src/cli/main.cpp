@@ -9,6 +9,27 @@
 
 namespace {
 
+// "rangekit ls5 frob" ends in CLI11's "A subcommand is required": say instead which
+// word was not understood and what would have been (issue 11 point 5). Nothing
+// printed when the error is of another kind.
+bool reported_unknown_subcommand(CLI::App& app) {
+  CLI::App* deepest = &app;
+  std::string path = "rangekit";
+  for (auto chosen = deepest->get_subcommands(); !chosen.empty(); chosen = deepest->get_subcommands()) {
+    deepest = chosen.front();
+    path += " " + deepest->get_name();
+  }
+  if (deepest->get_require_subcommand_min() == 0) return false;
+  const auto leftover = deepest->remaining();
+  if (leftover.empty() || leftover.front().empty() || leftover.front().front() == '-') return false;
+  std::string known;
+  for (const CLI::App* sub :
+       deepest->get_subcommands([](CLI::App* candidate) { return !candidate->get_group().empty(); }))
+    known += (known.empty() ? "" : ", ") + sub->get_name();
+  fmt::print(stderr, "{}: unknown subcommand '{}' (one of: {}; {} --help)\n", path, leftover.front(), known, path);
+  return true;
+}
+
 int run(int argc, char** argv) {
   CLI::App app{"rangekit: configure, stream and emulate ULS and LS5 laser distance sensors"};
   app.require_subcommand(1);
@@ -27,6 +48,7 @@ int run(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
     // --help and --version exit 0; every other parse error is a usage error (docs/cli.md).
+    if (reported_unknown_subcommand(app)) return rangekit::cli::exit_usage;
     const int printed = app.exit(error);
     return printed == 0 ? rangekit::cli::exit_ok : rangekit::cli::exit_usage;
   }

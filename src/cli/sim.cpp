@@ -2,8 +2,15 @@
 
 #include <fmt/core.h>
 
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
 #include <atomic>
+#include <cerrno>
 #include <csignal>
+#include <cstring>
 
 #include "cli/commands.hpp"
 
@@ -23,15 +30,47 @@ void install_signal_handlers() {
   std::signal(SIGPIPE, SIG_IGN);
 }
 
+// An emulator killed with kill -9 leaves its pty symlink (pointing at a /dev/pts
+// entry that went with it) and its control socket (that nobody listens on) behind.
+// Those are removed, said once on stderr, so the next `sim` starts; a link to a pty
+// that is still there, or a socket that still answers, is left for the runtime to refuse.
+void remove_if_stale_link(const std::string& path) {
+  struct stat link {};
+  if (::lstat(path.c_str(), &link) != 0 || !S_ISLNK(link.st_mode)) return;
+  struct stat target {};
+  if (::stat(path.c_str(), &target) == 0 || errno != ENOENT) return;
+  if (::unlink(path.c_str()) == 0)
+    fmt::print(stderr, "rangekit sim: removed the stale link {} (its pty is gone; an earlier emulator was killed)\n",
+               path);
+}
+
+void remove_if_stale_socket(const std::string& path) {
+  struct stat existing {};
+  if (::lstat(path.c_str(), &existing) != 0 || !S_ISSOCK(existing.st_mode)) return;
+  sockaddr_un address{};
+  if (path.size() >= sizeof address.sun_path) return;
+  address.sun_family = AF_UNIX;
+  std::memcpy(address.sun_path, path.c_str(), path.size());
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) return;
+  const bool refused =
+      ::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0 && errno == ECONNREFUSED;
+  ::close(fd);
+  if (refused && ::unlink(path.c_str()) == 0)
+    fmt::print(stderr,
+               "rangekit sim: removed the stale control socket {} (nobody listens; an earlier emulator was killed)\n",
+               path);
+}
+
 }  // namespace
 
 void add_common_sim_options(CLI::App& command, SimCommonOptions& options) {
-  command.add_option("--control", options.control, "Unix socket taking JSON-line commands (docs/emulators.md)");
+  command.add_option("--control", options.control, "Unix socket taking JSON-line commands (docs/emulator-uls.md, docs/emulator-ls5.md)");
   command.add_option("--state", options.state_dir, "directory for the non-volatile memory (default: none)");
-  command.add_option("--scene", options.scene, "TOML scene file (docs/emulators.md)");
+  command.add_option("--scene", options.scene, "TOML scene file (docs/emulator-uls.md, docs/emulator-ls5.md)");
   command.add_option("--seed", options.seed, "seed for repeatable noise");
   command.add_option("--time-scale", options.time_scale, "run the clock X times faster than real time")
-      ->check(CLI::PositiveNumber);
+      ->check(in_range(0.001, 1000, "times real time"));
   command.add_flag("--virtual-clock", options.virtual_clock,
                    "time moves only on {\"cmd\":\"advance\"} from the control socket (for tests)");
 }
@@ -42,6 +81,9 @@ int run_emulator(std::vector<LineConfig> lines, const SimCommonOptions& options,
     fmt::print(stderr, "rangekit sim: --virtual-clock needs --control (time only moves on request)\n");
     return exit_usage;
   }
+  for (const LineConfig& line : lines)
+    if (line.link_path) remove_if_stale_link(*line.link_path);
+  if (!options.control.empty()) remove_if_stale_socket(options.control);
   RuntimeOptions runtime_options;
   runtime_options.virtual_clock = options.virtual_clock;
   runtime_options.time_scale = options.time_scale;

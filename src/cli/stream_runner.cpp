@@ -113,8 +113,8 @@ void add_stream_options(CLI::App& command, StreamOptions& options) {
   command.add_option("--format", options.format, "output format: jsonl, csv or text")
       ->check(CLI::IsMember({"jsonl", "csv", "text"}))
       ->capture_default_str();
-  command.add_option("--count", options.count, "stop after N samples");
-  command.add_option("--duration", options.duration_s, "stop after S seconds")->check(CLI::NonNegativeNumber);
+  command.add_option("--count", options.count, "stop after N samples")->check(sample_count());
+  command.add_option("--duration", options.duration_s, "stop after S seconds")->check(duration_seconds());
   command.add_option("--out", options.out, "write the stream to FILE instead of standard output");
   command.add_option("--capture", options.capture, "also append everything to the SQLite capture FILE");
   command.add_flag("--quiet", options.quiet, "no live status line, even on a terminal");

@@ -8,6 +8,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/host_sources.hpp"
+#include "cli/key_values.hpp"
 #include "cli/stream_runner.hpp"
 #include "cli/uls_values.hpp"
 #include "rangekit/uls/bus.hpp"
@@ -27,6 +28,7 @@ struct LinkOptions {
   std::uint32_t baud = 115200;
   std::string address;
   int timeout_ms = 1000;
+  bool json = false;  // info, get: one JSON object instead of NAME=VALUE lines
 };
 
 void add_link_options(CLI::App* command, LinkOptions& link) {
@@ -35,28 +37,9 @@ void add_link_options(CLI::App* command, LinkOptions& link) {
   command->add_option("--address", link.address,
                       "RS-485 unit address: one character 0x30-0xEF ('A'), 0xNN or decimal; "
                       "without it the '$' protocol");
-  command->add_option("--timeout", link.timeout_ms, "milliseconds to wait for each reply")->capture_default_str();
-}
-
-int exit_code_for(const Error& error) {
-  switch (error.code) {
-    case Errc::device_error:
-      return exit_device_error;
-    case Errc::timeout:
-      return exit_no_reply;
-    case Errc::out_of_range:
-    case Errc::wrong_form:
-    case Errc::unknown_command:
-    case Errc::unknown_parameter:
-      return exit_usage;
-    case Errc::closed:
-      return exit_link_lost;
-    case Errc::io:
-    case Errc::unsupported:
-      return exit_io;
-    default:
-      return exit_bad_input;
-  }
+  command->add_option("--timeout", link.timeout_ms, "milliseconds to wait for each reply")
+      ->check(timeout_milliseconds())
+      ->capture_default_str();
 }
 
 int fail(std::string_view command, const Error& error) {
@@ -73,31 +56,18 @@ Result<std::optional<std::uint8_t>> address_of(const LinkOptions& link) {
   return std::optional<std::uint8_t>{*address};
 }
 
-ReopenFunction reopen_function(const LinkOptions& link) {
-  return [path = link.port, baud = link.baud] { return open_serial(path, baud); };
-}
-
-Result<TransportPtr> open_port(const LinkOptions& link) {
-  auto port = reopen_function(link)();
-  if (!port) {
-    Error error = port.error();
-    if (error.code != Errc::unsupported) error.code = Errc::io;
-    error.message = "cannot open " + link.port + ": " + error.message;
-    return error;
-  }
-  return port;
-}
-
 Result<std::unique_ptr<Driver>> open_driver(const LinkOptions& link, bool with_reopen = false) {
   auto address = address_of(link);
   if (!address) return address.error();
-  auto port = open_port(link);
+  const SerialSettings line{link.baud, Parity::none, 1};  // 8N1, §9
+  auto port = open_port(link.port, line);
   if (!port) return port.error();
   DriverOptions options;
   options.address = *address;
   options.timeout = std::chrono::milliseconds(link.timeout_ms);
   options.source = link.port;
-  return std::make_unique<Driver>(std::move(*port), options, with_reopen ? reopen_function(link) : ReopenFunction{});
+  return std::make_unique<Driver>(std::move(*port), options,
+                                  with_reopen ? reopen_port(link.port, line) : ReopenFunction{});
 }
 
 std::string format_sample(const Sample& sample) {
@@ -118,7 +88,7 @@ std::string format_sample(const Sample& sample) {
 
 // --- get -------------------------------------------------------------------
 
-int print_setting(Driver& driver, const CommandInfo& command, Units units) {
+int print_setting(Driver& driver, const CommandInfo& command, Units units, KeyValues& out) {
   if (command.mnemonic == "BR") {
     int code = exit_ok;
     for (const char* port : {"0", "1"}) {
@@ -128,23 +98,23 @@ int print_setting(Driver& driver, const CommandInfo& command, Units units) {
         code = fail("get", values.error());
         continue;
       }
-      fmt::print("baud.{}={}  # BR,{}={}\n", port[0] == '0' ? "configuration" : "output", values->at(1), port,
-                 values->at(1));
+      out.add(fmt::format("baud.{}", port[0] == '0' ? "configuration" : "output"), values->at(1),
+              fmt::format("BR,{}={}", port, values->at(1)));
     }
     return code;
   }
   auto values = driver.get(command.mnemonic);
   if (!values) {
     if (command.mnemonic == "UA" && values.error().device_code == 82) {
-      fmt::print("address=unassigned  # UA: error 82, Unit Address Not Assigned\n");
+      out.add("address", "unassigned", "UA: error 82, Unit Address Not Assigned");
       return exit_ok;
     }
     return fail("get", values.error());
   }
   std::string wire;
   for (const auto& value : *values) wire += (wire.empty() ? "" : ",") + value;
-  fmt::print("{}={}  # {}={}\n", command.cli_name, uls_values::describe_reply(command, *values, units),
-             command.mnemonic, wire);
+  out.add(std::string(command.cli_name), uls_values::describe_reply(command, *values, units),
+          fmt::format("{}={}", command.mnemonic, wire));
   return exit_ok;
 }
 
@@ -167,11 +137,13 @@ int run_get(const LinkOptions& link, const std::vector<std::string>& names) {
   auto units = (*driver)->units();
   if (!units) return fail("get", units.error());
   int code = exit_ok;
+  KeyValues out(link.json);
   for (const CommandInfo* command : commands) {
-    const int one = print_setting(**driver, *command, *units);
+    const int one = print_setting(**driver, *command, *units, out);
     if (one == exit_no_reply) return one;
     if (code == exit_ok) code = one;
   }
+  if (code == exit_ok) out.finish();
   return code;
 }
 
@@ -238,20 +210,23 @@ int run_info(const LinkOptions& link) {
   if (!driver) return fail("info", driver.error());
   auto info = (*driver)->info();
   if (!info) return fail("info", info.error());
-  fmt::print("port={}\n", link.port);
-  if (info->address) fmt::print("address={}\n", address_text(*info->address));
-  fmt::print("version={}\n", info->version);
+  KeyValues out(link.json);
+  out.add("port", link.port);
+  if (info->address) out.add("address", address_text(*info->address));
+  out.add("version", info->version);
   const StatusInfo& s = info->status;
-  fmt::print("status={}  # US={} (active={}, laser_firing={}, averaging_calc={}, binning_calc={})\n",
-             s.value == 0    ? "error"
-             : s.measuring() ? "measuring"
-                             : "ready",
-             s.value, s.active, s.laser_firing, s.averaging_calc, s.binning_calc);
+  out.add("status",
+          s.value == 0    ? "error"
+          : s.measuring() ? "measuring"
+                          : "ready",
+          fmt::format("US={} (active={}, laser_firing={}, averaging_calc={}, binning_calc={})", s.value, s.active,
+                      s.laser_firing, s.averaging_calc, s.binning_calc));
   auto units = (*driver)->units();
   if (!units) return fail("info", units.error());
   for (const char* mnemonic : {"MM", "MU", "PF", "PO", "CO", "MO"}) {
-    if (const int code = print_setting(**driver, *find_command(mnemonic), *units); code != exit_ok) return code;
+    if (const int code = print_setting(**driver, *find_command(mnemonic), *units, out); code != exit_ok) return code;
   }
+  out.finish();
   return exit_ok;
 }
 
@@ -359,7 +334,8 @@ int run_reset(const LinkOptions& link, bool save) {
 // --- bus -------------------------------------------------------------------
 
 Result<std::unique_ptr<Bus>> open_bus(const LinkOptions& link) {
-  auto port = open_port(link);
+  const SerialSettings line{link.baud, Parity::none, 1};  // 8N1, §9
+  auto port = open_port(link.port, line);
   if (!port) return port.error();
   BusOptions options;
   options.timeout = std::chrono::milliseconds(std::min(link.timeout_ms, 1000));
@@ -448,6 +424,7 @@ void add_uls_command(CLI::App& app, int& exit_code) {
 
   auto* info = uls->add_subcommand("info", "version (ID), status bits (US) and the main settings");
   add_link_options(info, *link);
+  info->add_flag("--json", link->json, "one JSON object instead of NAME=VALUE lines");
   info->callback([&exit_code, link] { exit_code = run_info(*link); });
 
   auto names = std::make_shared<std::vector<std::string>>();
@@ -455,6 +432,7 @@ void add_uls_command(CLI::App& app, int& exit_code) {
       "get", "read settings by name (mode, prf, units, ...) or mnemonic (MM, PF); all without names");
   add_link_options(get, *link);
   get->add_option("names", *names, "settings to read");
+  get->add_flag("--json", link->json, "one JSON object instead of NAME=VALUE lines");
   get->callback([&exit_code, link, names] { exit_code = run_get(*link, *names); });
 
   auto assignments = std::make_shared<std::vector<std::string>>();
@@ -482,7 +460,7 @@ void add_uls_command(CLI::App& app, int& exit_code) {
   auto count = std::make_shared<int>(1);
   auto* measure = uls->add_subcommand("measure", "one measurement with BM (starts the unit if idle, §2 Autostart)");
   add_link_options(measure, *link);
-  measure->add_option("--count", *count, "measurements to read")->capture_default_str();
+  measure->add_option("--count", *count, "measurements to read")->check(sample_count())->capture_default_str();
   measure->callback([&exit_code, link, count] { exit_code = run_measure(*link, *count); });
 
   auto* start = uls->add_subcommand("start", "start measuring (GO)");

@@ -20,6 +20,7 @@ TEST(Capture, BothFamiliesIntoOneFileThatReplays) {
   const auto uls_config = (dir / "uls-config").string();
   const auto ls5_port = (dir / "ls5").string();
   const auto file = (dir / "both.sqlite").string();
+  std::string captured_err;
   {
     Child uls({"sim", "uls", "--port", (dir / "uls").string(), "--config-port", uls_config});
     ASSERT_TRUE(contains(uls.read_line(), "ready:"));
@@ -30,11 +31,24 @@ TEST(Capture, BothFamiliesIntoOneFileThatReplays) {
                                    "10", "--duration", "3"});
     ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
     EXPECT_TRUE(run.out.empty()) << run.out;  // without --echo only the file gets the data
+    captured_err = run.err;
   }
   const auto replay = run_cli(dir, {"replay", file, "--full-speed", "--format", "jsonl"});
   EXPECT_EQ(replay.exit_code, 0) << replay.err;
   EXPECT_TRUE(contains(replay.out, R"("device":"uls")")) << replay.out;
   EXPECT_TRUE(contains(replay.out, R"("device":"ls5")")) << replay.out;
+  // Issue 11 point 5: "`capture` ends with "N samples → FILE; replay with …"", and N is
+  // what the file holds: one replayed line per sample.
+  const std::string closing = " samples \u2192 " + file + "; replay with: rangekit replay " + file;
+  ASSERT_TRUE(contains(captured_err, closing)) << captured_err;
+  const auto said = captured_err.rfind("rangekit capture: ", captured_err.find(closing));
+  ASSERT_NE(said, std::string::npos) << captured_err;
+  const auto count = std::stoull(captured_err.substr(said + std::string("rangekit capture: ").size()));
+  std::size_t replayed = 0;
+  for (auto at = replay.out.find("\"device\":"); at != std::string::npos; at = replay.out.find("\"device\":", at + 1))
+    ++replayed;
+  EXPECT_GT(count, 0U);
+  EXPECT_EQ(replayed, count);
 
   const auto nothing = run_cli(dir, {"capture", "--out", file});
   EXPECT_EQ(nothing.exit_code, 2) << nothing.err;

@@ -116,4 +116,20 @@ TEST_F(StatusLine, QuietTurnsItOffOnATerminal) {
   EXPECT_FALSE(contains(run.terminal, "samples")) << run.terminal;
 }
 
+// Issue 11 point 5, "No silent waits": "`detect` shows progress on a terminal." A pty
+// where nothing answers stands for a port without a sensor.
+TEST(DetectProgress, ShownOnATerminalAndNotInAPipe) {
+  auto silent = rangekit::PseudoTerminal::open();
+  ASSERT_TRUE(silent);
+  const std::vector<std::string> detect{"detect",        "--port", (*silent)->slave_path(), "--baud", "9600",
+                                        "--byte-format", "8N1",    "--timeout-ms",          "20"};
+  const Captured shown = run_on_terminal(detect, true);
+  EXPECT_EQ(shown.exit_code, 5) << shown.terminal;  // docs/cli.md: 5 when nothing answered
+  EXPECT_TRUE(contains(shown.terminal, "rangekit detect: trying " + (*silent)->slave_path() + " at 9600 8N1"))
+      << shown.terminal;
+  const Captured piped = run_on_terminal(detect, false);
+  EXPECT_EQ(piped.exit_code, 5) << piped.terminal;
+  EXPECT_FALSE(contains(piped.terminal, "trying")) << piped.terminal;
+}
+
 }  // namespace

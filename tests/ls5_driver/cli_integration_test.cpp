@@ -3,6 +3,10 @@
 // emulator is killed and restarted on the same path, config save/diff/load.
 #include <gtest/gtest.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+
 #include <algorithm>
 
 #include "cli/commands.hpp"
@@ -102,6 +106,9 @@ TEST(Ls5Cli, DeviceSubcommandsEndToEnd) {
   CliRun latched = w.ls5({"latch", "--port", w.port, "--read-only"});
   EXPECT_EQ(latched.out, latch.out);
 
+  // Issue 11 point 5: the ULS's verbs start/stop/reset and option --timeout work here too.
+  EXPECT_EQ(w.ls5({"stop", "--port", w.port, "--timeout", "300"}).out, "off\n");
+  EXPECT_EQ(w.ls5({"start", "--port", w.port}).out, "on\n");
   EXPECT_EQ(w.ls5({"off", "--port", w.port}).exit_code, cli::exit_ok);
   EXPECT_EQ(w.ls5({"on", "--port", w.port}).exit_code, cli::exit_ok);
   EXPECT_EQ(w.ls5({"save", "--port", w.port}).exit_code, cli::exit_ok);
@@ -165,6 +172,56 @@ TEST(Ls5Cli, SerialStreamAndUdpThroughTheStreamRunner) {
 
   CliRun bad_listen = w.ls5({"udp", "--udp-listen", "not-an-endpoint"});
   EXPECT_EQ(bad_listen.exit_code, cli::exit_usage) << bad_listen.err;
+}
+
+// Issue 11 point 5, "No silent waits": "`ls5 udp` with nothing arriving hints at
+// destination IP/port after 3 s." Nothing sends here; the test reads stderr until the
+// hint comes (a blocking read, no timing bound) and then ends the receiver.
+TEST(Ls5Cli, UdpWithNothingArrivingHintsAtTheDestination) {
+  const int probe = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  ASSERT_GE(probe, 0);
+  sockaddr_in any{};
+  any.sin_family = AF_INET;
+  any.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t length = sizeof any;
+  ASSERT_EQ(::bind(probe, reinterpret_cast<sockaddr*>(&any), sizeof any), 0);
+  ASSERT_EQ(::getsockname(probe, reinterpret_cast<sockaddr*>(&any), &length), 0);
+  const std::string port = std::to_string(ntohs(any.sin_port));
+  ::close(probe);  // a free loopback port for the receiver
+
+  int err[2];
+  ASSERT_EQ(::pipe2(err, O_CLOEXEC), 0);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::dup2(err[1], STDERR_FILENO);
+    Child::exec({"ls5", "udp", "--udp-listen", "127.0.0.1:" + port, "--duration", "600"});
+  }
+  ::close(err[1]);
+  FILE* stderr_of_udp = ::fdopen(err[0], "r");
+  char buffer[1024];
+  const char* got = std::fgets(buffer, sizeof buffer, stderr_of_udp);
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  std::fclose(stderr_of_udp);
+  ASSERT_NE(got, nullptr);
+  const std::string hint = buffer;
+  EXPECT_TRUE(contains(hint, "nothing has arrived on 127.0.0.1:" + port + " for 3 s")) << hint;
+  EXPECT_TRUE(contains(hint, "destination IP address")) << hint;
+  EXPECT_TRUE(contains(hint, "destination port " + port)) << hint;
+}
+
+// Issue 11 point 5: `--no-reconnect`, as for the ULS: the stream ends when the port goes
+// away, with exit 8 ("the link went away and did not come back", docs/cli.md).
+TEST(Ls5Cli, NoReconnectEndsTheStreamWhenThePortGoesAway) {
+  Workspace w("no-reconnect");
+  auto sim = std::make_unique<Child>(sim_arguments(w));
+  ASSERT_TRUE(contains(sim->read_line(), "ready:"));
+  Child stream({"ls5", "stream", "--port", w.port, "--format", "jsonl", "--duration", "600", "--no-reconnect"});
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(contains(stream.read_line(), "\"code\":25000"));
+  sim->terminate();
+  EXPECT_EQ(sim->wait(), 0);
+  EXPECT_EQ(stream.wait(), cli::exit_link_lost);
 }
 
 // docs/conformance.md L43

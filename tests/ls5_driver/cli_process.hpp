@@ -48,6 +48,11 @@ class Child {
     return buffer;
   }
   void terminate() const { ::kill(pid_, SIGTERM); }
+  // kill -9: the child cleans nothing up (its symlink and control socket stay).
+  void kill_hard() {
+    ::kill(pid_, SIGKILL);
+    (void)wait();
+  }
   int wait() {
     int status = 0;
     ::waitpid(pid_, &status, 0);
