@@ -65,7 +65,8 @@ void remove_if_stale_socket(const std::string& path) {
 }  // namespace
 
 void add_common_sim_options(CLI::App& command, SimCommonOptions& options) {
-  command.add_option("--control", options.control, "Unix socket taking JSON-line commands (docs/emulator-uls.md, docs/emulator-ls5.md)");
+  command.add_option("--control", options.control,
+                     "Unix socket taking JSON-line commands (docs/emulator-uls.md, docs/emulator-ls5.md)");
   command.add_option("--state", options.state_dir, "directory for the non-volatile memory (default: none)");
   command.add_option("--scene", options.scene, "TOML scene file (docs/emulator-uls.md, docs/emulator-ls5.md)");
   command.add_option("--seed", options.seed, "seed for repeatable noise");

@@ -995,7 +995,7 @@ std::size_t Firmware::measurement_port() const noexcept {
   return settings_.output_port == OutputPort::configuration ? configuration_port : universal_port;
 }
 
-void Firmware::emit(std::vector<Reading> readings, Nanos t) {
+void Firmware::emit(const std::vector<Reading>& readings, Nanos t) {
   latest_ = readings;
   for (const auto& poll : polls_) {
     for (const auto& reading : readings) reply(poll.port, false, encode_measurement(poll.to, reading), t);

@@ -156,7 +156,7 @@ class Firmware final : public DeviceModel {
   [[nodiscard]] Reading look_down_state() const noexcept;
   void complete_averaging(Nanos t);
   void complete_binning(Nanos t);
-  void emit(std::vector<Reading> readings, Nanos t);
+  void emit(const std::vector<Reading>& readings, Nanos t);
   [[nodiscard]] Address measurement_address() const noexcept;
   [[nodiscard]] std::size_t measurement_port() const noexcept;
   [[nodiscard]] double max_range_m(double reflectivity, bool cooperative) const noexcept;
