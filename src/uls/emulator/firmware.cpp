@@ -908,7 +908,7 @@ void Firmware::complete_binning(Nanos t) {
       target.strength = std::min<std::uint32_t>(found[i].hits, 65535);
       lines.emplace_back(target);
     }
-    emit(std::move(lines), t);
+    emit(lines, t);
   }
   reset_cycle();
 }
