@@ -1,11 +1,14 @@
-// Runs the built rangekit binary with a shell command line (stdin from /dev/null,
-// stderr merged into the output) for the end-to-end CLI tests.
+// Runs the built rangekit binary with a shell command line (stdin from `input`, or
+// /dev/null without it; stderr merged into the output) for the end-to-end CLI tests.
 #pragma once
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace cli_test {
@@ -15,16 +18,23 @@ struct CliResult {
   std::string output;
 };
 
-inline CliResult run_cli(const std::string& arguments) {
-  const std::string command = std::string(RANGEKIT_CLI_PATH) + " " + arguments + " </dev/null 2>&1";
+inline CliResult run_cli(const std::string& arguments, const std::string& input = "") {
+  std::filesystem::path input_file = "/dev/null";
+  if (!input.empty()) {
+    input_file = std::filesystem::temp_directory_path() / ("rangekit-cli-" + std::to_string(::getpid()));
+    std::ofstream(input_file, std::ios::binary) << input;
+  }
+  const std::string command = std::string(RANGEKIT_CLI_PATH) + " " + arguments + " < " + input_file.string() + " 2>&1";
   CliResult run;
   FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  std::array<char, 4096> buffer{};
-  std::size_t got = 0;
-  while ((got = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.output.append(buffer.data(), got);
-  const int status = ::pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  if (pipe != nullptr) {
+    std::array<char, 4096> buffer{};
+    std::size_t got = 0;
+    while ((got = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.output.append(buffer.data(), got);
+    const int status = ::pclose(pipe);
+    run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  if (!input.empty()) std::filesystem::remove(input_file);
   return run;
 }
 

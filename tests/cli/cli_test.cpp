@@ -1,40 +1,15 @@
 // End-to-end checks of the rangekit binary: exit codes and decoded output.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
 #include <unistd.h>
-#include <array>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <string>
+
+#include "cli/cli_run.hpp"
 
 namespace {
 
-struct Run {
-  int exit_code = -1;
-  std::string output;
-};
-
-// Runs the CLI with a shell command line; stdin from `input` when given.
-Run run_cli(const std::string& arguments, const std::string& input = "") {
-  const auto input_file = std::filesystem::temp_directory_path() / ("rangekit-cli-" + std::to_string(::getpid()));
-  {
-    std::ofstream out(input_file, std::ios::binary);
-    out << input;
-  }
-  const std::string command = std::string(RANGEKIT_CLI_PATH) + " " + arguments + " < " + input_file.string() + " 2>&1";
-  Run run;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  std::array<char, 4096> buffer{};
-  std::size_t got = 0;
-  while ((got = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.output.append(buffer.data(), got);
-  const int status = ::pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::filesystem::remove(input_file);
-  return run;
-}
+using cli_test::run_cli;
 
 TEST(Cli, DemoWalkthroughDecodesBothFamilies) {
   const auto run = run_cli("demo --walkthrough");
