@@ -1,5 +1,5 @@
 # Install rules, the CMake package (find_package(rangekit) -> rangekit::core, rangekit::sim,
-# rangekit::uls, rangekit::ls5, rangekit::record), the pkg-config file and the
+# rangekit::uls, rangekit::ls5, rangekit::record, rangekit::hub), the pkg-config file and the
 # Debian package (make package).
 
 set(RANGEKIT_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/rangekit)

@@ -30,6 +30,7 @@ TEST(Architecture, LinkRuleAllowsTheDrawnEdges) {
   EXPECT_TRUE(link_allowed("rangekit_ls5", "rangekit::core"));
   EXPECT_TRUE(link_allowed("rangekit_record", "rangekit_core;$<LINK_ONLY:SQLite::SQLite3>"));
   EXPECT_TRUE(link_allowed("rangekit_sim", "rangekit_core;rangekit_uls;rangekit_ls5"));
+  EXPECT_TRUE(link_allowed("rangekit_hub", "rangekit_core;rangekit_uls;rangekit_ls5;rangekit_record"));
 }
 
 TEST(Architecture, LinkRuleRefusesEveryOtherEdge) {
@@ -40,6 +41,9 @@ TEST(Architecture, LinkRuleRefusesEveryOtherEdge) {
   EXPECT_FALSE(link_allowed("rangekit_uls", "rangekit_sim"));  // an embedder links no emulator
   EXPECT_FALSE(link_allowed("rangekit_record", "rangekit_sim"));
   EXPECT_FALSE(link_allowed("rangekit_sim", "rangekit_record"));
+  EXPECT_FALSE(link_allowed("rangekit_hub", "rangekit_sim"));  // the service serves real sensors
+  EXPECT_FALSE(link_allowed("rangekit_uls", "rangekit_hub"));  // drivers know nothing of the hub above them
+  EXPECT_FALSE(link_allowed("rangekit_record", "rangekit::hub"));
 }
 
 struct Include {
@@ -77,7 +81,7 @@ void expect_no_include(const fs::path& folder, const std::string& forbidden, con
 }
 
 TEST(Architecture, CoreKnowsNoFamily) {
-  const std::string family = R"(^(rangekit/)?(uls|ls5|record|sim)/)";
+  const std::string family = R"(^(rangekit/)?(uls|ls5|record|sim|hub)/)";
   expect_no_include("src/core", family, "core is shared by both families and knows neither");
   expect_no_include("include/rangekit/core", family, "core is shared by both families and knows neither");
 }
@@ -106,6 +110,14 @@ TEST(Architecture, HostLibrariesNeverReachTheEmulators) {
                                    "include/rangekit/ls5", "include/rangekit/record"}) {
     expect_no_include(folder, R"(^rangekit/sim/)", "the host libraries never depend on rangekit::sim",
                       "(?!src/(uls|ls5)/emulator/).*");
+  }
+}
+
+TEST(Architecture, HubKnowsNoFaceAndNoEmulator) {
+  // The hub sits between the drivers and the faces (HTTP/SSE, MQTT, Python): it knows none of them.
+  for (const std::string folder : {"src/hub", "include/rangekit/hub"}) {
+    expect_no_include(folder, R"(^rangekit/sim/|boost/|beast|httplib|mosquitto|pybind11|^cli/)",
+                      "the hub knows no HTTP, MQTT, Python face, CLI or emulator");
   }
 }
 

@@ -1,0 +1,331 @@
+// site.toml: parsed with toml++ (private), every key checked against the rows
+// below so an unknown or misspelt key stops the service before it opens a port.
+#include "rangekit/hub/site_config.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "core/toml.hpp"  // private: toml++ is no part of the public API
+#include "rangekit/core/udp.hpp"
+#include "rangekit/ls5/settings.hpp"
+#include "rangekit/uls/bus.hpp"
+
+namespace rangekit::hub {
+namespace {
+
+Error at(std::string_view file, const toml::node& node, Errc code, const std::string& what) {
+  return make_error(code, std::string(file) + ":" + std::to_string(node.source().begin.line) + ": " + what);
+}
+
+bool valid_name(std::string_view name) {
+  if (name.empty() || name.size() > 64) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_';
+  });
+}
+
+// The keys a table may hold; anything else is refused naming the allowed ones.
+Status only_keys(std::string_view file, const toml::table& table, std::string_view where,
+                 std::initializer_list<std::string_view> allowed) {
+  for (const auto& [key, node] : table) {
+    if (std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end()) continue;
+    std::string list;
+    for (std::string_view name : allowed) list += (list.empty() ? "" : ", ") + std::string(name);
+    return at(file, node, Errc::invalid_frame,
+              "unknown key '" + std::string(key.str()) + "' in " + std::string(where) + " (allowed: " + list + ")");
+  }
+  return ok_status();
+}
+
+Result<std::string> text_of(std::string_view file, const toml::node& node, std::string_view key) {
+  const auto* value = node.as_string();
+  if (value == nullptr) return at(file, node, Errc::invalid_frame, std::string(key) + " must be a string");
+  return value->get();
+}
+
+Result<bool> flag_of(std::string_view file, const toml::node& node, std::string_view key) {
+  const auto* value = node.as_boolean();
+  if (value == nullptr) return at(file, node, Errc::invalid_frame, std::string(key) + " must be true or false");
+  return value->get();
+}
+
+Result<std::int64_t> integer_of(std::string_view file, const toml::node& node, std::string_view key) {
+  const auto* value = node.as_integer();
+  if (value == nullptr) return at(file, node, Errc::invalid_frame, std::string(key) + " must be an integer");
+  return value->get();
+}
+
+// ULS: a unit address as §8's UA table writes it ("A", "0x41" or 65); LS5: 1-255.
+Result<int> address_of(std::string_view file, const toml::node& node, Family family) {
+  if (family == Family::uls) {
+    std::string text;
+    if (const auto* number = node.as_integer()) {
+      text = std::to_string(number->get());
+    } else if (const auto* string = node.as_string()) {
+      text = string->get();
+    } else {
+      return at(file, node, Errc::invalid_frame, "address must be a character (\"A\") or a number");
+    }
+    const auto parsed = uls::parse_unit_address(text);
+    if (!parsed) {
+      return at(file, node, Errc::out_of_range,
+                "address '" + text + "' is not a ULS unit address (0x30-0xEF, e.g. \"A\" or \"0x41\", §7)");
+    }
+    return *parsed;
+  }
+  auto number = integer_of(file, node, "address");
+  if (!number) return std::move(number).error();
+  if (*number < 1 || *number > 255) {
+    return at(file, node, Errc::out_of_range,
+              "address " + std::to_string(*number) + " is out of range 1-255 (LS5 network address, parameter 01)");
+  }
+  return static_cast<int>(*number);
+}
+
+Result<SerialSettings> byte_format_of(std::string_view file, const toml::node& node, Family family,
+                                      SerialSettings settings) {
+  auto text = text_of(file, node, "format");
+  if (!text) return std::move(text).error();
+  if (family == Family::uls) {
+    if (*text != "8N1")
+      return at(file, node, Errc::out_of_range, "format '" + *text + "': the ULS speaks 8N1 only (§9)");
+    return settings;
+  }
+  std::string allowed;
+  for (const auto& format : ls5::byte_format_table()) {
+    if (format.name == *text) {
+      settings.parity = format.parity == ls5::Parity::none   ? Parity::none
+                        : format.parity == ls5::Parity::even ? Parity::even
+                                                             : Parity::odd;
+      settings.stop_bits = format.stop_bits;
+      return settings;
+    }
+    allowed += (allowed.empty() ? "" : ", ") + std::string(format.name);
+  }
+  return at(file, node, Errc::out_of_range, "format '" + *text + "' is not an LS5 byte format (" + allowed + ")");
+}
+
+Result<SensorConfig> sensor_from(std::string_view file, const toml::table& table) {
+  SensorConfig sensor;
+  sensor.line = table.source().begin.line;
+  if (auto checked = only_keys(file, table, "[[sensor]]",
+                               {"name", "family", "port", "baud", "format", "address", "udp", "stream", "capture"});
+      !checked) {
+    return std::move(checked).error();
+  }
+  const toml::node* name = table.get("name");
+  if (name == nullptr)
+    return make_error(Errc::invalid_frame,
+                      std::string(file) + ":" + std::to_string(sensor.line) + ": [[sensor]] needs a name");
+  auto name_text = text_of(file, *name, "name");
+  if (!name_text) return std::move(name_text).error();
+  if (!valid_name(*name_text)) {
+    return at(file, *name, Errc::out_of_range,
+              "name '" + *name_text + "' must be 1-64 letters, digits, '-' or '_' (it goes into URLs and topics)");
+  }
+  sensor.name = *name_text;
+  const toml::node* family = table.get("family");
+  if (family == nullptr)
+    return at(file, *name, Errc::invalid_frame, "sensor '" + sensor.name + "' needs a family (\"uls\" or \"ls5\")");
+  auto family_text = text_of(file, *family, "family");
+  if (!family_text) return std::move(family_text).error();
+  if (*family_text == "uls") {
+    sensor.family = Family::uls;
+  } else if (*family_text == "ls5") {
+    sensor.family = Family::ls5;
+  } else {
+    return at(file, *family, Errc::out_of_range, "family '" + *family_text + "' is not \"uls\" or \"ls5\"");
+  }
+  for (const auto& [key, node] : table) {
+    const std::string_view k = key.str();
+    if (k == "port") {
+      auto port = text_of(file, node, k);
+      if (!port) return std::move(port).error();
+      if (port->empty()) return at(file, node, Errc::out_of_range, "port must not be empty");
+      sensor.port = *port;
+    } else if (k == "baud") {
+      auto baud = integer_of(file, node, k);
+      if (!baud) return std::move(baud).error();
+      if (*baud < 300 || *baud > 921600) {
+        return at(file, node, Errc::out_of_range, "baud " + std::to_string(*baud) + " is out of range 300-921600");
+      }
+      sensor.serial.baud = static_cast<std::uint32_t>(*baud);
+    } else if (k == "address") {
+      auto address = address_of(file, node, sensor.family);
+      if (!address) return std::move(address).error();
+      sensor.address = *address;
+    } else if (k == "udp") {
+      if (sensor.family != Family::ls5)
+        return at(file, node, Errc::invalid_frame, "udp is for LS5 Ethernet models only (§10)");
+      auto udp = text_of(file, node, k);
+      if (!udp) return std::move(udp).error();
+      if (auto endpoint = parse_endpoint(*udp); !endpoint) {
+        return at(file, node, Errc::out_of_range, "udp '" + *udp + "': " + endpoint.error().message);
+      }
+      sensor.udp = *udp;
+    } else if (k == "stream" || k == "capture") {
+      auto on = flag_of(file, node, k);
+      if (!on) return std::move(on).error();
+      (k == "stream" ? sensor.stream : sensor.capture) = *on;
+    }
+  }
+  // The byte format last: it needs the family, and keeps the baud read above.
+  if (const toml::node* format = table.get("format")) {
+    auto settings = byte_format_of(file, *format, sensor.family, sensor.serial);
+    if (!settings) return std::move(settings).error();
+    sensor.serial = *settings;
+  }
+  if (sensor.port.empty() && sensor.udp.empty()) {
+    return at(file, *name, Errc::invalid_frame,
+              "sensor '" + sensor.name + "' needs a port" + (sensor.family == Family::ls5 ? " or udp" : ""));
+  }
+  return sensor;
+}
+
+Status check_service(std::string_view file, const toml::table& table, ServiceConfig& service) {
+  if (auto checked =
+          only_keys(file, table, "[service]", {"listen", "token_file", "capture_dir", "tls_certificate", "tls_key"});
+      !checked) {
+    return checked;
+  }
+  for (const auto& [key, node] : table) {
+    auto text = text_of(file, node, key.str());
+    if (!text) return std::move(text).error();
+    const std::string_view k = key.str();
+    if (k == "listen") {
+      if (auto endpoint = parse_endpoint(*text); !endpoint) {
+        return at(file, node, Errc::out_of_range, "listen '" + *text + "': " + endpoint.error().message);
+      }
+      service.listen = *text;
+    } else if (k == "token_file") {
+      service.token_file = *text;
+    } else if (k == "capture_dir") {
+      service.capture_dir = *text;
+    } else if (k == "tls_certificate") {
+      service.tls_certificate = *text;
+    } else {
+      service.tls_key = *text;
+    }
+  }
+  if (service.tls_certificate.empty() != service.tls_key.empty()) {
+    return at(file, table, Errc::invalid_frame, "[service] needs both tls_certificate and tls_key, or neither");
+  }
+  return ok_status();
+}
+
+std::string line_of(const SensorConfig& sensor) { return "line " + std::to_string(sensor.line); }
+
+// Several sensors on one port must agree on how the port is set up, and only
+// addressed ULS units can share one (an RS-485 bus, §7).
+Status check_ports(const SiteConfig& site) {
+  std::map<std::string, const SensorConfig*> names;
+  std::map<std::string, const SensorConfig*> udp;
+  for (const SensorConfig& sensor : site.sensors) {
+    const std::string where = site.file + ":" + std::to_string(sensor.line) + ": ";
+    if (auto [it, inserted] = names.emplace(sensor.name, &sensor); !inserted) {
+      return make_error(Errc::invalid_frame,
+                        where + "sensor name '" + sensor.name + "' is already used at " + line_of(*it->second));
+    }
+    if (!sensor.udp.empty()) {
+      if (auto [it, inserted] = udp.emplace(sensor.udp, &sensor); !inserted) {
+        return make_error(Errc::invalid_frame, where + "udp " + sensor.udp + " is already the listener of '" +
+                                                   it->second->name + "' (" + line_of(*it->second) + ")");
+      }
+    }
+  }
+  for (const PortGroup& group : port_groups(site)) {
+    if (group.sensors.size() < 2) continue;
+    const SensorConfig& first = *group.sensors.front();
+    for (std::size_t i = 1; i < group.sensors.size(); ++i) {
+      const SensorConfig& other = *group.sensors[i];
+      const std::string where = site.file + ":" + std::to_string(other.line) + ": ";
+      const std::string clash =
+          "port " + group.port + " is also claimed by '" + first.name + "' (" + line_of(first) + ")";
+      if (other.family != first.family) {
+        return make_error(Errc::invalid_frame,
+                          where + clash + " as " + family_name(first.family) + ": one port carries one family");
+      }
+      if (other.family == Family::ls5) {
+        return make_error(Errc::invalid_frame, where + clash + ": an LS5 stream holds its line, so one LS5 per port");
+      }
+      if (!(other.serial == first.serial)) {
+        return make_error(Errc::invalid_frame, where + clash + " with other settings (" + describe(first.serial) +
+                                                   " there, " + describe(other.serial) + " here)");
+      }
+      if (!first.address || !other.address) {
+        return make_error(Errc::invalid_frame,
+                          where + clash + ": units sharing an RS-485 port each need an address (§7)");
+      }
+      for (std::size_t j = 0; j < i; ++j) {
+        if (group.sensors[j]->address == other.address) {
+          return make_error(Errc::invalid_frame, where + "address of '" + other.name + "' is also the address of '" +
+                                                     group.sensors[j]->name + "' (" + line_of(*group.sensors[j]) +
+                                                     ") on port " + group.port + " (§7: one unit per address)");
+        }
+      }
+    }
+  }
+  return ok_status();
+}
+
+}  // namespace
+
+const char* family_name(Family family) noexcept { return family == Family::uls ? "uls" : "ls5"; }
+
+std::vector<PortGroup> port_groups(const SiteConfig& site) {
+  std::vector<PortGroup> groups;
+  for (const SensorConfig& sensor : site.sensors) {
+    if (sensor.port.empty()) continue;
+    auto found = std::find_if(groups.begin(), groups.end(), [&](const PortGroup& g) { return g.port == sensor.port; });
+    if (found == groups.end()) {
+      groups.push_back(PortGroup{sensor.port, sensor.serial, sensor.family, {&sensor}});
+    } else {
+      found->sensors.push_back(&sensor);
+    }
+  }
+  return groups;
+}
+
+Result<SiteConfig> parse_site_config(std::string_view text, std::string_view file_name) {
+  auto parsed = parse_toml(text, file_name);
+  if (!parsed) return std::move(parsed).error();
+  const toml::table& root = *parsed;
+  SiteConfig site;
+  site.file = std::string(file_name);
+  if (auto checked = only_keys(file_name, root, "the site file", {"service", "sensor"}); !checked) {
+    return std::move(checked).error();
+  }
+  if (const toml::node* service = root.get("service")) {
+    const auto* table = service->as_table();
+    if (table == nullptr) return at(file_name, *service, Errc::invalid_frame, "service must be a table: [service]");
+    if (auto checked = check_service(file_name, *table, site.service); !checked) return std::move(checked).error();
+  }
+  const toml::node* sensors = root.get("sensor");
+  if (sensors == nullptr) {
+    return make_error(Errc::invalid_frame, std::string(file_name) + ": no sensors: add a [[sensor]] table for each");
+  }
+  const auto* array = sensors->as_array();
+  if (array == nullptr || !array->is_array_of_tables()) {
+    return at(file_name, *sensors, Errc::invalid_frame, "sensor must be an array of tables: [[sensor]]");
+  }
+  for (const toml::node& node : *array) {
+    auto sensor = sensor_from(file_name, *node.as_table());
+    if (!sensor) return std::move(sensor).error();
+    site.sensors.push_back(std::move(*sensor));
+  }
+  if (auto checked = check_ports(site); !checked) return std::move(checked).error();
+  return site;
+}
+
+Result<SiteConfig> load_site_config(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return make_error(Errc::io, "cannot read site file " + path);
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad()) return make_error(Errc::io, "cannot read site file " + path);
+  return parse_site_config(text.str(), path);
+}
+
+}  // namespace rangekit::hub

@@ -1,0 +1,151 @@
+// site.toml: what `rangekit serve --config` and `--check` accept and refuse (issue 13 point 1).
+#include "rangekit/hub/site_config.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace {
+
+using rangekit::Errc;
+using rangekit::Parity;
+using namespace rangekit::hub;
+
+SiteConfig parse_ok(const std::string& text) {
+  auto site = parse_site_config(text, "site.toml");
+  EXPECT_TRUE(site.ok()) << (site.ok() ? "" : site.error().message);
+  return site.ok() ? *site : SiteConfig{};
+}
+
+std::string refusal(const std::string& text) {
+  auto site = parse_site_config(text, "site.toml");
+  EXPECT_FALSE(site.ok()) << "accepted:\n" << text;
+  return site.ok() ? "" : site.error().message;
+}
+
+TEST(SiteConfig, ReadsEveryKeyOfASensor) {
+  const auto site = parse_ok(R"(
+[service]
+listen = "0.0.0.0:9000"
+capture_dir = "/var/lib/rangekit"
+
+[[sensor]]
+name = "hopper-1"
+family = "uls"
+port = "/dev/ttyUSB0"
+baud = 19200
+address = "A"
+stream = false
+capture = true
+
+[[sensor]]
+name = "belt"
+family = "ls5"
+port = "/dev/ttyUSB1"
+baud = 9600
+format = "8E1"
+address = 3
+udp = "0.0.0.0:5000"
+)");
+  ASSERT_EQ(site.sensors.size(), 2u);
+  EXPECT_EQ(site.service.listen, "0.0.0.0:9000");
+  EXPECT_EQ(site.service.capture_dir, "/var/lib/rangekit");
+  const SensorConfig& uls = site.sensors[0];
+  EXPECT_EQ(uls.name, "hopper-1");
+  EXPECT_EQ(uls.family, Family::uls);
+  EXPECT_EQ(uls.serial.baud, 19200u);
+  EXPECT_EQ(uls.address, 0x41);  // §8 UA table: 'A' is 0x41
+  EXPECT_FALSE(uls.stream);
+  EXPECT_TRUE(uls.capture);
+  EXPECT_EQ(uls.line, 6u);
+  const SensorConfig& ls5 = site.sensors[1];
+  EXPECT_EQ(ls5.family, Family::ls5);
+  EXPECT_EQ(ls5.serial.parity, Parity::even);  // LS5 table 9.2 byte format 8E1
+  EXPECT_EQ(ls5.serial.stop_bits, 1);
+  EXPECT_EQ(ls5.address, 3);
+  EXPECT_EQ(ls5.udp, "0.0.0.0:5000");
+  EXPECT_TRUE(ls5.stream);  // the default
+}
+
+TEST(SiteConfig, AnRs485BusIsSeveralAddressedUlsOnOnePort) {
+  const auto site = parse_ok(R"(
+[[sensor]]
+name = "a"
+family = "uls"
+port = "/dev/ttyUSB0"
+address = "A"
+[[sensor]]
+name = "b"
+family = "uls"
+port = "/dev/ttyUSB0"
+address = "0x42"
+[[sensor]]
+name = "c"
+family = "uls"
+port = "/dev/ttyUSB1"
+)");
+  const auto groups = port_groups(site);
+  ASSERT_EQ(groups.size(), 2u);
+  EXPECT_EQ(groups[0].sensors.size(), 2u);
+  EXPECT_TRUE(groups[0].bus());
+  EXPECT_FALSE(groups[1].bus());
+  EXPECT_EQ(groups[0].sensors[1]->address, 0x42);
+}
+
+TEST(SiteConfig, RefusesWithFileLineAndReason) {
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nspeed = 9600\n"),
+            "site.toml:5: unknown key 'speed' in [[sensor]] (allowed: name, family, port, baud, format, address, udp, "
+            "stream, capture)");
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"lms\"\nport = \"/dev/x\"\n"),
+            "site.toml:3: family 'lms' is not \"uls\" or \"ls5\"");
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a b\"\nfamily = \"uls\"\nport = \"/dev/x\"\n"),
+            "site.toml:2: name 'a b' must be 1-64 letters, digits, '-' or '_' (it goes into URLs and topics)");
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nbaud = 12\n"),
+            "site.toml:5: baud 12 is out of range 300-921600");
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nformat = \"8E1\"\n"),
+            "site.toml:5: format '8E1': the ULS speaks 8N1 only (§9)");
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"ls5\"\nport = \"/dev/x\"\naddress = 0\n"),
+            "site.toml:5: address 0 is out of range 1-255 (LS5 network address, parameter 01)");
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\naddress = \"!\"\n"),
+            "site.toml:5: address '!' is not a ULS unit address (0x30-0xEF, e.g. \"A\" or \"0x41\", §7)");
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nudp = \"0.0.0.0:5000\"\n"),
+            "site.toml:4: udp is for LS5 Ethernet models only (§10)");
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\n"), "site.toml:2: sensor 'a' needs a port");
+  EXPECT_EQ(refusal("[service]\nlisten = \"127.0.0.1:8080\"\n"),
+            "site.toml: no sensors: add a [[sensor]] table for each");
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nstream = \"yes\"\n"),
+            "site.toml:5: stream must be true or false");
+  EXPECT_EQ(refusal("[http]\n"), "site.toml:1: unknown key 'http' in the site file (allowed: service, sensor)");
+  EXPECT_NE(refusal("[[sensor]]\nname = \n").find("site.toml:2:"), std::string::npos);  // TOML syntax
+}
+
+TEST(SiteConfig, RefusesTwoSensorsThatCannotShareAPort) {
+  const std::string a = "[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\naddress = \"A\"\n";
+  EXPECT_EQ(refusal(a + "[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/y\"\n"),
+            "site.toml:6: sensor name 'a' is already used at line 1");
+  EXPECT_EQ(
+      refusal(a + "[[sensor]]\nname = \"b\"\nfamily = \"uls\"\nport = \"/dev/x\"\naddress = \"B\"\nbaud = 9600\n"),
+      "site.toml:6: port /dev/x is also claimed by 'a' (line 1) with other settings (115200 8N1 there, 9600 "
+      "8N1 here)");
+  EXPECT_EQ(refusal(a + "[[sensor]]\nname = \"b\"\nfamily = \"uls\"\nport = \"/dev/x\"\n"),
+            "site.toml:6: port /dev/x is also claimed by 'a' (line 1): units sharing an RS-485 port each need an "
+            "address (§7)");
+  EXPECT_EQ(refusal(a + "[[sensor]]\nname = \"b\"\nfamily = \"uls\"\nport = \"/dev/x\"\naddress = 65\n"),
+            "site.toml:6: address of 'b' is also the address of 'a' (line 1) on port /dev/x (§7: one unit per "
+            "address)");
+  EXPECT_EQ(refusal(a + "[[sensor]]\nname = \"b\"\nfamily = \"ls5\"\nport = \"/dev/x\"\n"),
+            "site.toml:6: port /dev/x is also claimed by 'a' (line 1) as uls: one port carries one family");
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"ls5\"\nport = \"/dev/x\"\n"
+                    "[[sensor]]\nname = \"b\"\nfamily = \"ls5\"\nport = \"/dev/x\"\naddress = 2\n"),
+            "site.toml:5: port /dev/x is also claimed by 'a' (line 1): an LS5 stream holds its line, so one LS5 per "
+            "port");
+}
+
+TEST(SiteConfig, AnUnreadableFileIsNamed) {
+  auto site = load_site_config("/nonexistent/site.toml");
+  ASSERT_FALSE(site.ok());
+  EXPECT_EQ(site.error().code, Errc::io);
+  EXPECT_EQ(site.error().message, "cannot read site file /nonexistent/site.toml");
+}
+
+}  // namespace
