@@ -177,6 +177,12 @@ Result<SensorConfig> sensor_from(std::string_view file, const toml::table& table
     if (!settings) return std::move(settings).error();
     sensor.serial = *settings;
   }
+  if (!sensor.port.empty() && !sensor.udp.empty()) {
+    return at(file, *name, Errc::invalid_frame,
+              "sensor '" + sensor.name +
+                  "' has both a port and udp: give one (serial stream and commands, or the "
+                  "Ethernet stream alone)");
+  }
   if (sensor.port.empty() && sensor.udp.empty()) {
     return at(file, *name, Errc::invalid_frame,
               "sensor '" + sensor.name + "' needs a port" + (sensor.family == Family::ls5 ? " or udp" : ""));

@@ -45,9 +45,13 @@ port = "/dev/ttyUSB1"
 baud = 9600
 format = "8E1"
 address = 3
+
+[[sensor]]
+name = "eth"
+family = "ls5"
 udp = "0.0.0.0:5000"
 )");
-  ASSERT_EQ(site.sensors.size(), 2u);
+  ASSERT_EQ(site.sensors.size(), 3u);
   EXPECT_EQ(site.service.listen, "0.0.0.0:9000");
   EXPECT_EQ(site.service.capture_dir, "/var/lib/rangekit");
   const SensorConfig& uls = site.sensors[0];
@@ -63,8 +67,8 @@ udp = "0.0.0.0:5000"
   EXPECT_EQ(ls5.serial.parity, Parity::even);  // LS5 table 9.2 byte format 8E1
   EXPECT_EQ(ls5.serial.stop_bits, 1);
   EXPECT_EQ(ls5.address, 3);
-  EXPECT_EQ(ls5.udp, "0.0.0.0:5000");
   EXPECT_TRUE(ls5.stream);  // the default
+  EXPECT_EQ(site.sensors[2].udp, "0.0.0.0:5000");
 }
 
 TEST(SiteConfig, AnRs485BusIsSeveralAddressedUlsOnOnePort) {
@@ -111,6 +115,9 @@ TEST(SiteConfig, RefusesWithFileLineAndReason) {
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nudp = \"0.0.0.0:5000\"\n"),
             "site.toml:4: udp is for LS5 Ethernet models only (§10)");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\n"), "site.toml:2: sensor 'a' needs a port");
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"ls5\"\nport = \"/dev/x\"\nudp = \"0.0.0.0:1\"\n"),
+            "site.toml:2: sensor 'a' has both a port and udp: give one (serial stream and commands, or the Ethernet "
+            "stream alone)");
   EXPECT_EQ(refusal("[service]\nlisten = \"127.0.0.1:8080\"\n"),
             "site.toml: no sensors: add a [[sensor]] table for each");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nstream = \"yes\"\n"),

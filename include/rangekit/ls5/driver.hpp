@@ -104,6 +104,16 @@ class Driver {
   Status set(const HostSetting& setting, std::string_view text);
   Status set(std::string_view name, std::string_view text);
 
+  // Every setting of table 9.2 this sensor has (firmware, Ethernet), in table order,
+  // each code value followed by its -mm form from the same bytes: what `ls5 get`
+  // prints and the service shows.
+  struct NamedValue {
+    std::string name;
+    std::string text;
+    std::string_view unit;
+  };
+  Result<std::vector<NamedValue>> read_all_settings();
+
   // ID once, then R70 on LS5.12+ to learn whether the sensor has Ethernet.
   Result<SensorInfo> info();
   // What set/get check against: firmware from ID (or assumed), range for the *-mm settings.

@@ -360,6 +360,26 @@ Status Driver::set(const HostSetting& setting, std::string_view text) {
   return ok_status();
 }
 
+Result<std::vector<Driver::NamedValue>> Driver::read_all_settings() {
+  auto identity = info();  // firmware, range and Ethernet decide what exists
+  if (!identity) return identity.error();
+  auto sensor = context();
+  if (!sensor) return sensor.error();
+  std::vector<NamedValue> values;
+  for (const HostSetting& setting : host_setting_table()) {
+    if (!setting.canonical || !check_setting_available(setting, sensor->model)) continue;
+    auto reading = get(setting);
+    if (!reading) return reading.error();
+    values.push_back({std::string(setting.name), reading->text, setting.unit});
+    // The mm form of a code value, from the same bytes.
+    if (const HostSetting* in_mm = find_host_setting(std::string(setting.name) + "-mm")) {
+      if (auto mm = format_setting(*in_mm, reading->bytes, *sensor))
+        values.push_back({std::string(in_mm->name), *mm, in_mm->unit});
+    }
+  }
+  return values;
+}
+
 Status Driver::set(std::string_view name, std::string_view text) {
   const HostSetting* setting = find_host_setting(name);
   if (setting == nullptr)

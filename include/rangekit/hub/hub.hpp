@@ -1,0 +1,105 @@
+// The sensor hub under `rangekit serve`: one session per sensor of a site, one
+// worker thread per port. A worker owns its port's driver (one ULS, an RS-485
+// bus of ULS units, one LS5, or an LS5's UDP listener), reads or polls it, and
+// runs the commands asked of its sensors in between, so commands and the stream
+// never meet on the wire (ULS: stop, ask, restart; LS5: the stream is stopped
+// first, since any byte would stop it). Samples and events are numbered, kept in
+// each sensor's ring and handed to subscribers through bounded queues.
+// The hub knows no HTTP or MQTT: those faces sit on top of it.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "rangekit/core/result.hpp"
+#include "rangekit/core/transport.hpp"
+#include "rangekit/hub/fanout.hpp"
+#include "rangekit/hub/health.hpp"
+#include "rangekit/hub/site_config.hpp"
+
+namespace rangekit::hub {
+
+// One named value of a sensor's identity, status or settings, as read.
+struct Field {
+  std::string key;    // kebab-case ("short-gate", "serial-number")
+  std::string value;  // as the CLI prints it ("10", "binning", "LS5.12.0")
+  std::string unit;   // "m", "Hz", "mm", or empty
+  friend bool operator==(const Field&, const Field&) = default;
+};
+
+struct SensorSnapshot {
+  SensorConfig config;
+  bool streaming = false;       // the service is reading measurements from it
+  std::vector<Field> identity;  // ULS: ID; LS5: version, range, serial, Ethernet
+  std::vector<Field> status;    // ULS: US decoded (§8 Get Unit Status)
+  std::vector<Field> settings;  // as last read (empty until read)
+  SensorHealth health;
+  std::uint64_t last_sequence = 0;  // the newest item of this sensor
+};
+
+struct HubOptions {
+  std::size_t ring_capacity = 4096;  // recent items kept per sensor
+  std::chrono::milliseconds command_timeout{15000};
+  std::chrono::milliseconds reconnect_interval{500};
+  // How a worker opens its port; tests may hand in loopback transports.
+  std::function<Result<TransportPtr>(const std::string& path, const SerialSettings& settings)> open_port;
+};
+
+// A sensor action (POST …/actions/{action}); the family decides what each means.
+enum class Action : std::uint8_t {
+  start,    // measure and stream
+  stop,     // stop streaming (and measuring)
+  single,   // one measurement now (ULS BM, LS5 LR)
+  pointer,  // ULS PT: argument "on"/"off"
+  save,     // ULS SU, LS5 FL: settings into non-volatile memory
+  reset,    // factory settings (ULS §2 values, LS5 DF)
+  latch,    // LS5 FX
+  read,     // read every setting again (the Interface Program's Read button)
+};
+std::optional<Action> parse_action(std::string_view name);
+const char* action_name(Action action) noexcept;
+
+class Hub {
+ public:
+  // Starts one worker per port. A sensor whose port cannot be opened is
+  // reported disconnected and retried; it does not stop the others.
+  static std::unique_ptr<Hub> start(const SiteConfig& site, HubOptions options = {});
+  ~Hub();  // stop()
+  Hub(const Hub&) = delete;
+  Hub& operator=(const Hub&) = delete;
+  // Stops every worker: streams stopped as found, ports closed. Idempotent.
+  void stop();
+
+  [[nodiscard]] std::vector<std::string> sensor_names() const;
+  [[nodiscard]] Result<SensorSnapshot> sensor(std::string_view name) const;
+  [[nodiscard]] std::vector<SensorSnapshot> sensors() const;
+
+  // Live items of one sensor, or of all when `sensor` is empty.
+  Result<SubscriptionPtr> subscribe(std::string_view sensor, std::size_t capacity, OverflowPolicy policy);
+  // Items after `after` still in the ring (one sensor, or all merged in order when empty).
+  Result<SampleRing::Since> since(std::string_view sensor, std::uint64_t after) const;
+  Result<std::vector<HubItemPtr>> latest(std::string_view sensor, std::size_t count) const;
+  [[nodiscard]] std::uint64_t last_sequence() const;
+  [[nodiscard]] std::uint64_t subscribers_cut_off() const;
+
+  // Validated against the family's tables before anything is sent; written,
+  // read back and compared. Returns the settings as read back.
+  Result<std::vector<Field>> set(std::string_view sensor,
+                                 const std::vector<std::pair<std::string, std::string>>& values);
+  Result<std::vector<Field>> settings(std::string_view sensor);  // read now
+  // The action's result text ("10.123 m" for single, "" otherwise).
+  Result<std::string> act(std::string_view sensor, Action action, std::string_view argument = {});
+
+ private:
+  struct Impl;
+  explicit Hub(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rangekit::hub

@@ -1,0 +1,254 @@
+#include "rangekit/hub/hub.hpp"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <map>
+
+#include "hub/port_worker.hpp"
+#include "hub/session.hpp"
+#include "rangekit/core/serial_port.hpp"
+
+namespace rangekit::hub {
+namespace {
+
+constexpr std::array<std::pair<Action, const char*>, 8> action_names{{{Action::start, "start"},
+                                                                      {Action::stop, "stop"},
+                                                                      {Action::single, "single"},
+                                                                      {Action::pointer, "pointer"},
+                                                                      {Action::save, "save"},
+                                                                      {Action::reset, "reset"},
+                                                                      {Action::latch, "latch"},
+                                                                      {Action::read, "read"}}};
+
+Result<TransportPtr> open_serial_port(const std::string& path, const SerialSettings& settings) {
+  auto port = SerialPort::open(path, settings);
+  if (!port) {
+    Error error = std::move(port).error();
+    error.code = Errc::io;
+    return error;
+  }
+  return TransportPtr(std::move(port).value());
+}
+
+SensorSnapshot snapshot_of(const Session& session) {
+  SensorSnapshot snapshot;
+  snapshot.config = session.config;
+  std::lock_guard lock(session.mutex);
+  snapshot.streaming = session.streaming;
+  snapshot.identity = session.identity;
+  snapshot.status = session.status;
+  snapshot.settings = session.settings;
+  snapshot.health = session.health.snapshot(std::chrono::steady_clock::now());
+  snapshot.last_sequence = session.last_sequence;
+  return snapshot;
+}
+
+}  // namespace
+
+std::optional<Action> parse_action(std::string_view name) {
+  for (const auto& [action, text] : action_names) {
+    if (name == text) return action;
+  }
+  return std::nullopt;
+}
+
+const char* action_name(Action action) noexcept {
+  for (const auto& [candidate, text] : action_names) {
+    if (candidate == action) return text;
+  }
+  return "?";
+}
+
+struct Hub::Impl final : Publisher {
+  HubOptions options;
+  std::vector<std::unique_ptr<Session>> sessions;
+  std::vector<std::unique_ptr<PortWorker>> workers;
+  std::map<std::string, PortWorker*, std::less<>> worker_of;  // sensor name -> its port's worker
+  Fanout fanout;
+  std::mutex publish_mutex;  // one order of sequence numbers for the ring and every subscriber
+  std::uint64_t sequence = 0;
+  std::atomic<bool> stopped{false};
+
+  void publish(Session& session, StreamItem item) override {
+    const auto now = std::chrono::steady_clock::now();
+    std::lock_guard order(publish_mutex);
+    auto shared = std::make_shared<const HubItem>(HubItem{++sequence, session.config.name, std::move(item)});
+    {
+      std::lock_guard lock(session.mutex);
+      session.health.record(shared->item, now);
+      session.last_sequence = shared->sequence;
+    }
+    session.ring.push(shared);
+    fanout.publish(shared);
+  }
+
+  [[nodiscard]] Session* find(std::string_view name) const {
+    for (const auto& session : sessions) {
+      if (session->config.name == name) return session.get();
+    }
+    return nullptr;
+  }
+
+  [[nodiscard]] Error unknown(std::string_view name) const {
+    std::string names;
+    for (const auto& session : sessions) names += (names.empty() ? "" : ", ") + session->config.name;
+    return make_error(Errc::unknown_parameter, "no sensor named '" + std::string(name) + "' (sensors: " + names + ")");
+  }
+};
+
+Hub::Hub(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+Hub::~Hub() { stop(); }
+
+std::unique_ptr<Hub> Hub::start(const SiteConfig& site, HubOptions options) {
+  auto impl = std::make_unique<Impl>();
+  if (!options.open_port) options.open_port = open_serial_port;
+  impl->options = options;
+  for (const SensorConfig& sensor : site.sensors) {
+    auto session = std::make_unique<Session>(sensor, options.ring_capacity);
+    session->want_stream = sensor.stream;
+    impl->sessions.push_back(std::move(session));
+  }
+  const auto session_of = [&](const SensorConfig* sensor) { return impl->find(sensor->name); };
+  for (const PortGroup& group : port_groups(site)) {
+    std::vector<Session*> sessions;
+    std::transform(group.sensors.begin(), group.sensors.end(), std::back_inserter(sessions), session_of);
+    std::unique_ptr<Backend> backend;
+    if (group.family == Family::ls5) {
+      backend = make_ls5_backend(*sessions.front(), *impl, options.open_port);
+    } else if (group.bus()) {
+      backend = make_uls_bus_backend(sessions, *impl, options.open_port);
+    } else {
+      backend = make_uls_backend(*sessions.front(), *impl, options.open_port);
+    }
+    impl->workers.push_back(
+        std::make_unique<PortWorker>(std::move(backend), sessions, *impl, options.reconnect_interval));
+    for (Session* session : sessions) impl->worker_of[session->config.name] = impl->workers.back().get();
+  }
+  for (const auto& session : impl->sessions) {
+    if (!session->config.port.empty() || session->config.udp.empty()) continue;
+    impl->workers.push_back(std::make_unique<PortWorker>(make_ls5_udp_backend(*session, *impl),
+                                                         std::vector<Session*>{session.get()}, *impl,
+                                                         options.reconnect_interval));
+    impl->worker_of[session->config.name] = impl->workers.back().get();
+  }
+  for (const auto& worker : impl->workers) worker->start();
+  return std::unique_ptr<Hub>(new Hub(std::move(impl)));
+}
+
+void Hub::stop() {
+  if (impl_->stopped.exchange(true)) return;
+  for (const auto& worker : impl_->workers) worker->stop();
+}
+
+std::vector<std::string> Hub::sensor_names() const {
+  std::vector<std::string> names;
+  for (const auto& session : impl_->sessions) names.push_back(session->config.name);
+  return names;
+}
+
+Result<SensorSnapshot> Hub::sensor(std::string_view name) const {
+  const Session* session = impl_->find(name);
+  if (session == nullptr) return impl_->unknown(name);
+  return snapshot_of(*session);
+}
+
+std::vector<SensorSnapshot> Hub::sensors() const {
+  std::vector<SensorSnapshot> all;
+  for (const auto& session : impl_->sessions) all.push_back(snapshot_of(*session));
+  return all;
+}
+
+Result<SubscriptionPtr> Hub::subscribe(std::string_view sensor, std::size_t capacity, OverflowPolicy policy) {
+  if (!sensor.empty() && impl_->find(sensor) == nullptr) return impl_->unknown(sensor);
+  return impl_->fanout.subscribe(std::string(sensor), capacity, policy);
+}
+
+Result<SampleRing::Since> Hub::since(std::string_view sensor, std::uint64_t after) const {
+  if (!sensor.empty()) {
+    const Session* session = impl_->find(sensor);
+    if (session == nullptr) return impl_->unknown(sensor);
+    return session->ring.since(after);
+  }
+  SampleRing::Since merged;
+  for (const auto& session : impl_->sessions) {
+    auto part = session->ring.since(after);
+    merged.complete = merged.complete && part.complete;
+    merged.items.insert(merged.items.end(), part.items.begin(), part.items.end());
+  }
+  std::sort(merged.items.begin(), merged.items.end(),
+            [](const HubItemPtr& a, const HubItemPtr& b) { return a->sequence < b->sequence; });
+  return merged;
+}
+
+Result<std::vector<HubItemPtr>> Hub::latest(std::string_view sensor, std::size_t count) const {
+  const Session* session = impl_->find(sensor);
+  if (session == nullptr) return impl_->unknown(sensor);
+  return session->ring.latest(count);
+}
+
+std::uint64_t Hub::last_sequence() const {
+  std::lock_guard lock(impl_->publish_mutex);
+  return impl_->sequence;
+}
+
+std::uint64_t Hub::subscribers_cut_off() const { return impl_->fanout.cut_off_count(); }
+
+Result<std::vector<Field>> Hub::set(std::string_view sensor, const SettingValues& values) {
+  Session* session = impl_->find(sensor);
+  if (session == nullptr) return impl_->unknown(sensor);
+  if (values.empty()) return make_error(Errc::wrong_form, "no settings given");
+  return impl_->worker_of.at(session->config.name)
+      ->run<std::vector<Field>>(
+          [session, values](Backend& backend) { return backend.write_settings(*session, values); },
+          impl_->options.command_timeout);
+}
+
+Result<std::vector<Field>> Hub::settings(std::string_view sensor) {
+  Session* session = impl_->find(sensor);
+  if (session == nullptr) return impl_->unknown(sensor);
+  return impl_->worker_of.at(session->config.name)
+      ->run<std::vector<Field>>([session](Backend& backend) { return backend.read_settings(*session); },
+                                impl_->options.command_timeout);
+}
+
+Result<std::string> Hub::act(std::string_view sensor, Action action, std::string_view argument) {
+  Session* session = impl_->find(sensor);
+  if (session == nullptr) return impl_->unknown(sensor);
+  if (action == Action::start || action == Action::stop) {
+    std::lock_guard lock(session->mutex);
+    session->want_stream = action == Action::start;  // kept across reconnects
+  }
+  return impl_->worker_of.at(session->config.name)
+      ->run<std::string>([session, action, argument = std::string(argument)](
+                             Backend& backend) { return backend.act(*session, action, argument); },
+                         impl_->options.command_timeout);
+}
+
+// ---- helpers the backends share ----
+
+StreamEvent make_event(StreamEventKind kind, std::string message) {
+  return StreamEvent{std::chrono::system_clock::now(), kind, std::move(message), 0};
+}
+
+std::size_t drain(SampleSource& source, Session& session, Publisher& publisher, std::chrono::milliseconds wait) {
+  std::size_t count = 0;
+  auto item = source.next(wait);
+  // Everything already queued goes in one go; the first wait is the only one.
+  while (item) {
+    publisher.publish(session, std::move(*item));
+    ++count;
+    if (count >= 4096) break;
+    item = source.next(std::chrono::milliseconds(0));
+  }
+  return count;
+}
+
+Error refused(const Session& session, Action action) {
+  return make_error(Errc::unsupported, std::string("'") + action_name(action) + "' is not an action of " +
+                                           family_name(session.config.family) + " sensor '" + session.config.name +
+                                           "'");
+}
+
+}  // namespace rangekit::hub

@@ -1,0 +1,271 @@
+// An LS5 on a serial port (§8.13 stream, table 9.1/9.2 commands) or heard over UDP (§10).
+#include <memory>
+
+#include "hub/session.hpp"
+#include "rangekit/ls5/driver.hpp"
+#include "rangekit/ls5/host_settings.hpp"
+#include "rangekit/ls5/udp_receiver.hpp"
+
+namespace rangekit::hub {
+namespace {
+
+std::string number_text(double value) {
+  std::string text = std::to_string(value);
+  text.erase(text.find_last_not_of('0') + 1);
+  if (!text.empty() && text.back() == '.') text.pop_back();
+  return text;
+}
+
+std::vector<Field> fields_of(const std::vector<ls5::Driver::NamedValue>& values) {
+  std::vector<Field> fields;
+  fields.reserve(values.size());
+  for (const auto& value : values) fields.push_back({value.name, value.text, std::string(value.unit)});
+  return fields;
+}
+
+class Ls5Backend final : public Backend {
+ public:
+  Ls5Backend(Session& session, Publisher& publisher, PortOpener open)
+      : session_(session), publisher_(publisher), open_(std::move(open)) {}
+
+  Status connect() override {
+    const SensorConfig& config = session_.config;
+    auto link = open_(config.port, config.serial);
+    if (!link) return std::move(link).error();
+    ls5::DriverOptions options;
+    options.address = static_cast<std::uint8_t>(config.address.value_or(1));
+    auto reopen = [open = open_, port = config.port, serial = config.serial] { return open(port, serial); };
+    auto driver = std::make_unique<ls5::Driver>(std::move(link).value(), options, reopen);
+    auto info = driver->info();
+    if (!info) return make_error(info.error().code, config.port + ": " + info.error().message);
+    const ls5::Identification& id = info->identification;
+    std::lock_guard lock(session_.mutex);
+    session_.identity = {{"version", std::string(id.version_text.view()), ""},
+                         {"lower-boundary", number_text(id.lower_boundary_mm), "mm"},
+                         {"range", number_text(id.range_mm), "mm"},
+                         {"serial", std::to_string(id.serial_number), ""},
+                         {"ethernet", info->ethernet ? "yes" : "no", ""}};
+    driver_ = std::move(driver);
+    return ok_status();
+  }
+
+  [[nodiscard]] bool connected() const override { return driver_ != nullptr; }
+
+  bool pump(std::chrono::milliseconds wait) override {
+    if (!stream_) return false;
+    drain(*stream_, session_, publisher_, wait);
+    return true;
+  }
+
+  Status set_streaming(Session& /*session*/, bool on) override {
+    if (on == (stream_ != nullptr)) return ok_status();
+    if (on) {
+      auto stream = driver_->start_stream(ls5::Driver::StreamOptions{});
+      if (!stream) return std::move(stream).error();
+      stream_ = std::move(stream).value();
+    } else {
+      stream_->stop();  // SB; what was queued still goes out first
+      drain(*stream_, session_, publisher_, std::chrono::milliseconds(0));
+      stream_.reset();
+    }
+    std::lock_guard lock(session_.mutex);
+    session_.streaming = on;
+    return ok_status();
+  }
+
+  Result<std::vector<Field>> read_settings(Session& /*session*/) override {
+    return paused([&]() -> Result<std::vector<Field>> {
+      auto values = driver_->read_all_settings();
+      if (!values) return std::move(values).error();
+      auto fields = fields_of(*values);
+      std::lock_guard lock(session_.mutex);
+      session_.settings = fields;
+      return fields;
+    });
+  }
+
+  Result<std::vector<Field>> write_settings(Session& session, const SettingValues& values) override {
+    return paused([&]() -> Result<std::vector<Field>> {
+      auto context = driver_->context();
+      if (!context) return std::move(context).error();
+      // Every value checked before the first byte goes out (table 9.2 ranges, firmware).
+      std::vector<std::pair<const ls5::HostSetting*, ls5::ParameterWrites>> planned;
+      for (const auto& [name, text] : values) {
+        const ls5::HostSetting* setting = ls5::find_host_setting(name);
+        if (setting == nullptr) return make_error(Errc::unknown_parameter, "no LS5 setting named '" + name + "'");
+        if (setting->link) {
+          return make_error(Errc::unsupported, name +
+                                                   " changes how the service reaches the sensor: change it in the site "
+                                                   "file and with `rangekit ls5 set`");
+        }
+        if (auto available = ls5::check_setting_available(*setting, context->model); !available) {
+          return std::move(available).error();
+        }
+        auto writes = ls5::encode_setting(*setting, text, *context);
+        if (!writes) return make_error(writes.error().code, name + ": " + writes.error().message);
+        planned.emplace_back(setting, *writes);
+      }
+      for (std::size_t i = 0; i < planned.size(); ++i) {
+        if (auto written = driver_->set(*planned[i].first, values[i].second); !written)
+          return std::move(written).error();
+      }
+      // Read back: every byte as written, else the sensor kept something else.
+      for (const auto& [setting, writes] : planned) {
+        auto reading = driver_->get(*setting);
+        if (!reading) return std::move(reading).error();
+        const auto addresses = setting->addresses();
+        for (const ls5::ParameterWrite& write : writes.view()) {
+          for (std::size_t b = 0; b < addresses.size(); ++b) {
+            if (addresses[b] == write.address && reading->bytes[b] != write.value) {
+              return make_error(Errc::device_error,
+                                std::string(setting->name) + " reads back as " + reading->text + " after the write");
+            }
+          }
+        }
+      }
+      auto all = read_settings(session);
+      return all;
+    });
+  }
+
+  Result<std::string> act(Session& session, Action action, std::string_view /*argument*/) override {
+    switch (action) {
+      case Action::start:
+        if (auto started = set_streaming(session, true); !started) return std::move(started).error();
+        return std::string();
+      case Action::stop:
+        if (auto stopped = set_streaming(session, false); !stopped) return std::move(stopped).error();
+        return std::string();
+      case Action::read: {
+        auto settings = read_settings(session);
+        if (!settings) return std::move(settings).error();
+        return std::string();
+      }
+      case Action::single:
+        return paused([&]() -> Result<std::string> {
+          auto last = driver_->read_last();  // LR
+          if (!last) return std::move(last).error();
+          if (last->distance_mm) return number_text(*last->distance_mm) + " mm";
+          if (last->derivative_mm) return number_text(*last->derivative_mm) + " mm (derivative)";
+          if (last->code.kind == ls5::CodeKind::no_signal) return std::string("no signal");  // §8.9: 65535
+          if (last->code.kind == ls5::CodeKind::no_measurement_yet) return std::string("no measurement yet");  // 65534
+          return "code " + std::to_string(last->code.value);
+        });
+      case Action::save:
+        return simple([&] { return driver_->store_to_flash(); });
+      case Action::reset:
+        return simple([&] { return driver_->restore_defaults(); });
+      case Action::latch:
+        return simple([&] { return driver_->latch(); });
+      case Action::pointer:
+        break;
+    }
+    return refused(session_, action);
+  }
+
+  void shutdown() override {
+    if (stream_) {
+      stream_->stop();
+      drain(*stream_, session_, publisher_, std::chrono::milliseconds(0));
+      stream_.reset();
+    }
+    driver_.reset();
+  }
+
+ private:
+  // The stream holds the line (any byte would stop it, L37): stopped for the call, started again after.
+  template <class F>
+  auto paused(F&& call) -> decltype(call()) {
+    const bool was_streaming = stream_ != nullptr;
+    if (was_streaming) {
+      if (auto stopped = set_streaming(session_, false); !stopped) return std::move(stopped).error();
+    }
+    auto result = call();
+    if (was_streaming) {
+      if (auto restarted = set_streaming(session_, true); !restarted) {
+        publisher_.publish(session_, make_event(StreamEventKind::device_error,
+                                                "stream not restarted: " + restarted.error().describe()));
+      }
+    }
+    return result;
+  }
+
+  template <class F>
+  Result<std::string> simple(F&& call) {
+    return paused([&]() -> Result<std::string> {
+      if (auto done = call(); !done) return std::move(done).error();
+      return std::string();
+    });
+  }
+
+  Session& session_;
+  Publisher& publisher_;
+  PortOpener open_;
+  std::unique_ptr<ls5::Driver> driver_;
+  std::unique_ptr<ls5::MeasurementStream> stream_;
+};
+
+// An Ethernet LS5 heard over UDP only (§10): samples, no commands.
+class Ls5UdpBackend final : public Backend {
+ public:
+  Ls5UdpBackend(Session& session, Publisher& publisher) : session_(session), publisher_(publisher) {}
+
+  Status connect() override {
+    auto endpoint = parse_endpoint(session_.config.udp);
+    if (!endpoint) return std::move(endpoint).error();
+    ls5::UdpReceiverOptions options;
+    if (session_.config.address) options.address = *session_.config.address;
+    auto receiver = ls5::UdpReceiver::start(*endpoint, options);
+    if (!receiver) return std::move(receiver).error();
+    receiver_ = std::move(receiver).value();
+    std::lock_guard lock(session_.mutex);
+    session_.identity = {{"udp", receiver_->local_endpoint().to_string(), ""}};
+    session_.streaming = true;
+    return ok_status();
+  }
+  [[nodiscard]] bool connected() const override { return receiver_ != nullptr; }
+  bool pump(std::chrono::milliseconds wait) override {
+    if (!receiver_) return false;
+    drain(*receiver_, session_, publisher_, wait);
+    return true;
+  }
+  Status set_streaming(Session& /*session*/, bool on) override {
+    if (on) return ok_status();
+    return make_error(Errc::unsupported,
+                      "an LS5 heard over UDP only is always listened to; give it a port for commands");
+  }
+  Result<std::vector<Field>> read_settings(Session& /*session*/) override { return no_port(); }
+  Result<std::vector<Field>> write_settings(Session& /*session*/, const SettingValues& /*values*/) override {
+    return no_port();
+  }
+  Result<std::string> act(Session& session, Action action, std::string_view /*argument*/) override {
+    if (action == Action::start) return std::string();
+    return refused(session, action);
+  }
+  void shutdown() override {
+    if (receiver_) receiver_->stop();
+    receiver_.reset();
+  }
+
+ private:
+  [[nodiscard]] Error no_port() const {
+    return make_error(
+        Errc::unsupported,
+        "sensor '" + session_.config.name + "' is heard over UDP only: settings need its serial port in the site file");
+  }
+  Session& session_;
+  Publisher& publisher_;
+  std::unique_ptr<ls5::UdpReceiver> receiver_;
+};
+
+}  // namespace
+
+std::unique_ptr<Backend> make_ls5_backend(Session& session, Publisher& publisher, const PortOpener& open) {
+  return std::make_unique<Ls5Backend>(session, publisher, open);
+}
+
+std::unique_ptr<Backend> make_ls5_udp_backend(Session& session, Publisher& publisher) {
+  return std::make_unique<Ls5UdpBackend>(session, publisher);
+}
+
+}  // namespace rangekit::hub

@@ -1,0 +1,114 @@
+#include "hub/port_worker.hpp"
+
+namespace rangekit::hub {
+
+PortWorker::PortWorker(std::unique_ptr<Backend> backend, std::vector<Session*> sessions, Publisher& publisher,
+                       std::chrono::milliseconds reconnect_interval)
+    : backend_(std::move(backend)),
+      sessions_(std::move(sessions)),
+      publisher_(publisher),
+      reconnect_interval_(reconnect_interval) {}
+
+PortWorker::~PortWorker() { stop(); }
+
+void PortWorker::start() {
+  thread_ = std::thread([this] { loop(); });
+}
+
+void PortWorker::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+  // Anything still queued learns the service is stopping.
+  std::deque<Job> left;
+  {
+    std::lock_guard lock(mutex_);
+    left.swap(jobs_);
+  }
+  for (Job& job : left) job(nullptr);
+}
+
+bool PortWorker::post(Job job) {
+  {
+    std::lock_guard lock(mutex_);
+    if (stopping_) return false;
+    jobs_.push_back(std::move(job));
+  }
+  wake_.notify_all();
+  return true;
+}
+
+void PortWorker::announce(StreamEventKind kind, const std::string& message) {
+  for (Session* session : sessions_) publisher_.publish(*session, make_event(kind, message));
+}
+
+bool PortWorker::try_connect(bool& was_connected, std::string& last_failure) {
+  if (auto connected = backend_->connect(); !connected) {
+    // Said once per distinct failure, not every retry.
+    if (connected.error().message != last_failure) {
+      last_failure = connected.error().message;
+      announce(StreamEventKind::disconnected, last_failure);
+    }
+    return false;
+  }
+  last_failure.clear();
+  announce(was_connected ? StreamEventKind::reconnected : StreamEventKind::connected, "connected");
+  was_connected = true;
+  for (Session* session : sessions_) {
+    bool wanted = false;
+    {
+      std::lock_guard lock(session->mutex);
+      wanted = session->want_stream;
+    }
+    if (!wanted) continue;
+    if (auto started = backend_->set_streaming(*session, true); !started) {
+      publisher_.publish(
+          *session, make_event(StreamEventKind::device_error, "stream not started: " + started.error().describe()));
+    }
+  }
+  return true;
+}
+
+void PortWorker::run_jobs(bool connected) {
+  for (;;) {
+    Job job;
+    {
+      std::lock_guard lock(mutex_);
+      if (jobs_.empty()) return;
+      job = std::move(jobs_.front());
+      jobs_.pop_front();
+    }
+    job(connected ? backend_.get() : nullptr);
+  }
+}
+
+void PortWorker::loop() {
+  bool was_connected = false;
+  std::string last_failure;
+  for (;;) {
+    {
+      std::lock_guard lock(mutex_);
+      if (stopping_) break;
+    }
+    bool connected = backend_->connected();
+    if (!connected) {
+      if (was_connected && last_failure.empty()) {
+        last_failure = "the link went away";
+        announce(StreamEventKind::disconnected, last_failure);
+      }
+      connected = try_connect(was_connected, last_failure);
+    }
+    run_jobs(connected);
+    if (connected && backend_->pump(std::chrono::milliseconds(20))) continue;
+    // Nothing to read: sleep until a command comes, or until it is time to retry the port.
+    std::unique_lock lock(mutex_);
+    wake_.wait_for(lock, connected ? std::chrono::milliseconds(200) : reconnect_interval_,
+                   [this] { return stopping_ || !jobs_.empty(); });
+  }
+  backend_->shutdown();
+}
+
+}  // namespace rangekit::hub

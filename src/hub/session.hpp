@@ -1,0 +1,75 @@
+// One sensor's state inside the hub, and the interface a port's backend (the
+// family driver code) reports through. Private to rangekit::hub.
+#pragma once
+
+#include <chrono>
+#include <mutex>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "rangekit/hub/hub.hpp"
+
+namespace rangekit::hub {
+
+struct Session {
+  Session(SensorConfig sensor, std::size_t ring_capacity) : config(std::move(sensor)), ring(ring_capacity) {}
+  const SensorConfig config;
+  SampleRing ring;
+
+  mutable std::mutex mutex;  // guards what follows
+  HealthTracker health;
+  std::vector<Field> identity;
+  std::vector<Field> status;
+  std::vector<Field> settings;
+  bool streaming = false;
+  bool want_stream = false;  // what the user asked for (start/stop); the worker restores it after a reconnect
+  std::uint64_t last_sequence = 0;
+};
+
+// Where a backend sends what it reads: numbered, ringed, fanned out, counted.
+class Publisher {
+ public:
+  virtual void publish(Session& session, StreamItem item) = 0;
+
+ protected:
+  ~Publisher() = default;
+};
+
+using SettingValues = std::vector<std::pair<std::string, std::string>>;
+
+// The driver side of one port: one ULS, an RS-485 bus of ULS units, one LS5 or
+// an LS5 UDP listener. Called from its port's worker thread only.
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  // Opens the port and reads the identity of its sensors into their sessions.
+  virtual Status connect() = 0;
+  [[nodiscard]] virtual bool connected() const = 0;
+  // Reads or polls for up to `wait`, publishing what arrives. False when there
+  // was nothing to do (no stream): the worker then waits for a command instead.
+  virtual bool pump(std::chrono::milliseconds wait) = 0;
+  virtual Status set_streaming(Session& session, bool on) = 0;
+  virtual Result<std::vector<Field>> read_settings(Session& session) = 0;
+  virtual Result<std::vector<Field>> write_settings(Session& session, const SettingValues& values) = 0;
+  virtual Result<std::string> act(Session& session, Action action, std::string_view argument) = 0;
+  // Streams ended (the unit left as found), the port closed.
+  virtual void shutdown() = 0;
+};
+
+using PortOpener = std::function<Result<TransportPtr>(const std::string&, const SerialSettings&)>;
+
+std::unique_ptr<Backend> make_uls_backend(Session& session, Publisher& publisher, const PortOpener& open);
+std::unique_ptr<Backend> make_uls_bus_backend(std::vector<Session*> sessions, Publisher& publisher,
+                                              const PortOpener& open);
+std::unique_ptr<Backend> make_ls5_backend(Session& session, Publisher& publisher, const PortOpener& open);
+std::unique_ptr<Backend> make_ls5_udp_backend(Session& session, Publisher& publisher);
+
+// Helpers the backends share.
+StreamEvent make_event(StreamEventKind kind, std::string message);
+// Moves every item the source has ready (waiting up to `wait` for the first) to the publisher.
+std::size_t drain(SampleSource& source, Session& session, Publisher& publisher, std::chrono::milliseconds wait);
+Error refused(const Session& session, Action action);
+
+}  // namespace rangekit::hub

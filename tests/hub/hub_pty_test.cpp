@@ -1,0 +1,166 @@
+// The sensor hub against the emulators on real ptys (issue 13): an LS5, a ULS
+// alone and an RS-485 bus of four ULS units, served together; settings checked
+// before anything is sent and read back; a killed emulator seen disconnected,
+// then reconnected.
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "ls5_driver/cli_process.hpp"
+#include "rangekit/hub/hub.hpp"
+
+namespace {
+
+using namespace rangekit;
+using namespace rangekit::hub;
+using namespace std::chrono_literals;
+using ls5_driver_test::Child;
+using ls5_driver_test::TempDir;
+
+bool ready(Child& child) { return child.read_line().find("ready") != std::string::npos; }
+
+std::string site_text(const std::filesystem::path& dir) {
+  const auto path = [&](const char* name) { return (dir / name).string(); };
+  return "[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"" + path("ls5") +
+         "\"\n"
+         "[[sensor]]\nname = \"silo\"\nfamily = \"uls\"\nport = \"" +
+         path("uls") + "\"\n" + [&] {
+           std::string bus;
+           for (const char* unit : {"A", "B", "C", "D"}) {
+             bus += "[[sensor]]\nname = \"bay-" + std::string(unit) + "\"\nfamily = \"uls\"\nport = \"" + path("bus") +
+                    "\"\naddress = \"" + unit + "\"\n";
+           }
+           return bus;
+         }();
+}
+
+struct Site {
+  TempDir temp;
+  Child ls5{{"sim", "ls5", "--port", (temp.path / "ls5").string()}};
+  Child uls{{"sim", "uls", "--port", (temp.path / "uls").string()}};
+  Child bus{{"sim", "uls", "--bus", (temp.path / "bus").string(), "--address", "A", "--address", "B", "--address", "C",
+             "--address", "D"}};
+  SiteConfig config;
+  Site() {
+    EXPECT_TRUE(ready(ls5) && ready(uls) && ready(bus));
+    auto parsed = parse_site_config(site_text(temp.path), "site.toml");
+    EXPECT_TRUE(parsed.ok()) << (parsed.ok() ? "" : parsed.error().message);
+    if (parsed) config = *parsed;
+  }
+};
+
+// Takes from `subscription` until `done` says so or the deadline passes (a safety net, not a wait).
+template <class Done>
+bool take_until(Subscription& subscription, Done done, std::chrono::seconds limit = 60s) {
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  while (std::chrono::steady_clock::now() < deadline) {
+    for (const HubItemPtr& item : subscription.take(1024, 200ms)) {
+      if (done(*item)) return true;
+    }
+  }
+  return false;
+}
+
+std::string value_of(const std::vector<Field>& fields, const std::string& key) {
+  for (const Field& field : fields) {
+    if (field.key == key) return field.value;
+  }
+  return "<no " + key + ">";
+}
+
+TEST(HubPty, ServesAnLs5AUlsAndABusOfFourUnits) {
+  Site site;
+  auto hub = Hub::start(site.config);
+  auto all = hub->subscribe("", 100000, OverflowPolicy::drop_oldest);
+  ASSERT_TRUE(all.ok());
+  std::map<std::string, int> samples;
+  const bool every_sensor = take_until(**all, [&](const HubItem& item) {
+    if (std::holds_alternative<Sample>(item.item)) ++samples[item.sensor];
+    if (samples.size() < 6) return false;
+    for (const auto& [name, count] : samples) {
+      if (count < 3) return false;
+    }
+    return true;
+  });
+  EXPECT_TRUE(every_sensor) << "sensors with samples: " << samples.size();
+  for (const SensorSnapshot& sensor : hub->sensors()) {
+    EXPECT_TRUE(sensor.health.connected) << sensor.config.name;
+    EXPECT_TRUE(sensor.streaming) << sensor.config.name;
+    EXPECT_GE(sensor.health.records, 3u) << sensor.config.name;
+    EXPECT_FALSE(sensor.identity.empty()) << sensor.config.name;
+  }
+  // `sim ls5` defaults: firmware LS5.12.0, serial number 157, model 8.1234/40.001 (its --help).
+  const auto belt = hub->sensor("belt");
+  ASSERT_TRUE(belt.ok());
+  EXPECT_EQ(value_of(belt->identity, "version"), "LS5.12.0");
+  EXPECT_EQ(value_of(belt->identity, "serial"), "157");
+  EXPECT_EQ(value_of(belt->identity, "range"), "40.001");
+  EXPECT_EQ(value_of(hub->sensor("bay-C")->identity, "address"), "C");
+  // Sequence numbers are one order across sensors; the ring resumes after any of them.
+  const auto since = hub->since("", 0);
+  ASSERT_TRUE(since.ok());
+  for (std::size_t i = 1; i < since->items.size(); ++i)
+    EXPECT_LT(since->items[i - 1]->sequence, since->items[i]->sequence);
+  EXPECT_EQ(hub->sensor("nope").error().message,
+            "no sensor named 'nope' (sensors: belt, silo, bay-A, bay-B, bay-C, bay-D)");
+}
+
+// LS5 table 9.2 (L4): the median filter takes an odd number of points, 1-49. ULS §8 Set Short
+// Gate: 0-1700 (metres). A refused value sends nothing: the setting reads as before.
+TEST(HubPty, SettingsAreCheckedBeforeSendingAndReadBack) {
+  Site site;
+  auto hub = Hub::start(site.config);
+  auto before = hub->settings("belt");
+  ASSERT_TRUE(before.ok()) << before.error().message;
+  const std::string median_before = value_of(*before, "median-points");
+
+  auto refused = hub->set("belt", {{"averaging-points", "4"}, {"median-points", "8"}});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("median-points"), std::string::npos) << refused.error().message;
+  auto unchanged = hub->settings("belt");
+  ASSERT_TRUE(unchanged.ok());
+  EXPECT_EQ(value_of(*unchanged, "median-points"), median_before);
+  EXPECT_EQ(value_of(*unchanged, "averaging-points"), value_of(*before, "averaging-points"));
+
+  auto changed = hub->set("belt", {{"median-points", "7"}});
+  ASSERT_TRUE(changed.ok()) << changed.error().message;
+  EXPECT_EQ(value_of(*changed, "median-points"), "7");
+
+  auto uls_refused = hub->set("silo", {{"short-gate", "2000"}});
+  ASSERT_FALSE(uls_refused.ok());
+  EXPECT_NE(uls_refused.error().message.find("short-gate"), std::string::npos) << uls_refused.error().message;
+  auto uls_changed = hub->set("bay-B", {{"short-gate", "12.5"}});
+  ASSERT_TRUE(uls_changed.ok()) << uls_changed.error().message;
+  EXPECT_EQ(value_of(*uls_changed, "short-gate"), "12.5");
+  EXPECT_NE(value_of(*hub->settings("bay-A"), "short-gate"), "12.5");  // the bus addresses one unit
+
+  auto single = hub->act("silo", Action::single);
+  EXPECT_TRUE(single.ok()) << single.error().message;
+  EXPECT_EQ(hub->act("silo", Action::latch).error().message, "'latch' is not an action of uls sensor 'silo'");
+  EXPECT_EQ(hub->act("belt", Action::pointer, "on").error().code, Errc::unsupported);
+}
+
+TEST(HubPty, AKilledEmulatorIsDisconnectedThenReconnected) {
+  Site site;
+  auto hub = Hub::start(site.config);
+  auto belt = hub->subscribe("belt", 100000, OverflowPolicy::drop_oldest);
+  ASSERT_TRUE(belt.ok());
+  ASSERT_TRUE(take_until(**belt, [](const HubItem& item) { return std::holds_alternative<Sample>(item.item); }));
+  site.ls5.kill_hard();
+  const auto kind_is = [](StreamEventKind kind) {
+    return [kind](const HubItem& item) {
+      const auto* event = std::get_if<StreamEvent>(&item.item);
+      return event != nullptr && event->kind == kind;
+    };
+  };
+  ASSERT_TRUE(take_until(**belt, kind_is(StreamEventKind::disconnected)));
+  EXPECT_FALSE(hub->sensor("belt")->health.connected);
+  Child again({"sim", "ls5", "--port", (site.temp.path / "ls5").string()});
+  ASSERT_TRUE(ready(again));
+  ASSERT_TRUE(take_until(**belt, kind_is(StreamEventKind::reconnected)));
+  ASSERT_TRUE(take_until(**belt, [](const HubItem& item) { return std::holds_alternative<Sample>(item.item); }));
+  EXPECT_TRUE(hub->sensor("belt")->health.connected);
+  EXPECT_GE(hub->sensor("belt")->health.reconnects, 1u);
+}
+
+}  // namespace
