@@ -47,5 +47,7 @@ void add_ls5_command(CLI::App& app, int& exit_code);
 void add_replay_command(CLI::App& app, int& exit_code);
 void add_detect_command(CLI::App& app, int& exit_code);
 void add_capture_command(CLI::App& app, int& exit_code);
+// The sensor service (issue 13).
+void add_serve_command(CLI::App& app, int& exit_code);
 
 }  // namespace rangekit::cli

@@ -44,6 +44,7 @@ int run(int argc, char** argv) {
   rangekit::cli::add_replay_command(app, exit_code);
   rangekit::cli::add_detect_command(app, exit_code);
   rangekit::cli::add_capture_command(app, exit_code);
+  rangekit::cli::add_serve_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

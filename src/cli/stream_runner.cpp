@@ -10,47 +10,12 @@
 #include <string>
 
 #include "cli/commands.hpp"
+#include "cli/stop_signals.hpp"
 #include "rangekit/record/format.hpp"
 #include "rangekit/record/stream_loop.hpp"
 
 namespace rangekit::cli {
 namespace {
-
-std::atomic<bool> stop_signalled{false};
-static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler");
-
-extern "C" void on_stop_signal(int /*signal*/) { stop_signalled.store(true); }
-
-// Installs the handlers for the length of one run and restores the previous ones.
-class StopSignals {
- public:
-  StopSignals() {
-    stop_signalled.store(false);
-    struct sigaction action {};
-    action.sa_handler = on_stop_signal;
-    sigemptyset(&action.sa_mask);
-    ::sigaction(SIGINT, &action, &previous_int_);
-    ::sigaction(SIGTERM, &action, &previous_term_);
-    // A reader that goes away (`| head`) becomes a write error (exit 7) instead
-    // of killing the process before the capture is closed.
-    struct sigaction ignore {};
-    ignore.sa_handler = SIG_IGN;
-    sigemptyset(&ignore.sa_mask);
-    ::sigaction(SIGPIPE, &ignore, &previous_pipe_);
-  }
-  ~StopSignals() {
-    ::sigaction(SIGINT, &previous_int_, nullptr);
-    ::sigaction(SIGTERM, &previous_term_, nullptr);
-    ::sigaction(SIGPIPE, &previous_pipe_, nullptr);
-  }
-  StopSignals(const StopSignals&) = delete;
-  StopSignals& operator=(const StopSignals&) = delete;
-
- private:
-  struct sigaction previous_int_ {};
-  struct sigaction previous_term_ {};
-  struct sigaction previous_pipe_ {};
-};
 
 std::string status_text(const record::StreamStats& stats) {
   const double rate = stats.elapsed_s > 0 ? static_cast<double>(stats.samples) / stats.elapsed_s : 0.0;
@@ -158,7 +123,7 @@ int run_stream_as(SampleSource& source, const StreamOptions& options, const std:
   }
 
   StopSignals signals;
-  const auto outcome = record::run_stream_loop(source, loop, stop_signalled, observer);
+  const auto outcome = record::run_stream_loop(source, loop, signals.flag(), observer);
   status.clear();
   if (status.enabled()) fmt::print(stderr, "{}\n", status_text(outcome.stats));
   if (stats_out != nullptr) *stats_out = outcome.stats;
