@@ -58,7 +58,7 @@ std::string as_assignments(const std::string& get_output, const std::vector<std:
   return arguments;
 }
 
-// "The same key style in `info` and `get`, with units in the same place" (docs/cli.md):
+// U96, L68: "The same key style in `info` and `get`, with units in the same place" (docs/cli.md):
 // lower-case kebab names, the unit the name's last word, the value a bare number.
 TEST(OneVocabulary, InfoAndGetOfBothFamiliesUseKebabNamesWithTheUnitInTheName) {
   Emulators sims;
@@ -97,7 +97,7 @@ TEST(OneVocabulary, InfoAndGetOfBothFamiliesUseKebabNamesWithTheUnitInTheName) {
   EXPECT_TRUE(std::regex_search(ls5_info.output, std::regex(R"("address":1,.*"range-mm":[0-9])"))) << ls5_info.output;
 }
 
-// "`get`'s names are accepted by `set`; read-only names are not offered to `set`."
+// U97, L68: "`get`'s names are accepted by `set`; read-only names are not offered to `set`."
 TEST(OneVocabulary, EveryNameGetPrintsIsAcceptedBySetAndReadOnlyNamesAreRefusedAsSuch) {
   Emulators sims;
   ASSERT_TRUE(sims.ready());
@@ -131,7 +131,7 @@ TEST(OneVocabulary, EveryNameGetPrintsIsAcceptedBySetAndReadOnlyNamesAreRefusedA
   }
 }
 
-// "The same `config diff` output for `uls config diff` and `ls5 config diff`": one line
+// U96: "The same `config diff` output for `uls config diff` and `ls5 config diff`": one line
 // `name: file=X device=Y` per difference, names as get prints them, a summary line, exit 1.
 TEST(OneVocabulary, ConfigDiffPrintsTheSameLinesForBothFamilies) {
   Emulators sims;
@@ -161,7 +161,22 @@ TEST(OneVocabulary, ConfigDiffPrintsTheSameLinesForBothFamilies) {
   EXPECT_TRUE(contains(ls5.output, "median-points: file=5 device=7\n")) << ls5.output;
 }
 
-// "A `connected` event for both families": the ULS stream's first item is `connected`
+// L70: "One base per message": the LS5 network address is decimal everywhere ("The sensor has
+// its own network address (from 1 to 255)", §9), as --address takes it; the frame is quoted
+// as sent (#1AID). It was "LS5 at address 1A ... is its --address 26?" in one message.
+TEST(OneVocabulary, AnLs5AddressIsDecimalInEveryMessage) {
+  Emulators sims;
+  ASSERT_TRUE(sims.ready());
+  const auto silent = run_cli("ls5 info --timeout 100 --address 26 --port " + sims.ls5_port);
+  EXPECT_EQ(silent.exit_code, 5) << silent.output;
+  EXPECT_TRUE(contains(silent.output, "LS5 at address 26 on ")) << silent.output;
+  EXPECT_TRUE(contains(silent.output, "--address 26?")) << silent.output;
+  EXPECT_FALSE(contains(silent.output, "address 1A")) << silent.output;
+  const auto found = run_cli("detect --timeout 300 --baud 115200 --json --port " + sims.ls5_port);
+  EXPECT_TRUE(contains(found.output, "\"address\":\"1\"")) << found.output;
+}
+
+// L69: "A `connected` event for both families": the ULS stream's first item is `connected`
 // (host-uls.md); the LS5 serial stream and the UDP receiver say the same when their
 // link first comes up.
 TEST(OneVocabulary, BothFamiliesStreamsStartWithAConnectedEvent) {
