@@ -218,6 +218,7 @@ TEST(Ls5Cli, NoReconnectEndsTheStreamWhenThePortGoesAway) {
   auto sim = std::make_unique<Child>(sim_arguments(w));
   ASSERT_TRUE(contains(sim->read_line(), "ready:"));
   Child stream({"ls5", "stream", "--port", w.port, "--format", "jsonl", "--duration", "600", "--no-reconnect"});
+  ASSERT_TRUE(contains(stream.read_line(), "\"event\":\"connected\""));  // L69: the first line
   for (int i = 0; i < 3; ++i) ASSERT_TRUE(contains(stream.read_line(), "\"code\":25000"));
   sim->terminate();
   EXPECT_EQ(sim->wait(), 0);
@@ -230,6 +231,7 @@ TEST(Ls5Cli, StreamSurvivesTheEmulatorBeingKilledAndRestartedOnTheSamePath) {
   auto sim = std::make_unique<Child>(sim_arguments(w));
   ASSERT_TRUE(contains(sim->read_line(), "ready:"));
   Child stream({"ls5", "stream", "--port", w.port, "--format", "jsonl", "--duration", "60", "--reconnect-ms", "100"});
+  ASSERT_TRUE(contains(stream.read_line(), "\"event\":\"connected\""));  // L69: the first line
   for (int i = 0; i < 3; ++i) ASSERT_TRUE(contains(stream.read_line(), "\"code\":25000"));
 
   sim->terminate();  // the pty and its symlink vanish: as a cable pulled
