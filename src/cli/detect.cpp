@@ -71,7 +71,8 @@ std::optional<Finding> probe_ls5(Transport& port, const std::string& path, std::
                                  std::chrono::milliseconds timeout) {
   auto found = ls5::probe(port, address, timeout);
   if (!found) return std::nullopt;
-  Finding finding{path, "ls5", baud, fmt::format("{:02X}", found->address), "", ""};
+  // Decimal, as --ls5-address takes it and `ls5 info` prints it (§9 "from 1 to 255", L70).
+  Finding finding{path, "ls5", baud, fmt::format("{}", found->address), "", ""};
   if (found->identification) {
     const auto& id = *found->identification;
     finding.version = std::string(id.version_text.view());

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "cli/config_diff.hpp"
 #include "cli/ls5_cli.hpp"
 #include "rangekit/ls5/host_config.hpp"
 
@@ -15,10 +16,12 @@ struct ConfigCommand {
   std::string file;
 };
 
-void print_differences(const std::vector<ls5::ConfigDifference>& differences) {
-  for (const auto& difference : differences) {
-    fmt::print("{}: file {} device {}\n", difference.setting->name, difference.file_value, difference.device_value);
-  }
+// The same lines as `rangekit uls config diff` (docs/cli.md).
+std::vector<DiffLine> diff_lines(const std::vector<ls5::ConfigDifference>& differences) {
+  std::vector<DiffLine> lines;
+  for (const auto& difference : differences)
+    lines.push_back({std::string(difference.setting->name), difference.file_value, difference.device_value});
+  return lines;
 }
 
 using Action = std::function<int(ls5::Driver&, const ConfigCommand&)>;
@@ -72,7 +75,7 @@ void add_ls5_config_command(CLI::App& ls5, int& exit_code) {
                           if (!report->mismatches.empty()) {
                             fmt::print(stderr, "rangekit ls5 config load: {} settings read back differently:\n",
                                        report->mismatches.size());
-                            print_differences(report->mismatches);
+                            print_diff_lines(diff_lines(report->mismatches));
                             return exit_device_error;
                           }
                           fmt::print("verified: every value reads back as in {}\n", command.file);
@@ -90,8 +93,7 @@ void add_ls5_config_command(CLI::App& ls5, int& exit_code) {
                           if (!differences) {
                             return report_ls5_failure("config diff", differences.error(), command.connection);
                           }
-                          print_differences(*differences);
-                          return differences->empty() ? exit_ok : 1;
+                          return print_config_diff(diff_lines(*differences), file->entries.size());
                         });
 }
 

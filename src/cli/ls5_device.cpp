@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <functional>
 #include <memory>
@@ -35,10 +36,51 @@ const ls5::ParameterInfo* raw_parameter(std::string_view text) {
   return ls5::find_parameter(static_cast<std::uint8_t>(value));
 }
 
+// Every setting name get prints; all are writable (table 9.2 lists parameters to write).
+std::string setting_names() {
+  std::string names;
+  for (const ls5::HostSetting& setting : ls5::host_setting_table())
+    names += (names.empty() ? "" : ", ") + std::string(setting.name);
+  return names;
+}
+
 Error unknown_name(std::string_view name) {
-  return make_error(Errc::unknown_parameter, "'" + std::string(name) +
-                                                 "' is neither an LS5 setting nor a table 9.2 address (see `rangekit "
-                                                 "ls5 get --help` and `rangekit tables ls5-parameters`)");
+  return make_error(Errc::unknown_parameter,
+                    "'" + std::string(name) +
+                        "' is neither an LS5 setting nor a table 9.2 address; names: " + setting_names() +
+                        " (or a two-digit address, `rangekit tables "
+                        "ls5-parameters`)");
+}
+
+// What `info` prints from ID (§9.2): read only, as the ULS's version and status.
+constexpr std::array<std::string_view, 5> identification_names{"version", "lower-boundary-mm", "range-mm", "serial",
+                                                               "ethernet"};
+
+Error read_only_name(std::string_view name) {
+  return make_error(Errc::wrong_form, "'" + std::string(name) +
+                                          "' is read-only (the identification, ID §9.2); writable names: " +
+                                          setting_names() + " (or a two-digit address)");
+}
+
+// Numbers as JSON numbers (--json); named values, addresses and hex bytes as text.
+void add_setting(KeyValues& out, const ls5::HostSetting& setting, const std::string& text) {
+  switch (setting.form) {
+    case ls5::SettingForm::byte_number:
+    case ls5::SettingForm::value_number:
+    case ls5::SettingForm::value_mm:
+    case ls5::SettingForm::value_range_mm:
+      out.add_number(std::string(setting.name), text);
+      return;
+    case ls5::SettingForm::byte_named:  // "115200" of baud-rate is a number, "median" is not
+      if (!text.empty() && text.find_first_not_of("0123456789") == std::string::npos) {
+        out.add_number(std::string(setting.name), text);
+        return;
+      }
+      break;
+    default:
+      break;
+  }
+  out.add(std::string(setting.name), text);
 }
 
 std::string measurement_text(const ls5::Measurement& measurement) {
@@ -64,11 +106,12 @@ Status run_info(ls5::Driver& driver, bool json) {
   if (!info) return info.error();
   const auto& id = info->identification;
   KeyValues out(json);
-  out.add("address", fmt::format("{}", info->address));
+  // The names as `get` spells them: kebab case, the unit last (issue 11 point 5).
+  out.add_number("address", fmt::format("{}", info->address));
   out.add("version", std::string(id.version_text.view()));
-  out.add("lower_boundary_mm", fmt::format("{}", id.lower_boundary_mm));
-  out.add("range_mm", fmt::format("{}", id.range_mm));
-  out.add("serial", fmt::format("{}", id.serial_number));
+  out.add_number("lower-boundary-mm", fmt::format("{}", id.lower_boundary_mm));
+  out.add_number("range-mm", fmt::format("{}", id.range_mm));
+  out.add_number("serial", fmt::format("{}", id.serial_number));
   out.add("ethernet", info->ethernet ? "yes" : "no");
   out.finish();
   return ok_status();
@@ -83,12 +126,12 @@ Status print_all(ls5::Driver& driver, KeyValues& out) {
     if (!setting.canonical || !ls5::check_setting_available(setting, context->model)) continue;
     auto reading = driver.get(setting);
     if (!reading) return reading.error();
-    out.add(std::string(setting.name), reading->text);
+    add_setting(out, setting, reading->text);
     // The mm form of a code value, from the same bytes.
     const ls5::HostSetting* in_mm = ls5::find_host_setting(std::string(setting.name) + "-mm");
     if (in_mm != nullptr) {
       auto mm = ls5::format_setting(*in_mm, reading->bytes, *context);
-      if (mm) out.add(std::string(in_mm->name), *mm);
+      if (mm) add_setting(out, *in_mm, *mm);
     }
   }
   return ok_status();
@@ -108,10 +151,11 @@ Status run_get(ls5::Driver& driver, const std::vector<std::string>& names, bool 
       out.add(ls5::hex_byte(parameter->address), ls5::hex_byte(*value));
       continue;
     }
-    if (ls5::find_host_setting(name) == nullptr) return unknown_name(name);
-    auto reading = driver.get(name);
+    const ls5::HostSetting* setting = ls5::find_host_setting(name);
+    if (setting == nullptr) return unknown_name(name);
+    auto reading = driver.get(*setting);
     if (!reading) return reading.error();
-    out.add(name, reading->text);
+    add_setting(out, *setting, reading->text);
   }
   out.finish();
   return ok_status();
@@ -162,7 +206,11 @@ Status run_set(ls5::Driver& driver, const std::vector<std::string>& items) {
       planned.link = owner != nullptr && owner->link;
     } else {
       const ls5::HostSetting* setting = ls5::find_host_setting(planned.name);
-      if (setting == nullptr) return unknown_name(planned.name);
+      if (setting == nullptr) {
+        for (const std::string_view read_only : identification_names)
+          if (planned.name == read_only) return read_only_name(planned.name);
+        return unknown_name(planned.name);
+      }
       auto writes = ls5::encode_setting(*setting, planned.value, *context);
       if (!writes) return writes.error();
       planned.link = setting->link;
@@ -253,6 +301,7 @@ void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
       [](ls5::Driver& driver, DeviceCommand& state) { return run_set(driver, state.items); }, set_state,
       Broadcast::allowed);
   set->add_option("settings", set_state->items, "NAME=VALUE or AA=DD (hex)")->required();
+  set->footer("Writable names (as `get` prints them): " + setting_names());
 
   auto latch_state = std::make_shared<DeviceCommand>();
   auto* latch = add_device_command(

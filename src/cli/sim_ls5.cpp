@@ -59,7 +59,7 @@ nlohmann::json route(const std::vector<std::unique_ptr<ls5::emulator::Firmware>>
   for (const auto& sensor : sensors) {
     if (sensor->ram(ls5::address::network_address) == *address) return sensor->control(request, Nanos{0});
   }
-  return {{"error", fmt::format("{}: no sensor at address {:02X}", command, *address)}};
+  return {{"error", fmt::format("{}: no sensor at address {}", command, *address)}};
 }
 
 int run(const Ls5SimOptions& options, const SimCommonOptions& common) {

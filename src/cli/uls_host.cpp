@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "cli/commands.hpp"
+#include "cli/config_diff.hpp"
 #include "cli/host_sources.hpp"
 #include "cli/key_values.hpp"
 #include "cli/stream_runner.hpp"
@@ -15,6 +16,7 @@
 #include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/errors.hpp"
+#include "rangekit/uls/formulas.hpp"
 #include "rangekit/uls/host_config.hpp"
 
 namespace rangekit::cli {
@@ -88,18 +90,21 @@ std::string format_sample(const Sample& sample) {
 
 // --- get -------------------------------------------------------------------
 
-int print_setting(Driver& driver, const CommandInfo& command, Units units, KeyValues& out) {
+// One get, printed as `name=value  # MN=wire`. `port` limits BR to one port.
+int print_setting(Driver& driver, const CommandInfo& command, Units units, KeyValues& out,
+                  const std::string& port = "") {
   if (command.mnemonic == "BR") {
     int code = exit_ok;
-    for (const char* port : {"0", "1"}) {
-      const std::array<std::string_view, 1> argument{port};
+    for (const char* each : {"0", "1"}) {
+      if (!port.empty() && port != each) continue;
+      const std::array<std::string_view, 1> argument{each};
       auto values = driver.get("BR", argument);
       if (!values) {
         code = fail("get", values.error());
         continue;
       }
-      out.add(fmt::format("baud.{}", port[0] == '0' ? "configuration" : "output"), values->at(1),
-              fmt::format("BR,{}={}", port, values->at(1)));
+      out.add_number(each[0] == '0' ? "baud-configuration" : "baud-output", values->at(1),
+                     fmt::format("BR,{}={}", each, values->at(1)));
     }
     return code;
   }
@@ -113,13 +118,21 @@ int print_setting(Driver& driver, const CommandInfo& command, Units units, KeyVa
   }
   std::string wire;
   for (const auto& value : *values) wire += (wire.empty() ? "" : ",") + value;
-  out.add(std::string(command.cli_name), uls_values::describe_reply(command, *values, units),
-          fmt::format("{}={}", command.mnemonic, wire));
+  if (command.kind == ValueKind::hex_pulses && values->size() == 1) {
+    if (auto pulses = parse_trip_timeout(values->front())) wire += fmt::format(" ({} pulses)", *pulses);
+  }
+  const auto reading = uls_values::describe_reply(command, *values, units);
+  const std::string comment = fmt::format("{}={}", command.mnemonic, wire);
+  if (reading.number) {
+    out.add_number(uls_values::setting_key(command), reading.text, comment);
+  } else {
+    out.add(uls_values::setting_key(command), reading.text, comment);
+  }
   return exit_ok;
 }
 
 int run_get(const LinkOptions& link, const std::vector<std::string>& names) {
-  std::vector<const CommandInfo*> commands;
+  std::vector<uls_values::Target> targets;
   for (const auto& name : names) {
     auto target = uls_values::find_setting(name);
     if (!target) return fail("get", target.error());
@@ -127,19 +140,19 @@ int run_get(const LinkOptions& link, const std::vector<std::string>& names) {
       return fail("get", make_error(Errc::wrong_form, std::string(target->command->cli_name) + " (" +
                                                           std::string(target->command->mnemonic) +
                                                           ") cannot be read, only set"));
-    commands.push_back(target->command);
+    targets.push_back(*target);
   }
   if (names.empty())
     for (const CommandInfo& command : command_table())
-      if (command.has_get() && command.mnemonic != "BM") commands.push_back(&command);
+      if (command.has_get() && command.mnemonic != "BM") targets.push_back(uls_values::Target{&command, false, ""});
   auto driver = open_driver(link);
   if (!driver) return fail("get", driver.error());
   auto units = (*driver)->units();
   if (!units) return fail("get", units.error());
   int code = exit_ok;
   KeyValues out(link.json);
-  for (const CommandInfo* command : commands) {
-    const int one = print_setting(**driver, *command, *units, out);
+  for (const auto& target : targets) {
+    const int one = print_setting(**driver, *target.command, *units, out, target.port);
     if (one == exit_no_reply) return one;
     if (code == exit_ok) code = one;
   }
@@ -149,15 +162,23 @@ int run_get(const LinkOptions& link, const std::vector<std::string>& names) {
 
 // --- set -------------------------------------------------------------------
 
+// The name a set echoes: as get prints it, or the mnemonic it was given by.
+std::string assignment_name(const uls_values::Target& target) {
+  if (target.raw) return std::string(target.command->mnemonic);
+  if (target.port == "0") return "baud-configuration";
+  if (target.port == "1") return "baud-output";
+  return uls_values::setting_key(*target.command);
+}
+
 int run_set(const LinkOptions& link, const std::vector<std::string>& assignments) {
   if (assignments.empty())
-    return fail("set", make_error(Errc::wrong_form, "give NAME=VALUE (e.g. mode=binning prf=2000)"));
+    return fail("set", make_error(Errc::wrong_form, "give NAME=VALUE (e.g. mode=binning prf-hz=2000)"));
   std::vector<std::pair<uls_values::Target, std::string>> work;
   for (const auto& assignment : assignments) {
     const auto equals = assignment.find('=');
     if (equals == std::string::npos)
       return fail("set", make_error(Errc::wrong_form, "'" + assignment + "' is not NAME=VALUE"));
-    auto target = uls_values::find_setting(assignment.substr(0, equals));
+    auto target = uls_values::find_setting(assignment.substr(0, equals), uls_values::Purpose::set);
     if (!target) return fail("set", target.error());
     work.emplace_back(*target, assignment.substr(equals + 1));
   }
@@ -194,7 +215,7 @@ int run_set(const LinkOptions& link, const std::vector<std::string>& assignments
     if (!done) return fail("set", done.error());
     std::string wire;
     for (const auto& field : *fields) wire += (wire.empty() ? "" : ",") + field;
-    fmt::print("{}={}  # {}={} OK\n", target.command->cli_name, value, target.command->mnemonic, wire);
+    fmt::print("{}={}  # {}={} OK\n", assignment_name(target), value, target.command->mnemonic, wire);
     if (target.command->mnemonic == "MU") units.reset();
     if (target.command->mnemonic == "BR" && fields->size() == 2)
       fmt::print(stderr, "note: port {} now runs at {} baud (the change follows the $OK, §8); use --baud {}\n",
@@ -265,10 +286,19 @@ int run_uls_stream(const LinkOptions& link, const StreamOptions& options, const 
 
 // --- config and reset -------------------------------------------------------
 
+// Names and values as `get` prints them, the same lines as `rangekit ls5 config diff`.
+std::vector<DiffLine> diff_lines(const std::vector<ConfigDifference>& differences) {
+  std::vector<DiffLine> lines;
+  for (const auto& difference : differences) {
+    const CommandInfo& command = *difference.command;
+    lines.push_back({uls_values::setting_key(command), uls_values::without_unit(command, difference.wanted),
+                     uls_values::without_unit(command, difference.actual)});
+  }
+  return lines;
+}
+
 void print_differences(const std::vector<ConfigDifference>& differences, std::string_view wanted_label) {
-  for (const auto& difference : differences)
-    fmt::print("{}: {}={} device={}  # {}\n", difference.command->cli_name, wanted_label, difference.wanted,
-               difference.actual, difference.command->mnemonic);
+  print_diff_lines(diff_lines(differences), wanted_label);
 }
 
 Result<DeviceConfig> read_file(const std::string& path) {
@@ -305,10 +335,7 @@ int run_config(const LinkOptions& link, const std::string& what, const std::stri
   if (what == "diff") {
     auto device = read_config(**driver);
     if (!device) return fail(name, device.error());
-    const auto differences = diff_config(*file, *device);
-    print_differences(differences, "file");
-    if (differences.empty()) fmt::print("no differences ({} settings compared)\n", file->settings.size());
-    return differences.empty() ? exit_ok : 1;
+    return print_config_diff(diff_lines(diff_config(*file, *device)), file->settings.size());
   }
   auto report = load_config(**driver, *file);
   if (!report) return fail(name, report.error());
@@ -436,10 +463,10 @@ void add_uls_command(CLI::App& app, int& exit_code) {
   get->callback([&exit_code, link, names] { exit_code = run_get(*link, *names); });
 
   auto assignments = std::make_shared<std::vector<std::string>>();
-  auto* set =
-      uls->add_subcommand("set", "write settings: mode=binning prf=2000 units=m short-gate=10 (metres) PF=2000");
+  auto* set = uls->add_subcommand("set", "write settings: mode=binning prf-hz=2000 units=m short-gate-m=10 PF=2000");
   add_link_options(set, *link);
   set->add_option("assignments", *assignments, "NAME=VALUE ...")->required();
+  set->footer("Writable names (as `get` prints them): " + uls_values::writable_names());
   set->callback([&exit_code, link, assignments] { exit_code = run_set(*link, *assignments); });
 
   auto stream_options = std::make_shared<StreamOptions>();

@@ -1,5 +1,7 @@
 #include "cli/uls_values.hpp"
 
+#include <fmt/core.h>
+
 #include <cctype>
 #include <cmath>
 
@@ -62,22 +64,85 @@ std::string distance_field(double metres, Units units) {
 
 }  // namespace
 
-Result<Target> find_setting(std::string_view name) {
-  if (const CommandInfo* command = find_command_by_cli_name(lower(name)); command != nullptr)
-    return Target{command, false};
+std::string setting_key(const CommandInfo& command) {
+  const std::string name(command.cli_name);
+  if (command.is_distance()) return name + "-m";
+  switch (command.kind) {
+    case ValueKind::milliamps:
+      return name + "-ma";
+    case ValueKind::seconds:
+    case ValueKind::hex_pulses:  // read and written in seconds (U21)
+      return name + "-s";
+    case ValueKind::prf_list:
+      return name + "-hz";
+    default:
+      return name;
+  }
+}
+
+namespace {
+
+struct NamedSetting {
+  std::string key;
+  const CommandInfo* command;
+  std::string port;  // BR: "0" configuration port, "1" output port (§8 Set/Get Baud Rate)
+};
+
+// Every name get prints, in table order: BR once per port.
+std::vector<NamedSetting> named_settings() {
+  std::vector<NamedSetting> names;
+  for (const CommandInfo& command : command_table()) {
+    if (command.access == Access::action || command.mnemonic == "BM") continue;
+    if (command.kind == ValueKind::baud_with_port) {
+      names.push_back({"baud-configuration", &command, "0"});
+      names.push_back({"baud-output", &command, "1"});
+    } else {
+      names.push_back({setting_key(command), &command, ""});
+    }
+  }
+  return names;
+}
+
+std::string names_for(Purpose purpose) {
+  std::string names;
+  for (const NamedSetting& named : named_settings()) {
+    if (purpose == Purpose::set ? !named.command->has_set() : !named.command->has_get()) continue;
+    names += (names.empty() ? "" : ", ") + named.key;
+  }
+  return names;
+}
+
+Result<Target> lookup(std::string_view name) {
+  const std::string want = lower(name);
+  for (const NamedSetting& named : named_settings())
+    if (named.key == want) return Target{named.command, false, named.port};
+  // The earlier spelling without the unit ("prf", "long-gate") stays accepted.
+  if (const CommandInfo* command = find_command_by_cli_name(want); command != nullptr)
+    return Target{command, false, ""};
   if (name.size() >= 2 && name.size() <= 4) {
     bool letters = true;
     for (const char c : name) letters = letters && std::isalpha(static_cast<unsigned char>(c)) != 0;
     if (const CommandInfo* command = letters ? find_command(name) : nullptr; command != nullptr)
-      return Target{command, true};
+      return Target{command, true, ""};
   }
-  std::string names;
-  for (const CommandInfo& command : command_table()) {
-    if (command.access == Access::action || command.mnemonic == "BM") continue;
-    names += (names.empty() ? "" : ", ") + std::string(command.cli_name);
-  }
-  return make_error(Errc::unknown_command, "unknown setting '" + std::string(name) + "'; names: " + names +
-                                               " (or the 2-letter mnemonics of §8)");
+  return make_error(Errc::unknown_command, "unknown setting '" + std::string(name) + "'");
+}
+
+}  // namespace
+
+std::string writable_names() { return names_for(Purpose::set); }
+
+Result<Target> find_setting(std::string_view name, Purpose purpose) {
+  auto target = lookup(name);
+  if (!target)
+    return make_error(Errc::unknown_command, target.error().message + "; " +
+                                                 (purpose == Purpose::set ? "writable names: " : "names: ") +
+                                                 names_for(purpose) + " (or the 2-letter mnemonics of §8)");
+  if (purpose == Purpose::set && !target->command->has_set())
+    return make_error(Errc::wrong_form, "'" + std::string(name) + "' is read-only (" +
+                                            std::string(target->command->mnemonic) +
+                                            " is only read, §8); writable names: " + writable_names());
+  return target;
 }
 
 Result<std::vector<std::string>> to_fields(const Target& target, std::string_view value, Units device_units) {
@@ -91,6 +156,7 @@ Result<std::vector<std::string>> to_fields(const Target& target, std::string_vie
     rest = rest.substr(comma + 1);
   }
   if (target.raw) return fields;
+  if (!target.port.empty()) fields.insert(fields.begin(), target.port);  // baud-output=9600 is BR,1,9600
   for (auto& field : fields) {
     if ((command.kind == ValueKind::flag || command.kind == ValueKind::enumeration) &&
         !text::parse_unsigned(field).has_value()) {
@@ -124,37 +190,70 @@ Result<std::vector<std::string>> to_fields(const Target& target, std::string_vie
   return fields;
 }
 
-std::string describe_reply(const CommandInfo& command, const std::vector<std::string>& values, Units device_units) {
-  if (command.mnemonic == "ID") {
+namespace {
+
+// Seconds with up to 4 decimals, trailing zeros dropped: "360", "0.0003".
+std::string seconds_text(double seconds) {
+  std::string text = fmt::format("{:.4f}", seconds);
+  while (text.back() == '0') text.pop_back();
+  if (text.back() == '.') text.pop_back();
+  return text;
+}
+
+bool is_numeric(const CommandInfo& command) {
+  switch (command.kind) {
+    case ValueKind::unsigned_int:
+    case ValueKind::distance:
+    case ValueKind::signed_distance:
+    case ValueKind::milliamps:
+    case ValueKind::seconds:
+    case ValueKind::hex_pulses:
+    case ValueKind::prf_list:
+    case ValueKind::ppm_list:
+    case ValueKind::baud_with_port:
+      return true;
+    default:
+      return false;
+  }
+}
+
+}  // namespace
+
+std::string without_unit(const CommandInfo& command, const std::string& readable_text) {
+  if (command.kind == ValueKind::hex_pulses) {  // "1080000 pulses" -> "360" (seconds x 3000, §8)
+    const auto space = readable_text.find(' ');
+    if (auto pulses = text::parse_unsigned(readable_text.substr(0, space)))
+      return seconds_text(trip_timeout_seconds(*pulses));
+    return readable_text;
+  }
+  for (const std::string_view unit : {" mA", " m", " s", " Hz"}) {
+    if (readable_text.size() > unit.size() && readable_text.ends_with(unit))
+      return readable_text.substr(0, readable_text.size() - unit.size());
+  }
+  return readable_text;
+}
+
+Reading describe_reply(const CommandInfo& command, const std::vector<std::string>& values, Units device_units) {
+  auto joined = [&values] {
     std::string text;
     for (const auto& value : values) text += (text.empty() ? "" : ",") + value;
     return text;
-  }
+  };
+  if (command.mnemonic == "ID") return {joined(), false};
   if (command.mnemonic == "US" && values.size() == 1) {
     const auto number = text::parse_unsigned(values[0]).value_or(0);
     const auto name = command.value_name(static_cast<std::uint32_t>(number));
-    return name.empty() ? values[0] : std::string(name);
+    return {name.empty() ? values[0] : std::string(name), false};
   }
-  if (command.mnemonic == "BR" && values.size() == 2) return values[1] + " baud";
+  if (command.mnemonic == "BR" && values.size() == 2) return {values[1], true};
   if (command.mnemonic == "UA" && values.size() == 1) {
     auto address = unit_address_char(text::parse_unsigned(values[0]).value_or(0));
-    if (address && *address < 0x7F) return std::string(1, static_cast<char>(*address));
-    return values[0];
-  }
-  if (command.kind == ValueKind::hex_pulses && values.size() == 1) {
-    auto pulses = parse_trip_timeout(values[0]);
-    if (!pulses) return values[0];
-    char buffer[64];
-    std::snprintf(buffer, sizeof buffer, "%.1f", trip_timeout_seconds(*pulses));
-    return std::string(buffer) + " s (" + std::to_string(*pulses) + " pulses)";
+    if (address && *address < 0x7F) return {std::string(1, static_cast<char>(*address)), false};
+    return {values[0], false};
   }
   auto setting = from_wire(command, values, device_units);
-  if (!setting) {
-    std::string text;
-    for (const auto& value : values) text += (text.empty() ? "" : ",") + value;
-    return text;
-  }
-  return readable(*setting);
+  if (!setting) return {joined(), false};
+  return {without_unit(command, readable(*setting)), is_numeric(command)};
 }
 
 }  // namespace rangekit::cli::uls_values

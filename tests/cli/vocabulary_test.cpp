@@ -87,19 +87,19 @@ TEST(Vocabulary, InfoAndGetPrintOneJsonObjectWithJson) {
   const auto uls_get = run_cli("uls get --json --port " + uls_port + " prf");
   EXPECT_EQ(uls_get.exit_code, 0) << uls_get.output;
   EXPECT_EQ(uls_get.output.front(), '{') << uls_get.output;
-  EXPECT_TRUE(contains(uls_get.output, "\"prf\":")) << uls_get.output;
+  EXPECT_TRUE(contains(uls_get.output, "\"prf-hz\":")) << uls_get.output;
   EXPECT_FALSE(contains(uls_get.output, "#")) << "no wire comment in JSON: " << uls_get.output;
 
   const auto ls5_info = run_cli("ls5 info --json --port " + ls5_port);
   EXPECT_EQ(ls5_info.exit_code, 0) << ls5_info.output;
   EXPECT_EQ(ls5_info.output.front(), '{') << ls5_info.output;
-  EXPECT_TRUE(contains(ls5_info.output, "\"address\":\"1\"")) << ls5_info.output;
-  EXPECT_TRUE(contains(ls5_info.output, "\"range_mm\":")) << ls5_info.output;
+  EXPECT_TRUE(contains(ls5_info.output, "\"address\":1")) << ls5_info.output;
+  EXPECT_TRUE(contains(ls5_info.output, "\"range-mm\":")) << ls5_info.output;
 
   // Table 9.2: median filter points, default 5.
   const auto ls5_get = run_cli("ls5 get --json --port " + ls5_port + " median-points");
   EXPECT_EQ(ls5_get.exit_code, 0) << ls5_get.output;
-  EXPECT_EQ(ls5_get.output, "{\"median-points\":\"5\"}\n");
+  EXPECT_EQ(ls5_get.output, "{\"median-points\":5}\n");  // numbers as numbers
 }
 
 // "`sim --help` points to docs that exist": every docs/NAME.md a help text names is a file.

@@ -75,7 +75,7 @@ TEST(Ls5Cli, DeviceSubcommandsEndToEnd) {
   CliRun info = w.ls5({"info", "--port", w.port});
   ASSERT_EQ(info.exit_code, cli::exit_ok) << info.err;
   EXPECT_TRUE(contains(info.out, "serial=157")) << info.out;
-  EXPECT_TRUE(contains(info.out, "range_mm=100")) << info.out;
+  EXPECT_TRUE(contains(info.out, "range-mm=100")) << info.out;
   EXPECT_TRUE(contains(info.out, "ethernet=yes")) << info.out;
 
   CliRun refused = w.ls5({"set", "--port", w.port, "median-points=4"});
@@ -218,6 +218,7 @@ TEST(Ls5Cli, NoReconnectEndsTheStreamWhenThePortGoesAway) {
   auto sim = std::make_unique<Child>(sim_arguments(w));
   ASSERT_TRUE(contains(sim->read_line(), "ready:"));
   Child stream({"ls5", "stream", "--port", w.port, "--format", "jsonl", "--duration", "600", "--no-reconnect"});
+  ASSERT_TRUE(contains(stream.read_line(), "\"event\":\"connected\""));  // L69: the first line
   for (int i = 0; i < 3; ++i) ASSERT_TRUE(contains(stream.read_line(), "\"code\":25000"));
   sim->terminate();
   EXPECT_EQ(sim->wait(), 0);
@@ -230,6 +231,7 @@ TEST(Ls5Cli, StreamSurvivesTheEmulatorBeingKilledAndRestartedOnTheSamePath) {
   auto sim = std::make_unique<Child>(sim_arguments(w));
   ASSERT_TRUE(contains(sim->read_line(), "ready:"));
   Child stream({"ls5", "stream", "--port", w.port, "--format", "jsonl", "--duration", "60", "--reconnect-ms", "100"});
+  ASSERT_TRUE(contains(stream.read_line(), "\"event\":\"connected\""));  // L69: the first line
   for (int i = 0; i < 3; ++i) ASSERT_TRUE(contains(stream.read_line(), "\"code\":25000"));
 
   sim->terminate();  // the pty and its symlink vanish: as a cable pulled
@@ -266,9 +268,9 @@ TEST(Ls5Cli, ConfigSaveChangeDiffLoadVerify) {
   ASSERT_EQ(w.ls5({"set", "--port", w.port, "median-points=9", "period-ms=2.5"}).exit_code, cli::exit_ok);
   CliRun diff = w.ls5({"config", "diff", "--port", w.port, file});
   EXPECT_EQ(diff.exit_code, 1);
-  EXPECT_TRUE(contains(diff.out, "median-points: file 5 device 9")) << diff.out;
-  EXPECT_TRUE(contains(diff.out, "period-ms: file 10 device 2.5")) << diff.out;
-  EXPECT_EQ(count_of(diff.out, "\n"), 2U) << diff.out;
+  EXPECT_TRUE(contains(diff.out, "median-points: file=5 device=9")) << diff.out;
+  EXPECT_TRUE(contains(diff.out, "period-ms: file=10 device=2.5")) << diff.out;
+  EXPECT_EQ(count_of(diff.out, "\n"), 3U) << diff.out;  // and "2 of N settings differ"
 
   CliRun loaded = w.ls5({"config", "load", "--port", w.port, file});
   ASSERT_EQ(loaded.exit_code, cli::exit_ok) << loaded.err << loaded.out;

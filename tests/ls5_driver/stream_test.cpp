@@ -74,7 +74,10 @@ TEST(Ls5Stream, RecordsBecomeSamplesWithThinningWrittenFirst) {
   EXPECT_EQ(got.samples[2].signal, SignalState::lost);
   EXPECT_FALSE(got.samples[2].distance_mm.has_value());
   EXPECT_DOUBLE_EQ(got.samples[3].distance_mm.value_or(-1), 0.0);
-  EXPECT_TRUE(got.events.empty());
+  // L69: the one event is `connected`, queued ahead of the records once ST went out.
+  ASSERT_EQ(got.events.size(), 1U);
+  EXPECT_EQ(got.events[0].kind, StreamEventKind::connected);
+  EXPECT_EQ(got.events[0].message, "ls5 line: streaming (ST)");
 
   device.send("!01SB\r");
   (*stream)->stop();
@@ -91,11 +94,13 @@ TEST(Ls5Stream, MalformedRecordsAreReportedAndTheStreamGoesOn) {
   ASSERT_TRUE(stream) << stream.error().message;
   // A code above 50000 and not special (L7), bad digits, garbage, a record cut by the next (F3).
   device.send("!50001\r!2A000\r\x01\x02!123!10000\r");
-  auto got = collect(**stream, [](const Collected& c) { return !c.samples.empty() && c.events.size() >= 4; });
+  auto got = collect(**stream, [](const Collected& c) { return !c.samples.empty() && c.events.size() >= 5; });
   ASSERT_EQ(got.samples.size(), 1U);
   EXPECT_EQ(got.samples[0].code, 10000);
-  ASSERT_GE(got.events.size(), 4U);
-  for (const auto& event : got.events) EXPECT_EQ(event.kind, StreamEventKind::bad_frame) << event.message;
+  ASSERT_GE(got.events.size(), 5U);
+  EXPECT_EQ(got.events[0].kind, StreamEventKind::connected);  // L69: the first item
+  for (std::size_t i = 1; i < got.events.size(); ++i)
+    EXPECT_EQ(got.events[i].kind, StreamEventKind::bad_frame) << got.events[i].message;
 }
 
 TEST(Ls5Stream, SlowConsumerNeverBlocksTheReaderAndLossesAreCounted) {
@@ -116,7 +121,7 @@ TEST(Ls5Stream, SlowConsumerNeverBlocksTheReaderAndLossesAreCounted) {
     std::this_thread::yield();
   }
   EXPECT_EQ((*stream)->records(), 10U);
-  EXPECT_EQ((*stream)->lost(), 6U);
+  EXPECT_EQ((*stream)->lost(), 7U);  // the `connected` event (L69) and the 6 oldest records
   auto first = (*stream)->next(1000ms);
   ASSERT_TRUE(first.has_value());
   EXPECT_EQ(std::get<Sample>(*first).code, 6) << "the newest four are kept";

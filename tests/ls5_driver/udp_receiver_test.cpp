@@ -49,9 +49,15 @@ struct Rig {
   }
   void send(const Packet& packet) { ASSERT_TRUE(sender->send_to(packet, receiver->local_endpoint())); }
   void send_bytes(Bytes bytes) { ASSERT_TRUE(sender->send_to(bytes, receiver->local_endpoint())); }
-  // Next item within 5 s.
+  // Next item within 5 s; the `connected` event of the first packet (L69) is counted, not returned.
+  int connected = 0;
   StreamItem next() {
     auto item = receiver->next(5000ms);
+    if (item && std::holds_alternative<StreamEvent>(*item) &&
+        std::get<StreamEvent>(*item).kind == StreamEventKind::connected) {
+      ++connected;
+      item = receiver->next(5000ms);
+    }
     EXPECT_TRUE(item.has_value()) << "nothing arrived";
     return item.value_or(StreamItem{StreamEvent{}});
   }
@@ -66,6 +72,24 @@ struct Rig {
 };
 
 }  // namespace
+
+// docs/conformance.md L69: the first packet brings the link up: `connected` comes ahead of
+// its samples, once (the ULS and LS5 serial streams start the same way).
+TEST(Ls5UdpReceiver, TheFirstPacketIsAnnouncedAsConnectedL69) {
+  Rig rig;
+  ASSERT_TRUE(rig.receiver && rig.sender);
+  rig.send(build_packet(1));
+  auto first = rig.receiver->next(5000ms);
+  ASSERT_TRUE(first.has_value());
+  ASSERT_TRUE(std::holds_alternative<StreamEvent>(*first));
+  EXPECT_EQ(std::get<StreamEvent>(*first).kind, StreamEventKind::connected);
+  EXPECT_EQ(std::get<StreamEvent>(*first).message.rfind("UDP packets from 127.0.0.1:", 0), 0U)
+      << std::get<StreamEvent>(*first).message;
+  rig.skip_samples(168);
+  rig.send(build_packet(2));
+  rig.skip_samples(168);  // no second `connected`
+  EXPECT_EQ(rig.connected, 0);
+}
 
 // docs/conformance.md L45
 TEST(Ls5UdpReceiver, RecordsBecomeSamplesWithFormula101) {

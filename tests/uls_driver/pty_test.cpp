@@ -120,7 +120,7 @@ TEST(UlsHostPty, EverySubcommandEndToEnd) {
   // Get with no names prints every readable setting.
   run = cli("uls get" + on);
   EXPECT_EQ(run.code, 0) << run.out;
-  EXPECT_NE(run.out.find("trip-timeout=360.0 s (1080000 pulses)  # TT=107AC0"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("trip-timeout-s=360  # TT=107AC0 (1080000 pulses)"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("address=unassigned"), std::string::npos) << run.out;
 
   ASSERT_EQ(cli("uls set" + on + " mode=averaging").code, 0);
@@ -156,7 +156,7 @@ TEST(UlsHostPty, EverySubcommandEndToEnd) {
   // docs/conformance.md U65: §8 has no reset command; reset writes the factory values.
   run = cli("uls reset" + on);
   EXPECT_EQ(run.code, 0) << run.out;
-  EXPECT_NE(cli("uls get" + on + " prf").out.find("prf=2000,2000,2000"), std::string::npos);
+  EXPECT_NE(cli("uls get" + on + " prf").out.find("prf-hz=2000,2000,2000"), std::string::npos);
 
   // No reply (wrong baud): exit 5 with a hint; a port that does not exist: exit 4; bad address: 2.
   run = cli("uls info" + on + " --baud 9600 --timeout 200");
@@ -190,8 +190,8 @@ TEST(UlsHostPty, ConfigSaveChangeDiffLoad) {
   ASSERT_EQ(cli("uls set" + on + " prf=1000,1000,1000 short-gate=5 ppm=2000,2000 averaging-weight=1500").code, 0);
   run = cli("uls config diff" + on + " " + file);
   EXPECT_EQ(run.code, 1) << run.out;
-  EXPECT_NE(run.out.find("prf: file=2000,2000,2000 Hz device=1000,1000,1000 Hz"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("short-gate: file=0 m device=5 m"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("prf-hz: file=2000,2000,2000 device=1000,1000,1000"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("short-gate-m: file=0 device=5"), std::string::npos) << run.out;
 
   // Loading AW 992 and PPM 1024 back needs the order rule (49: PPM must exceed AW).
   run = cli("uls config load" + on + " " + file);

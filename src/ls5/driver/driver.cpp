@@ -89,7 +89,8 @@ Result<Reply> Driver::transact_once(const Request& request) {
     }
     assembler_->push(Bytes(buffer.data(), *got));
   }
-  return make_error(Errc::timeout, "LS5 at address " + hex_byte(request.address) + " on " + transport_name() +
+  // The address in decimal, as --address and info give it (§9 "from 1 to 255"); the frame as sent (L70).
+  return make_error(Errc::timeout, "LS5 at address " + std::to_string(request.address) + " on " + transport_name() +
                                        " did not answer " + wire_text(request) + " within " +
                                        std::to_string(options_.timeout.count()) +
                                        " ms: check the port, the baud rate and byte format, and the address");

@@ -57,7 +57,8 @@ Result<ProbeResult> probe(Transport& transport, std::uint8_t address, std::chron
       [&request](const Reply& candidate) { return check_reply_answers(request, candidate).ok(); }, link);
   if (!link) return link.error();
   if (!reply) {
-    return make_error(Errc::timeout, "no LS5 answered ID at address " + hex_byte(address) + " on " + transport.name());
+    return make_error(Errc::timeout,
+                      "no LS5 answered ID at address " + std::to_string(address) + " on " + transport.name());
   }
   return ProbeResult{false, address, reply->identification};
 }

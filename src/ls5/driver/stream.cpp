@@ -138,6 +138,8 @@ Result<std::unique_ptr<MeasurementStream>> Driver::start_stream(const StreamOpti
   live->address = options_.address;
   live->port = transport_name();
   live_stream_ = live;
+  // The first item, as in the ULS stream: the link is up and the sensor streams (issue 11 point 5).
+  live->queue.push(make_event(StreamEventKind::connected, transport_name() + ": streaming (ST)"));
   std::unique_ptr<MeasurementStream> stream(new MeasurementStream(std::move(live), options));
   stream->shared_->reader = std::thread([raw = stream.get()] { raw->run(); });
   return stream;

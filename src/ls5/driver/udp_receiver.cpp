@@ -97,6 +97,10 @@ struct UdpReceiver::State {
                               records));
       }
     }
+    if (!last_counter) {
+      // The first packet is the link coming up: a `connected` event as the serial streams give.
+      queue.push(make_event(StreamEventKind::connected, "UDP packets from " + source));
+    }
     last_counter = packet->counter;
     {
       std::lock_guard lock(counters_mutex);

@@ -1,0 +1,199 @@
+// Issue 11 point 5, "One CLI vocabulary for both families": `rangekit uls` and
+// `rangekit ls5` print the same key style in info/get, accept get's names in set,
+// print the same `config diff` and the same `connected` event. Expectations typed
+// from the issue, docs/cli.md and the documents' tables.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli/cli_run.hpp"
+#include "ls5_driver/cli_process.hpp"
+#include "rangekit/core/udp.hpp"
+
+namespace {
+
+using cli_test::contains;
+using cli_test::run_cli;
+
+// Both emulators on ptys in a fresh directory.
+struct Emulators {
+  ls5_driver_test::TempDir dir;
+  std::string uls_port = (dir.path / "uls").string();
+  std::string ls5_port = (dir.path / "ls5").string();
+  std::string udp;
+  std::unique_ptr<ls5_driver_test::Child> uls;
+  std::unique_ptr<ls5_driver_test::Child> ls5;
+
+  Emulators() {
+    auto probe = rangekit::UdpSocket::bind(rangekit::Endpoint{"127.0.0.1", 0});
+    if (probe) udp = "127.0.0.1:" + std::to_string(probe->local_endpoint().port);
+    uls = std::make_unique<ls5_driver_test::Child>(std::vector<std::string>{"sim", "uls", "--port", uls_port});
+    ls5 = std::make_unique<ls5_driver_test::Child>(
+        std::vector<std::string>{"sim", "ls5", "--port", ls5_port, "--udp", udp, "--time-scale", "10"});
+  }
+  bool ready() { return contains(uls->read_line(), "ready:") && contains(ls5->read_line(), "ready:"); }
+};
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// `get`'s lines as set arguments: the "# wire" comment dropped, each NAME=VALUE quoted.
+std::string as_assignments(const std::string& get_output, const std::vector<std::string>& leave_out) {
+  std::string arguments;
+  for (std::string line : lines_of(get_output)) {
+    if (const auto comment = line.find("  #"); comment != std::string::npos) line.resize(comment);
+    const std::string name = line.substr(0, line.find('='));
+    bool skip = false;
+    for (const auto& left : leave_out) skip = skip || name == left;
+    if (!skip) arguments += " '" + line + "'";
+  }
+  return arguments;
+}
+
+// U96, L68: "The same key style in `info` and `get`, with units in the same place" (docs/cli.md):
+// lower-case kebab names, the unit the name's last word, the value a bare number.
+TEST(OneVocabulary, InfoAndGetOfBothFamiliesUseKebabNamesWithTheUnitInTheName) {
+  Emulators sims;
+  ASSERT_TRUE(sims.ready());
+  const std::regex kebab_line(R"(^[a-z0-9]+(-[a-z0-9]+)*=.*)");
+  const std::regex unit_after_number(R"(^[^=]*=-?[0-9.,]+ [A-Za-z]+.*)");
+  for (const std::string& command : {"uls info --port " + sims.uls_port, "uls get --port " + sims.uls_port,
+                                     "ls5 info --port " + sims.ls5_port, "ls5 get --port " + sims.ls5_port}) {
+    const auto run = run_cli(command);
+    ASSERT_EQ(run.exit_code, 0) << command << ": " << run.output;
+    for (const std::string& line : lines_of(run.output)) {
+      EXPECT_TRUE(std::regex_match(line, kebab_line)) << command << ": " << line;
+      EXPECT_FALSE(std::regex_match(line, unit_after_number)) << command << ": " << line;
+    }
+  }
+  // §8 Set/Get Long Gate (metres), Trip Point Timeout "seconds x 3000" (10 s = 30000 = 0x7530
+  // pulses), 4-20 mA Fault Current; one PRF value sets the current mode's (U14).
+  ASSERT_EQ(
+      run_cli("uls set --port " + sims.uls_port + " long-gate-m=12.5 trip-timeout-s=10 fault-current-ma=22 prf-hz=2500")
+          .exit_code,
+      0);
+  const auto uls = run_cli("uls get --port " + sims.uls_port + " long-gate-m trip-timeout-s fault-current-ma prf-hz");
+  EXPECT_TRUE(contains(uls.output, "long-gate-m=12.5  # LG=12.500\n")) << uls.output;
+  EXPECT_TRUE(contains(uls.output, "trip-timeout-s=10  # TT=7530 (30000 pulses)\n")) << uls.output;
+  EXPECT_TRUE(contains(uls.output, "fault-current-ma=22  # AF=22\n")) << uls.output;
+  EXPECT_TRUE(contains(uls.output, "prf-hz=2500,2000,2000  # PF=2500,2000,2000\n")) << uls.output;
+  const auto uls_json = run_cli("uls get --json --port " + sims.uls_port + " long-gate-m prf-hz mode baud-output");
+  EXPECT_EQ(uls_json.output,
+            "{\"long-gate-m\":12.5,\"prf-hz\":[2500,2000,2000],\"mode\":\"averaging\",\"baud-output\":115200}\n");
+
+  // Table 9.2: "for t = 5,2 ms parameter is 0034"; median filter points default 05.
+  ASSERT_EQ(run_cli("ls5 set --port " + sims.ls5_port + " period-ms=5.2").exit_code, 0);
+  const auto ls5_json = run_cli("ls5 get --json --port " + sims.ls5_port + " period-ms median-points pre-filter");
+  EXPECT_EQ(ls5_json.output, "{\"period-ms\":5.2,\"median-points\":5,\"pre-filter\":\"average\"}\n");
+  const auto ls5_info = run_cli("ls5 info --json --port " + sims.ls5_port);
+  EXPECT_TRUE(std::regex_search(ls5_info.output, std::regex(R"("address":1,.*"range-mm":[0-9])"))) << ls5_info.output;
+}
+
+// U97, L68: "`get`'s names are accepted by `set`; read-only names are not offered to `set`."
+TEST(OneVocabulary, EveryNameGetPrintsIsAcceptedBySetAndReadOnlyNamesAreRefusedAsSuch) {
+  Emulators sims;
+  ASSERT_TRUE(sims.ready());
+  // ID and US are only read (§8); "unassigned" is UA's absence (error 82), not a value to set.
+  const auto uls_get = run_cli("uls get --port " + sims.uls_port);
+  const auto uls_set =
+      run_cli("uls set --port " + sims.uls_port + as_assignments(uls_get.output, {"version", "status", "address"}));
+  EXPECT_EQ(uls_set.exit_code, 0) << uls_set.output;
+  const auto ls5_get = run_cli("ls5 get --port " + sims.ls5_port);
+  const auto ls5_set = run_cli("ls5 set --port " + sims.ls5_port + as_assignments(ls5_get.output, {}));
+  EXPECT_EQ(ls5_set.exit_code, 0) << ls5_set.output;
+
+  const auto version = run_cli("uls set --port " + sims.uls_port + " version=2");
+  EXPECT_EQ(version.exit_code, 2) << version.output;
+  EXPECT_TRUE(contains(version.output, "'version' is read-only")) << version.output;
+  const auto range = run_cli("ls5 set --port " + sims.ls5_port + " range-mm=10");
+  EXPECT_EQ(range.exit_code, 2) << range.output;
+  EXPECT_TRUE(contains(range.output, "'range-mm' is read-only")) << range.output;
+
+  // The names an error or --help offers to set are the writable ones only.
+  const auto unknown = run_cli("uls set --port " + sims.uls_port + " frob=1");
+  EXPECT_EQ(unknown.exit_code, 2) << unknown.output;
+  const std::string offered = unknown.output.substr(unknown.output.find("writable names: "));
+  EXPECT_TRUE(contains(offered, "long-gate-m, ")) << offered;
+  EXPECT_FALSE(contains(offered, "version")) << offered;
+  EXPECT_FALSE(contains(offered, "status")) << offered;
+  for (const char* family : {"uls", "ls5"}) {
+    const auto help = run_cli(std::string(family) + " set --help").output;
+    ASSERT_TRUE(contains(help, "Writable names (as `get` prints them): ")) << help;
+    EXPECT_FALSE(contains(help.substr(help.find("Writable names")), "version")) << help;
+  }
+}
+
+// U96: "The same `config diff` output for `uls config diff` and `ls5 config diff`": one line
+// `name: file=X device=Y` per difference, names as get prints them, a summary line, exit 1.
+TEST(OneVocabulary, ConfigDiffPrintsTheSameLinesForBothFamilies) {
+  Emulators sims;
+  ASSERT_TRUE(sims.ready());
+  const std::string uls_file = (sims.dir.path / "uls.toml").string();
+  const std::string ls5_file = (sims.dir.path / "ls5.toml").string();
+  ASSERT_EQ(run_cli("uls config save --port " + sims.uls_port + " " + uls_file).exit_code, 0);
+  ASSERT_EQ(run_cli("ls5 config save --port " + sims.ls5_port + " " + ls5_file).exit_code, 0);
+  const std::regex none(R"(^no differences \([0-9]+ settings compared\)\n$)");
+  const auto uls_same = run_cli("uls config diff --port " + sims.uls_port + " " + uls_file);
+  EXPECT_EQ(uls_same.exit_code, 0) << uls_same.output;
+  EXPECT_TRUE(std::regex_match(uls_same.output, none)) << uls_same.output;
+  const auto ls5_same = run_cli("ls5 config diff --port " + sims.ls5_port + " " + ls5_file);
+  EXPECT_EQ(ls5_same.exit_code, 0) << ls5_same.output;
+  EXPECT_TRUE(std::regex_match(ls5_same.output, none)) << ls5_same.output;
+
+  ASSERT_EQ(run_cli("uls set --port " + sims.uls_port + " long-gate-m=12.5").exit_code, 0);
+  ASSERT_EQ(run_cli("ls5 set --port " + sims.ls5_port + " median-points=7").exit_code, 0);
+  const std::regex one(R"(^[a-z0-9-]+: file=[^ ]+ device=[^ ]+\n1 of [0-9]+ settings differ\n$)");
+  const auto uls = run_cli("uls config diff --port " + sims.uls_port + " " + uls_file);
+  EXPECT_EQ(uls.exit_code, 1) << uls.output;
+  EXPECT_TRUE(std::regex_match(uls.output, one)) << uls.output;
+  EXPECT_TRUE(contains(uls.output, "long-gate-m: file=0 device=12.5\n")) << uls.output;
+  const auto ls5 = run_cli("ls5 config diff --port " + sims.ls5_port + " " + ls5_file);
+  EXPECT_EQ(ls5.exit_code, 1) << ls5.output;
+  EXPECT_TRUE(std::regex_match(ls5.output, one)) << ls5.output;
+  EXPECT_TRUE(contains(ls5.output, "median-points: file=5 device=7\n")) << ls5.output;
+}
+
+// L70: "One base per message": the LS5 network address is decimal everywhere ("The sensor has
+// its own network address (from 1 to 255)", §9), as --address takes it; the frame is quoted
+// as sent (#1AID). It was "LS5 at address 1A ... is its --address 26?" in one message.
+TEST(OneVocabulary, AnLs5AddressIsDecimalInEveryMessage) {
+  Emulators sims;
+  ASSERT_TRUE(sims.ready());
+  const auto silent = run_cli("ls5 info --timeout 100 --address 26 --port " + sims.ls5_port);
+  EXPECT_EQ(silent.exit_code, 5) << silent.output;
+  EXPECT_TRUE(contains(silent.output, "LS5 at address 26 on ")) << silent.output;
+  EXPECT_TRUE(contains(silent.output, "--address 26?")) << silent.output;
+  EXPECT_FALSE(contains(silent.output, "address 1A")) << silent.output;
+  const auto found = run_cli("detect --timeout 300 --baud 115200 --json --port " + sims.ls5_port);
+  EXPECT_TRUE(contains(found.output, "\"address\":\"1\"")) << found.output;
+}
+
+// L69: "A `connected` event for both families": the ULS stream's first item is `connected`
+// (host-uls.md); the LS5 serial stream and the UDP receiver say the same when their
+// link first comes up.
+TEST(OneVocabulary, BothFamiliesStreamsStartWithAConnectedEvent) {
+  Emulators sims;
+  ASSERT_TRUE(sims.ready());
+  const auto uls = run_cli("uls stream --count 1 --format jsonl --port " + sims.uls_port);
+  EXPECT_EQ(uls.exit_code, 0) << uls.output;
+  EXPECT_TRUE(contains(uls.output, "\"event\":\"connected\"")) << uls.output;
+
+  const auto ls5 = run_cli("ls5 stream --count 1 --format jsonl --port " + sims.ls5_port);
+  EXPECT_EQ(ls5.exit_code, 0) << ls5.output;
+  EXPECT_TRUE(contains(ls5.output, "\"event\":\"connected\"")) << ls5.output;
+  EXPECT_TRUE(contains(ls5.output, "connected: " + sims.ls5_port + ": streaming")) << ls5.output;
+
+  const auto udp = run_cli("ls5 udp --count 1 --format jsonl --duration 60 --udp-listen " + sims.udp);
+  EXPECT_EQ(udp.exit_code, 0) << udp.output;
+  EXPECT_TRUE(contains(udp.output, "\"event\":\"connected\"")) << udp.output;
+}
+
+}  // namespace
