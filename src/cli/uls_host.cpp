@@ -11,13 +11,13 @@
 #include "cli/host_sources.hpp"
 #include "cli/key_values.hpp"
 #include "cli/stream_runner.hpp"
-#include "cli/uls_values.hpp"
 #include "rangekit/uls/bus.hpp"
 #include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/formulas.hpp"
 #include "rangekit/uls/host_config.hpp"
+#include "rangekit/uls/named_settings.hpp"
 
 namespace rangekit::cli {
 
@@ -90,51 +90,24 @@ std::string format_sample(const Sample& sample) {
 
 // --- get -------------------------------------------------------------------
 
-// One get, printed as `name=value  # MN=wire`. `port` limits BR to one port.
-int print_setting(Driver& driver, const CommandInfo& command, Units units, KeyValues& out,
-                  const std::string& port = "") {
-  if (command.mnemonic == "BR") {
-    int code = exit_ok;
-    for (const char* each : {"0", "1"}) {
-      if (!port.empty() && port != each) continue;
-      const std::array<std::string_view, 1> argument{each};
-      auto values = driver.get("BR", argument);
-      if (!values) {
-        code = fail("get", values.error());
-        continue;
-      }
-      out.add_number(each[0] == '0' ? "baud-configuration" : "baud-output", values->at(1),
-                     fmt::format("BR,{}={}", each, values->at(1)));
+// One get, printed as `name=value  # MN=wire` (uls::named::read_setting, shared with the service).
+int print_setting(Driver& driver, const named::Target& target, Units units, KeyValues& out) {
+  auto lines = named::read_setting(driver, target, units);
+  if (!lines) return fail("get", lines.error());
+  for (const named::Value& line : *lines) {
+    if (line.reading.number) {
+      out.add_number(line.key, line.reading.text, line.comment);
+    } else {
+      out.add(line.key, line.reading.text, line.comment);
     }
-    return code;
-  }
-  auto values = driver.get(command.mnemonic);
-  if (!values) {
-    if (command.mnemonic == "UA" && values.error().device_code == 82) {
-      out.add("address", "unassigned", "UA: error 82, Unit Address Not Assigned");
-      return exit_ok;
-    }
-    return fail("get", values.error());
-  }
-  std::string wire;
-  for (const auto& value : *values) wire += (wire.empty() ? "" : ",") + value;
-  if (command.kind == ValueKind::hex_pulses && values->size() == 1) {
-    if (auto pulses = parse_trip_timeout(values->front())) wire += fmt::format(" ({} pulses)", *pulses);
-  }
-  const auto reading = uls_values::describe_reply(command, *values, units);
-  const std::string comment = fmt::format("{}={}", command.mnemonic, wire);
-  if (reading.number) {
-    out.add_number(uls_values::setting_key(command), reading.text, comment);
-  } else {
-    out.add(uls_values::setting_key(command), reading.text, comment);
   }
   return exit_ok;
 }
 
 int run_get(const LinkOptions& link, const std::vector<std::string>& names) {
-  std::vector<uls_values::Target> targets;
+  std::vector<named::Target> targets;
   for (const auto& name : names) {
-    auto target = uls_values::find_setting(name);
+    auto target = named::find_setting(name);
     if (!target) return fail("get", target.error());
     if (!target->command->has_get())
       return fail("get", make_error(Errc::wrong_form, std::string(target->command->cli_name) + " (" +
@@ -142,9 +115,7 @@ int run_get(const LinkOptions& link, const std::vector<std::string>& names) {
                                                           ") cannot be read, only set"));
     targets.push_back(*target);
   }
-  if (names.empty())
-    for (const CommandInfo& command : command_table())
-      if (command.has_get() && command.mnemonic != "BM") targets.push_back(uls_values::Target{&command, false, ""});
+  if (names.empty()) targets = named::readable_targets();
   auto driver = open_driver(link);
   if (!driver) return fail("get", driver.error());
   auto units = (*driver)->units();
@@ -152,7 +123,7 @@ int run_get(const LinkOptions& link, const std::vector<std::string>& names) {
   int code = exit_ok;
   KeyValues out(link.json);
   for (const auto& target : targets) {
-    const int one = print_setting(**driver, *target.command, *units, out, target.port);
+    const int one = print_setting(**driver, target, *units, out);
     if (one == exit_no_reply) return one;
     if (code == exit_ok) code = one;
   }
@@ -162,65 +133,31 @@ int run_get(const LinkOptions& link, const std::vector<std::string>& names) {
 
 // --- set -------------------------------------------------------------------
 
-// The name a set echoes: as get prints it, or the mnemonic it was given by.
-std::string assignment_name(const uls_values::Target& target) {
-  if (target.raw) return std::string(target.command->mnemonic);
-  if (target.port == "0") return "baud-configuration";
-  if (target.port == "1") return "baud-output";
-  return uls_values::setting_key(*target.command);
-}
-
 int run_set(const LinkOptions& link, const std::vector<std::string>& assignments) {
   if (assignments.empty())
     return fail("set", make_error(Errc::wrong_form, "give NAME=VALUE (e.g. mode=binning prf-hz=2000)"));
-  std::vector<std::pair<uls_values::Target, std::string>> work;
+  std::vector<std::pair<std::string, std::string>> pairs;
   for (const auto& assignment : assignments) {
     const auto equals = assignment.find('=');
     if (equals == std::string::npos)
       return fail("set", make_error(Errc::wrong_form, "'" + assignment + "' is not NAME=VALUE"));
-    auto target = uls_values::find_setting(assignment.substr(0, equals), uls_values::Purpose::set);
-    if (!target) return fail("set", target.error());
-    work.emplace_back(*target, assignment.substr(equals + 1));
+    pairs.emplace_back(assignment.substr(0, equals), assignment.substr(equals + 1));
   }
-  // Every value is checked before the first is sent (distances again once MU is known).
-  for (const auto& [target, value] : work) {
-    auto fields = uls_values::to_fields(target, value, Units::metres);
-    if (!fields) return fail("set", fields.error());
-    const bool distance = target.command->is_distance();
-    const std::vector<std::string_view> views(fields->begin(), fields->end());
-    if (const Verdict verdict = validate_request(*target.command, views, Units::metres);
-        !verdict.ok() && !(distance && target.raw))
-      return fail("set", uls::local_refusal(*target.command, value, verdict.error, Units::metres));
-  }
-  // BR switches the port after its $OK (U36) and UA the address the unit answers
-  // to: the settings after either would go unanswered, so both are written last.
-  std::stable_partition(work.begin(), work.end(), [](const auto& item) {
-    const std::string_view mnemonic = item.first.command->mnemonic;
-    return mnemonic != "BR" && mnemonic != "UA";
-  });
+  auto work = named::plan(pairs);  // every value checked before the first is sent
+  if (!work) return fail("set", work.error());
   auto driver = open_driver(link);
   if (!driver) return fail("set", driver.error());
-  std::optional<Units> units;
-  for (const auto& [target, value] : work) {
-    const bool distance = target.command->is_distance();
-    if (distance && !units) {
-      auto read = (*driver)->units();
-      if (!read) return fail("set", read.error());
-      units = *read;
-    }
-    auto fields = uls_values::to_fields(target, value, units.value_or(Units::metres));
-    if (!fields) return fail("set", fields.error());
-    const std::vector<std::string_view> views(fields->begin(), fields->end());
-    auto done = (*driver)->set(target.command->mnemonic, views);
-    if (!done) return fail("set", done.error());
+  const auto echo = [](const named::Written& written) {
     std::string wire;
-    for (const auto& field : *fields) wire += (wire.empty() ? "" : ",") + field;
-    fmt::print("{}={}  # {}={} OK\n", assignment_name(target), value, target.command->mnemonic, wire);
-    if (target.command->mnemonic == "MU") units.reset();
-    if (target.command->mnemonic == "BR" && fields->size() == 2)
+    for (const auto& field : written.fields) wire += (wire.empty() ? "" : ",") + field;
+    const named::Target& target = written.assignment->target;
+    fmt::print("{}={}  # {}={} OK\n", named::assignment_name(target), written.assignment->value,
+               target.command->mnemonic, wire);
+    if (target.command->mnemonic == "BR" && written.fields.size() == 2)
       fmt::print(stderr, "note: port {} now runs at {} baud (the change follows the $OK, §8); use --baud {}\n",
-                 (*fields)[0], (*fields)[1], (*fields)[1]);
-  }
+                 written.fields[0], written.fields[1], written.fields[1]);
+  };
+  if (auto done = named::apply(**driver, *work, echo); !done) return fail("set", done.error());
   return exit_ok;
 }
 
@@ -245,7 +182,9 @@ int run_info(const LinkOptions& link) {
   auto units = (*driver)->units();
   if (!units) return fail("info", units.error());
   for (const char* mnemonic : {"MM", "MU", "PF", "PO", "CO", "MO"}) {
-    if (const int code = print_setting(**driver, *find_command(mnemonic), *units, out); code != exit_ok) return code;
+    if (const int code = print_setting(**driver, named::Target{find_command(mnemonic), false, ""}, *units, out);
+        code != exit_ok)
+      return code;
   }
   out.finish();
   return exit_ok;
@@ -291,8 +230,8 @@ std::vector<DiffLine> diff_lines(const std::vector<ConfigDifference>& difference
   std::vector<DiffLine> lines;
   for (const auto& difference : differences) {
     const CommandInfo& command = *difference.command;
-    lines.push_back({uls_values::setting_key(command), uls_values::without_unit(command, difference.wanted),
-                     uls_values::without_unit(command, difference.actual)});
+    lines.push_back({named::setting_key(command), named::without_unit(command, difference.wanted),
+                     named::without_unit(command, difference.actual)});
   }
   return lines;
 }
@@ -466,7 +405,7 @@ void add_uls_command(CLI::App& app, int& exit_code) {
   auto* set = uls->add_subcommand("set", "write settings: mode=binning prf-hz=2000 units=m short-gate-m=10 PF=2000");
   add_link_options(set, *link);
   set->add_option("assignments", *assignments, "NAME=VALUE ...")->required();
-  set->footer("Writable names (as `get` prints them): " + uls_values::writable_names());
+  set->footer("Writable names (as `get` prints them): " + named::writable_names());
   set->callback([&exit_code, link, assignments] { exit_code = run_set(*link, *assignments); });
 
   auto stream_options = std::make_shared<StreamOptions>();

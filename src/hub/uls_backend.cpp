@@ -8,17 +8,10 @@
 #include "rangekit/uls/bus.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/host_config.hpp"
+#include "rangekit/uls/named_settings.hpp"
 
 namespace rangekit::hub {
 namespace {
-
-// "10.5 m" -> {"10.5", "m"}; "binning" -> {"binning", ""}.
-Field field_of(const uls::Setting& setting) {
-  const std::string text = uls::readable(setting);
-  const std::size_t space = text.rfind(' ');
-  if (space == std::string::npos) return {std::string(setting.command->cli_name), text, ""};
-  return {std::string(setting.command->cli_name), text.substr(0, space), text.substr(space + 1)};
-}
 
 std::vector<Field> status_fields(const uls::StatusInfo& status) {
   const auto yes_no = [](bool on) { return std::string(on ? "yes" : "no"); };
@@ -30,30 +23,61 @@ std::vector<Field> status_fields(const uls::StatusInfo& status) {
   return fields;
 }
 
+// The settings as `rangekit uls get` lists them (the unit in the name: short-gate-m).
 Result<std::vector<Field>> read_fields(uls::Driver& driver, Session& session) {
-  auto config = uls::read_config(driver);
-  if (!config) return std::move(config).error();
+  auto values = uls::named::read_all(driver);
+  if (!values) return std::move(values).error();
   std::vector<Field> fields;
-  for (const uls::Setting& setting : config->settings) fields.push_back(field_of(setting));
+  for (const uls::named::Value& value : *values) fields.push_back({value.key, value.reading.text, ""});
   std::lock_guard lock(session.mutex);
   session.settings = fields;
   return fields;
 }
 
+// As `rangekit uls set` (the same names and checks, uls::named), then each value read
+// back. A unit that measures refuses settings with 31 (U24): stopped for them, restarted after.
 Result<std::vector<Field>> write_fields(uls::Driver& driver, Session& session, const SettingValues& values) {
-  uls::DeviceConfig wanted;
-  for (const auto& [name, text] : values) {  // every value checked before anything is sent
-    auto setting = uls::setting_from_text(name, text);
-    if (!setting) return std::move(setting).error();
-    wanted.settings.push_back(std::move(*setting));
+  auto work = uls::named::plan(values);  // every value checked before anything is sent
+  if (!work) return std::move(work).error();
+  auto status = driver.status();
+  if (!status) return std::move(status).error();
+  const bool measuring = status->measuring();
+  if (measuring) {
+    if (auto stopped = driver.stop_measuring(); !stopped) return std::move(stopped).error();
   }
-  auto report = uls::load_config(driver, wanted);
-  if (!report) return std::move(report).error();
-  if (!report->mismatches.empty()) {
-    const auto& first = report->mismatches.front();
-    return make_error(Errc::device_error, std::string(first.command->cli_name) + " reads back as " + first.actual +
-                                              ", not " + first.wanted);
+  std::vector<uls::named::Written> written;
+  Status applied = uls::named::apply(driver, *work, [&](const uls::named::Written& one) { written.push_back(one); });
+  if (applied) {
+    auto units = driver.units();
+    for (const uls::named::Written& one : written) {
+      if (!units) {
+        applied = units.error();
+        break;
+      }
+      const uls::CommandInfo& command = *one.assignment->target.command;
+      if (!command.has_get()) continue;  // PT: set only
+      auto lines = uls::named::read_setting(driver, one.assignment->target, *units);
+      if (!lines) {
+        applied = std::move(lines).error();
+        break;
+      }
+      const std::string wanted = uls::named::describe_reply(command, one.fields, *units).text;
+      const std::string& read = lines->front().reading.text;
+      // PF/PO with one value set the current mode's entry of the list they read back as (U14, U15).
+      const bool one_of_list =
+          one.fields.size() == 1 && ("," + read + ",").find("," + wanted + ",") != std::string::npos;
+      if (command.mnemonic != "BR" && read != wanted && !one_of_list) {
+        applied =
+            make_error(Errc::device_error, uls::named::assignment_name(one.assignment->target) + " reads back as " +
+                                               lines->front().reading.text + ", not " + wanted);
+        break;
+      }
+    }
   }
+  if (measuring) {
+    if (auto restarted = driver.start_measuring(); !restarted && applied) applied = std::move(restarted).error();
+  }
+  if (!applied) return std::move(applied).error();
   return read_fields(driver, session);
 }
 
@@ -211,13 +235,18 @@ class UlsBusBackend final : public Backend {
       : sessions_(std::move(sessions)),
         publisher_(publisher),
         open_(std::move(open)),
-        answering_(sessions_.size(), true) {}
+        answering_(sessions_.size(), true),
+        retry_at_(sessions_.size()) {}
 
   Status connect() override {
     const SensorConfig& first = sessions_.front()->config;
     auto link = open_(first.port, first.serial);
     if (!link) return std::move(link).error();
-    auto bus = std::make_unique<uls::Bus>(std::move(link).value());
+    // The driver's usual per-call timeout, not a scan's 150 ms: commands to a unit that is there
+    // must not fail on a loaded host. A unit that stays silent is asked again only every few seconds.
+    uls::BusOptions options;
+    options.timeout = std::chrono::milliseconds(1000);
+    auto bus = std::make_unique<uls::Bus>(std::move(link).value(), options);
     std::vector<std::uint8_t> addresses;
     for (const Session* session : sessions_) addresses.push_back(static_cast<std::uint8_t>(*session->config.address));
     const auto units = bus->scan(addresses);
@@ -228,6 +257,18 @@ class UlsBusBackend final : public Backend {
       std::lock_guard lock(session.mutex);
       session.identity = {{"version", unit.version, ""}, {"address", uls::address_text(unit.address), ""}};
       if (unit.status) session.status = status_fields(*unit.status);
+    }
+    // §7: "The Continuous Output setting must be turned off since units only talk on the bus
+    // when addressed." A unit with CO on talks unasked once it measures, and its lines collide
+    // with the replies of the others: said once, not changed behind the user's back.
+    for (std::size_t i = 0; i < sessions_.size(); ++i) {
+      if (!answering_[i]) continue;
+      if (bus->driver().set_address(units[i].address) && bus->driver().continuous().value_or(false)) {
+        publisher_.publish(*sessions_[i],
+                           make_event(StreamEventKind::device_error,
+                                      "Continuous Output is on: on an RS-485 bus it must be off (§7), or this unit "
+                                      "talks unasked and collides with the others; set continuous=off"));
+      }
     }
     bus_ = std::move(bus);
     // Units that did not answer are reported on their own; the port itself is up.
@@ -251,6 +292,7 @@ class UlsBusBackend final : public Backend {
         std::lock_guard lock(session.mutex);
         if (!session.streaming) continue;
       }
+      if (!answering_[next_] && std::chrono::steady_clock::now() < retry_at_[next_]) continue;
       poll(next_);
       return true;
     }
@@ -307,6 +349,7 @@ class UlsBusBackend final : public Backend {
         bus_.reset();  // the port itself went away: the worker reconnects every unit
         return;
       }
+      retry_at_[index] = std::chrono::steady_clock::now() + silent_retry_interval;
       if (answering_[index]) {
         answering_[index] = false;
         publisher_.publish(session, make_event(StreamEventKind::disconnected,
@@ -334,6 +377,8 @@ class UlsBusBackend final : public Backend {
   Publisher& publisher_;
   PortOpener open_;
   std::vector<bool> answering_;
+  std::vector<std::chrono::steady_clock::time_point> retry_at_;  // when a silent unit is asked again
+  static constexpr std::chrono::seconds silent_retry_interval{2};
   std::unique_ptr<uls::Bus> bus_;
   std::size_t next_ = 0;
 };

@@ -43,6 +43,12 @@ struct Site {
   SiteConfig config;
   Site() {
     EXPECT_TRUE(ready(ls5) && ready(uls) && ready(bus));
+    // §7: "The Continuous Output setting must be turned off since units only talk on the bus when addressed."
+    for (const char* unit : {"A", "B", "C", "D"}) {
+      const auto run = ls5_driver_test::run_cli(
+          temp.path, {"uls", "set", "--port", (temp.path / "bus").string(), "--address", unit, "continuous=off"});
+      EXPECT_EQ(run.exit_code, 0) << run.err;
+    }
     auto parsed = parse_site_config(site_text(temp.path), "site.toml");
     EXPECT_TRUE(parsed.ok()) << (parsed.ok() ? "" : parsed.error().message);
     if (parsed) config = *parsed;
@@ -126,13 +132,18 @@ TEST(HubPty, SettingsAreCheckedBeforeSendingAndReadBack) {
   ASSERT_TRUE(changed.ok()) << changed.error().message;
   EXPECT_EQ(value_of(*changed, "median-points"), "7");
 
-  auto uls_refused = hub->set("silo", {{"short-gate", "2000"}});
+  auto uls_refused = hub->set("silo", {{"short-gate-m", "2000"}});
   ASSERT_FALSE(uls_refused.ok());
-  EXPECT_NE(uls_refused.error().message.find("short-gate"), std::string::npos) << uls_refused.error().message;
-  auto uls_changed = hub->set("bay-B", {{"short-gate", "12.5"}});
+  EXPECT_NE(uls_refused.error().message.find("1700"), std::string::npos) << uls_refused.error().message;
+  // The names `rangekit uls get` prints, with the unit in the name (docs/cli.md).
+  auto uls_changed = hub->set("bay-B", {{"short-gate-m", "12.5"}, {"prf-hz", "1000"}});
   ASSERT_TRUE(uls_changed.ok()) << uls_changed.error().message;
-  EXPECT_EQ(value_of(*uls_changed, "short-gate"), "12.5");
-  EXPECT_NE(value_of(*hub->settings("bay-A"), "short-gate"), "12.5");  // the bus addresses one unit
+  EXPECT_EQ(value_of(*uls_changed, "short-gate-m"), "12.5");
+  EXPECT_NE(value_of(*hub->settings("bay-A"), "short-gate-m"), "12.5");  // the bus addresses one unit
+  // The silo unit streams, so it measures: the set stops it for the write and restarts it (U24).
+  auto while_measuring = hub->set("silo", {{"long-gate-m", "900"}});
+  ASSERT_TRUE(while_measuring.ok()) << while_measuring.error().message;
+  EXPECT_EQ(value_of(*while_measuring, "long-gate-m"), "900");
 
   auto single = hub->act("silo", Action::single);
   EXPECT_TRUE(single.ok()) << single.error().message;

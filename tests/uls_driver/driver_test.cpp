@@ -722,6 +722,35 @@ TEST(UlsDriver, BroadcastSendsAndWaitsForNothing) {
   EXPECT_FALSE(rig.driver->broadcast("MM"));  // a read cannot be broadcast
 }
 
+// U67 (rewritten): a get's reply can be byte-identical to a set request sent before it:
+// "$SG,12.500" sets the short gate (§8 Set Short Gate) and is also the reply to "$SG". Once a
+// request's reply has arrived, its echo cannot come any more, so the reply to the get is the
+// reply, with and without an echoing adapter (found by the service's read-back).
+TEST(UlsDriver, U67_AGetReplyEqualToAnEarlierSetIsNoEcho) {
+  for (const bool echo : {false, true}) {
+    std::string short_gate = "0.000";
+    Rig rig([&](const std::string& request) -> std::string {
+      std::string reply;
+      if (request.rfind("$SG,", 0) == 0) {
+        short_gate = request.substr(4);
+        reply = "$OK\r";
+      } else if (request == "$SG") {
+        reply = "$SG," + short_gate + "\r";
+      } else {
+        reply = typical_reply(request);
+      }
+      return echo ? request + "\r" + reply : reply;
+    });
+    ASSERT_TRUE(rig.driver->set("SG", "12.500")) << "echo " << echo;
+    auto values = rig.driver->get("SG");
+    ASSERT_TRUE(values) << "echo " << echo << ": " << values.error().message;
+    ASSERT_EQ(values->size(), 1U);
+    EXPECT_EQ(values->front(), "12.500");
+    EXPECT_EQ(rig.driver->counters().echoes, echo ? 3U : 0U);  // MU (the distance's units), the set, the get
+    EXPECT_EQ(rig.driver->counters().retries, 0U);  // answered the first time, not by a retry
+  }
+}
+
 // U67: a 2-wire RS-485 adapter without echo suppression hands the host its own
 // request before the unit's reply. Gets (with and without an argument), sets,
 // actions, BM, broadcasts and a polled stream all read the reply, not the echo.

@@ -44,12 +44,6 @@ std::string config_to_toml(const DeviceConfig& config, std::string_view origin);
 // present keep no value (load leaves them as they are on the unit).
 Result<DeviceConfig> config_from_toml(std::string_view text, std::string_view file_name);
 
-// One setting from its config-file name (`prf`, `short-gate`) and a value typed as
-// text: "2000", "2000,2000,2000", "binning", "on", "10.5" (metres). Checked
-// against the command table as a config file is; errors name the key and the
-// allowed values. For the service's settings PATCH.
-Result<Setting> setting_from_text(std::string_view name, std::string_view text);
-
 struct ConfigDifference {
   const CommandInfo* command = nullptr;
   std::string wanted;  // file (readable)

@@ -250,60 +250,6 @@ Result<DeviceConfig> config_from_toml(std::string_view text, std::string_view fi
   return ordered;
 }
 
-Result<Setting> setting_from_text(std::string_view name, std::string_view value_text) {
-  const CommandInfo* command = nullptr;
-  for (const CommandInfo* candidate : config_commands())
-    if (candidate->cli_name == name) command = candidate;
-  const auto refuse = [&](std::string_view what) {
-    return make_error(Errc::out_of_range, "'" + std::string(name) + "' " + std::string(what));
-  };
-  if (command == nullptr) {
-    std::string names;
-    for (const CommandInfo* candidate : config_commands())
-      names += (names.empty() ? "" : ", ") + std::string(candidate->cli_name);
-    return make_error(Errc::unknown_parameter,
-                      "'" + std::string(name) + "' is not a ULS setting (settings: " + names + ")");
-  }
-  Setting setting;
-  setting.command = command;
-  const auto number_of = [](std::string_view field) { return text::parse_decimal(field); };
-  const std::string_view trimmed = value_text;
-  if (command->kind == ValueKind::flag) {
-    if (trimmed == "on" || trimmed == "true" || trimmed == "1") {
-      setting.values.push_back(1);
-    } else if (trimmed == "off" || trimmed == "false" || trimmed == "0") {
-      setting.values.push_back(0);
-    } else {
-      return refuse("must be on or off");
-    }
-  } else if (command->kind == ValueKind::enumeration) {
-    std::optional<double> number = number_of(trimmed);
-    for (const auto& entry : command->value_names)
-      if (key_name(entry.name) == trimmed) number = entry.value;
-    if (!number) return refuse("must be one of: " + allowed_values(*command, Units::metres));
-    setting.values.push_back(*number);
-  } else if (command->kind == ValueKind::prf_list || command->kind == ValueKind::ppm_list) {
-    std::string_view rest = trimmed;
-    for (;;) {
-      const std::size_t comma = rest.find(',');
-      const auto number = number_of(rest.substr(0, comma));
-      if (!number || *number != std::floor(*number)) return refuse("must be a list of integers");
-      setting.values.push_back(*number);
-      if (comma == std::string_view::npos) break;
-      rest.remove_prefix(comma + 1);
-    }
-  } else {
-    const auto number = number_of(trimmed);
-    if (!number) return refuse("must be a number");
-    setting.values.push_back(*number);
-  }
-  const auto wire = to_wire(setting, Units::metres);
-  std::vector<std::string_view> fields(wire.begin(), wire.end());
-  if (!validate_request(*command, fields, Units::metres).ok())
-    return refuse("is outside the allowed values: " + allowed_values(*command, Units::metres));
-  return setting;
-}
-
 std::vector<ConfigDifference> diff_config(const DeviceConfig& wanted, const DeviceConfig& actual) {
   std::vector<ConfigDifference> differences;
   for (const Setting& want : wanted.settings) {

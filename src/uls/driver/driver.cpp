@@ -220,8 +220,8 @@ Status Driver::pump(std::chrono::milliseconds wait) {
 void Driver::dispatch(Bytes frame_bytes) {
   {
     // A 2-wire RS-485 adapter without echo suppression reads back what the host
-    // sent. No reply is ever byte-identical to a request (replies carry values or
-    // are $OK), so a copy of a recent request is its echo: skipped (U67).
+    // sent, before the unit's reply. A copy of a request sent since the last reply
+    // is its echo: skipped (U67).
     std::lock_guard lock(state_mutex_);
     const std::string_view frame_text(reinterpret_cast<const char*>(frame_bytes.data()), frame_bytes.size());
     const auto sent = std::find(recent_sent_.begin(), recent_sent_.end(), frame_text);
@@ -275,6 +275,7 @@ void Driver::dispatch(Bytes frame_bytes) {
       }
       *pending->measurement = std::move(sample);
       pending->done = true;
+      recent_sent_.clear();  // echoes precede replies: none of what was sent can still come back
       lock.unlock();
       reply_ready_.notify_all();
       return;
@@ -303,6 +304,9 @@ void Driver::dispatch(Bytes frame_bytes) {
   }
   ++counters_.replies;
   pending->done = true;
+  // Echoes precede replies on the wire: what was sent up to now can no longer come back, and a
+  // later reply equal to an earlier request ("$SG,12.500" after a set) is a reply (U67).
+  recent_sent_.clear();
   lock.unlock();
   reply_ready_.notify_all();
 }

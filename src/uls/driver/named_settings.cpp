@@ -1,18 +1,18 @@
-#include "cli/uls_values.hpp"
+#include "rangekit/uls/named_settings.hpp"
 
-#include <fmt/core.h>
-
+#include <array>
 #include <cctype>
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "rangekit/core/text.hpp"
+#include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/formulas.hpp"
 #include "rangekit/uls/frame.hpp"
 #include "rangekit/uls/host_config.hpp"
 
-namespace rangekit::cli::uls_values {
-
-using namespace rangekit::uls;
+namespace rangekit::uls::named {
 
 namespace {
 
@@ -194,7 +194,9 @@ namespace {
 
 // Seconds with up to 4 decimals, trailing zeros dropped: "360", "0.0003".
 std::string seconds_text(double seconds) {
-  std::string text = fmt::format("{:.4f}", seconds);
+  std::array<char, 64> buffer{};
+  std::snprintf(buffer.data(), buffer.size(), "%.4f", seconds);
+  std::string text = buffer.data();
   while (text.back() == '0') text.pop_back();
   if (text.back() == '.') text.pop_back();
   return text;
@@ -256,4 +258,109 @@ Reading describe_reply(const CommandInfo& command, const std::vector<std::string
   return {without_unit(command, readable(*setting)), is_numeric(command)};
 }
 
-}  // namespace rangekit::cli::uls_values
+// --- On a unit -------------------------------------------------------------------
+
+Result<std::vector<Value>> read_setting(Driver& driver, const Target& target, Units device_units) {
+  const CommandInfo& command = *target.command;
+  std::vector<Value> lines;
+  if (command.mnemonic == "BR") {
+    for (const char* each : {"0", "1"}) {
+      if (!target.port.empty() && target.port != each) continue;
+      const std::array<std::string_view, 1> argument{each};
+      auto values = driver.get("BR", argument);
+      if (!values) return values.error();
+      lines.push_back({each[0] == '0' ? "baud-configuration" : "baud-output",
+                       {values->at(1), true},
+                       "BR," + std::string(each) + "=" + values->at(1)});
+    }
+    return lines;
+  }
+  auto values = driver.get(command.mnemonic);
+  if (!values) {
+    if (command.mnemonic == "UA" && values.error().device_code == 82) {
+      lines.push_back({"address", {"unassigned", false}, "UA: error 82, Unit Address Not Assigned"});
+      return lines;
+    }
+    return values.error();
+  }
+  std::string wire;
+  for (const auto& value : *values) wire += (wire.empty() ? "" : ",") + value;
+  if (command.kind == ValueKind::hex_pulses && values->size() == 1) {
+    if (auto pulses = parse_trip_timeout(values->front())) wire += " (" + std::to_string(*pulses) + " pulses)";
+  }
+  lines.push_back({setting_key(command), describe_reply(command, *values, device_units),
+                   std::string(command.mnemonic) + "=" + wire});
+  return lines;
+}
+
+std::vector<Target> readable_targets() {
+  std::vector<Target> targets;
+  for (const CommandInfo& command : command_table())
+    if (command.has_get() && command.mnemonic != "BM") targets.push_back(Target{&command, false, ""});
+  return targets;
+}
+
+Result<std::vector<Value>> read_all(Driver& driver) {
+  auto units = driver.units();
+  if (!units) return units.error();
+  std::vector<Value> all;
+  for (const Target& target : readable_targets()) {
+    auto lines = read_setting(driver, target, *units);
+    if (!lines) return lines.error();
+    all.insert(all.end(), lines->begin(), lines->end());
+  }
+  return all;
+}
+
+Result<std::vector<Assignment>> plan(const std::vector<std::pair<std::string, std::string>>& pairs) {
+  std::vector<Assignment> work;
+  for (const auto& [name, value] : pairs) {
+    auto target = find_setting(name, Purpose::set);
+    if (!target) return target.error();
+    work.push_back({*target, value});
+  }
+  // Every value is checked before the first is sent (distances again once MU is known).
+  for (const auto& [target, value] : work) {
+    auto fields = to_fields(target, value, Units::metres);
+    if (!fields) return fields.error();
+    const bool distance = target.command->is_distance();
+    const std::vector<std::string_view> views(fields->begin(), fields->end());
+    if (const Verdict verdict = validate_request(*target.command, views, Units::metres);
+        !verdict.ok() && !(distance && target.raw))
+      return local_refusal(*target.command, value, verdict.error, Units::metres);
+  }
+  std::stable_partition(work.begin(), work.end(), [](const Assignment& item) {
+    const std::string_view mnemonic = item.target.command->mnemonic;
+    return mnemonic != "BR" && mnemonic != "UA";
+  });
+  return work;
+}
+
+std::string assignment_name(const Target& target) {
+  if (target.raw) return std::string(target.command->mnemonic);
+  if (target.port == "0") return "baud-configuration";
+  if (target.port == "1") return "baud-output";
+  return setting_key(*target.command);
+}
+
+Status apply(Driver& driver, const std::vector<Assignment>& assignments,
+             const std::function<void(const Written&)>& written) {
+  std::optional<Units> units;
+  for (const Assignment& assignment : assignments) {
+    const Target& target = assignment.target;
+    if (target.command->is_distance() && !units) {
+      auto read = driver.units();
+      if (!read) return read.error();
+      units = *read;
+    }
+    auto fields = to_fields(target, assignment.value, units.value_or(Units::metres));
+    if (!fields) return fields.error();
+    const std::vector<std::string_view> views(fields->begin(), fields->end());
+    if (auto done = driver.set(target.command->mnemonic, views); !done) return done;
+    if (written) written(Written{&assignment, *fields});
+    if (target.command->mnemonic == "MU") units.reset();
+  }
+  return ok_status();
+}
+
+}  // namespace rangekit::uls::named
