@@ -159,16 +159,15 @@ void BM_HostUlsDriverBinning230400(benchmark::State& state) {
     const auto started = Clock::now();
     const double cpu_before = rangekit::bench::process_cpu_s();
     rangekit::uls::Driver uls(std::make_unique<rangekit::bench::CountingTransport>(std::move(port).value(), bytes));
-    if (auto done = uls.start_stream(rangekit::uls::StreamMode::continuous); !done) {
-      return state.SkipWithError(done.error().describe().c_str());
-    }
+    auto stream = uls.start_stream(rangekit::uls::StreamMode::continuous);
+    if (!stream) return state.SkipWithError(stream.error().describe().c_str());
     std::uint64_t bursts = 0;
     std::uint64_t targets = 0;
     std::uint64_t short_bursts = 0;
     std::optional<Mark> first;
     std::optional<Mark> last;
     while (!last) {
-      auto item = uls.next(50ms);
+      auto item = (*stream)->next(50ms);
       if (item) {
         if (const auto* sample = std::get_if<rangekit::Sample>(&*item);
             sample != nullptr && sample->kind == rangekit::SampleKind::uls_binning) {
@@ -183,10 +182,10 @@ void BM_HostUlsDriverBinning230400(benchmark::State& state) {
       if (!count) return state.SkipWithError(count.error().describe().c_str());
       (first ? last : first) = Mark{*count, bursts, uls.counters().measurements, bytes->load(), Clock::now()};
     }
-    uls.stop_stream(rangekit::uls::AfterStream::stop_measuring);  // ST
+    (*stream)->stop(rangekit::uls::AfterStream::stop_measuring);  // ST
     const double stream_s = std::chrono::duration<double>(Clock::now() - started).count();
     const double cpu_s = rangekit::bench::process_cpu_s() - cpu_before;
-    report(state, *first, *last, cpu_s, stream_s, static_cast<double>(uls.lost()));
+    report(state, *first, *last, cpu_s, stream_s, static_cast<double>((*stream)->lost()));
     state.counters["targets_per_burst"] = static_cast<double>(targets) / static_cast<double>(bursts);
     state.counters["short_bursts"] = static_cast<double>(short_bursts);
     state.counters["bad_frames"] = static_cast<double>(uls.counters().bad_frames);

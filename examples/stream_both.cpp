@@ -66,9 +66,11 @@ int main(int argc, char** argv) {
   if (!version) return fail("ULS ID", version.error());
   std::printf("ULS %s\n", version->c_str());
   if (auto set = uls.set_prf(5000); !set) return fail("ULS PF", set.error());
-  if (auto started = uls.start_stream(); !started) return fail("ULS stream", started.error());
-  drain(uls, seconds);
-  uls.stop_stream();
+  // The stream is its own object; destroying it (or the driver) ends it, ST only if it started the unit.
+  auto uls_stream = uls.start_stream();
+  if (!uls_stream) return fail("ULS stream", uls_stream.error());
+  drain(**uls_stream, seconds);
+  (*uls_stream)->stop();
 
   // LS5: identification, then a thinned stream (§8.4) that reconnects on its own.
   auto ls5_link = open_port(ls5_path);

@@ -10,10 +10,12 @@
 namespace rangekit::cli {
 namespace {
 
-// An LS5 stream needs its driver alive: this owns both (the stream goes first).
-class Ls5Source final : public SampleSource {
+// A stream whose driver the caller does not keep: this owns both (the stream goes
+// first, so the unit is left as the stream's own stop says: LS5 SB, ULS U86).
+template <class DriverType, class StreamType>
+class DriverAndStream final : public SampleSource {
  public:
-  Ls5Source(std::unique_ptr<ls5::Driver> driver, std::unique_ptr<ls5::MeasurementStream> stream)
+  DriverAndStream(std::unique_ptr<DriverType> driver, std::unique_ptr<StreamType> stream)
       : driver_(std::move(driver)), stream_(std::move(stream)) {}
   std::optional<StreamItem> next(std::chrono::milliseconds timeout) override { return stream_->next(timeout); }
   [[nodiscard]] bool finished() const override { return stream_->finished(); }
@@ -21,9 +23,14 @@ class Ls5Source final : public SampleSource {
   [[nodiscard]] std::uint64_t lost() const override { return stream_->lost(); }
 
  private:
-  std::unique_ptr<ls5::Driver> driver_;
-  std::unique_ptr<ls5::MeasurementStream> stream_;
+  std::unique_ptr<DriverType> driver_;
+  std::unique_ptr<StreamType> stream_;  // declared last: destroyed first
 };
+
+template <class DriverType, class StreamType>
+SampleSourcePtr own_both(std::unique_ptr<DriverType> driver, std::unique_ptr<StreamType> stream) {
+  return std::make_unique<DriverAndStream<DriverType, StreamType>>(std::move(driver), std::move(stream));
+}
 
 Error named(const std::string& what, Error error) {
   error.message = what + ": " + error.message;
@@ -58,8 +65,9 @@ Result<SampleSourcePtr> start_uls_source(const UlsSourceOptions& options) {
   driver_options.source = options.label.empty() ? options.port : options.label;
   auto driver = std::make_unique<uls::Driver>(std::move(link).value(), driver_options,
                                               reopen_port(options.port, SerialSettings{options.baud, Parity::none, 1}));
-  if (auto started = driver->start_stream(); !started) return named("ULS on " + options.port, started.error());
-  return SampleSourcePtr(std::move(driver));
+  auto stream = driver->start_stream();
+  if (!stream) return named("ULS on " + options.port, stream.error());
+  return own_both(std::move(driver), std::move(stream).value());
 }
 
 Result<SampleSourcePtr> start_ls5_source(const Ls5SourceOptions& options) {
@@ -73,7 +81,7 @@ Result<SampleSourcePtr> start_ls5_source(const Ls5SourceOptions& options) {
   stream_options.thinning = options.thinning;
   auto stream = driver->start_stream(stream_options);
   if (!stream) return named("LS5 on " + options.port, stream.error());
-  return SampleSourcePtr(std::make_unique<Ls5Source>(std::move(driver), std::move(stream).value()));
+  return own_both(std::move(driver), std::move(stream).value());
 }
 
 }  // namespace rangekit::cli

@@ -217,9 +217,10 @@ int run_uls_stream(const LinkOptions& link, const StreamOptions& options, const 
   const StreamMode stream_mode = mode == "continuous" ? StreamMode::continuous
                                  : mode == "polled"   ? StreamMode::polled
                                                       : StreamMode::automatic;
-  if (auto started = (*driver)->start_stream(stream_mode); !started) return fail("stream", started.error());
-  const int code = run_stream(**driver, options);
-  (*driver)->stop_stream(AfterStream::as_found);  // U86: ST only if this stream started the unit
+  auto stream = (*driver)->start_stream(stream_mode);
+  if (!stream) return fail("stream", stream.error());
+  const int code = run_stream(**stream, options);
+  (*stream)->stop(AfterStream::as_found);  // U86: ST only if this stream started the unit
   return code;
 }
 

@@ -95,7 +95,7 @@ TEST(UlsHardware, StreamsTenReadings) {
   // PRF/PPM is at least a few Hz for every setting a unit ships with; 30 s is generous.
   const auto give_up = std::chrono::steady_clock::now() + 30s;
   while (samples < 10 && std::chrono::steady_clock::now() < give_up) {
-    auto item = driver->next(500ms);
+    auto item = (*started)->next(500ms);
     if (!item) continue;
     if (const auto* event = std::get_if<rangekit::StreamEvent>(&*item)) {
       EXPECT_NE(event->kind, rangekit::StreamEventKind::bad_frame) << event->message;
@@ -104,9 +104,9 @@ TEST(UlsHardware, StreamsTenReadings) {
       ++samples;
     }
   }
-  driver->stop_stream(rangekit::uls::AfterStream::keep_measuring);
+  (*started)->stop(rangekit::uls::AfterStream::keep_measuring);
   EXPECT_EQ(samples, 10);
-  EXPECT_EQ(driver->lost(), 0U);
+  EXPECT_EQ((*started)->lost(), 0U);
   EXPECT_EQ(driver->counters().bad_frames, 0U);
 }
 

@@ -291,12 +291,12 @@ TEST(UlsDriver, MeasureCollectsAWholeBinningArray) {
   EXPECT_EQ(sample->device, "uls");
 }
 
-std::vector<StreamItem> take(Driver& driver, std::size_t samples) {
+std::vector<StreamItem> take(SampleSource& source, std::size_t samples) {
   std::vector<StreamItem> items;
   std::size_t seen = 0;
   const auto until = std::chrono::steady_clock::now() + 10s;
   while (seen < samples && std::chrono::steady_clock::now() < until) {
-    auto item = driver.next(100ms);
+    auto item = source.next(100ms);
     if (!item) continue;
     if (std::holds_alternative<Sample>(*item)) ++seen;
     items.push_back(std::move(*item));
@@ -321,8 +321,9 @@ TEST(UlsDriver, StreamDecodesAveragingLinesAndErrors) {
     return typical_reply(request);
   });
   device = rig.device.get();
-  ASSERT_TRUE(rig.driver->start_stream());
-  const auto samples = samples_of(take(*rig.driver, 3));
+  auto stream = rig.driver->start_stream();
+  ASSERT_TRUE(stream) << stream.error().message;
+  const auto samples = samples_of(take(**stream, 3));
   ASSERT_EQ(samples.size(), 3U);
   EXPECT_EQ(samples[0].kind, SampleKind::uls_averaging);
   EXPECT_DOUBLE_EQ(*samples[0].distance_m, 12.5);
@@ -352,8 +353,9 @@ TEST(UlsDriver, U85_LinesOfAUnitAlreadyMeasuringAreNotDecodedBeforeItsSettingsAr
     return "$BM,12.300,1900\r" + typical_reply(request);
   });
   device = rig.device.get();
-  ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
-  const auto items = take(*rig.driver, 2);
+  auto stream = rig.driver->start_stream(StreamMode::continuous);
+  ASSERT_TRUE(stream) << stream.error().message;
+  const auto items = take(**stream, 2);
   rig.driver->stop_stream();
   ASSERT_FALSE(items.empty());
   const auto* first = std::get_if<StreamEvent>(&items.front());
@@ -397,25 +399,42 @@ std::size_t count_requests(ScriptedDevice& device, const std::string& request) {
   return static_cast<std::size_t>(std::count(requests.begin(), requests.end(), request));
 }
 
-// U86: a stream that started an idle unit stops it again however it ends: stop_stream(),
-// SampleSource::stop() (what the CLI's stream loop calls) or the driver going away.
+// Reads what is left; true when the stream then says it has ended.
+bool drained_and_finished(SampleSource& source) {
+  while (source.next(0ms)) {
+  }
+  return source.finished();
+}
+
+// U86: a stream that started an idle unit stops it again however it ends: the driver's
+// stop_stream(), the stream's stop() (what the CLI's stream loop calls), the stream object
+// destroyed, or the driver destroyed first (the stream object then reads as finished).
 TEST(UlsDriver, U86_AStreamStopsTheUnitItStartedHoweverItEnds) {
-  for (const char* ending : {"stop_stream", "stop", "destructor"}) {
+  for (const char* ending : {"stop_stream", "stop", "stream destroyed", "destructor"}) {
     SCOPED_TRACE(ending);
     MeasuringUnit unit;
     Rig rig([&](const std::string& request) { return unit.answer(request); });
     unit.device = rig.device.get();
-    ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
-    ASSERT_EQ(samples_of(take(*rig.driver, 1)).size(), 1U);
+    auto stream = rig.driver->start_stream(StreamMode::continuous);
+    ASSERT_TRUE(stream) << stream.error().message;
+    ASSERT_EQ(samples_of(take(**stream, 1)).size(), 1U);
     EXPECT_TRUE(unit.measuring);
     if (std::string(ending) == "stop_stream") rig.driver->stop_stream();
-    if (std::string(ending) == "stop") rig.driver->stop();
+    if (std::string(ending) == "stop") (*stream)->stop();
+    if (std::string(ending) == "stream destroyed") stream->reset();
     if (std::string(ending) == "destructor") rig.driver.reset();
     EXPECT_FALSE(unit.measuring);
     EXPECT_EQ(count_requests(*rig.device, "$GO"), 1U);
     EXPECT_EQ(count_requests(*rig.device, "$ST"), 1U);
+    if (*stream) {
+      EXPECT_TRUE(drained_and_finished(**stream));
+    }
     if (rig.driver) {
       rig.driver.reset();  // a second ending sends nothing more
+      EXPECT_EQ(count_requests(*rig.device, "$ST"), 1U);
+    }
+    if (*stream) {
+      (*stream)->stop();  // nor does the stream's own, after the driver went
       EXPECT_EQ(count_requests(*rig.device, "$ST"), 1U);
     }
   }
@@ -425,18 +444,20 @@ TEST(UlsDriver, U86_AStreamStopsTheUnitItStartedHoweverItEnds) {
 // when powered up"; a 4-20 mA loop or a trip line may feed a PLC) is neither restarted with GO
 // nor stopped: the stream reads it and leaves it as it was. ST only when asked for.
 TEST(UlsDriver, U86_AUnitFoundMeasuringIsLeftMeasuring) {
-  for (const char* ending : {"stop_stream", "destructor", "stop_measuring"}) {
+  for (const char* ending : {"stop_stream", "stream destroyed", "destructor", "stop_measuring"}) {
     SCOPED_TRACE(ending);
     MeasuringUnit unit;
     unit.measuring = true;
     Rig rig([&](const std::string& request) { return unit.answer(request); });
     unit.device = rig.device.get();
-    ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
+    auto stream = rig.driver->start_stream(StreamMode::continuous);
+    ASSERT_TRUE(stream) << stream.error().message;
     rig.device->send("$BM,13.000,2200\r");
-    const auto samples = samples_of(take(*rig.driver, 1));
+    const auto samples = samples_of(take(**stream, 1));
     ASSERT_EQ(samples.size(), 1U);
     EXPECT_DOUBLE_EQ(*samples[0].distance_m, 13.0);
     if (std::string(ending) == "stop_stream") rig.driver->stop_stream();
+    if (std::string(ending) == "stream destroyed") stream->reset();
     if (std::string(ending) == "destructor") rig.driver.reset();
     if (std::string(ending) == "stop_measuring") {
       rig.driver->stop_stream(AfterStream::stop_measuring);
@@ -464,8 +485,9 @@ TEST(UlsDriver, StreamMakesOneSamplePerBinningArrayAndReadsLookDown) {
     return typical_reply(request);
   });
   device = rig.device.get();
-  ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
-  auto samples = samples_of(take(*rig.driver, 2));
+  auto stream = rig.driver->start_stream(StreamMode::continuous);
+  ASSERT_TRUE(stream) << stream.error().message;
+  auto samples = samples_of(take(**stream, 2));
   ASSERT_EQ(samples.size(), 2U);
   ASSERT_EQ(samples[0].targets.size(), 3U);
   EXPECT_DOUBLE_EQ(samples[0].targets[2].distance_m, 3.0);
@@ -474,8 +496,9 @@ TEST(UlsDriver, StreamMakesOneSamplePerBinningArrayAndReadsLookDown) {
 
   // Look down with time between events (§8, U12): $0 no presence, $0BB8 = 3000 pulses, $0000 overflow.
   mode = "$MM,3\r";
-  ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
-  samples = samples_of(take(*rig.driver, 3));
+  stream = rig.driver->start_stream(StreamMode::continuous);
+  ASSERT_TRUE(stream) << stream.error().message;
+  samples = samples_of(take(**stream, 3));
   ASSERT_EQ(samples.size(), 3U);
   EXPECT_EQ(samples[0].presence, false);
   EXPECT_EQ(samples[1].presence, true);
@@ -494,9 +517,10 @@ TEST(UlsDriver, PolledStreamAsksWithBm) {
     if (request == "$BM") return "$BM,7.000," + std::to_string(++polls) + "\r";
     return typical_reply(request);
   });
-  ASSERT_TRUE(rig.driver->start_stream());
+  auto stream = rig.driver->start_stream();
+  ASSERT_TRUE(stream) << stream.error().message;
   EXPECT_EQ(rig.driver->active_stream_mode(), StreamMode::polled);
-  const auto samples = samples_of(take(*rig.driver, 3));
+  const auto samples = samples_of(take(**stream, 3));
   ASSERT_EQ(samples.size(), 3U);
   EXPECT_EQ(*samples[2].pulse_width, 3U);
   rig.driver->stop_stream();
@@ -530,9 +554,10 @@ TEST(UlsDriver, U89_PolledStreamReportsEachMeasurementOnce) {
     }
     return typical_reply(request);
   });
-  ASSERT_TRUE(rig.driver->start_stream());
+  auto stream = rig.driver->start_stream();
+  ASSERT_TRUE(stream) << stream.error().message;
   ASSERT_EQ(rig.driver->active_stream_mode(), StreamMode::polled);
-  const auto samples = samples_of(take(*rig.driver, 4));
+  const auto samples = samples_of(take(**stream, 4));
   rig.driver->stop_stream();
   ASSERT_EQ(samples.size(), 4U);
   for (std::size_t i = 1; i < samples.size(); ++i)
@@ -568,14 +593,15 @@ TEST(UlsDriver, U87_LookDownSilenceIsNormalAndStartsNoPolling) {
     return look_down_reply(request);
   });
   device = rig.device.get();
-  ASSERT_TRUE(rig.driver->start_stream());  // automatic: CO is on
-  auto items = take(*rig.driver, 1);
+  auto stream = rig.driver->start_stream();  // automatic: CO is on
+  ASSERT_TRUE(stream) << stream.error().message;
+  auto items = take(**stream, 1);
   // Longer than U62's 1.5 s without a line (the wait is what is tested, not a synchronisation).
   const auto until = std::chrono::steady_clock::now() + 2s;
   while (std::chrono::steady_clock::now() < until)
-    if (auto item = rig.driver->next(100ms)) items.push_back(std::move(*item));
+    if (auto item = (*stream)->next(100ms)) items.push_back(std::move(*item));
   rig.device->send("$0\r");  // the object leaves: the next edge
-  const auto more = take(*rig.driver, 1);
+  const auto more = take(**stream, 1);
   items.insert(items.end(), more.begin(), more.end());
   EXPECT_EQ(rig.driver->active_stream_mode(), StreamMode::continuous);
   rig.driver->stop_stream();
@@ -599,8 +625,9 @@ TEST(UlsDriver, U87_PolledLookDownReportsAnEdgeOnce) {
     }
     return look_down_reply(request);
   });
-  ASSERT_TRUE(rig.driver->start_stream(StreamMode::polled));
-  const auto samples = look_down_samples(take(*rig.driver, 3));
+  auto stream = rig.driver->start_stream(StreamMode::polled);
+  ASSERT_TRUE(stream) << stream.error().message;
+  const auto samples = look_down_samples(take(**stream, 3));
   rig.driver->stop_stream();
   ASSERT_EQ(samples.size(), 3U);
   EXPECT_EQ(samples[0].presence, true);
@@ -617,9 +644,10 @@ TEST(UlsDriver, AutomaticStreamPollsWhenNoContinuousLinesArriveOnThisPort) {
     if (request == "$BM") return "$BM,8.000," + std::to_string(++polls) + "\r";
     return typical_reply(request);
   });
-  ASSERT_TRUE(rig.driver->start_stream());
+  auto stream = rig.driver->start_stream();
+  ASSERT_TRUE(stream) << stream.error().message;
   EXPECT_EQ(rig.driver->active_stream_mode(), StreamMode::continuous);
-  const auto items = take(*rig.driver, 2);
+  const auto items = take(**stream, 2);
   const auto samples = samples_of(items);
   ASSERT_EQ(samples.size(), 2U);
   EXPECT_EQ(rig.driver->active_stream_mode(), StreamMode::polled);
@@ -673,12 +701,13 @@ TEST(UlsDriver, MidFrameDisconnectGivesAnEventAndTheStreamResumesOnReopen) {
     devices.push_back(std::make_unique<ScriptedDevice>(std::move(pair.b), handler(&first)));
     first = devices.back().get();
   }
-  ASSERT_TRUE(driver.start_stream(StreamMode::continuous));
-  auto items = take(driver, 1);
+  auto stream = driver.start_stream(StreamMode::continuous);
+  ASSERT_TRUE(stream) << stream.error().message;
+  auto items = take(**stream, 1);
   ASSERT_EQ(samples_of(items).size(), 1U);
   first->unplug();
   // Disconnected, reconnected, then the second device's first sample.
-  items = take(driver, 1);
+  items = take(**stream, 1);
   std::vector<StreamEventKind> kinds;
   for (const auto& item : items)
     if (const auto* event = std::get_if<StreamEvent>(&item)) kinds.push_back(event->kind);
@@ -702,12 +731,13 @@ TEST(UlsDriver, WithoutReopenTheStreamFinishesOnDisconnect) {
     return typical_reply(request);
   });
   device = rig.device.get();
-  ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
-  ASSERT_EQ(samples_of(take(*rig.driver, 1)).size(), 1U);
+  auto stream = rig.driver->start_stream(StreamMode::continuous);
+  ASSERT_TRUE(stream) << stream.error().message;
+  ASSERT_EQ(samples_of(take(**stream, 1)).size(), 1U);
   rig.device->unplug();
   const auto until = std::chrono::steady_clock::now() + 10s;
-  while (!rig.driver->finished() && std::chrono::steady_clock::now() < until) (void)rig.driver->next(50ms);
-  EXPECT_TRUE(rig.driver->finished());
+  while (!(*stream)->finished() && std::chrono::steady_clock::now() < until) (void)(*stream)->next(50ms);
+  EXPECT_TRUE((*stream)->finished());
   rig.driver->stop_stream(AfterStream::keep_measuring);
 }
 
@@ -777,8 +807,9 @@ TEST(UlsDriver, OwnRequestsEchoedByTheAdapterAreSkipped) {
   ASSERT_TRUE(reading) << reading.error().message;
   EXPECT_DOUBLE_EQ(*reading->distance_m, 12.5);
   ASSERT_TRUE(rig.driver->broadcast("GO"));
-  ASSERT_TRUE(rig.driver->start_stream(StreamMode::polled));
-  const auto samples = samples_of(take(*rig.driver, 3));
+  auto stream = rig.driver->start_stream(StreamMode::polled);
+  ASSERT_TRUE(stream) << stream.error().message;
+  const auto samples = samples_of(take(**stream, 3));
   rig.driver->stop_stream();
   ASSERT_EQ(samples.size(), 3U);
   EXPECT_DOUBLE_EQ(*samples[2].distance_m, 12.5);
@@ -813,11 +844,148 @@ TEST(UlsDriver, U77_StartOnAUnitAlreadyMeasuringIsNoError) {
     return typical_reply(request);
   });
   device = rig.device.get();
-  ASSERT_TRUE(rig.driver->start_stream(StreamMode::continuous));
-  const auto samples = samples_of(take(*rig.driver, 1));
+  auto stream = rig.driver->start_stream(StreamMode::continuous);
+  ASSERT_TRUE(stream) << stream.error().message;
+  const auto samples = samples_of(take(**stream, 1));
   ASSERT_EQ(samples.size(), 1U);
   EXPECT_DOUBLE_EQ(*samples[0].distance_m, 12.5);
   rig.driver->stop_stream();
+}
+
+// --- Issue 11: the stream is its own object, as the LS5 driver's ------------------------
+// Every way to end it is safe whichever of the two objects goes first; the unit is left as
+// U86 says (§8 Stop Measuring "ST": sent only when the stream's own GO started the unit).
+
+// The driver goes first: the stream object stays readable, reads as finished, and sends
+// nothing more when stopped or destroyed later (U86: exactly one ST, from the driver's end).
+TEST(UlsDriver, U86_TheStreamOutlivesTheDriver) {
+  MeasuringUnit unit;
+  Rig rig([&](const std::string& request) { return unit.answer(request); });
+  unit.device = rig.device.get();
+  auto stream = rig.driver->start_stream(StreamMode::continuous);
+  ASSERT_TRUE(stream) << stream.error().message;
+  ASSERT_EQ(samples_of(take(**stream, 1)).size(), 1U);
+  rig.driver.reset();
+  EXPECT_FALSE(unit.measuring);
+  EXPECT_EQ(count_requests(*rig.device, "$ST"), 1U);
+  EXPECT_TRUE(drained_and_finished(**stream));
+  EXPECT_FALSE((*stream)->next(0ms).has_value());
+  EXPECT_EQ((*stream)->records(), 1U);
+  EXPECT_EQ((*stream)->lost(), 0U);
+  (*stream)->stop();
+  (*stream)->stop(AfterStream::stop_measuring);  // ended already: nothing is sent
+  stream->reset();
+  EXPECT_EQ(count_requests(*rig.device, "$ST"), 1U);
+  EXPECT_EQ(count_requests(*rig.device, "$GO"), 1U);
+}
+
+// The stream goes first: the driver reads the link for itself again, answers gets, and can
+// start another stream, which again starts (GO) and stops (ST) the idle unit.
+TEST(UlsDriver, U86_TheDriverOutlivesTheStream) {
+  MeasuringUnit unit;
+  Rig rig([&](const std::string& request) { return unit.answer(request); });
+  unit.device = rig.device.get();
+  {
+    auto stream = rig.driver->start_stream(StreamMode::continuous);
+    ASSERT_TRUE(stream) << stream.error().message;
+    ASSERT_EQ(samples_of(take(**stream, 1)).size(), 1U);
+    EXPECT_TRUE(rig.driver->streaming());
+  }
+  EXPECT_FALSE(rig.driver->streaming());
+  EXPECT_FALSE(unit.measuring);
+  EXPECT_EQ(count_requests(*rig.device, "$ST"), 1U);
+  auto version = rig.driver->version();
+  ASSERT_TRUE(version) << version.error().message;
+  EXPECT_EQ(*version, "ULS 1.0,2026");
+  auto again = rig.driver->start_stream(StreamMode::continuous);
+  ASSERT_TRUE(again) << again.error().message;
+  ASSERT_EQ(samples_of(take(**again, 1)).size(), 1U);
+  rig.driver->stop_stream();  // from the driver's side: the stream object reads as finished
+  EXPECT_TRUE(drained_and_finished(**again));
+  EXPECT_EQ(count_requests(*rig.device, "$GO"), 2U);
+  EXPECT_EQ(count_requests(*rig.device, "$ST"), 2U);
+}
+
+// One stream at a time: a second start_stream while one runs is refused, the first runs on.
+TEST(UlsDriver, ASecondStreamIsRefusedWhileOneRuns) {
+  MeasuringUnit unit;
+  Rig rig([&](const std::string& request) { return unit.answer(request); });
+  unit.device = rig.device.get();
+  auto stream = rig.driver->start_stream(StreamMode::continuous);
+  ASSERT_TRUE(stream) << stream.error().message;
+  auto second = rig.driver->start_stream(StreamMode::continuous);
+  ASSERT_FALSE(second);
+  EXPECT_EQ(second.error().code, Errc::unsupported);
+  ASSERT_EQ(samples_of(take(**stream, 1)).size(), 1U);
+  EXPECT_EQ(count_requests(*rig.device, "$GO"), 1U);
+}
+
+// stop() twice, and from three threads at once (Ctrl-C, the consumer, the driver's side):
+// the reader is joined once and ST goes out once (U86).
+TEST(UlsDriver, U86_StopTwiceAndFromSeveralThreadsEndsTheStreamOnce) {
+  MeasuringUnit unit;
+  Rig rig([&](const std::string& request) { return unit.answer(request); });
+  unit.device = rig.device.get();
+  auto stream = rig.driver->start_stream(StreamMode::continuous);
+  ASSERT_TRUE(stream) << stream.error().message;
+  ASSERT_EQ(samples_of(take(**stream, 1)).size(), 1U);
+  std::thread first([&] { (*stream)->stop(); });
+  std::thread second([&] { (*stream)->stop(); });
+  std::thread third([&] { rig.driver->stop_stream(); });
+  first.join();
+  second.join();
+  third.join();
+  (*stream)->stop();
+  EXPECT_FALSE(unit.measuring);
+  EXPECT_EQ(count_requests(*rig.device, "$ST"), 1U);
+  EXPECT_TRUE(drained_and_finished(**stream));
+  EXPECT_FALSE(rig.driver->streaming());
+}
+
+// A consumer waiting in next() on one thread is woken when another thread stops the stream:
+// next() returns at once with nothing, not after its timeout, and the stream reads as finished.
+// Meanwhile a third thread asks the unit's ID over and over: while the stream runs the reader
+// hands the reply over, after it ended the caller reads the link itself; every get succeeds.
+TEST(UlsDriver, NextAndGetsOnOtherThreadsWhileTheStreamStops) {
+  MeasuringUnit unit;
+  Rig rig([&](const std::string& request) { return unit.answer(request); });
+  unit.device = rig.device.get();
+  auto stream = rig.driver->start_stream(StreamMode::continuous);
+  ASSERT_TRUE(stream) << stream.error().message;
+  ASSERT_EQ(samples_of(take(**stream, 1)).size(), 1U);
+
+  constexpr auto long_wait = std::chrono::minutes(10);  // far longer than the test may take
+  std::atomic<bool> waiting{false};
+  bool woken_early = false;
+  bool finished_after = false;
+  std::thread consumer([&] {
+    waiting = true;
+    const auto asked = std::chrono::steady_clock::now();
+    const auto item = (*stream)->next(long_wait);
+    woken_early = !item && std::chrono::steady_clock::now() - asked < long_wait;
+    finished_after = (*stream)->finished();
+  });
+  std::atomic<int> answered{0};
+  std::atomic<int> failed{0};
+  std::thread asking([&] {
+    for (int i = 0; i < 20; ++i) {
+      auto version = rig.driver->version();
+      if (version && *version == "ULS 1.0,2026") {
+        ++answered;
+      } else {
+        ++failed;
+      }
+    }
+  });
+  while (!waiting || answered < 3) std::this_thread::yield();
+  (*stream)->stop();
+  consumer.join();
+  asking.join();
+  EXPECT_TRUE(woken_early);
+  EXPECT_TRUE(finished_after);
+  EXPECT_EQ(answered.load(), 20);
+  EXPECT_EQ(failed.load(), 0);
+  EXPECT_EQ(count_requests(*rig.device, "$ST"), 1U);
 }
 
 // A link whose read blocks until released or until the transport is destroyed, and that
@@ -876,8 +1044,8 @@ TEST(UlsDriver, ReplaceTransportWaitsForTheRequestInFlight) {
   EXPECT_FALSE(state->destroyed_during_read);
 }
 
-// Issue 11 point 2: the ULS driver is its own stream, whose reader thread points at it:
-// it cannot be copied or moved away from under the reader.
+// Issue 11 point 2: the stream's reader thread points at the driver: it cannot be copied
+// or moved away from under the reader.
 static_assert(!std::is_copy_constructible_v<Driver> && !std::is_move_constructible_v<Driver>);
 static_assert(!std::is_copy_assignable_v<Driver> && !std::is_move_assignable_v<Driver>);
 

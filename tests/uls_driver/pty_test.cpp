@@ -393,11 +393,12 @@ TEST(UlsHostPty, U93_BusPollExitsFiveWhenAUnitStaysSilentOnBm) {
   EXPECT_EQ(run.code, 0) << run.out;
 }
 
-std::vector<StreamItem> take_until(Driver& driver, const std::function<bool(const std::vector<StreamItem>&)>& done) {
+std::vector<StreamItem> take_until(SampleSource& source,
+                                   const std::function<bool(const std::vector<StreamItem>&)>& done) {
   std::vector<StreamItem> items;
   const auto until = std::chrono::steady_clock::now() + 20s;
   while (!done(items) && std::chrono::steady_clock::now() < until) {
-    if (auto item = driver.next(100ms)) items.push_back(std::move(*item));
+    if (auto item = source.next(100ms)) items.push_back(std::move(*item));
   }
   return items;
 }
@@ -433,15 +434,17 @@ TEST(UlsHostPty, StreamReconnectsWhenTheEmulatorComesBack) {
   DriverOptions options;
   options.reconnect_interval = 100ms;
   Driver driver(std::move(*first), options, reopen);
-  ASSERT_TRUE(driver.start_stream());
-  auto items = take_until(driver, [](const auto& got) { return samples_after(got, StreamEventKind::connected) >= 1; });
+  auto stream = driver.start_stream();
+  ASSERT_TRUE(stream) << stream.error().message;
+  auto items =
+      take_until(**stream, [](const auto& got) { return samples_after(got, StreamEventKind::connected) >= 1; });
   ASSERT_GE(samples_after(items, StreamEventKind::connected), 1U);
 
   emulator->stop();  // the pty and its symlink vanish: the cable is out
-  items = take_until(driver, [](const auto& got) { return has_event(got, StreamEventKind::disconnected); });
+  items = take_until(**stream, [](const auto& got) { return has_event(got, StreamEventKind::disconnected); });
   ASSERT_TRUE(has_event(items, StreamEventKind::disconnected));
   emulator = std::make_unique<Emulator>("--config-port " + port);  // power back, same path
-  items = take_until(driver, [](const auto& got) { return samples_after(got, StreamEventKind::reconnected) >= 2; });
+  items = take_until(**stream, [](const auto& got) { return samples_after(got, StreamEventKind::reconnected) >= 2; });
   EXPECT_TRUE(has_event(items, StreamEventKind::reconnected));
   EXPECT_GE(samples_after(items, StreamEventKind::reconnected), 2U);
   driver.stop_stream();

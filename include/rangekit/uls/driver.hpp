@@ -1,8 +1,10 @@
 // Host driver for one ULS unit (issue 6): typed calls for every §8 command,
 // replies matched to requests, per-call timeouts, one retry for gets, and a
-// measurement stream (a SampleSource) read by a thread that never waits on the
-// consumer and that reconnects when the link comes back. Documented call by
-// call in docs/host-uls.md.
+// measurement stream read by a thread that never waits on the consumer and that
+// reconnects when the link comes back. start_stream() hands out the stream as its
+// own object (a SampleSource), the pattern of the LS5 driver (issue 11): the
+// stream and the driver share the live stream's state, so either may be
+// destroyed first. Documented call by call in docs/host-uls.md.
 #pragma once
 
 #include <atomic>
@@ -11,6 +13,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <span>
@@ -22,7 +25,6 @@
 #include "rangekit/core/framer.hpp"
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/sample.hpp"
-#include "rangekit/core/stream_queue.hpp"
 #include "rangekit/core/transport.hpp"
 #include "rangekit/uls/commands.hpp"
 #include "rangekit/uls/measurement.hpp"
@@ -91,10 +93,22 @@ struct UnitInfo {
   std::optional<std::uint8_t> address;  // the `#a` address used, if any
 };
 
-class Driver final : public SampleSource {
+class MeasurementStream;
+namespace detail {
+struct LiveStream;  // what a stream and the driver that started it share
+// Ends the stream once (joins the reader, then the unit as `after` says); `detach`:
+// the driver is going away or starting another stream, and this one forgets it.
+void stop_live_stream(LiveStream& live, AfterStream after, bool detach = false);
+}  // namespace detail
+
+class Driver final {
  public:
   explicit Driver(TransportPtr transport, DriverOptions options = {}, ReopenFunction reopen = {});
-  ~Driver() override;
+  // Ends a running stream as AfterStream::as_found (U86); the stream object, if it
+  // still exists, then reads as finished.
+  ~Driver();
+  Driver(const Driver&) = delete;
+  Driver& operator=(const Driver&) = delete;
 
   // --- Generic requests, driven by the codec's command table (§8) -------------
   // Values are checked with validate_request before anything is sent
@@ -192,18 +206,17 @@ class Driver final : public SampleSource {
   // What decode_measurement needs (MM, DM, MU, TB).
   Result<MeasurementContext> read_context();
 
-  // --- Stream (SampleSource) -------------------------------------------------
+  // --- Stream ---------------------------------------------------------------
   // Reads US and the context, starts measuring (GO, unless the unit already
-  // measures) and a reader thread. Samples and link events are queued; a full
-  // queue drops the oldest (counted in lost()).
-  Status start_stream(StreamMode mode = StreamMode::automatic);
-  // Stops the reader, then leaves the unit as `after` says (U86).
+  // measures) and a reader thread, and returns the stream. Samples and link events
+  // are queued in it; a full queue drops the oldest (counted in lost()). Gets and
+  // sets still work while it runs: the reader hands their replies over. One
+  // stream at a time (Errc::unsupported while one runs).
+  Result<std::unique_ptr<MeasurementStream>> start_stream(StreamMode mode = StreamMode::automatic);
+  // Ends the running stream from the driver's side: joins the reader, then leaves
+  // the unit as `after` says (U86). The stream object reads as finished.
   void stop_stream(AfterStream after = AfterStream::as_found);
-  std::optional<StreamItem> next(std::chrono::milliseconds timeout) override;
-  [[nodiscard]] bool finished() const override;
-  // stop_stream(AfterStream::as_found); the destructor does the same.
-  void stop() override;
-  [[nodiscard]] std::uint64_t lost() const override;
+  // A stream this driver started is running (its reader reads the link).
   [[nodiscard]] bool streaming() const noexcept { return streaming_.load(); }
   [[nodiscard]] StreamMode active_stream_mode() const noexcept { return active_mode_.load(); }
 
@@ -218,6 +231,8 @@ class Driver final : public SampleSource {
   [[nodiscard]] bool connected() const;
 
  private:
+  friend class MeasurementStream;
+  friend void detail::stop_live_stream(detail::LiveStream& live, AfterStream after, bool detach);
   struct Pending;
   enum class Expect { value, ok, measurement };
 
@@ -232,8 +247,10 @@ class Driver final : public SampleSource {
   void handle_measurement(const Measurement& measurement);
   void emit_sample(Sample sample);
   void emit_event(StreamEventKind kind, std::string message);
-  void reader_loop();
-  bool reconnect();
+  void reader_loop(detail::LiveStream& live);
+  bool reconnect(detail::LiveStream& live);
+  // After the reader was joined: the driver pumps for itself again, the unit left as `after` says.
+  void end_stream(detail::LiveStream& live, AfterStream after);
   Status begin_measuring(bool reconnecting);
   bool repeats_last_poll(const Sample& sample);
   Result<Units> cached_units();
@@ -257,22 +274,47 @@ class Driver final : public SampleSource {
   std::deque<std::string> recent_sent_;  // the last few requests without CR, to recognise echoes (U67)
   std::uint8_t partial_count_ = 0;
 
-  StreamQueue<StreamItem> queue_;
-  std::thread reader_;
+  std::mutex stream_control_mutex_;  // start_stream, stop_stream and the destructor one at a time
+  mutable std::mutex live_mutex_;    // guards the pointer below
+  // The last stream started, shared with its MeasurementStream. The reader thread and
+  // emit_* use it without the lock: it is replaced only when no reader runs.
+  std::shared_ptr<detail::LiveStream> live_;
   std::atomic<std::thread::id> reader_id_{};
   std::atomic<bool> streaming_{false};
-  std::atomic<bool> collecting_{false};  // measurements go to the queue
-  std::atomic<bool> stop_requested_{false};
-  std::atomic<bool> finished_{false};
+  std::atomic<bool> collecting_{false};  // measurements go to the stream's queue
   std::atomic<StreamMode> active_mode_{StreamMode::continuous};
-  std::mutex stop_mutex_;                  // one stop_stream at a time (stop(), destructor, caller)
-  bool stream_started_measuring_ = false;  // the stream's GO started an idle unit (U86)
   StreamMode requested_mode_ = StreamMode::automatic;
   std::chrono::microseconds poll_period_{100000};  // the output period PPM / PRF, rounded up
   // Look down sends only edges (U87): silence is normal and a poll reports changes only.
   bool look_down_stream_ = false;
   std::optional<Sample> last_polled_;  // the previous poll's answer in look down
   std::chrono::steady_clock::time_point last_measurement_{};
+};
+
+// The measurement stream start_stream() returns. A reader thread decodes lines (or
+// polls with BM) into rangekit::Samples and pushes them, with link events, into a
+// StreamQueue that never blocks it; next() waits on that queue only. Destroying or
+// stopping the stream ends it as AfterStream::as_found (U86); destroying the driver
+// first ends it the same way, and the stream then reads as finished. stop() may be
+// called twice and from any thread, also while another thread waits in next().
+class MeasurementStream final : public SampleSource {
+ public:
+  ~MeasurementStream() override;
+  std::optional<StreamItem> next(std::chrono::milliseconds timeout) override;
+  // Ended (stopped, or the link lost for good) and nothing left in the queue.
+  [[nodiscard]] bool finished() const override;
+  void stop() override;  // stop(AfterStream::as_found)
+  // Joins the reader, then leaves the unit as `after` says; nothing when already ended.
+  void stop(AfterStream after);
+  [[nodiscard]] std::uint64_t lost() const override;
+  [[nodiscard]] std::uint64_t records() const noexcept;  // samples queued so far
+
+ private:
+  friend class Driver;
+  explicit MeasurementStream(std::shared_ptr<detail::LiveStream> live);
+  // Shared with the driver, which ends the stream when it goes first: the reader
+  // never outlives the driver it reads through.
+  std::shared_ptr<detail::LiveStream> live_;
 };
 
 // --- Probe (used by `rangekit detect`) ---------------------------------------

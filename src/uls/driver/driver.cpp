@@ -112,13 +112,16 @@ Driver::Driver(TransportPtr transport, DriverOptions options, ReopenFunction reo
     : options_(std::move(options)),
       reopen_(std::move(reopen)),
       transport_(std::move(transport)),
-      assembler_(&scan_frame),
-      queue_(options_.queue_capacity) {
+      assembler_(&scan_frame) {
   if (options_.source.empty() && transport_) options_.source = transport_->name();
 }
 
-// A unit the stream started is not left measuring by a driver that goes away (U86).
-Driver::~Driver() { stop_stream(AfterStream::as_found); }
+// A unit the stream started is not left measuring by a driver that goes away (U86). The
+// reader is joined here, before any member goes; the stream object forgets the driver.
+Driver::~Driver() {
+  std::lock_guard control(stream_control_mutex_);
+  if (live_) detail::stop_live_stream(*live_, AfterStream::as_found, true);
+}
 
 Address Driver::request_address() const noexcept {
   return options_.address ? Address::unit(*options_.address) : Address::none();
@@ -368,23 +371,25 @@ Result<std::vector<std::string>> Driver::transact(const CommandInfo& command, st
     }
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     std::optional<Error> link_error;
-    if (streaming_ && !on_reader_thread()) {
-      std::unique_lock lock(state_mutex_);
-      reply_ready_.wait_until(lock, deadline, [&] { return pending.done || !streaming_; });
-    } else {
-      while (true) {
-        {
-          std::lock_guard lock(state_mutex_);
-          if (pending.done) break;
-        }
-        const auto left =
-            std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-        if (left <= 0ms) break;
-        auto pumped = pump(std::min<std::chrono::milliseconds>(left, 50ms));
-        if (!pumped) {
-          link_error = pumped.error();
-          break;
-        }
+    while (true) {
+      {
+        std::lock_guard lock(state_mutex_);
+        if (pending.done) break;
+      }
+      const auto left =
+          std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      if (left <= 0ms) break;
+      if (streaming_ && !on_reader_thread()) {
+        // The reader reads the link and hands the reply over; when the stream ends
+        // meanwhile (stopped from another thread), this caller reads for itself.
+        std::unique_lock lock(state_mutex_);
+        reply_ready_.wait_until(lock, deadline, [&] { return pending.done || !streaming_; });
+        continue;
+      }
+      auto pumped = pump(std::min<std::chrono::milliseconds>(left, 50ms));
+      if (!pumped) {
+        link_error = pumped.error();
+        break;
       }
     }
     clear();

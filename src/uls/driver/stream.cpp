@@ -1,9 +1,13 @@
 // The measurement stream of the ULS driver: a reader thread that decodes lines
 // into Samples, polls with BM when the unit does not send continuously, and
-// reopens the link after it went away (cable pulled, power cycle).
+// reopens the link after it went away (cable pulled, power cycle). The stream
+// object and the driver share the live stream's state (the LS5 driver's pattern,
+// issue 11): whichever goes first ends the stream, and the reader is always
+// joined before the driver it reads through is destroyed.
 #include <algorithm>
 #include <utility>
 
+#include "rangekit/core/stream_queue.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/formulas.hpp"
 #include "uls/driver/binning_array.hpp"
@@ -31,9 +35,53 @@ class BorrowedTransport final : public Transport {
 
 }  // namespace
 
+namespace detail {
+
+struct LiveStream {
+  explicit LiveStream(std::size_t capacity) : queue(capacity) {}
+  StreamQueue<StreamItem> queue;
+  std::atomic<bool> stop_requested{false};
+  std::atomic<bool> finished{false};  // the reader has ended (stopped, or the link lost for good)
+  std::atomic<std::uint64_t> records{0};
+  std::thread reader;
+  // One ending at a time (the stream's stop from two threads, the driver's stop_stream,
+  // its destructor); guards everything below and the join.
+  std::mutex stopping;
+  bool ended = false;              // the unit has been left as asked: a second stop does nothing
+  bool started_measuring = false;  // the stream's GO started an idle unit (U86)
+  Driver* driver = nullptr;        // cleared when the driver goes away or starts another stream
+};
+
+void stop_live_stream(LiveStream& live, AfterStream after, bool detach) {
+  std::lock_guard stopping(live.stopping);
+  if (!live.ended) {
+    live.ended = true;
+    live.stop_requested = true;
+    if (live.reader.joinable()) live.reader.join();
+    if (live.driver != nullptr) live.driver->end_stream(live, after);
+    live.finished = true;
+    live.queue.close();  // wakes a consumer waiting in next()
+  }
+  if (detach) live.driver = nullptr;
+}
+
+}  // namespace detail
+
+MeasurementStream::MeasurementStream(std::shared_ptr<detail::LiveStream> live) : live_(std::move(live)) {}
+MeasurementStream::~MeasurementStream() { stop(); }
+std::optional<StreamItem> MeasurementStream::next(std::chrono::milliseconds timeout) {
+  return live_->queue.pop(timeout);
+}
+bool MeasurementStream::finished() const { return live_->finished.load() && live_->queue.size() == 0; }
+void MeasurementStream::stop() { stop(AfterStream::as_found); }
+void MeasurementStream::stop(AfterStream after) { detail::stop_live_stream(*live_, after); }
+std::uint64_t MeasurementStream::lost() const { return live_->queue.dropped(); }
+std::uint64_t MeasurementStream::records() const noexcept { return live_->records.load(); }
+
 void Driver::emit_sample(Sample sample) {
   last_measurement_ = std::chrono::steady_clock::now();
-  queue_.push(StreamItem{std::move(sample)});
+  live_->queue.push(StreamItem{std::move(sample)});
+  ++live_->records;  // after the push: once records() counts it, the queue (and lost()) has it
 }
 
 void Driver::emit_event(StreamEventKind kind, std::string message) {
@@ -41,7 +89,7 @@ void Driver::emit_event(StreamEventKind kind, std::string message) {
   event.time = std::chrono::system_clock::now();
   event.kind = kind;
   event.message = std::move(message);
-  queue_.push(StreamItem{std::move(event)});
+  live_->queue.push(StreamItem{std::move(event)});
 }
 
 void Driver::handle_measurement(const Measurement& measurement) {
@@ -121,36 +169,62 @@ Status Driver::begin_measuring(bool reconnecting) {
   }
   if (!measuring) {
     if (auto started = start_measuring(); !started) return started;
-    if (!reconnecting) stream_started_measuring_ = true;
+    if (!reconnecting) live_->started_measuring = true;
   }
   last_measurement_ = std::chrono::steady_clock::now();
   return ok_status();
 }
 
-Status Driver::start_stream(StreamMode mode) {
-  if (streaming_ || reader_.joinable()) return make_error(Errc::unsupported, "the stream is already running");
+Result<std::unique_ptr<MeasurementStream>> Driver::start_stream(StreamMode mode) {
+  std::lock_guard control(stream_control_mutex_);
+  if (streaming_) return make_error(Errc::unsupported, "the stream is already running");
+  std::shared_ptr<detail::LiveStream> previous;
+  {
+    std::lock_guard lock(live_mutex_);
+    previous = live_;
+  }
+  // A stream that ended by itself (link lost for good) is joined and forgets this
+  // driver: its object, if it lives on, can no longer touch the new stream's unit.
+  if (previous) detail::stop_live_stream(*previous, AfterStream::as_found, true);
+  auto live = std::make_shared<detail::LiveStream>(options_.queue_capacity);
+  live->driver = this;
+  {
+    std::lock_guard lock(live_mutex_);
+    live_ = live;
+  }
   requested_mode_ = mode;
-  stream_started_measuring_ = false;
-  stop_requested_ = false;
-  finished_ = false;
-  queue_.reopen();  // closed when a previous stream's reader ended
   if (auto begun = begin_measuring(false); !begun) {
     collecting_ = false;
-    queue_.clear();  // a `connected` announced before a refused GO
-    return begun;
+    live->driver = nullptr;  // a `connected` announced before a refused GO goes with it
+    std::lock_guard lock(live_mutex_);
+    live_.reset();
+    return begun.error();
   }
   {
-    std::lock_guard lock(state_mutex_);  // set_address checks it under this lock
-    streaming_ = true;
+    // No caller is between pumps of its own when the reader takes the link: one
+    // waiting for the lock sees streaming_ and lets the reader hand its reply over.
+    std::lock_guard request_lock(request_mutex_);
+    {
+      std::lock_guard lock(state_mutex_);  // set_address checks it under this lock
+      streaming_ = true;
+    }
+    std::lock_guard stopping(live->stopping);
+    live->reader = std::thread([this, raw = live.get()] { reader_loop(*raw); });
   }
-  reader_ = std::thread([this] { reader_loop(); });
-  return ok_status();
+  return std::unique_ptr<MeasurementStream>(new MeasurementStream(std::move(live)));
 }
 
 void Driver::stop_stream(AfterStream after) {
-  std::lock_guard stopping(stop_mutex_);
-  stop_requested_ = true;
-  if (reader_.joinable()) reader_.join();
+  std::lock_guard control(stream_control_mutex_);
+  std::shared_ptr<detail::LiveStream> live;
+  {
+    std::lock_guard lock(live_mutex_);
+    live = live_;
+  }
+  if (live) detail::stop_live_stream(*live, after);
+}
+
+void Driver::end_stream(detail::LiveStream& live, AfterStream after) {
   {
     // Under the mutex a waiting caller checks it with, so the wake-up is not missed.
     std::lock_guard lock(state_mutex_);
@@ -158,24 +232,19 @@ void Driver::stop_stream(AfterStream after) {
     collecting_ = false;
   }
   reply_ready_.notify_all();
-  const bool started_by_us = std::exchange(stream_started_measuring_, false);
+  const bool started_by_us = std::exchange(live.started_measuring, false);
   const bool send_stop = after == AfterStream::stop_measuring || (after == AfterStream::as_found && started_by_us);
   if (send_stop && connected()) (void)action("ST");
 }
 
-std::optional<StreamItem> Driver::next(std::chrono::milliseconds timeout) { return queue_.pop(timeout); }
-bool Driver::finished() const { return finished_.load() && queue_.size() == 0; }
-void Driver::stop() { stop_stream(AfterStream::as_found); }
-std::uint64_t Driver::lost() const { return queue_.dropped(); }
-
-bool Driver::reconnect() {
+bool Driver::reconnect(detail::LiveStream& live) {
   const auto began = std::chrono::steady_clock::now();
-  while (!stop_requested_) {
+  while (!live.stop_requested) {
     if (options_.give_up_after && std::chrono::steady_clock::now() - began > *options_.give_up_after) return false;
     // Wait in small steps so stop() is honoured quickly.
     const auto until = std::chrono::steady_clock::now() + options_.reconnect_interval;
-    while (!stop_requested_ && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(10ms);
-    if (stop_requested_) return false;
+    while (!live.stop_requested && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(10ms);
+    if (live.stop_requested) return false;
     auto reopened = reopen_();
     if (!reopened) continue;
     (void)replace_transport(std::move(*reopened));  // on the reader thread: always accepted
@@ -190,10 +259,10 @@ bool Driver::reconnect() {
   return false;
 }
 
-void Driver::reader_loop() {
+void Driver::reader_loop(detail::LiveStream& live) {
   reader_id_ = std::this_thread::get_id();
   auto next_poll = std::chrono::steady_clock::now();
-  while (!stop_requested_) {
+  while (!live.stop_requested) {
     Status step = ok_status();
     const auto now = std::chrono::steady_clock::now();
     if (active_mode_ == StreamMode::polled && now >= next_poll) {
@@ -241,7 +310,7 @@ void Driver::reader_loop() {
     }
     assembler_.clear();
     partial_targets_.clear();
-    if (!reopen_ || !reconnect()) break;
+    if (!reopen_ || !reconnect(live)) break;
     next_poll = std::chrono::steady_clock::now();
   }
   reader_id_ = std::thread::id();
@@ -251,8 +320,8 @@ void Driver::reader_loop() {
     collecting_ = false;                 // nothing more goes to the closed queue
   }
   reply_ready_.notify_all();
-  finished_ = true;
-  queue_.close();
+  live.finished = true;
+  live.queue.close();
 }
 
 Result<ProbeResult> probe(Transport& transport, std::optional<std::uint8_t> address,

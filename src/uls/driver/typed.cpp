@@ -82,7 +82,7 @@ Status Driver::start_measuring() {
   return started;
 }
 Status Driver::stop_measuring() {
-  if (streaming_) stop_stream(AfterStream::keep_measuring);
+  stop_stream(AfterStream::keep_measuring);  // a running stream ends first; the unit is stopped below
   return action("ST");
 }
 Status Driver::save() { return action("SU"); }
