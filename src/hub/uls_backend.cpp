@@ -155,17 +155,20 @@ class UlsBackend final : public Backend {
 
   bool pump(std::chrono::milliseconds wait) override {
     if (!streaming_) return false;
-    drain(*driver_, session_, publisher_, wait);
+    drain(*stream_, session_, publisher_, wait);
     return true;
   }
 
   Status set_streaming(Session& /*session*/, bool on) override {
     if (on == streaming_) return ok_status();
     if (on) {
-      if (auto started = driver_->start_stream(uls::StreamMode::automatic); !started) return started;
+      auto started = driver_->start_stream(uls::StreamMode::automatic);
+      if (!started) return std::move(started).error();
+      stream_ = std::move(started).value();
     } else {
-      driver_->stop_stream(uls::AfterStream::stop_measuring);  // the user's Stop: ST (§8)
-      drain(*driver_, session_, publisher_, std::chrono::milliseconds(0));
+      stream_->stop(uls::AfterStream::stop_measuring);  // the user's Stop: ST (§8)
+      drain(*stream_, session_, publisher_, std::chrono::milliseconds(0));
+      stream_.reset();
     }
     streaming_ = on;
     std::lock_guard lock(session_.mutex);
@@ -190,7 +193,7 @@ class UlsBackend final : public Backend {
   }
 
   void shutdown() override {
-    if (streaming_) driver_->stop_stream(uls::AfterStream::as_found);  // U86: as the service found it
+    stream_.reset();  // U86: as the service found it (the stream's destructor ends it as_found)
     streaming_ = false;
     driver_.reset();
   }
@@ -201,13 +204,15 @@ class UlsBackend final : public Backend {
   auto paused(F&& call) -> decltype(call()) {
     const bool was_streaming = streaming_;
     if (was_streaming) {
-      driver_->stop_stream(uls::AfterStream::as_found);
-      drain(*driver_, session_, publisher_, std::chrono::milliseconds(0));
+      stream_->stop(uls::AfterStream::as_found);
+      drain(*stream_, session_, publisher_, std::chrono::milliseconds(0));
+      stream_.reset();
       streaming_ = false;
     }
     auto result = call();
     if (was_streaming) {
       if (auto restarted = driver_->start_stream(uls::StreamMode::automatic); restarted) {
+        stream_ = std::move(restarted).value();
         streaming_ = true;
       } else {
         std::lock_guard lock(session_.mutex);
@@ -223,6 +228,7 @@ class UlsBackend final : public Backend {
   Publisher& publisher_;
   PortOpener open_;
   std::unique_ptr<uls::Driver> driver_;
+  std::unique_ptr<uls::MeasurementStream> stream_;  // declared after the driver: destroyed first
   bool streaming_ = false;
 };
 
