@@ -8,6 +8,7 @@ set -euo pipefail
 build_packages=(
   build-essential cmake make pkg-config
   libfmt-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libsqlite3-dev
+  libboost1.81-dev  # Beast + asio: the service's HTTP/SSE face (docs/api.md)
 )
 test_packages=(
   libgtest-dev libbenchmark-dev

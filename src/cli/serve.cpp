@@ -9,6 +9,7 @@
 #include "cli/commands.hpp"
 #include "cli/stop_signals.hpp"
 #include "rangekit/hub/hub.hpp"
+#include "rangekit/web/server.hpp"
 
 namespace rangekit::cli {
 namespace {
@@ -16,6 +17,7 @@ namespace {
 struct ServeOptions {
   std::string config;
   std::string check;
+  std::string listen;     // overrides [service] listen
   double duration_s = 0;  // 0: until Ctrl-C or SIGTERM
 };
 
@@ -46,14 +48,54 @@ int check_site(const std::string& path) {
   return exit_ok;
 }
 
+// Beyond loopback every write and stream needs the token: made on the first start,
+// kept with mode 0600 beside the site file (or where [service] token_file says), printed once.
+Result<std::string> token_for(const hub::SiteConfig& site, const std::string& listen) {
+  auto endpoint = parse_endpoint(listen);
+  if (!endpoint) return make_error(Errc::out_of_range, "listen '" + listen + "': " + endpoint.error().message);
+  if (web::is_loopback_host(endpoint->host)) return std::string();
+  std::string path = site.service.token_file;
+  if (path.empty()) {
+    const auto slash = site.file.rfind('/');
+    path = (slash == std::string::npos ? std::string(".") : site.file.substr(0, slash)) + "/rangekit-token";
+  }
+  auto token = web::load_or_create_token(path);
+  if (!token) return std::move(token).error();
+  if (token->created) {
+    fmt::print("listening beyond loopback: every write and stream needs this token (kept in {}, shown once):\n  {}\n",
+               path, token->value);
+  } else {
+    fmt::print("listening beyond loopback: writes and streams need the token kept in {}\n", path);
+  }
+  return token->value;
+}
+
 int serve(const ServeOptions& options) {
   auto site = hub::load_site_config(options.config);
   if (!site) {
     fmt::print(stderr, "rangekit serve: {}\n", site.error().message);
     return site.error().code == Errc::io ? exit_io : exit_bad_input;
   }
+  web::ServerOptions server_options;
+  server_options.listen = options.listen.empty() ? site->service.listen : options.listen;
+  auto token = token_for(*site, server_options.listen);
+  if (!token) {
+    fmt::print(stderr, "rangekit serve: {}\n", token.error().message);
+    return exit_code_for(token.error());
+  }
+  server_options.token = *token;
   StopSignals signals;
   auto hub = hub::Hub::start(*site);
+  auto server = web::Server::start(*hub, server_options);
+  if (!server) {
+    fmt::print(stderr, "rangekit serve: {}\n", server.error().message);
+    hub->stop();
+    return exit_code_for(server.error());
+  }
+  const Endpoint local = (*server)->local_endpoint();
+  fmt::print("rangekit serve: {} sensors; API on http://{}:{}/api/sensors (docs/api.md)\n", site->sensors.size(),
+             local.host, local.port);
+  std::fflush(stdout);
   const auto started = std::chrono::steady_clock::now();
   const auto limit = std::chrono::duration<double>(options.duration_s);
   auto next_summary = started + std::chrono::seconds(1);
@@ -64,7 +106,8 @@ int serve(const ServeOptions& options) {
     for (const hub::SensorSnapshot& sensor : hub->sensors()) fmt::print("{}\n", summary_line(sensor));
     std::fflush(stdout);
   }
-  hub->stop();  // streams ended as found, ports released
+  (*server)->stop();  // no new requests; streams closed
+  hub->stop();        // streams ended as found, ports released
   for (const hub::SensorSnapshot& sensor : hub->sensors()) fmt::print("{}\n", summary_line(sensor));
   return signals.stopped() ? exit_interrupted : exit_ok;
 }
@@ -76,6 +119,8 @@ void add_serve_command(CLI::App& app, int& exit_code) {
   CLI::App* serve_app = app.add_subcommand("serve", "Keep every sensor of a site live (site.toml, docs/service.md)");
   serve_app->add_option("--config", options->config, "site file: the sensors, their ports and what to do at start");
   serve_app->add_option("--check", options->check, "validate a site file without opening anything");
+  serve_app->add_option("--listen", options->listen,
+                        "HOST:PORT of the HTTP API (default: the site file's, else 127.0.0.1:8080; port 0 picks one)");
   serve_app->add_option("--duration", options->duration_s, "stop after S seconds (default: until Ctrl-C)")
       ->check(duration_seconds());
   serve_app->callback([options, &exit_code] {

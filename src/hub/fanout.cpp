@@ -9,10 +9,13 @@ Subscription::Subscription(std::string sensor_filter, std::size_t capacity, Over
 
 bool Subscription::offer(const HubItemPtr& item) {
   bool open = true;
+  bool woke = false;
+  std::function<void()> listener;
   {
     std::lock_guard lock(mutex_);
     if (closed_) return false;
     if (!filter_.empty() && item->sensor != filter_) return true;
+    woke = items_.empty();
     if (items_.size() >= capacity_) {
       ++lost_;
       if (policy_ == OverflowPolicy::cut_off) {
@@ -26,13 +29,20 @@ bool Subscription::offer(const HubItemPtr& item) {
     } else {
       items_.push_back(item);
     }
+    if (woke || !open) listener = listener_;
   }
   if (open) {
     ready_.notify_one();
   } else {
     ready_.notify_all();  // the reader learns it was cut off
   }
+  if (listener) listener();
   return open;
+}
+
+void Subscription::set_listener(std::function<void()> listener) {
+  std::lock_guard lock(mutex_);
+  listener_ = std::move(listener);
 }
 
 std::vector<HubItemPtr> Subscription::take(std::size_t max, std::chrono::milliseconds timeout) {
@@ -49,11 +59,15 @@ std::vector<HubItemPtr> Subscription::take(std::size_t max, std::chrono::millise
 }
 
 void Subscription::close() {
+  std::function<void()> listener;
   {
     std::lock_guard lock(mutex_);
+    if (closed_) return;
     closed_ = true;
+    listener = std::move(listener_);
   }
   ready_.notify_all();
+  if (listener) listener();
 }
 
 bool Subscription::closed() const {

@@ -102,7 +102,7 @@ class Ls5Backend final : public Backend {
           return std::move(available).error();
         }
         auto writes = ls5::encode_setting(*setting, text, *context);
-        if (!writes) return make_error(writes.error().code, name + ": " + writes.error().message);
+        if (!writes) return writes.error();  // its message names the setting and the allowed values
         planned.emplace_back(setting, *writes);
       }
       for (std::size_t i = 0; i < planned.size(); ++i) {

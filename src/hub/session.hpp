@@ -37,8 +37,6 @@ class Publisher {
   ~Publisher() = default;
 };
 
-using SettingValues = std::vector<std::pair<std::string, std::string>>;
-
 // The driver side of one port: one ULS, an RS-485 bus of ULS units, one LS5 or
 // an LS5 UDP listener. Called from its port's worker thread only.
 class Backend {

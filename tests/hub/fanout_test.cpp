@@ -107,3 +107,32 @@ TEST(SampleRing, ResumesAfterASequenceAndSaysWhenItemsWereMissed) {
 }
 
 }  // namespace
+
+namespace {
+
+using namespace rangekit::hub;
+using namespace std::chrono_literals;
+
+// An event loop cannot block in take(): it is told when an item lands in an empty queue
+// (once per batch, not per item) and when the subscription ends.
+TEST(Fanout, TheListenerHearsOfTheFirstItemOfABatchAndOfTheEnd) {
+  Fanout fanout;
+  auto subscription = fanout.subscribe("", 2, OverflowPolicy::cut_off);
+  int calls = 0;
+  subscription->set_listener([&] { ++calls; });
+  const auto item = [](std::uint64_t sequence) {
+    return std::make_shared<const HubItem>(HubItem{sequence, "a", rangekit::Sample{}});
+  };
+  fanout.publish(item(1));
+  fanout.publish(item(2));
+  EXPECT_EQ(calls, 1);  // the second landed in a queue that was not empty
+  EXPECT_EQ(subscription->take(10, 0ms).size(), 2u);
+  fanout.publish(item(3));
+  EXPECT_EQ(calls, 2);
+  fanout.publish(item(4));
+  fanout.publish(item(5));  // full: cut off
+  EXPECT_EQ(calls, 3);
+  EXPECT_TRUE(subscription->cut_off());
+}
+
+}  // namespace

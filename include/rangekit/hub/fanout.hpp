@@ -8,6 +8,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -53,6 +54,12 @@ class Subscription {
   // For the fan-out: never blocks. False once the subscription is closed.
   bool offer(const HubItemPtr& item);
 
+  // Called (on the publisher's thread, outside any lock) when an item lands in an
+  // empty queue and when the subscription closes: an event loop that cannot block in
+  // take() schedules its read from here. Must not call back into the subscription's
+  // publisher. Set before the first item can arrive, or accept a missed first call.
+  void set_listener(std::function<void()> listener);
+
  private:
   mutable std::mutex mutex_;
   std::condition_variable ready_;
@@ -63,6 +70,7 @@ class Subscription {
   std::uint64_t lost_ = 0;
   bool closed_ = false;
   bool cut_off_ = false;
+  std::function<void()> listener_;
 };
 using SubscriptionPtr = std::shared_ptr<Subscription>;
 

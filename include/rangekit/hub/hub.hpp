@@ -51,6 +51,9 @@ struct HubOptions {
   std::function<Result<TransportPtr>(const std::string& path, const SerialSettings& settings)> open_port;
 };
 
+// Settings by name, values as typed ("prf-hz" -> "2000"), in the order to write them.
+using SettingValues = std::vector<std::pair<std::string, std::string>>;
+
 // A sensor action (POST …/actions/{action}); the family decides what each means.
 enum class Action : std::uint8_t {
   start,    // measure and stream

@@ -1,0 +1,68 @@
+// The HTTP face of the sensor hub (issue 13 point 4): a JSON API, Server-Sent
+// Events streams resumable with Last-Event-ID, Prometheus metrics and a health
+// check, on Boost.Beast over one asio event loop (docs/api.md says why). The
+// server reaches the sensors only through rangekit::hub::Hub.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "rangekit/core/result.hpp"
+#include "rangekit/core/udp.hpp"
+#include "rangekit/hub/hub.hpp"
+
+namespace rangekit::web {
+
+struct ServerOptions {
+  std::string listen = "127.0.0.1:8080";  // HOST:PORT; port 0 picks a free one
+  // Required (Authorization: Bearer, or ?token= for EventSource) on every write and
+  // every stream when not empty. The service sets it whenever it listens beyond loopback.
+  std::string token;
+  std::size_t max_connections = 256;
+  std::size_t max_body_bytes = 64 * 1024;
+  std::size_t max_header_bytes = 8 * 1024;
+  // Items a stream client may fall behind before it is cut off (it resumes with Last-Event-ID).
+  std::size_t stream_queue = 4096;
+  std::size_t command_threads = 4;  // settings and actions wait for the sensor here, not in the event loop
+};
+
+struct ServerStats {
+  std::uint64_t connections = 0;      // open now
+  std::uint64_t streams = 0;          // SSE clients now
+  std::uint64_t requests = 0;         // since the start
+  std::uint64_t refused = 0;          // over the connection limit
+  std::uint64_t streams_cut_off = 0;  // clients that fell behind
+};
+
+class Server {
+ public:
+  // Binds and starts serving on a thread of its own.
+  static Result<std::unique_ptr<Server>> start(hub::Hub& hub, ServerOptions options);
+  ~Server();  // stop()
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+  // Closes the listener and every connection, joins the threads. Idempotent.
+  void stop();
+  [[nodiscard]] Endpoint local_endpoint() const;
+  [[nodiscard]] ServerStats stats() const;
+
+  struct Impl;  // opaque: the event loop and its connections
+
+ private:
+  explicit Server(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// True for 127.0.0.0/8, ::1 and "localhost".
+bool is_loopback_host(const std::string& host);
+
+// The token of a service listening beyond loopback: read from `path`, or made (32
+// random bytes as hex) and written there with mode 0600 when the file does not exist.
+struct Token {
+  std::string value;
+  bool created = false;  // print it once, when made
+};
+Result<Token> load_or_create_token(const std::string& path);
+
+}  // namespace rangekit::web

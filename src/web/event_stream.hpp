@@ -1,0 +1,85 @@
+// One Server-Sent Events client: the backlog from the ring after Last-Event-ID,
+// then every live item of its subscription, written as fast as the client reads.
+// A client that falls stream_queue items behind is cut off (counted); its
+// EventSource reconnects and resumes from the ring. With max_rate the samples of
+// each sensor are merged per 1/max_rate s into min/max/last (link events pass
+// unmerged), so a 1 kHz sensor stays cheap for a browser.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rangekit/hub/fanout.hpp"
+#include "web/http.hpp"
+
+namespace rangekit::web {
+
+class Poster;
+
+struct EventStreamOptions {
+  std::optional<double> max_rate;  // points a second per sensor, 1-1000
+  std::chrono::seconds keepalive{15};
+};
+
+struct EventStreamCounters {
+  std::atomic<std::uint64_t> open{0};
+  std::atomic<std::uint64_t> cut_off{0};
+};
+
+class EventStream : public std::enable_shared_from_this<EventStream> {
+ public:
+  EventStream(beast::tcp_stream stream, hub::SubscriptionPtr subscription, std::vector<hub::HubItemPtr> backlog,
+              std::uint64_t after, EventStreamOptions options, std::shared_ptr<Poster> poster,
+              EventStreamCounters& counters);
+  ~EventStream();
+  void start();
+
+ private:
+  struct Aggregate;
+  void flush();
+  void append(std::string& out, const hub::HubItem& item);
+  void append_aggregates(std::string& out, bool all);
+  void write(std::string text);
+  void finish();
+  void arm_keepalive();
+  void arm_bucket_timer();
+
+  beast::tcp_stream stream_;
+  hub::SubscriptionPtr subscription_;
+  std::vector<hub::HubItemPtr> backlog_;
+  std::uint64_t last_sent_;
+  EventStreamOptions options_;
+  std::shared_ptr<Poster> poster_;
+  EventStreamCounters& counters_;
+  net::steady_timer keepalive_;
+  net::steady_timer bucket_timer_;
+  std::map<std::string, std::unique_ptr<Aggregate>> aggregates_;
+  std::string pending_;  // what is being written
+  bool writing_ = false;
+  bool finished_ = false;
+};
+
+// Posts work onto the event loop from other threads (the hub's workers, the
+// command pool) for as long as the server runs; a no-op once it stops.
+class Poster {
+ public:
+  explicit Poster(net::io_context& context) : context_(&context) {}
+  template <class F>
+  void post(F&& work) {
+    std::lock_guard lock(mutex_);
+    if (context_ != nullptr) net::post(*context_, std::forward<F>(work));
+  }
+  void shut() {
+    std::lock_guard lock(mutex_);
+    context_ = nullptr;
+  }
+
+ private:
+  std::mutex mutex_;
+  net::io_context* context_;
+};
+
+}  // namespace rangekit::web

@@ -1,0 +1,31 @@
+// Beast/asio names the web face shares, and one request's parsed target.
+#pragma once
+
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace rangekit::web {
+
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace net = boost::asio;
+using tcp = net::ip::tcp;
+
+using Request = http::request<http::string_body>;
+using Response = http::response<http::string_body>;
+
+// "/api/sensors/belt/events?after=12" -> {"api","sensors","belt","events"}, {{"after","12"}}.
+struct Target {
+  std::vector<std::string> segments;
+  std::map<std::string, std::string, std::less<>> query;
+  bool valid = true;  // false: a segment or value that does not decode
+};
+Target parse_target(std::string_view target);
+
+}  // namespace rangekit::web

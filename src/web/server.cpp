@@ -1,0 +1,465 @@
+// The HTTP server: an acceptor and one connection object per client on one asio
+// event loop. Requests that wait for a sensor (settings, actions) run on a small
+// command pool and post their answer back, so the loop never blocks; streams are
+// handed to EventStream. Limits: connections, header and body size; writes are
+// checked for Host/Origin (DNS rebinding) and, when a token is set, for the token.
+#include "rangekit/web/server.hpp"
+
+#include <boost/asio/thread_pool.hpp>
+
+#include <atomic>
+#include <charconv>
+#include <thread>
+
+#include "web/event_stream.hpp"
+#include "web/http.hpp"
+#include "web/json_views.hpp"
+#include "web/metrics.hpp"
+
+namespace rangekit::web {
+namespace {
+
+// "out of range" -> "out_of_range": one word a client can switch on.
+std::string status_code_name(Errc code) {
+  std::string name = errc_name(code);
+  for (char& c : name) {
+    if (c == ' ') c = '_';
+  }
+  return name;
+}
+
+http::status status_for(const Error& error) {
+  switch (error.code) {
+    case Errc::unknown_parameter:
+    case Errc::unknown_command:
+    case Errc::out_of_range:
+    case Errc::wrong_form:
+    case Errc::bad_number:
+    case Errc::invalid_frame:
+      return http::status::bad_request;
+    case Errc::unsupported:
+      return http::status::conflict;
+    case Errc::timeout:
+      return http::status::gateway_timeout;
+    case Errc::closed:
+    case Errc::io:
+      return http::status::service_unavailable;
+    default:
+      return http::status::bad_gateway;  // the sensor refused (device error) or answered nonsense
+  }
+}
+
+}  // namespace
+
+struct Server::Impl {
+  hub::Hub& hub;
+  ServerOptions options;
+  // Declared before the event loop: destroying the loop destroys the connections still
+  // queued in it, and their destructors count themselves out here.
+  std::atomic<std::uint64_t> connections{0};
+  std::atomic<std::uint64_t> requests{0};
+  std::atomic<std::uint64_t> refused{0};
+  EventStreamCounters streams;
+  net::io_context context{1};
+  tcp::acceptor acceptor{context};
+  std::shared_ptr<Poster> poster = std::make_shared<Poster>(context);
+  net::thread_pool commands;
+  std::thread thread;
+  std::atomic<bool> stopped{false};
+
+  Impl(hub::Hub& h, ServerOptions o) : hub(h), options(std::move(o)), commands(options.command_threads) {}
+  void accept();
+};
+
+namespace {
+
+class Connection : public std::enable_shared_from_this<Connection> {
+ public:
+  Connection(tcp::socket socket, Server::Impl& server) : stream_(std::move(socket)), server_(server) {
+    ++server_.connections;
+  }
+  ~Connection() { --server_.connections; }
+
+  void read() {
+    parser_.emplace();
+    parser_->body_limit(server_.options.max_body_bytes);
+    parser_->header_limit(static_cast<std::uint32_t>(server_.options.max_header_bytes));
+    stream_.expires_after(std::chrono::seconds(60));  // an idle or trickling client is closed
+    http::async_read(stream_, buffer_, *parser_,
+                     [self = shared_from_this()](beast::error_code error, std::size_t) { self->on_read(error); });
+  }
+
+  // Over the connection limit: one answer, then closed.
+  void refuse() {
+    respond(http::status::service_unavailable,
+            error_json("too_many_connections", "the service has " + std::to_string(server_.options.max_connections) +
+                                                   " connections open; try again later"),
+            false);
+  }
+
+ private:
+  void on_read(beast::error_code error) {
+    if (error == http::error::end_of_stream || error == beast::error::timeout || error == net::error::eof) {
+      return close();
+    }
+    if (error == http::error::body_limit) {
+      return respond(http::status::payload_too_large,
+                     error_json("body_too_large",
+                                "bodies are limited to " + std::to_string(server_.options.max_body_bytes) + " bytes"),
+                     false);
+    }
+    if (error == http::error::header_limit) {
+      return respond(http::status::request_header_fields_too_large,
+                     error_json("headers_too_large", "headers are limited to " +
+                                                         std::to_string(server_.options.max_header_bytes) + " bytes"),
+                     false);
+    }
+    if (error) {
+      return respond(http::status::bad_request, error_json("bad_request", "not an HTTP request: " + error.message()),
+                     false);
+    }
+    ++server_.requests;
+    request_ = parser_->release();
+    route();
+  }
+
+  void respond(http::status status, std::string body, bool keep_alive = true,
+               std::string_view content_type = "application/json", std::string_view allow = {}) {
+    auto response = std::make_shared<Response>(status, request_.version() == 0 ? 11 : request_.version());
+    response->set(http::field::server, "rangekit");
+    response->set(http::field::content_type, content_type);
+    response->set(http::field::cache_control, "no-store");
+    if (!allow.empty()) response->set(http::field::allow, allow);
+    response->keep_alive(keep_alive && request_.keep_alive());
+    response->body() = std::move(body);
+    response->prepare_payload();
+    http::async_write(stream_, *response, [self = shared_from_this(), response](beast::error_code error, std::size_t) {
+      if (error || response->need_eof()) return self->close();
+      self->read();
+    });
+  }
+
+  void fail(const Error& error, const hub::SettingValues& values = {}) {
+    respond(status_for(error), error_json(status_code_name(error.code), error.message, field_of(error, values)));
+  }
+
+  void not_found(const std::string& what) { respond(http::status::not_found, error_json("not_found", what)); }
+
+  void wrong_method(std::string_view allow) {
+    respond(http::status::method_not_allowed,
+            error_json("method_not_allowed", std::string(request_.method_string()) +
+                                                 " is not allowed here (allowed: " + std::string(allow) + ")"),
+            true, "application/json", allow);
+  }
+
+  void close() {
+    beast::error_code ignored;
+    stream_.socket().shutdown(tcp::socket::shutdown_both, ignored);
+    stream_.socket().close(ignored);
+  }
+
+  // A page on another origin must not make the browser write to the sensors, and a
+  // name resolving to 127.0.0.1 (DNS rebinding) must not pass for this server.
+  bool same_origin() {
+    const std::string host(request_[http::field::host]);
+    const std::size_t colon = host.rfind(':');
+    const std::string name = host.substr(0, colon);
+    const std::string port = colon == std::string::npos ? "80" : host.substr(colon + 1);
+    const std::string own_port = std::to_string(server_.acceptor.local_endpoint().port());
+    const std::string listen_host = server_.acceptor.local_endpoint().address().to_string();
+    const bool host_ok = port == own_port && (is_loopback_host(name) || name == listen_host ||
+                                              server_.acceptor.local_endpoint().address().is_unspecified());
+    if (!host_ok) {
+      respond(http::status::forbidden,
+              error_json("bad_host", "Host '" + host + "' is not this service (" + listen_host + ":" + own_port + ")"));
+      return false;
+    }
+    const std::string origin(request_[http::field::origin]);
+    if (!origin.empty() && origin != "http://" + host && origin != "https://" + host) {
+      respond(http::status::forbidden,
+              error_json("bad_origin", "Origin '" + origin + "' may not write to this service"));
+      return false;
+    }
+    return true;
+  }
+
+  bool authorised(const Target& target) {
+    const std::string& token = server_.options.token;
+    if (token.empty()) return true;
+    const std::string header(request_[http::field::authorization]);
+    const auto query = target.query.find("token");
+    if (header == "Bearer " + token || (query != target.query.end() && query->second == token)) return true;
+    respond(http::status::unauthorized,
+            error_json("unauthorized",
+                       "this service listens beyond loopback: send Authorization: Bearer TOKEN "
+                       "(printed at its first start, kept in its token file)"));
+    return false;
+  }
+
+  void route() {
+    const Target target = parse_target(request_.target());
+    const auto& path = target.segments;
+    const auto method = request_.method();
+    if (!target.valid)
+      return respond(http::status::bad_request, error_json("bad_target", "the path or query does not decode"));
+    if (path.size() == 1 && path[0] == "healthz") {
+      if (method != http::verb::get) return wrong_method("GET");
+      return respond(http::status::ok, health_json(server_.hub).dump());
+    }
+    if (path.size() == 1 && path[0] == "metrics") {
+      if (method != http::verb::get) return wrong_method("GET");
+      const ServerStats stats{server_.connections.load(), server_.streams.open.load(), server_.requests.load(),
+                              server_.refused.load(), server_.streams.cut_off.load()};
+      return respond(http::status::ok, prometheus_text(server_.hub, stats), true, "text/plain; version=0.0.4");
+    }
+    if (path.empty() || path[0] != "api") return not_found("no such path (see docs/api.md)");
+    if (path.size() == 2 && path[1] == "events") {
+      if (method != http::verb::get) return wrong_method("GET");
+      return open_stream(target, "");
+    }
+    if (path.size() < 2 || path[1] != "sensors") return not_found("no such path (see docs/api.md)");
+    if (path.size() == 2) {
+      if (method != http::verb::get) return wrong_method("GET");
+      nlohmann::json list = nlohmann::json::array();
+      for (const auto& sensor : server_.hub.sensors()) list.push_back(sensor_json(sensor));
+      return respond(http::status::ok,
+                     nlohmann::json{{"sensors", list}}.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+    }
+    const std::string& name = path[2];
+    auto sensor = server_.hub.sensor(name);
+    if (!sensor) return not_found(sensor.error().message);
+    if (path.size() == 3) {
+      if (method != http::verb::get) return wrong_method("GET");
+      return respond(http::status::ok,
+                     sensor_json(*sensor).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+    }
+    const std::string& what = path[3];
+    if (what == "settings" && path.size() == 4) {
+      if (method == http::verb::get) {
+        nlohmann::json settings = sensor_json(*sensor)["settings"];
+        return respond(http::status::ok, settings.dump());
+      }
+      if (method != http::verb::patch) return wrong_method("GET, PATCH");
+      if (!same_origin() || !authorised(target)) return;
+      return patch_settings(name);
+    }
+    if (what == "actions" && path.size() == 5) {
+      if (method != http::verb::post) return wrong_method("POST");
+      if (!same_origin() || !authorised(target)) return;
+      return act(name, path[4], target);
+    }
+    if (what == "samples" && path.size() == 4) {
+      if (method != http::verb::get) return wrong_method("GET");
+      return samples(name, target);
+    }
+    if (what == "events" && path.size() == 4) {
+      if (method != http::verb::get) return wrong_method("GET");
+      return open_stream(target, name);
+    }
+    return not_found("no such path (see docs/api.md)");
+  }
+
+  // Runs a call that waits for the sensor on the command pool; answers on the loop.
+  template <class Call, class Answer>
+  void off_loop(Call call, Answer answer) {
+    net::post(
+        server_.commands, [self = shared_from_this(), call = std::move(call), answer = std::move(answer)]() mutable {
+          auto result = call();
+          self->server_.poster->post(
+              [self, answer = std::move(answer), result = std::move(result)]() mutable { answer(std::move(result)); });
+        });
+  }
+
+  void patch_settings(const std::string& name) {
+    const SettingsBody body = settings_from_body(request_.body());
+    if (body.error)
+      return respond(http::status::bad_request, error_json("bad_body", body.error->message, body.error->field));
+    off_loop([&hub = server_.hub, name, values = body.values] { return hub.set(name, values); },
+             [self = shared_from_this(), values = body.values](Result<std::vector<hub::Field>> result) {
+               if (!result) return self->fail(result.error(), values);
+               auto sensor = self->server_.hub.sensor(self->request_target_name());
+               self->respond(http::status::ok, sensor ? sensor_json(*sensor)["settings"].dump() : "{}");
+             });
+  }
+
+  std::string request_target_name() const {
+    const Target target = parse_target(request_.target());
+    return target.segments.size() > 2 ? target.segments[2] : "";
+  }
+
+  void act(const std::string& name, const std::string& action_name, const Target& target) {
+    const auto action = hub::parse_action(action_name);
+    if (!action) {
+      return respond(http::status::bad_request,
+                     error_json("unknown_action",
+                                "'" + action_name +
+                                    "' is not an action (start, stop, single, pointer, save, reset, "
+                                    "latch, read)",
+                                "action"));
+    }
+    std::string argument;
+    if (const auto found = target.query.find("argument"); found != target.query.end()) argument = found->second;
+    if (!request_.body().empty()) {
+      const auto json = nlohmann::json::parse(request_.body(), nullptr, false);
+      if (json.is_discarded() || !json.is_object() || (json.contains("argument") && !json["argument"].is_string())) {
+        return respond(http::status::bad_request,
+                       error_json("bad_body", "an action's body is empty or {\"argument\": \"on\"}", "argument"));
+      }
+      argument = json.value("argument", argument);
+    }
+    off_loop([&hub = server_.hub, name, action = *action, argument] { return hub.act(name, action, argument); },
+             [self = shared_from_this()](Result<std::string> result) {
+               if (!result) return self->fail(result.error());
+               self->respond(http::status::ok, nlohmann::json{{"result", *result}}.dump(
+                                                   -1, ' ', false, nlohmann::json::error_handler_t::replace));
+             });
+  }
+
+  static std::optional<std::uint64_t> number(const Target& target, const char* key, std::uint64_t fallback,
+                                             std::uint64_t max) {
+    const auto found = target.query.find(key);
+    if (found == target.query.end()) return fallback;
+    std::uint64_t value = 0;
+    const auto [end, error] = std::from_chars(found->second.data(), found->second.data() + found->second.size(), value);
+    if (error != std::errc{} || end != found->second.data() + found->second.size() || value > max) return std::nullopt;
+    return value;
+  }
+
+  void samples(const std::string& name, const Target& target) {
+    const auto after = number(target, "after", 0, UINT64_MAX);
+    const auto limit = number(target, "limit", 100, 4096);
+    if (!after)
+      return respond(http::status::bad_request, error_json("out_of_range", "after: a sequence number", "after"));
+    if (!limit || *limit == 0) {
+      return respond(http::status::bad_request, error_json("out_of_range", "limit: 1-4096 items", "limit"));
+    }
+    std::vector<hub::HubItemPtr> items;
+    bool complete = true;
+    if (target.query.count("after") != 0) {
+      auto since = server_.hub.since(name, *after);
+      if (!since) return fail(since.error());
+      items = std::move(since->items);
+      complete = since->complete;
+      if (items.size() > *limit) items.resize(*limit);
+    } else {
+      auto latest = server_.hub.latest(name, *limit);
+      if (!latest) return fail(latest.error());
+      items = std::move(*latest);
+    }
+    std::string body = "{\"complete\":" + std::string(complete ? "true" : "false") + ",\"items\":[";
+    for (std::size_t i = 0; i < items.size(); ++i) body += (i == 0 ? "" : ",") + item_json(*items[i]);
+    body += "]}";
+    respond(http::status::ok, std::move(body));
+  }
+
+  void open_stream(const Target& target, const std::string& sensor) {
+    if (!authorised(target)) return;
+    std::uint64_t after = server_.hub.last_sequence();
+    const std::string last_event_id(request_["Last-Event-ID"]);
+    std::string resume = last_event_id;
+    if (const auto found = target.query.find("after"); found != target.query.end()) resume = found->second;
+    if (!resume.empty()) {
+      std::uint64_t value = 0;
+      const auto [end, error] = std::from_chars(resume.data(), resume.data() + resume.size(), value);
+      if (error != std::errc{} || end != resume.data() + resume.size()) {
+        return respond(http::status::bad_request,
+                       error_json("out_of_range", "Last-Event-ID / after: a sequence number", "after"));
+      }
+      after = value;
+    }
+    EventStreamOptions options;
+    if (const auto found = target.query.find("max_rate"); found != target.query.end()) {
+      char* end = nullptr;
+      const double rate = std::strtod(found->second.c_str(), &end);
+      if (end != found->second.c_str() + found->second.size() || !(rate >= 1 && rate <= 1000)) {
+        return respond(http::status::bad_request,
+                       error_json("out_of_range", "max_rate: 1-1000 points a second per sensor", "max_rate"));
+      }
+      options.max_rate = rate;
+    }
+    // Subscribe first, then read the ring: nothing falls between them (duplicates are skipped by id).
+    auto subscription = server_.hub.subscribe(sensor, server_.options.stream_queue, hub::OverflowPolicy::cut_off);
+    if (!subscription) return not_found(subscription.error().message);
+    std::vector<hub::HubItemPtr> backlog;
+    if (!resume.empty()) {
+      auto since = server_.hub.since(sensor, after);
+      if (since) backlog = std::move(since->items);
+    }
+    auto stream = std::make_shared<EventStream>(std::move(stream_), std::move(*subscription), std::move(backlog), after,
+                                                options, server_.poster, server_.streams);
+    stream->start();
+  }
+
+  beast::tcp_stream stream_;
+  Server::Impl& server_;
+  beast::flat_buffer buffer_;
+  std::optional<http::request_parser<http::string_body>> parser_;
+  Request request_;
+};
+
+}  // namespace
+
+void Server::Impl::accept() {
+  acceptor.async_accept(net::make_strand(context), [this](beast::error_code error, tcp::socket socket) {
+    if (error) {
+      if (!stopped && error != net::error::operation_aborted) accept();
+      return;
+    }
+    auto connection = std::make_shared<Connection>(std::move(socket), *this);
+    if (connections.load() > options.max_connections) {
+      ++refused;
+      connection->refuse();
+    } else {
+      connection->read();
+    }
+    accept();
+  });
+}
+
+Server::Server(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+Server::~Server() { stop(); }
+
+Result<std::unique_ptr<Server>> Server::start(hub::Hub& hub, ServerOptions options) {
+  auto endpoint = parse_endpoint(options.listen);
+  if (!endpoint) return make_error(Errc::out_of_range, "listen '" + options.listen + "': " + endpoint.error().message);
+  auto impl = std::make_unique<Impl>(hub, std::move(options));
+  beast::error_code error;
+  const auto address = net::ip::make_address(endpoint->host == "localhost" ? "127.0.0.1" : endpoint->host, error);
+  if (error) return make_error(Errc::out_of_range, "listen: '" + endpoint->host + "' is not an IP address");
+  const tcp::endpoint local{address, endpoint->port};
+  impl->acceptor.open(local.protocol(), error);
+  if (!error) impl->acceptor.set_option(net::socket_base::reuse_address(true), error);
+  if (!error) impl->acceptor.bind(local, error);
+  if (!error) impl->acceptor.listen(net::socket_base::max_listen_connections, error);
+  if (error) return make_error(Errc::io, "cannot listen on " + impl->options.listen + ": " + error.message());
+  impl->accept();
+  Impl* raw = impl.get();
+  impl->thread = std::thread([raw] { raw->context.run(); });
+  return std::unique_ptr<Server>(new Server(std::move(impl)));
+}
+
+void Server::stop() {
+  if (!impl_ || impl_->stopped.exchange(true)) return;
+  net::post(impl_->context, [impl = impl_.get()] {
+    beast::error_code ignored;
+    impl->acceptor.close(ignored);
+  });
+  impl_->commands.join();  // settings and actions in progress finish (within the hub's command timeout)
+  impl_->poster->shut();
+  impl_->context.stop();
+  if (impl_->thread.joinable()) impl_->thread.join();
+}
+
+Endpoint Server::local_endpoint() const {
+  beast::error_code error;
+  const auto endpoint = impl_->acceptor.local_endpoint(error);
+  return Endpoint{endpoint.address().to_string(), endpoint.port()};
+}
+
+ServerStats Server::stats() const {
+  return ServerStats{impl_->connections.load(), impl_->streams.open.load(), impl_->requests.load(),
+                     impl_->refused.load(), impl_->streams.cut_off.load()};
+}
+
+}  // namespace rangekit::web
