@@ -73,6 +73,10 @@ void EventStream::start() {
     });
   });
   stream_.expires_never();
+  // A bounded kernel buffer per client: a client that stops reading fills it and then its
+  // queue, and is cut off, instead of the system holding megabytes for it.
+  beast::error_code ignored;
+  stream_.socket().set_option(net::socket_base::send_buffer_size(64 * 1024), ignored);
   arm_keepalive();
   if (options_.max_rate) arm_bucket_timer();
   write(std::move(out));
@@ -133,7 +137,11 @@ void EventStream::append_aggregates(std::string& out, bool all) {
 }
 
 void EventStream::flush() {
-  if (finished_ || writing_) return;
+  if (finished_) return;
+  // Fell stream_queue items behind: closed now, even with a write still pending (the
+  // client stopped reading; that write would never end).
+  if (subscription_->cut_off()) return finish();
+  if (writing_) return;
   std::string out;
   // Merged samples may leave nothing to write yet: take on until there is, or the queue is empty
   // (the listener speaks again only when an item lands in an empty queue).

@@ -6,6 +6,7 @@
 
 #include <map>
 
+#include "hub/site_fixture.hpp"
 #include "ls5_driver/cli_process.hpp"
 #include "rangekit/hub/hub.hpp"
 
@@ -14,46 +15,10 @@ namespace {
 using namespace rangekit;
 using namespace rangekit::hub;
 using namespace std::chrono_literals;
+using hub_test::ready;
+using hub_test::Site;
 using ls5_driver_test::Child;
 using ls5_driver_test::TempDir;
-
-bool ready(Child& child) { return child.read_line().find("ready") != std::string::npos; }
-
-std::string site_text(const std::filesystem::path& dir) {
-  const auto path = [&](const char* name) { return (dir / name).string(); };
-  return "[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"" + path("ls5") +
-         "\"\n"
-         "[[sensor]]\nname = \"silo\"\nfamily = \"uls\"\nport = \"" +
-         path("uls") + "\"\n" + [&] {
-           std::string bus;
-           for (const char* unit : {"A", "B", "C", "D"}) {
-             bus += "[[sensor]]\nname = \"bay-" + std::string(unit) + "\"\nfamily = \"uls\"\nport = \"" + path("bus") +
-                    "\"\naddress = \"" + unit + "\"\n";
-           }
-           return bus;
-         }();
-}
-
-struct Site {
-  TempDir temp;
-  Child ls5{{"sim", "ls5", "--port", (temp.path / "ls5").string()}};
-  Child uls{{"sim", "uls", "--port", (temp.path / "uls").string()}};
-  Child bus{{"sim", "uls", "--bus", (temp.path / "bus").string(), "--address", "A", "--address", "B", "--address", "C",
-             "--address", "D"}};
-  SiteConfig config;
-  Site() {
-    EXPECT_TRUE(ready(ls5) && ready(uls) && ready(bus));
-    // §7: "The Continuous Output setting must be turned off since units only talk on the bus when addressed."
-    for (const char* unit : {"A", "B", "C", "D"}) {
-      const auto run = ls5_driver_test::run_cli(
-          temp.path, {"uls", "set", "--port", (temp.path / "bus").string(), "--address", unit, "continuous=off"});
-      EXPECT_EQ(run.exit_code, 0) << run.err;
-    }
-    auto parsed = parse_site_config(site_text(temp.path), "site.toml");
-    EXPECT_TRUE(parsed.ok()) << (parsed.ok() ? "" : parsed.error().message);
-    if (parsed) config = *parsed;
-  }
-};
 
 // Takes from `subscription` until `done` says so or the deadline passes (a safety net, not a wait).
 template <class Done>

@@ -1,0 +1,226 @@
+// The HTTP API end to end (issue 13 point 4, docs/api.md): the hub serving an LS5, a
+// ULS alone and a bus of four ULS units on ptys, the server on a loopback port, and
+// every kind of bad request answered with a 4xx JSON error that names the field.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "hub/site_fixture.hpp"
+#include "rangekit/sim/control_socket.hpp"
+#include "rangekit/web/server.hpp"
+#include "web/http_client.hpp"
+
+namespace {
+
+using namespace rangekit;
+using web_test::http;
+using web_test::Reply;
+
+struct Service {
+  hub_test::Site site;
+  std::unique_ptr<hub::Hub> hub = hub::Hub::start(site.config);
+  std::unique_ptr<web::Server> server;
+  std::uint16_t port = 0;
+  explicit Service(web::ServerOptions options = {}) {
+    options.listen = "127.0.0.1:0";
+    auto started = web::Server::start(*hub, options);
+    EXPECT_TRUE(started.ok()) << (started.ok() ? "" : started.error().message);
+    if (started) server = std::move(*started);
+    if (server) port = server->local_endpoint().port;
+  }
+  // Waits (bounded) until every sensor has been heard, through the API itself.
+  bool all_live() {
+    web_test::EventReader events(port, "/api/events");
+    std::set<std::string> heard;
+    return events.read_until([&](const web_test::Event& event) {
+      if (event.type == "sample") heard.insert(nlohmann::json::parse(event.data)["sensor"].get<std::string>());
+      return heard.size() == 6;
+    });
+  }
+};
+
+nlohmann::json json_of(const Reply& reply) { return nlohmann::json::parse(reply.body, nullptr, false); }
+
+std::string error_field(const Reply& reply) {
+  const auto json = json_of(reply);
+  return json.contains("error") ? json["error"].value("field", "") : "<no error>";
+}
+
+TEST(WebApi, ListsEverySensorWithIdentityStatusAndHealth) {
+  Service service;
+  ASSERT_TRUE(service.all_live());
+  const Reply list = http(service.port, "GET", "/api/sensors");
+  ASSERT_EQ(list.status, 200) << list.body;
+  EXPECT_EQ(list.headers.at("content-type"), "application/json");
+  const auto sensors = json_of(list)["sensors"];
+  ASSERT_EQ(sensors.size(), 6u);
+  EXPECT_EQ(sensors[0]["name"], "belt");
+  EXPECT_EQ(sensors[0]["identity"]["version"], "LS5.12.0");  // `sim ls5` default firmware
+  EXPECT_EQ(sensors[0]["identity"]["serial"], 157);
+  for (const auto& sensor : sensors) {
+    EXPECT_TRUE(sensor["connected"].get<bool>()) << sensor["name"];
+    EXPECT_GT(sensor["health"]["records"].get<int>(), 0) << sensor["name"];
+  }
+  const Reply one = http(service.port, "GET", "/api/sensors/bay-C");
+  ASSERT_EQ(one.status, 200);
+  EXPECT_EQ(json_of(one)["identity"]["address"], "C");
+  EXPECT_EQ(json_of(one)["address"], 0x43);  // §8 UA table: 'C'
+  const Reply health = http(service.port, "GET", "/healthz");
+  EXPECT_EQ(health.status, 200);
+  EXPECT_EQ(json_of(health)["status"], "ok");
+  const Reply metrics = http(service.port, "GET", "/metrics");
+  EXPECT_EQ(metrics.status, 200);
+  EXPECT_NE(metrics.body.find("rangekit_sensor_connected{sensor=\"bay-D\",family=\"uls\"} 1"), std::string::npos);
+  EXPECT_NE(metrics.body.find("# TYPE rangekit_sensor_records_total counter"), std::string::npos);
+}
+
+TEST(WebApi, RecentSamplesComeFromTheRing) {
+  Service service;
+  ASSERT_TRUE(service.all_live());
+  const Reply latest = http(service.port, "GET", "/api/sensors/belt/samples?limit=3");
+  ASSERT_EQ(latest.status, 200) << latest.body;
+  const auto items = json_of(latest)["items"];
+  ASSERT_EQ(items.size(), 3u);
+  EXPECT_EQ(items[0]["data"]["device"], "ls5");
+  const auto first = items[0]["id"].get<std::uint64_t>();
+  const Reply after =
+      http(service.port, "GET", "/api/sensors/belt/samples?after=" + std::to_string(first) + "&limit=2");
+  ASSERT_EQ(after.status, 200);
+  EXPECT_EQ(json_of(after)["items"][0]["id"], items[1]["id"]);
+  EXPECT_TRUE(json_of(after)["complete"].get<bool>());
+}
+
+// LS5 table 9.2 (L4): the median filter takes an odd number of points, 1-49. The PATCH reaches
+// the sensor: its own control socket reports the value, and a refused one changes nothing.
+TEST(WebApi, PatchIsCheckedByTheTableWrittenAndReadBack) {
+  Service service;
+  ASSERT_TRUE(service.all_live());
+  Reply refused = http(service.port, "PATCH", "/api/sensors/belt/settings", R"({"median-points": 8})");
+  EXPECT_EQ(refused.status, 400) << refused.body;
+  EXPECT_EQ(error_field(refused), "median-points");
+  EXPECT_NE(json_of(refused)["error"]["message"].get<std::string>().find("odd"), std::string::npos) << refused.body;
+  EXPECT_EQ(json_of(refused)["error"]["code"], "out_of_range");
+
+  const Reply changed = http(service.port, "PATCH", "/api/sensors/belt/settings", R"({"median-points": 7})");
+  ASSERT_EQ(changed.status, 200) << changed.body;
+  EXPECT_EQ(json_of(changed)["median-points"], 7);
+  EXPECT_EQ(json_of(http(service.port, "GET", "/api/sensors/belt/settings"))["median-points"], 7);
+
+  // A bus unit, by the names `rangekit uls get` prints (§8 Set Short Gate 0-1700 m).
+  const Reply gate = http(service.port, "PATCH", "/api/sensors/bay-B/settings", R"({"short-gate-m": 12.5})");
+  ASSERT_EQ(gate.status, 200) << gate.body;
+  EXPECT_EQ(json_of(gate)["short-gate-m"], 12.5);
+  const Reply too_far = http(service.port, "PATCH", "/api/sensors/bay-B/settings", R"({"short-gate-m": 2000})");
+  EXPECT_EQ(too_far.status, 400) << too_far.body;
+  EXPECT_EQ(error_field(too_far), "short-gate-m");
+  EXPECT_NE(too_far.body.find("1700"), std::string::npos) << too_far.body;
+}
+
+TEST(WebApi, ActionsRunOnTheSensor) {
+  Service service;
+  ASSERT_TRUE(service.all_live());
+  const Reply single = http(service.port, "POST", "/api/sensors/bay-A/actions/single");
+  ASSERT_EQ(single.status, 200) << single.body;
+  EXPECT_NE(json_of(single)["result"].get<std::string>().find(" m"), std::string::npos) << single.body;
+  const Reply stop = http(service.port, "POST", "/api/sensors/belt/actions/stop");
+  ASSERT_EQ(stop.status, 200) << stop.body;
+  EXPECT_FALSE(json_of(http(service.port, "GET", "/api/sensors/belt"))["streaming"].get<bool>());
+  auto control = ControlClient::connect(service.site.ls5_control);
+  ASSERT_TRUE(control.ok());
+  auto outputs = control->request({{"cmd", "outputs"}});
+  ASSERT_TRUE(outputs.ok());
+  const auto& device = outputs->contains("devices") ? (*outputs)["devices"][0] : *outputs;
+  EXPECT_EQ(device["streaming"], false);  // table 9.1 SB reached the sensor
+  EXPECT_EQ(http(service.port, "POST", "/api/sensors/belt/actions/start").status, 200);
+  const Reply pointer = http(service.port, "POST", "/api/sensors/belt/actions/pointer", R"({"argument":"on"})");
+  EXPECT_EQ(pointer.status, 409) << pointer.body;  // the ULS has a pointer (PT), the LS5 none
+}
+
+TEST(WebApi, EveryBadRequestGetsA4xxThatNamesTheProblem) {
+  web::ServerOptions options;
+  options.max_body_bytes = 1024;
+  options.max_header_bytes = 2048;
+  Service service(options);
+  const std::uint16_t port = service.port;
+  const auto expect = [&](const Reply& reply, int status, const std::string& code, const std::string& field = "") {
+    EXPECT_EQ(reply.status, status) << reply.body;
+    const auto json = json_of(reply);
+    ASSERT_TRUE(json.contains("error")) << reply.body;
+    EXPECT_EQ(json["error"]["code"], code) << reply.body;
+    if (!field.empty()) {
+      EXPECT_EQ(json["error"]["field"], field) << reply.body;
+    }
+  };
+  expect(http(port, "GET", "/api/sensors/nope"), 404, "not_found");
+  expect(http(port, "GET", "/api/nothing"), 404, "not_found");
+  expect(http(port, "GET", "/api/sensors/bel%zzt"), 400, "bad_target");
+  const Reply wrong_method = http(port, "DELETE", "/api/sensors/belt");
+  expect(wrong_method, 405, "method_not_allowed");
+  EXPECT_EQ(wrong_method.headers.at("allow"), "GET");
+  expect(http(port, "PATCH", "/api/sensors/belt/settings", "median-points=7"), 400, "bad_body");
+  expect(http(port, "PATCH", "/api/sensors/belt/settings", "[1,2]"), 400, "bad_body");
+  expect(http(port, "PATCH", "/api/sensors/belt/settings", R"({"median-points": {"a":1}})"), 400, "bad_body",
+         "median-points");
+  expect(http(port, "PATCH", "/api/sensors/belt/settings", R"({"no-such-setting": 1})"), 400, "unknown_parameter",
+         "no-such-setting");
+  expect(http(port, "PATCH", "/api/sensors/silo/settings", R"({"version": "x"})"), 400, "wrong_form", "version");
+  expect(http(port, "PATCH", "/api/sensors/belt/settings", "{\"median-points\": \"" + std::string(2000, '1') + "\"}"),
+         413, "body_too_large");
+  expect(http(port, "GET", "/api/sensors", {}, {"X-Long: " + std::string(4000, 'a')}), 431, "headers_too_large");
+  expect(http(port, "POST", "/api/sensors/belt/actions/explode"), 400, "unknown_action", "action");
+  expect(http(port, "POST", "/api/sensors/silo/actions/pointer", R"({"argument": 1})"), 400, "bad_body", "argument");
+  expect(http(port, "GET", "/api/sensors/belt/samples?limit=0"), 400, "out_of_range", "limit");
+  expect(http(port, "GET", "/api/sensors/belt/samples?after=x"), 400, "out_of_range", "after");
+  expect(http(port, "GET", "/api/events?max_rate=0"), 400, "out_of_range", "max_rate");
+  // DNS rebinding: a name that resolved to 127.0.0.1 is still not this service; another origin may not write.
+  expect(http(port, "PATCH", "/api/sensors/belt/settings", R"({"median-points": 7})", {},
+              "PATCH /api/sensors/belt/settings HTTP/1.1\r\nHost: evil.example:" + std::to_string(port) +
+                  "\r\nConnection: close\r\nContent-Length: 2\r\n\r\n{}"),
+         403, "bad_host");
+  expect(http(port, "POST", "/api/sensors/belt/actions/stop", "", {"Origin: http://evil.example"}), 403, "bad_origin");
+  expect(http(port, "GET", "/", {}, {}, "NOT HTTP AT ALL\r\n\r\n"), 400, "bad_request");
+  // Nothing of it reached the LS5: it still streams with its median filter as it was.
+  EXPECT_TRUE(json_of(http(port, "GET", "/api/sensors/belt"))["streaming"].get<bool>());
+}
+
+// Beyond loopback a token is needed for every write and stream (the service sets it then;
+// here it is set on a loopback server, since tests use no other address).
+TEST(WebApi, WithATokenWritesAndStreamsNeedIt) {
+  web::ServerOptions options;
+  options.token = "0123456789abcdef0123456789abcdef";
+  Service service(options);
+  const std::uint16_t port = service.port;
+  EXPECT_EQ(http(port, "GET", "/api/sensors").status, 200);  // reads need none
+  const Reply without = http(port, "POST", "/api/sensors/belt/actions/read");
+  EXPECT_EQ(without.status, 401) << without.body;
+  EXPECT_EQ(http(port, "POST", "/api/sensors/belt/actions/read", "", {"Authorization: Bearer wrong"}).status, 401);
+  EXPECT_EQ(http(port, "POST", "/api/sensors/belt/actions/read", "", {"Authorization: Bearer " + options.token}).status,
+            200);
+  web_test::EventReader refused(port, "/api/events");
+  refused.read_to_end(std::chrono::seconds(10));
+  EXPECT_EQ(refused.status(), 401);
+  web_test::EventReader allowed(port, "/api/events?token=" + options.token);
+  EXPECT_TRUE(allowed.read_until([](const web_test::Event& event) { return event.type == "sample"; }));
+}
+
+TEST(WebApi, TokenFilesAreMadeOnceWithMode0600) {
+  hub_test::TempDir dir;
+  const std::string path = (dir.path / "token").string();
+  auto made = web::load_or_create_token(path);
+  ASSERT_TRUE(made.ok()) << made.error().message;
+  EXPECT_TRUE(made->created);
+  EXPECT_EQ(made->value.size(), 64u);
+  EXPECT_EQ(std::filesystem::status(path).permissions() & std::filesystem::perms::all,
+            std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
+  auto again = web::load_or_create_token(path);
+  ASSERT_TRUE(again.ok());
+  EXPECT_FALSE(again->created);
+  EXPECT_EQ(again->value, made->value);
+  std::filesystem::permissions(path, std::filesystem::perms::group_read, std::filesystem::perm_options::add);
+  EXPECT_FALSE(web::load_or_create_token(path).ok());  // readable by others: refused
+  EXPECT_TRUE(web::is_loopback_host("127.0.0.1"));
+  EXPECT_TRUE(web::is_loopback_host("localhost"));
+  EXPECT_FALSE(web::is_loopback_host("0.0.0.0"));
+  EXPECT_FALSE(web::is_loopback_host("192.168.1.10"));
+}
+
+}  // namespace
