@@ -72,6 +72,9 @@ struct Hub::Impl final : Publisher {
 
   void publish(Session& session, StreamItem item) override {
     const auto now = std::chrono::steady_clock::now();
+    // In the service a sample's source is its sensor's name (the port alone would not
+    // tell the units of a bus apart in a capture or a download).
+    if (auto* sample = std::get_if<Sample>(&item)) sample->source = session.config.name;
     std::lock_guard order(publish_mutex);
     auto shared = std::make_shared<const HubItem>(HubItem{++sequence, session.config.name, std::move(item)});
     {
@@ -211,6 +214,23 @@ Result<std::vector<Field>> Hub::settings(std::string_view sensor) {
   return impl_->worker_of.at(session->config.name)
       ->run<std::vector<Field>>([session](Backend& backend) { return backend.read_settings(*session); },
                                 impl_->options.command_timeout);
+}
+
+Result<std::string> Hub::export_config(std::string_view sensor) {
+  Session* session = impl_->find(sensor);
+  if (session == nullptr) return impl_->unknown(sensor);
+  return impl_->worker_of.at(session->config.name)
+      ->run<std::string>([session](Backend& backend) { return backend.export_config(*session); },
+                         impl_->options.command_timeout);
+}
+
+Result<std::vector<Field>> Hub::import_config(std::string_view sensor, std::string_view toml) {
+  Session* session = impl_->find(sensor);
+  if (session == nullptr) return impl_->unknown(sensor);
+  return impl_->worker_of.at(session->config.name)
+      ->run<std::vector<Field>>(
+          [session, text = std::string(toml)](Backend& backend) { return backend.import_config(*session, text); },
+          impl_->options.command_timeout);
 }
 
 Result<std::string> Hub::act(std::string_view sensor, Action action, std::string_view argument) {

@@ -3,6 +3,7 @@
 
 #include "hub/session.hpp"
 #include "rangekit/ls5/driver.hpp"
+#include "rangekit/ls5/host_config.hpp"
 #include "rangekit/ls5/host_settings.hpp"
 #include "rangekit/ls5/udp_receiver.hpp"
 
@@ -163,6 +164,29 @@ class Ls5Backend final : public Backend {
     return refused(session_, action);
   }
 
+  Result<std::string> export_config(Session& /*session*/) override {
+    return paused([&]() -> Result<std::string> {
+      auto config = ls5::read_device_config(*driver_);
+      if (!config) return std::move(config).error();
+      return ls5::config_to_toml(*config);
+    });
+  }
+
+  Result<std::vector<Field>> import_config(Session& session, std::string_view toml) override {
+    auto file = ls5::parse_config_toml(toml, "the uploaded configuration");
+    if (!file) return std::move(file).error();
+    return paused([&]() -> Result<std::vector<Field>> {
+      auto report = ls5::upload_config(*driver_, *file);  // every value checked before the first is sent
+      if (!report) return std::move(report).error();
+      if (!report->mismatches.empty()) {
+        const auto& first = report->mismatches.front();
+        return make_error(Errc::device_error, std::string(first.setting->name) + " reads back as " +
+                                                  first.device_value + ", not " + first.file_value);
+      }
+      return read_settings(session);
+    });
+  }
+
   void shutdown() override {
     if (stream_) {
       stream_->stop();
@@ -241,6 +265,10 @@ class Ls5UdpBackend final : public Backend {
   Result<std::string> act(Session& session, Action action, std::string_view /*argument*/) override {
     if (action == Action::start) return std::string();
     return refused(session, action);
+  }
+  Result<std::string> export_config(Session& /*session*/) override { return no_port(); }
+  Result<std::vector<Field>> import_config(Session& /*session*/, std::string_view /*toml*/) override {
+    return no_port();
   }
   void shutdown() override {
     if (receiver_) receiver_->stop();

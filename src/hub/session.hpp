@@ -52,6 +52,8 @@ class Backend {
   virtual Result<std::vector<Field>> read_settings(Session& session) = 0;
   virtual Result<std::vector<Field>> write_settings(Session& session, const SettingValues& values) = 0;
   virtual Result<std::string> act(Session& session, Action action, std::string_view argument) = 0;
+  virtual Result<std::string> export_config(Session& session) = 0;
+  virtual Result<std::vector<Field>> import_config(Session& session, std::string_view toml) = 0;
   // Streams ended (the unit left as found), the port closed.
   virtual void shutdown() = 0;
 };

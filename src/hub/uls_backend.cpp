@@ -81,6 +81,30 @@ Result<std::vector<Field>> write_fields(uls::Driver& driver, Session& session, c
   return read_fields(driver, session);
 }
 
+Result<std::string> export_fields(uls::Driver& driver, const Session& session) {
+  auto config = uls::read_config(driver);
+  if (!config) return std::move(config).error();
+  return uls::config_to_toml(*config, "read by rangekit serve from sensor '" + session.config.name + "'");
+}
+
+// `uls config load`: every value checked (by the file's parse) before anything is sent,
+// uploaded with the unit stopped (U24), read back and compared.
+Result<std::vector<Field>> import_fields(uls::Driver& driver, Session& session, std::string_view toml) {
+  auto wanted = uls::config_from_toml(toml, "the uploaded configuration");
+  if (!wanted) return std::move(wanted).error();
+  if (wanted->settings.empty()) {
+    return make_error(Errc::invalid_frame, "the uploaded configuration holds no settings ([settings] is empty)");
+  }
+  auto report = uls::load_config(driver, *wanted);
+  if (!report) return std::move(report).error();
+  if (!report->mismatches.empty()) {
+    const auto& first = report->mismatches.front();
+    return make_error(Errc::device_error, std::string(first.command->cli_name) + " reads back as " + first.actual +
+                                              ", not " + first.wanted);
+  }
+  return read_fields(driver, session);
+}
+
 std::string sample_text(const Sample& sample) {
   if (sample.device_error) return "error " + std::to_string(*sample.device_error);
   if (sample.distance_m) return std::to_string(*sample.distance_m) + " m";
@@ -190,6 +214,14 @@ class UlsBackend final : public Backend {
       return std::string();
     }
     return paused([&] { return unit_action(*driver_, session, action, argument); });
+  }
+
+  Result<std::string> export_config(Session& session) override {
+    return paused([&] { return export_fields(*driver_, session); });
+  }
+
+  Result<std::vector<Field>> import_config(Session& session, std::string_view toml) override {
+    return paused([&] { return import_fields(*driver_, session, toml); });
   }
 
   void shutdown() override {
@@ -325,6 +357,14 @@ class UlsBusBackend final : public Backend {
       return std::string();
     }
     return addressed(session, [&](uls::Driver& driver) { return unit_action(driver, session, action, argument); });
+  }
+
+  Result<std::string> export_config(Session& session) override {
+    return addressed(session, [&](uls::Driver& driver) { return export_fields(driver, session); });
+  }
+
+  Result<std::vector<Field>> import_config(Session& session, std::string_view toml) override {
+    return addressed(session, [&](uls::Driver& driver) { return import_fields(driver, session, toml); });
   }
 
   void shutdown() override {

@@ -75,6 +75,25 @@ nlohmann::json sensor_json(const hub::SensorSnapshot& sensor) {
   return out;
 }
 
+nlohmann::json capture_json(const hub::CaptureInfo& capture) {
+  std::string started;
+  record::append_iso_time(started, capture.started);
+  nlohmann::json out{{"id", capture.id},     {"sensors", capture.sensors}, {"active", capture.active},
+                     {"started", started},   {"samples", capture.samples}, {"events", capture.events},
+                     {"lost", capture.lost}, {"error", capture.error},     {"stopped", nullptr}};
+  if (capture.stopped) {
+    std::string stopped;
+    record::append_iso_time(stopped, *capture.stopped);
+    out["stopped"] = stopped;
+  }
+  nlohmann::json links = nlohmann::json::object();
+  for (const char* format : {"sqlite", "csv", "jsonl", "log"}) {
+    links[format] = "/api/captures/" + capture.id + "/download?format=" + format;
+  }
+  out["download"] = links;
+  return out;
+}
+
 const char* item_type(const hub::HubItem& item) {
   return std::holds_alternative<Sample>(item.item) ? "sample" : "event";
 }

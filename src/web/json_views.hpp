@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 
+#include "rangekit/hub/captures.hpp"
 #include "rangekit/hub/hub.hpp"
 
 namespace rangekit::web {
@@ -28,6 +29,8 @@ struct SettingsBody {
   std::optional<BodyError> error;
 };
 SettingsBody settings_from_body(std::string_view body);
+
+nlohmann::json capture_json(const hub::CaptureInfo& capture);
 
 // {"error":{"code":"out_of_range","message":"...","field":"median-points"}}
 std::string error_json(std::string_view code, std::string_view message, std::string_view field = {});

@@ -217,6 +217,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
       if (method != http::verb::get) return wrong_method("GET");
       return open_stream(target, "");
     }
+    if (path.size() >= 2 && path[1] == "captures") return captures(target);
     if (path.size() < 2 || path[1] != "sensors") return not_found("no such path (see docs/api.md)");
     if (path.size() == 2) {
       if (method != http::verb::get) return wrong_method("GET");
@@ -248,6 +249,24 @@ class Connection : public std::enable_shared_from_this<Connection> {
       if (!same_origin() || !authorised(target)) return;
       return act(name, path[4], target);
     }
+    if (what == "config" && path.size() == 4) {
+      // Reading a whole configuration pauses an LS5 stream, so even the export is a POST.
+      if (method != http::verb::post && method != http::verb::put) return wrong_method("POST, PUT");
+      if (!same_origin() || !authorised(target)) return;
+      if (method == http::verb::post) {
+        return off_loop([&hub = server_.hub, name] { return hub.export_config(name); },
+                        [self = shared_from_this()](Result<std::string> result) {
+                          if (!result) return self->fail(result.error());
+                          self->respond(http::status::ok, std::move(*result), true, "application/toml");
+                        });
+      }
+      return off_loop([&hub = server_.hub, name, text = request_.body()] { return hub.import_config(name, text); },
+                      [self = shared_from_this()](Result<std::vector<hub::Field>> result) {
+                        if (!result) return self->fail(result.error());
+                        auto uploaded = self->server_.hub.sensor(self->request_target_name());
+                        self->respond(http::status::ok, uploaded ? sensor_json(*uploaded)["settings"].dump() : "{}");
+                      });
+    }
     if (what == "samples" && path.size() == 4) {
       if (method != http::verb::get) return wrong_method("GET");
       return samples(name, target);
@@ -257,6 +276,95 @@ class Connection : public std::enable_shared_from_this<Connection> {
       return open_stream(target, name);
     }
     return not_found("no such path (see docs/api.md)");
+  }
+
+  void captures(const Target& target) {
+    hub::CaptureManager* manager = server_.options.captures;
+    if (manager == nullptr) return not_found("this service keeps no captures");
+    const auto& path = target.segments;
+    const auto method = request_.method();
+    if (path.size() == 2) {
+      if (method == http::verb::get) {
+        nlohmann::json list = nlohmann::json::array();
+        for (const auto& capture : manager->list()) list.push_back(capture_json(capture));
+        return respond(http::status::ok, nlohmann::json{{"captures", list}}.dump());
+      }
+      if (method != http::verb::post) return wrong_method("GET, POST");
+      if (!same_origin() || !authorised(target)) return;
+      std::vector<std::string> sensors;
+      if (!request_.body().empty()) {
+        const auto json = nlohmann::json::parse(request_.body(), nullptr, false);
+        if (json.is_discarded() || !json.is_object() || (json.contains("sensors") && !json["sensors"].is_array())) {
+          return respond(http::status::bad_request,
+                         error_json("bad_body", "the body is empty or {\"sensors\": [\"name\", ...]}", "sensors"));
+        }
+        for (const auto& name : json.value("sensors", nlohmann::json::array())) {
+          if (!name.is_string()) {
+            return respond(http::status::bad_request, error_json("bad_body", "sensors: a list of names", "sensors"));
+          }
+          sensors.push_back(name.get<std::string>());
+        }
+      }
+      auto started = manager->start(sensors);
+      if (!started) {
+        if (started.error().code == Errc::unknown_parameter) {
+          return respond(http::status::bad_request,
+                         error_json("unknown_parameter", started.error().message, "sensors"));
+        }
+        return fail(started.error());
+      }
+      return respond(http::status::created, capture_json(*started).dump());
+    }
+    const std::string& id = path[2];
+    auto capture = manager->info(id);
+    if (!capture) return not_found(capture.error().message);
+    if (path.size() == 3) {
+      if (method != http::verb::get) return wrong_method("GET");
+      return respond(http::status::ok, capture_json(*capture).dump());
+    }
+    if (path.size() == 4 && path[3] == "stop") {
+      if (method != http::verb::post) return wrong_method("POST");
+      if (!same_origin() || !authorised(target)) return;
+      return off_loop([manager, id] { return manager->stop(id); },
+                      [self = shared_from_this()](Result<hub::CaptureInfo> result) {
+                        if (!result) return self->fail(result.error());
+                        self->respond(http::status::ok, capture_json(*result).dump());
+                      });
+    }
+    if (path.size() == 4 && path[3] == "download") {
+      if (method != http::verb::get) return wrong_method("GET");
+      const auto format_text = target.query.count("format") != 0 ? target.query.at("format") : std::string("sqlite");
+      auto format = hub::parse_download_format(format_text);
+      if (!format)
+        return respond(http::status::bad_request, error_json("out_of_range", format.error().message, "format"));
+      return off_loop([manager, id, format = *format] { return manager->export_file(id, format); },
+                      [self = shared_from_this(), id, format = *format, format_text](Result<std::string> file) {
+                        if (!file) return self->fail(file.error());
+                        self->send_file(*file, format, id + "." + format_text);
+                      });
+    }
+    return not_found("no such path (see docs/api.md)");
+  }
+
+  void send_file(const std::string& path, hub::DownloadFormat format, const std::string& name) {
+    static constexpr const char* types[] = {"application/vnd.sqlite3", "text/csv", "application/x-ndjson",
+                                            "text/plain; charset=us-ascii"};
+    http::file_body::value_type body;
+    beast::error_code error;
+    body.open(path.c_str(), beast::file_mode::scan, error);
+    if (error) return fail(make_error(Errc::io, "cannot read " + path + ": " + error.message()));
+    auto response =
+        std::make_shared<http::response<http::file_body>>(std::piecewise_construct, std::make_tuple(std::move(body)),
+                                                          std::make_tuple(http::status::ok, request_.version()));
+    response->set(http::field::server, "rangekit");
+    response->set(http::field::content_type, types[static_cast<int>(format)]);
+    response->set(http::field::content_disposition, "attachment; filename=\"" + name + "\"");
+    response->keep_alive(request_.keep_alive());
+    response->prepare_payload();
+    http::async_write(stream_, *response, [self = shared_from_this(), response](beast::error_code failed, std::size_t) {
+      if (failed || response->need_eof()) return self->close();
+      self->read();
+    });
   }
 
   // Runs a call that waits for the sensor on the command pool; answers on the loop.

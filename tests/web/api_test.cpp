@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+
 #include "hub/site_fixture.hpp"
 #include "rangekit/sim/control_socket.hpp"
 #include "rangekit/web/server.hpp"
@@ -18,10 +20,12 @@ using web_test::Reply;
 struct Service {
   hub_test::Site site;
   std::unique_ptr<hub::Hub> hub = hub::Hub::start(site.config);
+  hub::CaptureManager captures{*hub, (site.temp.path / "captures").string()};
   std::unique_ptr<web::Server> server;
   std::uint16_t port = 0;
   explicit Service(web::ServerOptions options = {}) {
     options.listen = "127.0.0.1:0";
+    options.captures = &captures;
     auto started = web::Server::start(*hub, options);
     EXPECT_TRUE(started.ok()) << (started.ok() ? "" : started.error().message);
     if (started) server = std::move(*started);
@@ -221,6 +225,78 @@ TEST(WebApi, TokenFilesAreMadeOnceWithMode0600) {
   EXPECT_TRUE(web::is_loopback_host("localhost"));
   EXPECT_FALSE(web::is_loopback_host("0.0.0.0"));
   EXPECT_FALSE(web::is_loopback_host("192.168.1.10"));
+}
+
+// §2 File Menu: Start Capture, Stop Capture, View Capture; downloads as SQLite, CSV, JSON lines
+// and the Interface Program's .log layout per mode (U100).
+TEST(WebApi, CapturesStartStopListAndDownloadInEveryFormat) {
+  Service service;
+  ASSERT_TRUE(service.all_live());
+  const Reply started = http(service.port, "POST", "/api/captures", R"({"sensors": ["bay-A"]})");
+  ASSERT_EQ(started.status, 201) << started.body;
+  const std::string id = json_of(started)["id"];
+  EXPECT_TRUE(json_of(started)["active"].get<bool>());
+  // Until it has written something (bounded; the bus unit is polled many times a second).
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (json_of(http(service.port, "GET", "/api/captures/" + id))["samples"].get<int>() < 5 &&
+         std::chrono::steady_clock::now() < deadline) {
+  }
+  const Reply running_sqlite = http(service.port, "GET", "/api/captures/" + id + "/download?format=sqlite");
+  EXPECT_EQ(running_sqlite.status, 409) << running_sqlite.body;  // stop it first (WAL not yet folded in)
+  const Reply stopped = http(service.port, "POST", "/api/captures/" + id + "/stop");
+  ASSERT_EQ(stopped.status, 200) << stopped.body;
+  EXPECT_FALSE(json_of(stopped)["active"].get<bool>());
+  const auto samples = json_of(stopped)["samples"].get<std::size_t>();
+  EXPECT_GE(samples, 5u);
+  EXPECT_EQ(json_of(http(service.port, "GET", "/api/captures"))["captures"].size(), 1u);
+
+  const Reply sqlite = http(service.port, "GET", "/api/captures/" + id + "/download?format=sqlite");
+  ASSERT_EQ(sqlite.status, 200);
+  EXPECT_EQ(sqlite.body.substr(0, 16), std::string("SQLite format 3\0", 16));
+  EXPECT_EQ(sqlite.headers.at("content-disposition"), "attachment; filename=\"" + id + ".sqlite\"");
+  const Reply csv = http(service.port, "GET", "/api/captures/" + id + "/download?format=csv");
+  ASSERT_EQ(csv.status, 200);
+  EXPECT_EQ(csv.body.substr(0, 18), "time,device,addres");
+  const Reply jsonl = http(service.port, "GET", "/api/captures/" + id + "/download?format=jsonl");
+  ASSERT_EQ(jsonl.status, 200);
+  EXPECT_NE(jsonl.body.find("\"source\":\"bay-A\""), std::string::npos);  // the sensor's name
+  const Reply log = http(service.port, "GET", "/api/captures/" + id + "/download?format=log");
+  ASSERT_EQ(log.status, 200) << log.body;
+  // §2: "Averaging Mode: Time (H:M:S:mS), Distance, Units, Intensity."
+  EXPECT_EQ(log.body.substr(0, 44), "Time (H:M:S:mS), Distance, Units, Intensity\n");
+  EXPECT_EQ(std::count(log.body.begin(), log.body.end(), '\n'), static_cast<long>(samples) + 1);
+
+  // An LS5 capture has no .log layout; bad requests name the field.
+  const Reply ls5 = http(service.port, "POST", "/api/captures", R"({"sensors": ["belt"]})");
+  ASSERT_EQ(ls5.status, 201);
+  const std::string ls5_id = json_of(ls5)["id"];
+  EXPECT_EQ(http(service.port, "POST", "/api/captures/" + ls5_id + "/stop").status, 200);
+  const Reply no_log = http(service.port, "GET", "/api/captures/" + ls5_id + "/download?format=log");
+  EXPECT_EQ(no_log.status, 409) << no_log.body;
+  EXPECT_EQ(error_field(http(service.port, "GET", "/api/captures/" + id + "/download?format=xls")), "format");
+  EXPECT_EQ(error_field(http(service.port, "POST", "/api/captures", R"({"sensors": ["nope"]})")), "sensors");
+  EXPECT_EQ(http(service.port, "GET", "/api/captures/none").status, 404);
+}
+
+// The same TOML as `rangekit ls5 config save/load` (§2 File Menu's configuration file).
+TEST(WebApi, ConfigurationExportAndImport) {
+  Service service;
+  ASSERT_TRUE(service.all_live());
+  const Reply exported = http(service.port, "POST", "/api/sensors/belt/config");
+  ASSERT_EQ(exported.status, 200) << exported.body;
+  EXPECT_EQ(exported.headers.at("content-type"), "application/toml");
+  std::string toml = exported.body;
+  const auto at = toml.find("median-points = ");
+  ASSERT_NE(at, std::string::npos) << toml;
+  toml.replace(at, toml.find('\n', at) - at, "median-points = 9");
+  const Reply imported = http(service.port, "PUT", "/api/sensors/belt/config", toml);
+  ASSERT_EQ(imported.status, 200) << imported.body;
+  EXPECT_EQ(json_of(imported)["median-points"], 9);
+  const Reply broken = http(service.port, "PUT", "/api/sensors/belt/config", "median-points = [");
+  EXPECT_EQ(broken.status, 400) << broken.body;
+  const Reply uls = http(service.port, "POST", "/api/sensors/bay-D/config");
+  ASSERT_EQ(uls.status, 200) << uls.body;
+  EXPECT_NE(uls.body.find("[settings]"), std::string::npos);
 }
 
 }  // namespace

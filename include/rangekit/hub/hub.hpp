@@ -96,6 +96,12 @@ class Hub {
   Result<std::vector<Field>> set(std::string_view sensor,
                                  const std::vector<std::pair<std::string, std::string>>& values);
   Result<std::vector<Field>> settings(std::string_view sensor);  // read now
+  // The sensor's settings as the configuration file `rangekit uls|ls5 config save` writes
+  // (the Interface Program's saved file, §2 File Menu), read from the sensor now.
+  Result<std::string> export_config(std::string_view sensor);
+  // Such a file uploaded: every value checked first, written, read back and verified
+  // (`config load`). Returns the settings as read back.
+  Result<std::vector<Field>> import_config(std::string_view sensor, std::string_view toml);
   // The action's result text ("10.123 m" for single, "" otherwise).
   Result<std::string> act(std::string_view sensor, Action action, std::string_view argument = {});
 

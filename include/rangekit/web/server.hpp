@@ -10,6 +10,7 @@
 
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/udp.hpp"
+#include "rangekit/hub/captures.hpp"
 #include "rangekit/hub/hub.hpp"
 
 namespace rangekit::web {
@@ -24,7 +25,8 @@ struct ServerOptions {
   std::size_t max_header_bytes = 8 * 1024;
   // Items a stream client may fall behind before it is cut off (it resumes with Last-Event-ID).
   std::size_t stream_queue = 4096;
-  std::size_t command_threads = 4;  // settings and actions wait for the sensor here, not in the event loop
+  std::size_t command_threads = 4;          // settings and actions wait for the sensor here, not in the event loop
+  hub::CaptureManager* captures = nullptr;  // /api/captures; none: those paths answer 404
 };
 
 struct ServerStats {

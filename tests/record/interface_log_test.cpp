@@ -1,0 +1,68 @@
+// U100: the ULS Interface Program's capture file (§2 File Menu), columns typed from the
+// document: "Averaging Mode: Time (H:M:S:mS), Distance, Units, Intensity. Binning Mode: Time
+// (H:M:S:mS), Index value in array, Number of Targets, Distance, Units. Look Down Mode:
+// (H:M:S:mS), ON/OFF."
+#include "rangekit/record/interface_log.hpp"
+
+#include <gtest/gtest.h>
+
+namespace {
+
+using namespace rangekit;
+using namespace std::chrono;
+
+Sample uls(SampleKind kind) {
+  Sample sample;
+  sample.device = "uls";
+  sample.kind = kind;
+  // 2026-12-01 13:04:05.123 UTC
+  sample.time = system_clock::time_point(seconds(1796130245) + milliseconds(123));
+  return sample;
+}
+
+TEST(InterfaceLog, U100_EachModeWithItsColumns) {
+  record::InterfaceLogWriter writer;
+  std::string out;
+  Sample averaging = uls(SampleKind::uls_averaging);
+  averaging.distance_m = 12.345;
+  averaging.pulse_width = 18000;
+  ASSERT_TRUE(writer.append(out, averaging));
+  averaging.pulse_width.reset();
+  ASSERT_TRUE(writer.append(out, averaging));
+  Sample binning = uls(SampleKind::uls_binning);
+  binning.targets = {{10.5, 3}, {20.25, 1}};
+  ASSERT_TRUE(writer.append(out, binning));
+  Sample look_down = uls(SampleKind::uls_look_down);
+  look_down.presence = true;
+  ASSERT_TRUE(writer.append(out, look_down));
+  look_down.presence = false;
+  ASSERT_TRUE(writer.append(out, look_down));
+  Sample error = uls(SampleKind::uls_error);
+  error.device_error = 4;
+  ASSERT_TRUE(writer.append(out, error));
+  EXPECT_EQ(out,
+            "Time (H:M:S:mS), Distance, Units, Intensity\n"
+            "13:04:05:123, 12.345, m, 18000\n"
+            "13:04:05:123, 12.345, m, \n"
+            "Time (H:M:S:mS), Index value in array, Number of Targets, Distance, Units\n"
+            "13:04:05:123, 1, 2, 10.500, m\n"
+            "13:04:05:123, 2, 2, 20.250, m\n"
+            "Time (H:M:S:mS), ON/OFF\n"
+            "13:04:05:123, ON\n"
+            "13:04:05:123, OFF\n"
+            "13:04:05:123, ERROR 4\n");
+}
+
+TEST(InterfaceLog, U100_AnLs5SampleHasNoLogLayout) {
+  record::InterfaceLogWriter writer;
+  std::string out;
+  Sample ls5;
+  ls5.device = "ls5";
+  ls5.kind = SampleKind::ls5_result;
+  const Status refused = writer.append(out, ls5);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().code, Errc::unsupported);
+  EXPECT_TRUE(out.empty());
+}
+
+}  // namespace
