@@ -30,7 +30,7 @@ class Capture:
         self.samples, self.events = _impl.read(self.path, device)
 
     def of_kind(self, kind: str) -> numpy.ndarray:
-        """The samples of one kind (``"ls5_result"``, ``"uls_averaging"``, ...)."""
+        """The samples of one kind (``"result"``, ``"averaging"``, ...: :data:`rangekit.sample_kinds`)."""
         return self.samples[self.samples["kind"] == list(_rangekit.sample_kinds).index(kind)]
 
     def dataframe(self) -> Any:

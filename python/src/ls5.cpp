@@ -212,7 +212,7 @@ void init_ls5(py::module_& parent) {
         py::dict spec;
         spec["names"] = names;
         spec["formats"] = formats;
-        py::dtype dtype(spec);
+        py::dtype dtype = py::dtype::from_args(spec);
         py::array records(dtype, py::ssize_t(ls5::udp_record_count));
         py::array_t<std::uint16_t> codes(static_cast<py::ssize_t>(ls5::udp_record_count));
         py::array_t<std::uint8_t> states(static_cast<py::ssize_t>(ls5::udp_record_count));

@@ -38,6 +38,14 @@ const char* exception_name(Errc code) noexcept {
   return "RangekitError";
 }
 
+// "invalid frame" -> "invalid_frame": a name a Python user compares with.
+std::string code_name(Errc code) {
+  std::string name = errc_name(code);
+  for (char& c : name)
+    if (c == ' ') c = '_';
+  return name;
+}
+
 constexpr double not_a_number = std::numeric_limits<double>::quiet_NaN();
 
 template <class T>
@@ -55,7 +63,7 @@ void raise_error(const Error& error, std::string_view family) {
     number = py::int_(error.device_code);
     if (family == "uls") text = py::str(uls::error_text(error.device_code));  // §10, U90
   }
-  py::object exception = errors.attr(exception_name(error.code))(error.message, errc_name(error.code), number, text);
+  py::object exception = errors.attr(exception_name(error.code))(error.message, code_name(error.code), number, text);
   PyErr_SetObject(reinterpret_cast<PyObject*>(Py_TYPE(exception.ptr())), exception.ptr());
   throw py::error_already_set();
 }
@@ -146,7 +154,7 @@ void init_samples(py::module_& module) {
       .def_readonly("address", &Sample::address, "bus address, -1 when the protocol has none")
       .def_property_readonly(
           "kind", [](const Sample& s) { return std::string(sample_kind_name(s.kind)); },
-          "uls_averaging, uls_binning, uls_look_down, uls_error, ls5_result or ls5_derivative")
+          "averaging, binning, look_down, error (ULS); result, derivative (LS5)")
       .def_property_readonly(
           "distance_m", [](const Sample& s) { return optional_object(s.distance_m); },
           "ULS averaging distance in metres, or None")
