@@ -46,6 +46,36 @@ def cli_path() -> str:
     raise LinkError("the rangekit CLI was not found: set RANGEKIT_CLI or put rangekit on PATH", "io")
 
 
+def _toml_value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, str):
+        return json.dumps(value)  # a TOML basic string: the same escapes
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml_value(item) for item in value) + "]"
+    raise TypeError(f"a scene value must be a bool, number, string or list, not {type(value).__name__}")
+
+
+def toml_text(scene: Mapping[str, Any]) -> str:
+    """A scene dict as the TOML file ``rangekit sim --scene`` reads: tables for dicts,
+    arrays of tables for lists of dicts (``{"target": {"position_mm": 28.0}}``)."""
+    lines: List[str] = []
+    for key, value in scene.items():
+        if not isinstance(value, Mapping) and not (isinstance(value, list) and value and isinstance(value[0], Mapping)):
+            lines.append(f"{key} = {_toml_value(value)}")
+    for key, value in scene.items():
+        if isinstance(value, Mapping):
+            lines.append(f"[{key}]")
+            lines += [f"{name} = {_toml_value(item)}" for name, item in value.items()]
+        elif isinstance(value, list) and value and isinstance(value[0], Mapping):
+            for table in value:
+                lines.append(f"[[{key}]]")
+                lines += [f"{name} = {_toml_value(item)}" for name, item in table.items()]
+    return "\n".join(lines) + "\n"
+
+
 class Emulator:
     """One emulated sensor in a child process; a context manager that stops it and removes its files."""
 
@@ -70,7 +100,12 @@ class Emulator:
         argv = [cli_path(), "sim", self.family, "--port", self.port, "--control", self.control]
         if self.config_port:
             argv += ["--config-port", self.config_port]
-        if self._scene is not None and not isinstance(self._scene, Mapping):
+        if isinstance(self._scene, Mapping):
+            scene_path = os.path.join(self._directory, "scene.toml")
+            with open(scene_path, "w") as scene_file:
+                scene_file.write(toml_text(self._scene))
+            argv += ["--scene", scene_path]
+        elif self._scene is not None:
             argv += ["--scene", os.fspath(self._scene)]
         return argv + self._arguments
 
@@ -86,8 +121,6 @@ class Emulator:
             self.kill()
             with open(self.log_path, errors="replace") as log:
                 raise LinkError(f"rangekit sim {self.family} did not start: {log.read().strip()}", "io")
-        if isinstance(self._scene, Mapping):
-            self.command({"cmd": "set_scene", "scene": dict(self._scene)})
         return self
 
     def command(self, command: Mapping[str, Any]) -> Dict[str, Any]:

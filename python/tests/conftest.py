@@ -13,10 +13,15 @@ def uls_unit():
         yield unit
 
 
+LS5_ARGUMENTS = ["--model", "0/100", "--version", "LS5.12.0", "--serial", "157"]
+# A surface 25 mm into the 100 mm range, without noise (docs/emulator-ls5.md "Scene").
+LS5_SCENE = {"target": {"position_mm": 25.0, "noise_mm": 0.0}}
+
+
 @pytest.fixture
 def ls5_unit():
-    # LS5.12.0, range 0/100 mm: the sensor of the CLI's own LS5 tests.
-    with rangekit.sim.ls5(arguments=["--model", "0/100", "--version", "LS5.12.0", "--serial", "157"]) as unit:
+    # LS5.12.0, lower boundary 0, range 100 mm: the sensor of the CLI's own LS5 tests.
+    with rangekit.sim.ls5(scene=LS5_SCENE, arguments=LS5_ARGUMENTS) as unit:
         yield unit
 
 
