@@ -3,6 +3,7 @@
 // PyErr_CheckSignals between slices) interrupts a blocking read at once.
 #include <algorithm>
 #include <mutex>
+#include <thread>
 
 #include "common.hpp"
 
@@ -12,6 +13,8 @@ namespace {
 using std::chrono::steady_clock;
 // How long the GIL stays released before Python's signal handlers get a turn.
 constexpr std::chrono::milliseconds signal_slice{50};
+// How long a bulk read lets records gather in the queue before it drains them.
+constexpr std::chrono::milliseconds batch_period{signal_slice};
 
 std::chrono::milliseconds until(steady_clock::time_point end) {
   const auto left = std::chrono::ceil<std::chrono::milliseconds>(end - steady_clock::now());
@@ -84,10 +87,14 @@ py::array Stream::read(std::optional<std::size_t> count, std::optional<double> d
       auto slice_end = steady_clock::now() + signal_slice;
       if (deadline) slice_end = std::min(slice_end, *deadline);
       while (want_more()) {
-        auto item = source_->next(until(slice_end));
+        auto item = source_->next(std::chrono::milliseconds(0));
         if (!item) {
           ended = source_->finished();
-          break;
+          if (ended || steady_clock::now() >= slice_end) break;
+          // Nothing queued: let records gather for a batch period instead of waking for each
+          // one (at 1 kHz that is 50 a wake-up, not 1); the array comes back at the end anyway.
+          std::this_thread::sleep_for(std::min<steady_clock::duration>(batch_period, slice_end - steady_clock::now()));
+          continue;
         }
         if (const auto* sample = std::get_if<Sample>(&*item)) {
           records.push_back(to_record(*sample));
