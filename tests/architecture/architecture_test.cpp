@@ -126,4 +126,13 @@ TEST(Architecture, CliIncludesNoPrivateHeaderOfALibrary) {
   expect_no_include("src/cli", R"(^(?!cli/|rangekit/))", "the CLI uses the libraries' public headers only");
 }
 
+TEST(Architecture, PythonModuleUsesThePublicHeadersOnly) {
+  // Issue 16: "The Python package must be the same library, not a second implementation":
+  // its module (python/src) binds the public headers, and links no emulator (rangekit.sim
+  // runs the CLI's `rangekit sim` as a child process) and no hub.
+  expect_no_include("python/src", R"(^(?!common\.hpp$|rangekit/))",
+                    "the Python module uses the libraries' public headers only");
+  expect_no_include("python/src", R"(^rangekit/(sim|hub)/)", "the Python module binds no emulator or hub");
+}
+
 }  // namespace

@@ -1,0 +1,83 @@
+"""LTI ULS laser rangefinders: driver and codec (docs/host-uls.md, docs/python.md).
+
+>>> import rangekit
+>>> with rangekit.uls.open("/dev/ttyUSB0") as drv:          # doctest: +SKIP
+...     drv.settings["prf-hz"] = 2000
+...     for item in drv.stream():
+...         print(item)
+"""
+
+from __future__ import annotations
+
+from typing import Any, Dict, List, Optional, Union
+
+from . import _rangekit
+from ._driver import BaseDriver
+
+_impl = _rangekit.uls
+
+__all__ = ["open", "Driver", "decode_line", "error_text", "readable_names", "writable_names"]
+
+
+class Driver(BaseDriver):
+    """A ULS unit (rangekit::uls::Driver): requests matched to replies, a timeout per call,
+    one retry for gets, a stream that reconnects when the port comes back.
+
+    Setting names are those of ``rangekit uls get``: the unit is in the name (``prf-hz``,
+    ``short-gate-m``, ``fault-current-ma``); distances are in metres whatever MU is.
+    """
+
+    def __init__(self, impl: Any):
+        super().__init__(impl, _impl.readable_names())
+
+    def status(self) -> Dict[str, Any]:
+        """US decoded into its bits (§8 Get Unit Status)."""
+        return self._impl.status()
+
+    def stream(self, mode: str = "automatic") -> "_rangekit.Stream":
+        """Starts measuring (GO unless already measuring) and returns the stream.
+
+        ``mode``: ``automatic`` (continuous lines, falling back to polling with BM when none
+        arrive), ``continuous`` or ``polled``. Iterate it for :class:`rangekit.Sample` and
+        :class:`rangekit.Event` objects, or ``read(n)`` / ``read(duration=s)`` NumPy arrays.
+        Ending it leaves the unit as found (U86).
+        """
+        return self._impl.stream(mode)
+
+
+def open(port: str, baud: int = 115200, address: Optional[Union[str, int]] = None, timeout: float = 1.0) -> Driver:
+    """Opens a ULS on ``port`` (8N1 at ``baud``, §9).
+
+    ``address``: the RS-485 unit address, 0x30-0xEF, as a character (``"A"``), ``"0x41"`` or an
+    int; None talks the ``$`` protocol. ``timeout``: seconds to wait for each reply.
+    """
+    if isinstance(address, int):
+        address = hex(address)
+    return Driver(_impl.open(port, baud, address, timeout))
+
+
+def decode_line(
+    line: bytes, *, mode: str = "averaging", display: str = "range", units: str = "m", time_between_events: bool = False
+) -> "_rangekit.Sample":
+    """Decodes one measurement line (``b"$BM,12.345\\r"``) into a :class:`rangekit.Sample`.
+
+    A line cannot be read without the unit's settings (U11): ``mode`` (averaging, binning,
+    look-down), ``display`` (range, range-and-intensity, intensity), ``units`` (m, ft) and
+    ``time_between_events`` (TB). Raises :class:`rangekit.errors.DecodeError` on bad bytes.
+    """
+    return _impl.decode_line(line, mode=mode, display=display, units=units, time_between_events=time_between_events)
+
+
+def error_text(number: int) -> str:
+    """The §10 text of a ULS error number ("not listed in §10" for others)."""
+    return _impl.error_text(number)
+
+
+def readable_names() -> List[str]:
+    """The setting names ``get`` accepts, in table order."""
+    return list(_impl.readable_names())
+
+
+def writable_names() -> List[str]:
+    """The setting names ``set`` accepts."""
+    return [name.strip() for name in _impl.writable_names().split(",")]

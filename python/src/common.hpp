@@ -1,0 +1,115 @@
+// Shared by the parts of the `_rangekit` module: errors raised as the Python
+// exceptions of rangekit.errors, calls made without the GIL, the sample record
+// of the NumPy arrays, and the wait for the next stream item that stays
+// responsive to Ctrl-C.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "rangekit/core/result.hpp"
+#include "rangekit/core/sample.hpp"
+
+namespace rangekit::python {
+
+namespace py = pybind11;
+
+// Raises the rangekit.errors class for the error's code, carrying the code's name,
+// the device's error number and, for the ULS, its §10 text.
+[[noreturn]] void raise_error(const Error& error, std::string_view family = {});
+
+template <class T>
+T unwrap(Result<T> result, std::string_view family = {}) {
+  if (!result) raise_error(result.error(), family);
+  return std::move(result).value();
+}
+inline void check(const Status& status, std::string_view family = {}) {
+  if (!status) raise_error(status.error(), family);
+}
+
+// Runs `call` with the GIL released (waiting for a device, filling an array).
+template <class Call>
+auto without_gil(Call&& call) {
+  py::gil_scoped_release release;
+  return call();
+}
+
+double to_seconds(std::chrono::system_clock::time_point time) noexcept;
+
+// Bits of SampleRecord::flags (rangekit.FLAG_* in Python).
+namespace flag {
+inline constexpr std::uint8_t valid = 0x01;            // the sample holds a distance
+inline constexpr std::uint8_t no_signal = 0x02;        // LS5 65535 / ULS $ER,4 (target not found)
+inline constexpr std::uint8_t no_result_yet = 0x04;    // LS5 65534 / ULS $ER,5 (average not filled)
+inline constexpr std::uint8_t derivative = 0x08;       // LS5 distance derivative (§8.8)
+inline constexpr std::uint8_t presence = 0x10;         // ULS look down: a target present
+inline constexpr std::uint8_t pulses_overflow = 0x20;  // ULS look down: more than 65535 pulses (U88)
+inline constexpr std::uint8_t device_error = 0x40;     // ULS $ER,n in the stream
+}  // namespace flag
+
+// One row of the structured arrays read() and captures return (docs/python.md).
+struct SampleRecord {
+  double time;           // host receive time, seconds since the Unix epoch (UTC)
+  double distance_m;     // metres; NaN when the sample holds none
+  double intensity;      // ULS pulse width in ns, or binning strength of the first target; NaN otherwise
+  std::uint32_t pulses;  // ULS look down: pulses between events; 0 when none
+  std::uint16_t code;    // LS5 result code (§9.3); 0 for the ULS
+  std::int16_t error;    // ULS §10 error number; 0 when none
+  std::int16_t address;  // bus address; -1 when the protocol has none
+  std::uint8_t kind;     // rangekit::SampleKind
+  std::uint8_t flags;    // flag::*
+  std::uint8_t targets;  // ULS binning: targets in the array
+};
+SampleRecord to_record(const Sample& sample) noexcept;
+// The records as a NumPy array (one copy, without the GIL).
+py::array records_to_array(const std::vector<SampleRecord>& records);
+
+// A sample or an event as its Python object (rangekit.Sample / rangekit.Event).
+py::object to_python(StreamItem item);
+
+// Waits for the source's next item until `deadline` (none: for ever), in short
+// slices with the GIL released; between slices Python's signal handlers run, so
+// Ctrl-C raises KeyboardInterrupt here. Nothing: the deadline passed or the source
+// finished. `waiting` is true while the GIL is released for the wait.
+std::optional<StreamItem> wait_next(SampleSource& source, std::optional<std::chrono::steady_clock::time_point> deadline,
+                                    std::atomic<bool>& waiting);
+
+// The Python stream object over a driver's MeasurementStream or a replay.
+class Stream {
+ public:
+  explicit Stream(SampleSourcePtr source) : source_(std::move(source)) {}
+  ~Stream();
+  py::object next_item();  // StopIteration at the end
+  // The next item within `seconds` (none: for ever); None on timeout or at the end.
+  py::object next_within(std::optional<double> seconds);
+  // Up to `count` samples, or those of `duration` seconds, or until the end.
+  py::array read(std::optional<std::size_t> count, std::optional<double> duration);
+  py::list take_events();
+  void stop();
+  [[nodiscard]] bool finished() const;
+  [[nodiscard]] bool waiting() const noexcept { return waiting_.load(); }
+  [[nodiscard]] std::uint64_t lost() const;
+
+ private:
+  SampleSourcePtr source_;
+  std::deque<StreamEvent> events_;  // met by read(), kept for take_events()
+  std::atomic<bool> waiting_{false};
+};
+
+void init_samples(py::module_& module);
+void init_streams(py::module_& module);
+void init_uls(py::module_& module);
+void init_ls5(py::module_& module);
+void init_capture(py::module_& module);
+
+}  // namespace rangekit::python

@@ -1,0 +1,14 @@
+// `_rangekit`: the compiled half of the rangekit Python package. The Python half
+// (python/rangekit) gives it the names users import: rangekit.uls, rangekit.ls5, ...
+#include "common.hpp"
+#include "rangekit/version.hpp"
+
+PYBIND11_MODULE(_rangekit, module) {
+  module.doc() = "rangekit's C++ library for Python; import rangekit, not this module";
+  module.attr("version") = std::string(rangekit::version_string);
+  rangekit::python::init_samples(module);
+  rangekit::python::init_streams(module);
+  rangekit::python::init_uls(module);
+  rangekit::python::init_ls5(module);
+  rangekit::python::init_capture(module);
+}

@@ -1,0 +1,161 @@
+// Streams as Python iterators and NumPy readers. Every wait happens with the GIL
+// released, in slices short enough that Ctrl-C (Python's SIGINT handler, run by
+// PyErr_CheckSignals between slices) interrupts a blocking read at once.
+#include <algorithm>
+#include <mutex>
+#include <thread>
+
+#include "common.hpp"
+
+namespace rangekit::python {
+namespace {
+
+using std::chrono::steady_clock;
+// How long the GIL stays released before Python's signal handlers get a turn.
+constexpr std::chrono::milliseconds signal_slice{50};
+// How long a bulk read lets records gather in the queue before it drains them.
+constexpr std::chrono::milliseconds batch_period{signal_slice};
+
+std::chrono::milliseconds until(steady_clock::time_point end) {
+  const auto left = std::chrono::ceil<std::chrono::milliseconds>(end - steady_clock::now());
+  return std::max(left, std::chrono::milliseconds(0));
+}
+
+std::mutex& events_mutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+}  // namespace
+
+std::optional<StreamItem> wait_next(SampleSource& source, std::optional<steady_clock::time_point> deadline,
+                                    std::atomic<bool>& waiting) {
+  while (true) {
+    auto slice_end = steady_clock::now() + signal_slice;
+    if (deadline) slice_end = std::min(slice_end, *deadline);
+    std::optional<StreamItem> item = without_gil([&] {
+      waiting = true;
+      auto next = source.next(until(slice_end));
+      waiting = false;
+      return next;
+    });
+    if (item) return item;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // KeyboardInterrupt
+    if (source.finished()) return std::nullopt;
+    if (deadline && steady_clock::now() >= *deadline) return std::nullopt;
+  }
+}
+
+Stream::~Stream() {
+  // Joins the reader and leaves the device as the stream's own stop says.
+  py::gil_scoped_release release;
+  source_.reset();
+}
+
+py::object Stream::next_item() {
+  if (!source_) throw py::stop_iteration();
+  auto item = wait_next(*source_, std::nullopt, waiting_);
+  if (!item) throw py::stop_iteration();
+  return to_python(std::move(*item));
+}
+
+py::object Stream::next_within(std::optional<double> seconds) {
+  if (!source_) return py::none();
+  std::optional<steady_clock::time_point> deadline;
+  if (seconds)
+    deadline = steady_clock::now() +
+               std::chrono::duration_cast<steady_clock::duration>(std::chrono::duration<double>(*seconds));
+  auto item = wait_next(*source_, deadline, waiting_);
+  if (!item) return py::none();
+  return to_python(std::move(*item));
+}
+
+py::array Stream::read(std::optional<std::size_t> count, std::optional<double> duration) {
+  if (!count && !duration) throw py::value_error("read() needs n (samples) or duration (seconds), or both");
+  if (duration && !(*duration >= 0)) throw py::value_error("read(duration=...) must be 0 or more seconds");
+  std::vector<SampleRecord> records;
+  if (count) records.reserve(std::min<std::size_t>(*count, 1U << 20U));
+  std::optional<steady_clock::time_point> deadline;
+  if (duration)
+    deadline = steady_clock::now() +
+               std::chrono::duration_cast<steady_clock::duration>(std::chrono::duration<double>(*duration));
+  const auto want_more = [&] { return !count || records.size() < *count; };
+  bool ended = !source_;
+  while (!ended && want_more()) {
+    without_gil([&] {
+      waiting_ = true;
+      auto slice_end = steady_clock::now() + signal_slice;
+      if (deadline) slice_end = std::min(slice_end, *deadline);
+      while (want_more()) {
+        auto item = source_->next(std::chrono::milliseconds(0));
+        if (!item) {
+          ended = source_->finished();
+          if (ended || steady_clock::now() >= slice_end) break;
+          // Nothing queued: let records gather for a batch period instead of waking for each
+          // one (at 1 kHz that is 50 a wake-up, not 1); the array comes back at the end anyway.
+          std::this_thread::sleep_for(std::min<steady_clock::duration>(batch_period, slice_end - steady_clock::now()));
+          continue;
+        }
+        if (const auto* sample = std::get_if<Sample>(&*item)) {
+          records.push_back(to_record(*sample));
+        } else {
+          std::lock_guard lock(events_mutex());
+          events_.push_back(std::get<StreamEvent>(std::move(*item)));
+        }
+        if (steady_clock::now() >= slice_end) break;
+      }
+      waiting_ = false;
+      return 0;
+    });
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // KeyboardInterrupt
+    if (deadline && steady_clock::now() >= *deadline) break;
+  }
+  return records_to_array(records);
+}
+
+py::list Stream::take_events() {
+  std::deque<StreamEvent> taken;
+  {
+    std::lock_guard lock(events_mutex());
+    taken.swap(events_);
+  }
+  py::list events;
+  for (StreamEvent& event : taken) events.append(py::cast(std::move(event)));
+  return events;
+}
+
+void Stream::stop() {
+  if (!source_) return;
+  without_gil([&] {
+    source_->stop();
+    return 0;
+  });
+}
+
+bool Stream::finished() const { return !source_ || source_->finished(); }
+
+std::uint64_t Stream::lost() const { return source_ ? source_->lost() : 0; }
+
+void init_streams(py::module_& module) {
+  py::class_<Stream>(module, "Stream",
+                     "A measurement stream: iterate it for Sample and Event objects in order, or read() blocks of "
+                     "samples as a NumPy structured array (rangekit.sample_dtype).")
+      .def("__iter__", [](Stream& stream) -> Stream& { return stream; })
+      .def("__next__", &Stream::next_item)
+      .def("__enter__", [](Stream& stream) -> Stream& { return stream; })
+      .def("__exit__", [](Stream& stream, const py::args&) { stream.stop(); })
+      .def("next", &Stream::next_within, py::arg("timeout") = py::none(),
+           "The next Sample or Event, waiting up to timeout seconds (None: for ever); None on timeout or "
+           "at the end.")
+      .def("read", &Stream::read, py::arg("n") = py::none(), py::kw_only(), py::arg("duration") = py::none(),
+           "Samples as a NumPy structured array (rangekit.sample_dtype): up to n samples, or those arriving "
+           "within duration seconds, whichever ends first (fewer when the stream ends). Events met on the way "
+           "are kept for take_events(). The GIL is released while waiting; Ctrl-C raises KeyboardInterrupt.")
+      .def("take_events", &Stream::take_events, "The events read() met since the last call, in order.")
+      .def("stop", &Stream::stop, "Ends the stream (the device is left as the driver's stream stop says).")
+      .def_property_readonly("finished", &Stream::finished, "the stream has ended and nothing is left")
+      .def_property_readonly("lost", &Stream::lost, "records lost inside the stream (queue overflow, counter gaps)")
+      .def_property_readonly("waiting", &Stream::waiting, "a read or next is waiting for the device right now");
+}
+
+}  // namespace rangekit::python

@@ -1,0 +1,93 @@
+"""Ctrl-C during a blocking read, and captures read into NumPy."""
+
+import json
+import os
+import signal
+import subprocess
+import threading
+import time
+
+import pytest
+
+import rangekit
+from conftest import LS5_ARGUMENTS, LS5_SCENE, samples
+
+
+def interrupt_when_waiting(stream):
+    """Sends SIGINT to this process once the stream is inside its blocking wait (the
+    stream says so: `waiting`), as Ctrl-C in a terminal would; no sleep stands in for it."""
+
+    def watch():
+        while not stream.waiting:
+            threading.Event().wait(0.001)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    watcher = threading.Thread(target=watch, daemon=True)
+    watcher.start()
+    return watcher
+
+
+@pytest.mark.parametrize("how", ["read", "iterate"])
+def test_ctrl_c_during_a_blocking_read_returns_promptly(ls5_unit, how):
+    with rangekit.ls5.open(ls5_unit.port) as drv:
+        with drv.stream(thinning=1) as stream:
+            samples(stream, 1)
+            if how == "iterate":
+                ls5_unit.kill()  # nothing arrives any more: the iterator blocks
+            watcher = interrupt_when_waiting(stream)
+            started = time.monotonic()
+            with pytest.raises(KeyboardInterrupt):
+                if how == "read":
+                    stream.read(duration=3600)  # an hour's read, interrupted
+                else:
+                    for _ in stream:
+                        pass
+            watcher.join()
+            assert time.monotonic() - started < 3600
+            assert not stream.waiting
+
+
+def test_read_keeps_the_events_it_met_in_order(ls5_unit):
+    with rangekit.ls5.open(ls5_unit.port) as drv:
+        stream = drv.stream(thinning=1, reconnect_interval=0.1)
+        block = stream.read(5)
+        assert len(block) == 5
+        assert [event.kind for event in stream.take_events()] == ["connected"]
+        assert stream.take_events() == []
+        stream.stop()
+
+
+def test_capture_samples_as_numpy(tmp_path):
+    # A capture written by the CLI (`rangekit capture`), read back by the package and
+    # compared with the CLI's own replay of the same file.
+    path = tmp_path / "run.sqlite"
+    cli = rangekit.sim.cli_path()
+    with rangekit.sim.ls5(scene=LS5_SCENE, arguments=LS5_ARGUMENTS) as unit:
+        subprocess.run([cli, "capture", "--out", str(path), "--ls5", unit.port, "--ls5-thinning", "1",
+                        "--count", "40", "--quiet"], check=True, timeout=120)
+    replay = subprocess.run([cli, "replay", "--full-speed", "--format", "jsonl", str(path)], check=True,
+                            capture_output=True, text=True, timeout=120)
+    lines = [json.loads(line) for line in replay.stdout.splitlines() if line.strip()]
+    codes = [line["code"] for line in lines if "code" in line]
+
+    capture = rangekit.capture.open(path)
+    assert capture.samples.dtype == rangekit.sample_dtype
+    assert len(capture) == len(codes) == 40
+    assert list(capture.samples["code"]) == codes
+    assert (capture.samples["code"] == 12500).all()
+    assert capture.samples["distance_m"] == pytest.approx(0.025)
+    assert len(capture.of_kind("result")) == 40
+    assert len(rangekit.capture.open(path, device="uls")) == 0
+    with pytest.raises(rangekit.errors.LinkError):
+        rangekit.capture.open(tmp_path / "missing.sqlite")
+
+
+def test_capture_dataframe_when_pandas_is_there(tmp_path):
+    pandas = pytest.importorskip("pandas")
+    path = tmp_path / "run.sqlite"
+    with rangekit.sim.ls5(scene=LS5_SCENE, arguments=LS5_ARGUMENTS) as unit:
+        subprocess.run([rangekit.sim.cli_path(), "capture", "--out", str(path), "--ls5", unit.port, "--count", "5",
+                        "--quiet"], check=True, timeout=120)
+    frame = rangekit.capture.open(path).dataframe()
+    assert isinstance(frame, pandas.DataFrame)
+    assert list(frame["kind"].unique()) == ["result"]

@@ -1,0 +1,108 @@
+"""rangekit.ls5 against the LS5 emulator (rangekit.sim.ls5): open, get, set, single
+result, stream; refusals before anything is written."""
+
+import pytest
+
+import rangekit
+from conftest import first_event, samples
+
+# LS5 §8 formula: "code = distance / range · 50000"; the scene's surface at 25 mm of a
+# 100 mm range (lower boundary 0) is code 12500, and formula 8.1 gives 25 mm back.
+EXPECTED_CODE = 12500
+EXPECTED_MM = 25.0
+
+
+def test_open_info_and_get_all(ls5_unit):
+    with rangekit.ls5.open(ls5_unit.port, address=1) as drv:
+        info = drv.info()
+        assert info["version"] == "LS5.12.0"
+        assert info["range_mm"] == pytest.approx(100.0)
+        assert info["serial_number"] == 157
+        assert info["ethernet"] is True  # LS5.12 answers R70
+        values = drv.get_all()
+        assert values["network-address"] == 1  # §8.1, factory address 1
+        assert rangekit.ls5.setting_units()["period-ms"] == "ms"
+
+
+def test_set_then_get(ls5_unit):
+    with rangekit.ls5.open(ls5_unit.port) as drv:
+        drv.settings["thinning"] = 4  # §8.4 n
+        assert drv.settings["thinning"] == 4
+        drv.set(median_points=7)
+        assert drv.get("median-points") == 7
+
+
+def test_out_of_range_value_raises_before_anything_is_written(ls5_unit):
+    # Table 9.2, parameter 08 (thinning n): 01-FF. A refused value changes nothing.
+    with rangekit.ls5.open(ls5_unit.port) as drv:
+        drv.settings["thinning"] = 4
+        with pytest.raises(rangekit.errors.SettingError) as raised:
+            drv.settings["thinning"] = 999
+        assert raised.value.code == "out_of_range"
+        # Several at once: the bad second value stops the good first one too.
+        with pytest.raises(rangekit.errors.SettingError):
+            drv.set_many([("median-points", 9), ("thinning", 0)])
+        assert drv.settings["thinning"] == 4
+        assert drv.settings["median-points"] == 5  # the factory value, unchanged
+        with pytest.raises(rangekit.errors.SettingError):
+            drv.get("no-such-setting")
+
+
+def test_single_result(ls5_unit):
+    with rangekit.ls5.open(ls5_unit.port) as drv:
+        stream = drv.stream(thinning=1)
+        samples(stream, 1)  # a measurement has been made (65534 before: "no measurement yet")
+        stream.stop()
+        sample = drv.measure()  # LR
+        assert sample.kind == "result"
+        assert sample.code == EXPECTED_CODE
+        assert sample.distance_mm == pytest.approx(EXPECTED_MM)
+
+
+def test_stream_iterator_and_numpy_values(ls5_unit):
+    with rangekit.ls5.open(ls5_unit.port) as drv:
+        with drv.stream(thinning=1) as stream:
+            assert first_event(stream).kind == "connected"
+            for sample in samples(stream, 3):
+                assert sample.code == EXPECTED_CODE
+                assert sample.distance_mm == pytest.approx(EXPECTED_MM)
+                assert sample.signal == "ok"
+            block = stream.read(50)
+    assert block.dtype == rangekit.sample_dtype
+    assert block.dtype["time"] == "<f8" and block.dtype["distance_m"] == "<f8"
+    assert block.dtype["code"] == "<u2" and block.dtype["flags"] == "u1"
+    assert len(block) == 50
+    assert (block["code"] == EXPECTED_CODE).all()
+    assert block["distance_m"] == pytest.approx(EXPECTED_MM / 1000.0)
+    assert (block["kind"] == rangekit.sample_kinds.index("result")).all()
+    assert (block["flags"] == rangekit.FLAG_VALID).all()
+    assert (block["address"] == 1).all()
+    assert (block["time"][1:] >= block["time"][:-1]).all()  # in receive order
+
+
+def test_stream_read_by_duration(ls5_unit):
+    with rangekit.ls5.open(ls5_unit.port) as drv:
+        with drv.stream(thinning=1) as stream:
+            block = stream.read(duration=0.3)
+    assert block.dtype == rangekit.sample_dtype
+    assert (block["code"] == EXPECTED_CODE).all()
+
+
+def test_other_calls_are_refused_while_streaming(ls5_unit):
+    with rangekit.ls5.open(ls5_unit.port) as drv:
+        with drv.stream(thinning=1):
+            with pytest.raises(rangekit.errors.UnsupportedError):
+                drv.get("thinning")
+
+
+def test_killed_emulator_yields_disconnected_then_reconnected(ls5_unit):
+    with rangekit.ls5.open(ls5_unit.port) as drv:
+        stream = drv.stream(thinning=1, reconnect_interval=0.1)
+        assert first_event(stream).kind == "connected"
+        samples(stream, 3)
+        ls5_unit.kill()  # the pty and its path vanish: a cable pulled out
+        assert first_event(stream).kind == "disconnected"
+        ls5_unit.restart()
+        assert first_event(stream).kind == "reconnected"
+        assert samples(stream, 1)[0].code == EXPECTED_CODE
+        stream.stop()
