@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <regex>
+#include <sstream>
 
 #include "hub/site_fixture.hpp"
 #include "rangekit/sim/control_socket.hpp"
@@ -262,9 +264,24 @@ TEST(WebApi, CapturesStartStopListAndDownloadInEveryFormat) {
   EXPECT_NE(jsonl.body.find("\"source\":\"bay-A\""), std::string::npos);  // the sensor's name
   const Reply log = http(service.port, "GET", "/api/captures/" + id + "/download?format=log");
   ASSERT_EQ(log.status, 200) << log.body;
-  // §2: "Averaging Mode: Time (H:M:S:mS), Distance, Units, Intensity."
-  EXPECT_EQ(log.body.substr(0, 44), "Time (H:M:S:mS), Distance, Units, Intensity\n");
-  EXPECT_EQ(std::count(log.body.begin(), log.body.end(), '\n'), static_cast<long>(samples) + 1);
+  // §2: "Averaging Mode: Time (H:M:S:mS), Distance, Units, Intensity." One line per sample: a
+  // distance with its pulse width, or a measurement error (U100), under the column line.
+  std::istringstream lines(log.body);
+  std::size_t data_lines = 0;
+  bool columns = false;
+  for (std::string line; std::getline(lines, line);) {
+    if (line == "Time (H:M:S:mS), Distance, Units, Intensity") {
+      columns = true;
+      continue;
+    }
+    const bool distance = std::regex_match(line, std::regex(R"(\d\d:\d\d:\d\d:\d{3}, \d+\.\d{3}, m, \d*)"));
+    const bool error = std::regex_match(line, std::regex(R"(\d\d:\d\d:\d\d:\d{3}, ERROR \d+)"));
+    EXPECT_TRUE(distance || error) << line;
+    EXPECT_TRUE(columns || error) << "a distance before the column line: " << line;
+    ++data_lines;
+  }
+  EXPECT_TRUE(columns);
+  EXPECT_EQ(data_lines, samples);
 
   // An LS5 capture has no .log layout; bad requests name the field.
   const Reply ls5 = http(service.port, "POST", "/api/captures", R"({"sensors": ["belt"]})");
