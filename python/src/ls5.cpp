@@ -16,16 +16,6 @@ namespace {
 
 constexpr std::string_view family = "ls5";
 
-Result<TransportPtr> open_line(const std::string& path, const SerialSettings& settings) {
-  auto port = SerialPort::open(path, settings);
-  if (!port) {
-    Error error = std::move(port).error();
-    error.code = Errc::io;
-    return error;
-  }
-  return TransportPtr(std::move(port).value());
-}
-
 py::object typed_value(const ls5::HostSetting* setting, const std::string& text) {
   if (setting == nullptr || !ls5::setting_is_numeric(*setting)) return py::str(text);
   try {
@@ -192,9 +182,9 @@ void init_ls5(py::module_& parent) {
         options.address = static_cast<std::uint8_t>(address);
         options.timeout = std::chrono::milliseconds(static_cast<long>(timeout * 1000.0));
         const SerialSettings settings{baud, Parity::none, 1};
-        auto link = unwrap(without_gil([&] { return open_line(port, settings); }), family);
+        auto link = unwrap(without_gil([&] { return open_serial_link(port, settings); }), family);
         auto driver = std::make_unique<ls5::Driver>(std::move(link), options,
-                                                    [port, settings] { return open_line(port, settings); });
+                                                    [port, settings] { return open_serial_link(port, settings); });
         return std::make_unique<Ls5Device>(std::move(driver), port);
       },
       py::arg("port"), py::arg("baud") = 115200, py::arg("address") = 1, py::arg("timeout") = 0.5);

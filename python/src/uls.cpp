@@ -15,13 +15,7 @@ namespace rangekit::python {
 namespace {
 
 Result<TransportPtr> open_line(const std::string& path, std::uint32_t baud) {
-  auto port = SerialPort::open(path, SerialSettings{baud, Parity::none, 1});  // 8N1, §9
-  if (!port) {
-    Error error = std::move(port).error();
-    error.code = Errc::io;  // as the CLI: any failure to open is an I/O error naming the port
-    return error;
-  }
-  return TransportPtr(std::move(port).value());
+  return open_serial_link(path, SerialSettings{baud, Parity::none, 1});  // 8N1, §9
 }
 
 // A get's text as a Python value: numbers as int or float, lists of numbers as lists.

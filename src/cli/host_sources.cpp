@@ -40,13 +40,7 @@ Error named(const std::string& what, Error error) {
 }  // namespace
 
 Result<TransportPtr> open_port(const std::string& path, const SerialSettings& settings) {
-  auto port = SerialPort::open(path, settings);
-  if (!port) {
-    Error error = std::move(port).error();
-    error.code = Errc::io;
-    return error;
-  }
-  return TransportPtr(std::move(port).value());
+  return open_serial_link(path, settings);
 }
 
 Result<TransportPtr> open_serial(const std::string& path, std::uint32_t baud) {

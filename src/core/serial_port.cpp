@@ -122,4 +122,14 @@ Status SerialPort::reconfigure(const SerialSettings& settings) {
   return applied;
 }
 
+Result<TransportPtr> open_serial_link(const std::string& path, const SerialSettings& settings) {
+  auto port = SerialPort::open(path, settings);
+  if (!port) {
+    Error error = std::move(port).error();
+    error.code = Errc::io;
+    return error;
+  }
+  return TransportPtr(std::move(port).value());
+}
+
 }  // namespace rangekit

@@ -21,16 +21,6 @@ constexpr std::array<std::pair<Action, const char*>, 8> action_names{{{Action::s
                                                                       {Action::latch, "latch"},
                                                                       {Action::read, "read"}}};
 
-Result<TransportPtr> open_serial_port(const std::string& path, const SerialSettings& settings) {
-  auto port = SerialPort::open(path, settings);
-  if (!port) {
-    Error error = std::move(port).error();
-    error.code = Errc::io;
-    return error;
-  }
-  return TransportPtr(std::move(port).value());
-}
-
 SensorSnapshot snapshot_of(const Session& session) {
   SensorSnapshot snapshot;
   snapshot.config = session.config;
@@ -106,7 +96,7 @@ Hub::~Hub() { stop(); }
 
 std::unique_ptr<Hub> Hub::start(const SiteConfig& site, HubOptions options) {
   auto impl = std::make_unique<Impl>();
-  if (!options.open_port) options.open_port = open_serial_port;
+  if (!options.open_port) options.open_port = open_serial_link;
   impl->options = options;
   for (const SensorConfig& sensor : site.sensors) {
     auto session = std::make_unique<Session>(sensor, options.ring_capacity);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "rangekit/core/fd_transport.hpp"
+#include "rangekit/core/transport.hpp"
 
 namespace rangekit {
 
@@ -42,5 +43,10 @@ class SerialPort final : public FdTransport {
       : FdTransport(fd, std::move(path)), settings_(settings) {}
   SerialSettings settings_;
 };
+
+// A serial port or pty opened as a driver's link. Any failure to open (missing path, no
+// permission, not a terminal, a speed the system cannot set) is Errc::io naming the port
+// once: the one opener of the CLI, the service and the Python package.
+Result<TransportPtr> open_serial_link(const std::string& path, const SerialSettings& settings);
 
 }  // namespace rangekit
