@@ -58,11 +58,12 @@ repeat = true
 reflectivity = 0.5
 )";
 
-// bay-A in binning (§3): two targets inside the 512 bins of 1 inch (13 m), a
-// crate moving between 3 m and 9 m in front of a wall at 11.5 m.
+// bay-A in binning (§3): two targets inside the 512 bins of 1 inch (13 m), a crate
+// moving slowly (0.1 m/s, so that one measurement's pulses stay within a few bins)
+// between 4 m and 8 m in front of a wall at 11.5 m.
 const nlohmann::json binning_scene = {
     {"targets",
-     {{{"name", "crate"}, {"path", {{0, 3}, {8, 9}, {16, 3}}}, {"repeat", true}, {"reflectivity", 0.7}},
+     {{{"name", "crate"}, {"path", {{0, 4}, {40, 8}, {80, 4}}}, {"repeat", true}, {"reflectivity", 0.7}},
       {{"name", "wall"}, {"distance_m", 11.5}, {"reflectivity", 0.5}}}}};
 // bay-B in look down (§3): a floor at 10 m and a box passing at 4 m for 1.5 s of every 4 s.
 const nlohmann::json look_down_scene = {{"targets",
