@@ -120,16 +120,16 @@ int serve(const ServeOptions& options) {
   return serve_site(*site, options, signals);
 }
 
-// The emulators are started before the signals are caught, in their own process
-// group: Ctrl-C reaches the service only, which ends its streams and then stops them.
+// Signals are caught before the emulators start; they run in their own process
+// group, so Ctrl-C reaches the service only, which ends its streams and then stops them.
 int serve_demo(const ServeOptions& options) {
   const StopSignals signals;
   auto demo = DemoSite::start();
+  if (signals.stopped()) return exit_interrupted;  // Ctrl-C while they started: they are stopped
   if (!demo) {
     fmt::print(stderr, "rangekit serve --demo: {}\n", demo.error().describe());
     return exit_code_for(demo.error());
   }
-  if (signals.stopped()) return exit_interrupted;
   const int code = serve_site(demo->site(), options, signals);
   demo->stop();
   fmt::print("Emulators stopped.\n");
