@@ -104,7 +104,7 @@ TEST(ServeDemo, ServesSevenLiveSensorsAndStopsItsEmulators) {
   Child service({"serve", "--demo", "--duration", "120", "--listen", "127.0.0.1:0"});
   std::string head;
   const std::uint16_t port = api_port(service, &head);
-  ASSERT_NE(port, 0) << head;  // port 0 asked: the printed line names the port it got
+  ASSERT_NE(port, 0) << head;              // port 0 asked: the printed line names the port it got
   const auto dir_at = head.find(" in /");  // "starting the emulators on pseudo-terminals in DIR"
   ASSERT_NE(dir_at, std::string::npos) << head;
   const std::string dir = head.substr(dir_at + 4, head.find('\n', dir_at) - dir_at - 4);
