@@ -31,8 +31,11 @@ build: configure
 test: build
 	@ctest --test-dir $(BUILD) --output-on-failure -j$(JOBS)
 
+# The sensor service on a site of emulators (an LS5, a ULS, a bus of four ULS units):
+# until Ctrl-C, or DEMO_SECONDS=30 make demo to stop by itself.
+DEMO_SECONDS ?=
 demo: build
-	@./$(BUILD)/rangekit demo --capture $(BUILD)/demo.sqlite
+	@./$(BUILD)/rangekit serve --demo $(if $(DEMO_SECONDS),--duration $(DEMO_SECONDS))
 
 # Same tests with AddressSanitizer + UndefinedBehaviorSanitizer (CI runs this too).
 asan:

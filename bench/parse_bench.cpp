@@ -220,6 +220,26 @@ void print_host_comparison(const SummaryReporter& reporter, const char* label, c
               met ? "met" : "MISSED");
 }
 
+// The sensor service (issue 13): CPU against `rangekit ls5 stream` of the same LS5s, same run;
+// goals: at most 3x that CPU, RSS <= 64 MB, record-to-SSE latency p99 <= 20 ms.
+void print_service_comparison(const SummaryReporter& reporter, const char* name) {
+  const auto s = reporter.figures.find(name);
+  if (s == reporter.figures.end()) return;
+  auto value = [&](const char* counter) {
+    const auto it = s->second.counters.find(counter);
+    return it == s->second.counters.end() ? 0.0 : it->second;
+  };
+  const double ratio = value("cpu_ratio");
+  const double rss = value("peak_rss_MB");
+  const double p99 = value("lat_p99_ms");
+  std::printf(
+      "%-26s CPU %5.1f%% (no clients %4.1f%%) vs ls5 stream x2 %4.1f%% = %4.1fx (goal <= 3x: %s); "
+      "peak RSS %5.1f MB (goal <= 64: %s); latency p50 %.2f ms p99 %.2f ms (goal <= 20: %s)\n",
+      "service 2 LS5 + 4 ULS, 10 SSE", value("service_cpu_pct"), value("no_client_cpu_pct"), value("baseline_cpu_pct"),
+      ratio, ratio <= 3.0 ? "met" : "MISSED", rss, rss <= 64.0 ? "met" : "MISSED", value("lat_p50_ms"), p99,
+      p99 <= 20.0 && value("lat_samples") > 0 ? "met" : "MISSED");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -235,6 +255,7 @@ int main(int argc, char** argv) {
                         "BM_CatLs5Floor1kHz921600/iterations:1/real_time");
   print_host_comparison(reporter, "host ULS binning @ 230400", "BM_HostUlsDriverBinning230400/iterations:1/real_time",
                         "BM_CatUlsFloorBinning230400/iterations:1/real_time");
+  print_service_comparison(reporter, "BM_ServiceVersusLs5Stream/iterations:1/real_time");
   benchmark::Shutdown();
   return 0;
 }

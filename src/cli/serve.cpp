@@ -1,12 +1,14 @@
 // `rangekit serve`: the sensor service (issue 13). `--check` validates a site
 // file without opening anything; `--config` keeps every sensor of the site live
-// through the hub and prints a one-line summary per sensor each second.
+// through the hub and prints a one-line summary per sensor each second; `--demo`
+// does the same for a site of emulators it starts itself (cli/demo_site.hpp).
 #include <fmt/core.h>
 
 #include <chrono>
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/demo_site.hpp"
 #include "cli/stop_signals.hpp"
 #include "rangekit/hub/hub.hpp"
 #include "rangekit/web/server.hpp"
@@ -17,6 +19,7 @@ namespace {
 struct ServeOptions {
   std::string config;
   std::string check;
+  bool demo = false;
   std::string listen;     // overrides [service] listen
   double duration_s = 0;  // 0: until Ctrl-C or SIGTERM
 };
@@ -70,12 +73,8 @@ Result<std::string> token_for(const hub::SiteConfig& site, const std::string& li
   return token->value;
 }
 
-int serve(const ServeOptions& options) {
-  auto site = hub::load_site_config(options.config);
-  if (!site) {
-    fmt::print(stderr, "rangekit serve: {}\n", site.error().message);
-    return site.error().code == Errc::io ? exit_io : exit_bad_input;
-  }
+int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, const StopSignals& signals) {
+  const hub::SiteConfig* site = &site_config;
   web::ServerOptions server_options;
   server_options.listen = options.listen.empty() ? site->service.listen : options.listen;
   auto token = token_for(*site, server_options.listen);
@@ -84,7 +83,6 @@ int serve(const ServeOptions& options) {
     return exit_code_for(token.error());
   }
   server_options.token = *token;
-  StopSignals signals;
   auto hub = hub::Hub::start(*site);
   auto server = web::Server::start(*hub, server_options);
   if (!server) {
@@ -112,6 +110,32 @@ int serve(const ServeOptions& options) {
   return signals.stopped() ? exit_interrupted : exit_ok;
 }
 
+int serve(const ServeOptions& options) {
+  auto site = hub::load_site_config(options.config);
+  if (!site) {
+    fmt::print(stderr, "rangekit serve: {}\n", site.error().message);
+    return site.error().code == Errc::io ? exit_io : exit_bad_input;
+  }
+  const StopSignals signals;
+  return serve_site(*site, options, signals);
+}
+
+// Signals are caught before the emulators start; they run in their own process
+// group, so Ctrl-C reaches the service only, which ends its streams and then stops them.
+int serve_demo(const ServeOptions& options) {
+  const StopSignals signals;
+  auto demo = DemoSite::start();
+  if (signals.stopped()) return exit_interrupted;  // Ctrl-C while they started: they are stopped
+  if (!demo) {
+    fmt::print(stderr, "rangekit serve --demo: {}\n", demo.error().describe());
+    return exit_code_for(demo.error());
+  }
+  const int code = serve_site(demo->site(), options, signals);
+  demo->stop();
+  fmt::print("Emulators stopped.\n");
+  return code;
+}
+
 }  // namespace
 
 void add_serve_command(CLI::App& app, int& exit_code) {
@@ -119,17 +143,26 @@ void add_serve_command(CLI::App& app, int& exit_code) {
   CLI::App* serve_app = app.add_subcommand("serve", "Keep every sensor of a site live (site.toml, docs/service.md)");
   serve_app->add_option("--config", options->config, "site file: the sensors, their ports and what to do at start");
   serve_app->add_option("--check", options->check, "validate a site file without opening anything");
+  serve_app->add_flag("--demo", options->demo,
+                      "serve a site of emulators started here: an LS5 (serial and UDP), a ULS and a bus of four ULS");
   serve_app->add_option("--listen", options->listen,
                         "HOST:PORT of the HTTP API (default: the site file's, else 127.0.0.1:8080; port 0 picks one)");
   serve_app->add_option("--duration", options->duration_s, "stop after S seconds (default: until Ctrl-C)")
       ->check(duration_seconds());
   serve_app->callback([options, &exit_code] {
-    if (!options->check.empty()) {
+    if (static_cast<int>(!options->check.empty()) + static_cast<int>(!options->config.empty()) +
+            static_cast<int>(options->demo) >
+        1) {
+      fmt::print(stderr, "rangekit serve: give one of --config, --check and --demo\n");
+      exit_code = exit_usage;
+    } else if (!options->check.empty()) {
       exit_code = check_site(options->check);
+    } else if (options->demo) {
+      exit_code = serve_demo(*options);
     } else if (!options->config.empty()) {
       exit_code = serve(*options);
     } else {
-      fmt::print(stderr, "rangekit serve: give --config site.toml (or --check site.toml); see docs/service.md\n");
+      fmt::print(stderr, "rangekit serve: give --config site.toml, --check site.toml or --demo; see docs/service.md\n");
       exit_code = exit_usage;
     }
   });

@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -47,9 +48,15 @@ Result<SimProcess> SimProcess::start(const std::vector<std::string>& arguments, 
   for (auto& argument : argv_strings) argv.push_back(argument.data());
   argv.push_back(nullptr);
 
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) return make_error(Errc::io, errno_text("fork", errno));
   if (pid == 0) {
+    // Its own process group, so that Ctrl-C on the terminal reaches the parent only and
+    // the parent stops it after ending its streams; SIGTERM when the parent dies anyway.
+    ::setpgid(0, 0);
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (::getppid() != parent) ::_exit(127);
     ::dup2(ready_pipe[1], STDOUT_FILENO);
     ::dup2(log_fd, STDERR_FILENO);
     ::execv(executable.c_str(), argv.data());

@@ -1,6 +1,8 @@
 // An emulator started as a child process (`rangekit sim ...`, by default from this
 // same binary), for `rangekit demo` and the streaming bench: waits for its ready
 // line instead of sleeping and stops it (SIGTERM, then SIGKILL) when destroyed.
+// The child runs in its own process group (Ctrl-C goes to the parent, which stops
+// it) and gets SIGTERM if the parent dies without stopping it.
 #pragma once
 
 #include <sys/types.h>

@@ -1,9 +1,16 @@
 // `rangekit serve --check` and `--config` (issue 13 points 1-2, docs/service.md).
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <nlohmann/json.hpp>
 
+#include <cerrno>
+#include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "ls5_driver/cli_process.hpp"
+#include "rangekit/sim/control_socket.hpp"
+#include "web/http_client.hpp"
 
 namespace {
 
@@ -52,6 +59,121 @@ TEST(Serve, ServesTheSiteForItsDurationAndLeavesTheSensorAsFound) {
   EXPECT_NE(run.out.find("ls5", last), std::string::npos);
   EXPECT_EQ(run.out.find("records 0 ", last), std::string::npos) << run.out;
   // The port is free again: a one-shot command gets the sensor's identity.
+  const auto info = run_cli(dir.path, {"ls5", "info", "--port", port});
+  EXPECT_EQ(info.exit_code, 0) << info.err;
+}
+
+// Reads the service's stdout up to its "API on http://HOST:PORT/" line; the port, 0 if none.
+std::uint16_t api_port(Child& service, std::string* before = nullptr) {
+  for (std::string line = service.read_line(); !line.empty(); line = service.read_line()) {
+    if (before != nullptr) *before += line;
+    const auto at = line.find("API on http://127.0.0.1:");
+    if (at != std::string::npos) return static_cast<std::uint16_t>(std::stoi(line.substr(at + 24)));
+  }
+  return 0;
+}
+
+// The processes whose command line names `text` (the demo's emulators name its directory).
+std::set<pid_t> processes_naming(const std::string& text) {
+  std::set<pid_t> found;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::string command_line = ls5_driver_test::read_file(entry.path() / "cmdline");
+    for (char& c : command_line) c = c == '\0' ? ' ' : c;
+    if (command_line.find(text) != std::string::npos && command_line.find(" sim ") != std::string::npos) {
+      found.insert(static_cast<pid_t>(std::stoi(name)));
+    }
+  }
+  return found;
+}
+
+nlohmann::json emulator_outputs(const std::string& control) {
+  auto client = rangekit::ControlClient::connect(control);
+  if (!client) return {};
+  auto reply = client->request({{"cmd", "outputs"}});
+  return reply ? *reply : nlohmann::json{};
+}
+
+// Issue 13 point 2: "`rangekit serve --demo`: the embedded default. It starts the two emulators
+// plus an RS-485 bus of four ULS units as child processes, with moving targets (one ULS in binning
+// with two targets, one in look-down with a target that passes), and serves them."
+// The duration is long and the test ends the service with SIGTERM once it has seen everything,
+// so a loaded machine cannot end the run before the checks (`--duration` is covered above).
+TEST(ServeDemo, ServesSevenLiveSensorsAndStopsItsEmulators) {
+  Child service({"serve", "--demo", "--duration", "120", "--listen", "127.0.0.1:0"});
+  std::string head;
+  const std::uint16_t port = api_port(service, &head);
+  ASSERT_NE(port, 0) << head;              // port 0 asked: the printed line names the port it got
+  const auto dir_at = head.find(" in /");  // "starting the emulators on pseudo-terminals in DIR"
+  ASSERT_NE(dir_at, std::string::npos) << head;
+  const std::string dir = head.substr(dir_at + 4, head.find('\n', dir_at) - dir_at - 4);
+  const std::set<pid_t> emulators = processes_naming(dir);
+  EXPECT_EQ(emulators.size(), 3u) << head;  // the LS5, the ULS, the bus of four
+
+  web_test::EventReader events(port, "/api/events");
+  std::set<std::string> heard;
+  bool two_targets = false;  // bay-A: binning, a crate in front of a wall
+  bool presence = false;     // bay-B: look down, a box passing over the floor
+  const bool all = events.read_until([&](const web_test::Event& event) {
+    if (event.type != "sample") return false;
+    const auto item = nlohmann::json::parse(event.data);
+    const std::string sensor = item["sensor"];
+    heard.insert(sensor);
+    const auto& data = item["data"];
+    if (sensor == "bay-A" && data.value("kind", "") == "binning" && data["targets"].size() == 2) two_targets = true;
+    if (sensor == "bay-B" && data.value("kind", "") == "look_down" && data["presence"].is_boolean()) presence = true;
+    return heard.size() == 7 && two_targets && presence;
+  });
+  EXPECT_TRUE(all) << heard.size() << " sensors heard; two targets " << two_targets << ", presence " << presence;
+  events.close();
+
+  const auto list = web_test::http(port, "GET", "/api/sensors");
+  ASSERT_EQ(list.status, 200) << list.body;
+  const auto sensors = nlohmann::json::parse(list.body)["sensors"];
+  std::set<std::string> names;
+  for (const auto& sensor : sensors) {
+    names.insert(sensor["name"].get<std::string>());
+    EXPECT_TRUE(sensor["connected"].get<bool>()) << sensor["name"];
+    EXPECT_TRUE(sensor["streaming"].get<bool>()) << sensor["name"];
+    EXPECT_GT(sensor["health"]["records"].get<int>(), 0) << sensor["name"];
+  }
+  EXPECT_EQ(names, (std::set<std::string>{"belt", "belt-udp", "silo", "bay-A", "bay-B", "bay-C", "bay-D"}));
+
+  service.terminate();
+  while (!service.read_line().empty()) {
+  }
+  EXPECT_EQ(service.wait(), 130);  // ended by a signal, cleanly
+  for (const pid_t emulator : emulators) {
+    EXPECT_TRUE(::kill(emulator, 0) != 0 && errno == ESRCH) << "emulator " << emulator << " still there";
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir)) << dir;
+}
+
+// Issue 13, done means: "SIGTERM closes the captures cleanly and releases the ports." U86: the
+// stream the service started is ended (table 9.1 "SB: Stop the stream") before it exits.
+TEST(Serve, U86_SigtermReleasesThePortAndLeavesTheLs5NotStreaming) {
+  TempDir dir;
+  const auto port = (dir.path / "ls5").string();
+  const auto control = (dir.path / "ls5.control").string();
+  Child sim({"sim", "ls5", "--port", port, "--control", control});
+  ASSERT_NE(sim.read_line().find("ready"), std::string::npos);
+  const auto site = write_site(dir, "[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"" + port + "\"\n");
+  Child service({"serve", "--config", site, "--listen", "127.0.0.1:0"});
+  ASSERT_NE(api_port(service), 0);
+  // The summary lines, until the service streams and has counted records.
+  std::string line;
+  for (line = service.read_line(); !line.empty(); line = service.read_line()) {
+    if (line.find("streaming") != std::string::npos && line.find("records 0 ") == std::string::npos) break;
+  }
+  ASSERT_FALSE(line.empty());
+  ASSERT_EQ(emulator_outputs(control).value("streaming", false), true);
+
+  service.terminate();
+  while (!service.read_line().empty()) {
+  }
+  EXPECT_EQ(service.wait(), 130);
+  EXPECT_EQ(emulator_outputs(control).value("streaming", true), false);
   const auto info = run_cli(dir.path, {"ls5", "info", "--port", port});
   EXPECT_EQ(info.exit_code, 0) << info.err;
 }

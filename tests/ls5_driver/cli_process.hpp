@@ -48,6 +48,7 @@ class Child {
     return buffer;
   }
   void terminate() const { ::kill(pid_, SIGTERM); }
+  [[nodiscard]] pid_t pid() const { return pid_; }
   // kill -9: the child cleans nothing up (its symlink and control socket stay).
   void kill_hard() {
     ::kill(pid_, SIGKILL);

@@ -1,0 +1,425 @@
+// The sensor service under load (issue 13, done means): `rangekit serve` with two
+// LS5 at 1 kHz (t = 1 ms, n = 1, §8.4) and four ULS on an RS-485 bus at 10 Hz
+// (PRF 3000, PPM 300: §9's example "3000/300 Hz or 10 Hz"), ten SSE clients
+// reading /api/events, against a baseline measured in the same run: `rangekit ls5
+// stream` of the same two LS5, two processes. Every program runs as its own
+// process; CPU is utime + stime from /proc/PID/stat over the same window (goal: the
+// service at most 3x the baseline), RSS from /proc/PID/status (goal <= 64 MB).
+//
+// Latency: the first LS5 reaches the service through a pty the bench relays, so the
+// bench knows when each record's last byte (`\r`, table 9.1) was written to the
+// service's pty; each SSE client notes when the event carrying that record arrives
+// (matched by the record's code, in order). Goal: p99 <= 20 ms. The service's CPU
+// is also taken over a window before the clients connect, to tell the hub's share
+// from the streams'.
+#include <benchmark/benchmark.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <fstream>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "host_stream_rig.hpp"
+#include "ls5_driver/cli_process.hpp"
+#include "rangekit/core/serial_port.hpp"
+#include "rangekit/ls5/driver.hpp"
+#include "rangekit/uls/driver.hpp"
+#include "web/http_client.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+using ls5_driver_test::Child;
+
+constexpr auto settle = 2s;  // from the start of the streams to the window's start
+constexpr auto window = 5s;
+constexpr int sse_clients = 10;
+
+// utime + stime of a process, in seconds.
+double cpu_seconds(pid_t pid) {
+  std::ifstream file("/proc/" + std::to_string(pid) + "/stat");
+  std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const auto close = text.rfind(')');  // the command name may hold spaces
+  if (close == std::string::npos) return 0;
+  std::istringstream fields(text.substr(close + 2));
+  std::string field;
+  unsigned long long utime = 0;
+  unsigned long long stime = 0;
+  // Fields 3.. after the name; utime is field 14, stime 15 (proc(5)).
+  for (int number = 3; number <= 15 && fields >> field; ++number) {
+    if (number == 14) utime = std::stoull(field);
+    if (number == 15) stime = std::stoull(field);
+  }
+  return static_cast<double>(utime + stime) / static_cast<double>(::sysconf(_SC_CLK_TCK));
+}
+
+// A "VmRSS:"/"VmHWM:" line of /proc/PID/status, in MB.
+double status_mb(pid_t pid, const std::string& key) {
+  std::ifstream file("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(file, line)) {
+    if (line.rfind(key, 0) == 0) return std::stod(line.substr(key.size())) / 1024.0;
+  }
+  return 0;
+}
+
+void make_raw(int fd, speed_t speed) {
+  termios settings{};
+  ::tcgetattr(fd, &settings);
+  ::cfmakeraw(&settings);
+  ::cfsetispeed(&settings, speed);
+  ::cfsetospeed(&settings, speed);
+  ::tcsetattr(fd, TCSANOW, &settings);
+}
+
+// A pty between an emulator and the service: bytes pass both ways unchanged; each
+// `!ddddd\r` record from the emulator is noted with the time its last byte was written.
+class Relay {
+ public:
+  struct Record {
+    int code = 0;
+    Clock::time_point written;
+  };
+  static std::unique_ptr<Relay> start(const std::string& emulator_path, std::string& error) {
+    auto relay = std::unique_ptr<Relay>(new Relay());
+    relay->device_ = ::open(emulator_path.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
+    relay->master_ = ::posix_openpt(O_RDWR | O_NOCTTY | O_CLOEXEC);
+    if (relay->device_ < 0 || relay->master_ < 0 || ::grantpt(relay->master_) != 0 || ::unlockpt(relay->master_) != 0) {
+      error = "relay: cannot open " + emulator_path + " or a pty";
+      return nullptr;
+    }
+    relay->slave_path_ = ::ptsname(relay->master_);
+    // Held open so the master never reads EIO between the service's opens; raw, no echo.
+    relay->slave_ = ::open(relay->slave_path_.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
+    make_raw(relay->device_, B115200);
+    make_raw(relay->slave_, B115200);
+    relay->thread_ = std::thread([raw = relay.get()] { raw->run(); });
+    return relay;
+  }
+  ~Relay() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+    for (const int fd : {device_, master_, slave_}) {
+      if (fd >= 0) ::close(fd);
+    }
+  }
+  [[nodiscard]] const std::string& path() const { return slave_path_; }
+  std::vector<Record> records() {
+    const std::lock_guard lock(mutex_);
+    return records_;
+  }
+
+ private:
+  Relay() = default;
+  static bool write_all(int fd, const char* data, std::size_t size) {
+    while (size > 0) {
+      const ssize_t n = ::write(fd, data, size);
+      if (n <= 0) return false;
+      data += n;
+      size -= static_cast<std::size_t>(n);
+    }
+    return true;
+  }
+  void run() {
+    std::array<char, 4096> buffer{};
+    while (!stop_) {
+      std::array<pollfd, 2> fds{pollfd{device_, POLLIN, 0}, pollfd{master_, POLLIN, 0}};
+      if (::poll(fds.data(), fds.size(), 50) <= 0) continue;
+      if ((fds[1].revents & POLLIN) != 0) {
+        const ssize_t n = ::read(master_, buffer.data(), buffer.size());
+        if (n > 0) write_all(device_, buffer.data(), static_cast<std::size_t>(n));
+      }
+      if ((fds[0].revents & POLLIN) != 0) {
+        const ssize_t n = ::read(device_, buffer.data(), buffer.size());
+        if (n <= 0) continue;
+        write_all(master_, buffer.data(), static_cast<std::size_t>(n));
+        const auto now = Clock::now();
+        const std::lock_guard lock(mutex_);
+        for (ssize_t i = 0; i < n; ++i) {
+          const char c = buffer[static_cast<std::size_t>(i)];
+          if (c == '!') {
+            digits_ = 0;
+            code_ = 0;
+            in_record_ = true;
+          } else if (in_record_ && c >= '0' && c <= '9' && digits_ < 5) {
+            code_ = code_ * 10 + (c - '0');
+            ++digits_;
+          } else if (in_record_ && c == '\r' && digits_ == 5) {
+            records_.push_back({code_, now});
+            in_record_ = false;
+          } else {
+            in_record_ = false;
+          }
+        }
+      }
+    }
+  }
+  int device_ = -1;
+  int master_ = -1;
+  int slave_ = -1;
+  std::string slave_path_;
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::vector<Record> records_;
+  bool in_record_ = false;
+  int digits_ = 0;
+  int code_ = 0;
+};
+
+// An SSE client of /api/events: counts events and notes when each sample of `sensor` arrived.
+class SseClient {
+ public:
+  struct Arrival {
+    int code = 0;
+    Clock::time_point at;
+  };
+  SseClient(std::uint16_t port, std::string sensor) : sensor_(std::move(sensor)) {
+    fd_ = web_test::connect_to(port);
+    if (fd_ >= 0) web_test::send_all(fd_, web_test::request_text("GET", "/api/events", {}, {}, port));
+    thread_ = std::thread([this] { run(); });
+  }
+  ~SseClient() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+    if (fd_ >= 0) ::close(fd_);
+  }
+  std::uint64_t events() const { return events_; }
+  std::vector<Arrival> arrivals() {
+    const std::lock_guard lock(mutex_);
+    return arrivals_;
+  }
+
+ private:
+  void run() {
+    std::string buffer;
+    const std::string marker = "\"sensor\":\"" + sensor_ + "\"";
+    while (!stop_ && fd_ >= 0) {
+      if (!web_test::read_some(fd_, buffer, 50ms)) return;
+      const auto now = Clock::now();
+      std::size_t start = 0;
+      for (auto end = buffer.find("\n\n"); end != std::string::npos; end = buffer.find("\n\n", start)) {
+        const std::string_view block(buffer.data() + start, end - start);
+        start = end + 2;
+        if (block.find("event: sample") == std::string_view::npos) continue;
+        ++events_;
+        if (block.find(marker) == std::string_view::npos) continue;
+        const auto code_at = block.find("\"code\":");
+        if (code_at == std::string_view::npos) continue;
+        const std::lock_guard lock(mutex_);
+        arrivals_.push_back({std::atoi(std::string(block.substr(code_at + 7, 6)).c_str()), now});
+      }
+      buffer.erase(0, start);
+    }
+  }
+  std::string sensor_;
+  int fd_ = -1;
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  std::atomic<std::uint64_t> events_{0};
+  std::mutex mutex_;
+  std::vector<Arrival> arrivals_;
+};
+
+// Latencies in ms: each arrival matched with the next record of the same code the
+// relay wrote (records the service never delivered are skipped over).
+std::vector<double> latencies_ms(const std::vector<Relay::Record>& records, const std::vector<SseClient::Arrival>& got,
+                                 Clock::time_point from, Clock::time_point to) {
+  std::vector<double> out;
+  std::size_t next = 0;
+  for (const auto& arrival : got) {
+    std::size_t at = next;
+    while (at < records.size() && records[at].code != arrival.code) ++at;
+    if (at == records.size()) continue;  // not one the relay saw (before it started)
+    next = at + 1;
+    if (records[at].written < from || records[at].written > to) continue;
+    out.push_back(std::chrono::duration<double, std::milli>(arrival.at - records[at].written).count());
+  }
+  return out;
+}
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  const auto index = static_cast<std::size_t>(p / 100.0 * static_cast<double>(values.size() - 1));
+  return values[index];
+}
+
+struct Site {
+  rangekit::bench::ScratchDir dir;
+  std::vector<rangekit::cli::SimProcess> emulators;
+  std::vector<std::string> ls5_ports;
+  std::string bus;
+  std::string error;
+  Site();
+};
+
+Site::Site() {
+  for (int i = 0; i < 2; ++i) {
+    const std::string port = (dir.path() / ("ls5-" + std::to_string(i))).string();
+    auto started = rangekit::bench::start_emulator({"ls5", "--port", port, "--serial", std::to_string(100 + i)},
+                                                   (dir.path() / ("ls5-" + std::to_string(i) + ".log")).string(), 10s);
+    if (!started) {
+      error = started.error().describe();
+      return;
+    }
+    emulators.push_back(std::move(started).value());
+    auto link = rangekit::SerialPort::open(port, rangekit::SerialSettings{115200});
+    if (!link) {
+      error = link.error().describe();
+      return;
+    }
+    // §8.4: T = n x t; 1 ms and every result: 1000 records/s (7 bytes each fit 115200 8N1).
+    rangekit::ls5::Driver driver(std::move(link).value(), rangekit::ls5::DriverOptions{});
+    for (const auto& [name, value] : {std::pair{"period-ms", "1"}, std::pair{"thinning", "1"}}) {
+      if (auto done = driver.set(name, value); !done) {
+        error = std::string(name) + ": " + done.error().describe();
+        return;
+      }
+    }
+    ls5_ports.push_back(port);
+  }
+  bus = (dir.path() / "bus").string();
+  auto started = rangekit::bench::start_emulator(
+      {"uls", "--bus", bus, "--address", "A", "--address", "B", "--address", "C", "--address", "D"},
+      (dir.path() / "bus.log").string(), 10s);
+  if (!started) {
+    error = started.error().describe();
+    return;
+  }
+  emulators.push_back(std::move(started).value());
+  auto link = rangekit::SerialPort::open(bus, rangekit::SerialSettings{115200});
+  if (!link) {
+    error = link.error().describe();
+    return;
+  }
+  rangekit::uls::Driver driver(std::move(link).value());
+  for (const char unit : {'A', 'B', 'C', 'D'}) {
+    // §7: Continuous Output off on a bus. AW below PPM (§3 "must be less then the PPM").
+    const bool done = driver.set_address(static_cast<std::uint8_t>(unit)) && driver.set_continuous(false) &&
+                      driver.set_averaging_weight(256) && driver.set_pulses_per_measurement(300, 1024) &&
+                      driver.set_prf(3000);
+    if (!done) {
+      error = std::string("bus unit ") + unit + ": cannot set CO, AW, PO, PF";
+      return;
+    }
+  }
+}
+
+void BM_ServiceVersusLs5Stream(benchmark::State& state) {
+  Site site;
+  if (!site.error.empty()) return state.SkipWithError(site.error.c_str());
+  const auto window_s = std::chrono::duration<double>(window).count();
+  for (auto _ : state) {
+    // Baseline: `rangekit ls5 stream` of each LS5, its own process.
+    double baseline_cpu = 0;
+    {
+      std::vector<std::unique_ptr<Child>> streams;
+      for (const auto& port : site.ls5_ports) {
+        streams.push_back(std::make_unique<Child>(std::vector<std::string>{"ls5", "stream", "--port", port, "--format",
+                                                                           "jsonl", "--out", "/dev/null", "--quiet"}));
+      }
+      std::this_thread::sleep_for(settle);  // the bench's window, not synchronisation
+      std::vector<double> before;
+      for (const auto& stream : streams) before.push_back(cpu_seconds(stream->pid()));
+      std::this_thread::sleep_for(window);
+      for (std::size_t i = 0; i < streams.size(); ++i) baseline_cpu += cpu_seconds(streams[i]->pid()) - before[i];
+      for (const auto& stream : streams) stream->terminate();
+      for (const auto& stream : streams) stream->wait();
+    }
+
+    // The service: the first LS5 through the relay, the second direct, the bus.
+    std::string error;
+    auto relay = Relay::start(site.ls5_ports[0], error);
+    if (!relay) return state.SkipWithError(error.c_str());
+    std::string text = "[[sensor]]\nname = \"belt-1\"\nfamily = \"ls5\"\nport = \"" + relay->path() +
+                       "\"\n[[sensor]]\nname = \"belt-2\"\nfamily = \"ls5\"\nport = \"" + site.ls5_ports[1] + "\"\n";
+    for (const char* unit : {"A", "B", "C", "D"}) {
+      text += std::string("[[sensor]]\nname = \"bay-") + unit + "\"\nfamily = \"uls\"\nport = \"" + site.bus +
+              "\"\naddress = \"" + unit + "\"\n";
+    }
+    const auto site_file = site.dir.path() / "site.toml";
+    std::ofstream(site_file) << text;
+    Child service({"serve", "--config", site_file.string(), "--listen", "127.0.0.1:0"});
+    std::uint16_t port = 0;
+    for (std::string line = service.read_line(); !line.empty() && port == 0; line = service.read_line()) {
+      const auto at = line.find("API on http://127.0.0.1:");
+      if (at != std::string::npos) port = static_cast<std::uint16_t>(std::stoi(line.substr(at + 24)));
+    }
+    if (port == 0) return state.SkipWithError("the service did not print its API line");
+    std::thread drain([&service] {
+      while (!service.read_line().empty()) {
+      }
+    });
+    // First without clients (the hub and the idle server), then with the ten.
+    std::this_thread::sleep_for(settle);  // the bench's window, not synchronisation
+    const double idle_before = cpu_seconds(service.pid());
+    std::this_thread::sleep_for(window);
+    const double service_idle_cpu = cpu_seconds(service.pid()) - idle_before;
+    std::vector<std::unique_ptr<SseClient>> clients;
+    for (int i = 0; i < sse_clients; ++i) clients.push_back(std::make_unique<SseClient>(port, "belt-1"));
+    std::this_thread::sleep_for(settle);
+    const auto from = Clock::now();
+    const double cpu_before = cpu_seconds(service.pid());
+    std::vector<std::uint64_t> events_before;
+    for (const auto& client : clients) events_before.push_back(client->events());
+    std::this_thread::sleep_for(window);
+    const double service_cpu = cpu_seconds(service.pid()) - cpu_before;
+    const auto to = Clock::now();
+    double events = 0;
+    for (std::size_t i = 0; i < clients.size(); ++i) {
+      events += static_cast<double>(clients[i]->events() - events_before[i]);
+    }
+    const double rss = status_mb(service.pid(), "VmRSS:");
+    const double peak_rss = status_mb(service.pid(), "VmHWM:");
+    const auto sensors = web_test::http(port, "GET", "/api/sensors");
+    const auto json = nlohmann::json::parse(sensors.body, nullptr, false);
+    std::this_thread::sleep_for(200ms);  // the last events of the window reach the clients
+    std::vector<double> latencies;
+    const auto records = relay->records();
+    for (const auto& client : clients) {
+      const auto more = latencies_ms(records, client->arrivals(), from, to);
+      latencies.insert(latencies.end(), more.begin(), more.end());
+    }
+    clients.clear();
+    service.terminate();
+    drain.join();
+    service.wait();
+    relay.reset();
+
+    state.counters["window_s"] = window_s;
+    state.counters["baseline_cpu_pct"] = 100.0 * baseline_cpu / window_s;
+    state.counters["service_cpu_pct"] = 100.0 * service_cpu / window_s;
+    state.counters["no_client_cpu_pct"] = 100.0 * service_idle_cpu / window_s;
+    state.counters["cpu_ratio"] = baseline_cpu > 0 ? service_cpu / baseline_cpu : 0;
+    state.counters["rss_MB"] = rss;
+    state.counters["peak_rss_MB"] = peak_rss;
+    state.counters["sse_ev_per_s"] = events / window_s / sse_clients;  // per client
+    state.counters["lat_samples"] = static_cast<double>(latencies.size());
+    state.counters["lat_p50_ms"] = percentile(latencies, 50);
+    state.counters["lat_p99_ms"] = percentile(latencies, 99);
+    state.counters["lat_max_ms"] = percentile(latencies, 100);
+    if (json.is_object()) {
+      for (const auto& sensor : json["sensors"]) {
+        const std::string name = sensor["name"];
+        if (name == "belt-1" || name == "bay-A") state.counters[name + "_hz"] = sensor["health"]["rate_hz"];
+      }
+    }
+  }
+}
+
+}  // namespace
+
+BENCHMARK(BM_ServiceVersusLs5Stream)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
