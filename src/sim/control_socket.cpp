@@ -7,6 +7,8 @@
 #include <sys/un.h>
 #include <unistd.h>
 #include <cerrno>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "rangekit/core/fd_transport.hpp"
@@ -46,16 +48,33 @@ bool write_line(int fd, const std::string& line) {
   return true;
 }
 
-nlohmann::json answer(const ControlSocket::Handler& handler, const std::string& line) {
+// The line as printable ASCII for an error message: other bytes as \xNN, so the
+// reply is valid JSON whatever arrived (issue 18: invalid UTF-8 used to end the emulator).
+std::string printable(std::string_view line) {
+  std::string text;
+  for (const char c : line.substr(0, 200)) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte < 0x7f) {
+      text += c;
+    } else {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\x%02x", byte);
+      text += escaped;
+    }
+  }
+  return text;
+}
+
+std::string answer(const ControlSocket::Handler& handler, const std::string& line) {
   nlohmann::json request = nlohmann::json::parse(line, nullptr, false);
   if (request.is_discarded() || !request.is_object()) {
-    return {{"error", "not a JSON object: " + line.substr(0, 200)}};
+    return safe_dump({{"error", "not a JSON object (or not valid UTF-8): " + printable(line)}});
   }
   try {
-    return handler(request);
+    return safe_dump(handler(request));
   } catch (const std::exception& error) {
     // A request with fields of the wrong type (nlohmann throws type_error).
-    return {{"error", std::string("bad request: ") + error.what()}};
+    return safe_dump({{"error", std::string("bad request: ") + error.what()}});
   }
 }
 
@@ -116,7 +135,7 @@ void ControlSocket::service(const Handler& handler) {
       const std::string line = client.pending.substr(0, newline);
       client.pending.erase(0, newline + 1);
       if (line.empty()) continue;
-      if (!write_line(client.fd, answer(handler, line).dump() + "\n")) {
+      if (!write_line(client.fd, answer(handler, line) + "\n")) {
         ::close(client.fd);
         client.fd = -1;
       }
@@ -162,8 +181,12 @@ ControlClient::~ControlClient() {
 }
 
 Result<nlohmann::json> ControlClient::request(const nlohmann::json& request, int timeout_ms) {
+  return request_line(safe_dump(request), timeout_ms);
+}
+
+Result<nlohmann::json> ControlClient::request_line(const std::string& text, int timeout_ms) {
   if (fd_ < 0) return make_error(Errc::closed, "control connection is closed");
-  if (!write_line(fd_, request.dump() + "\n")) return make_error(Errc::closed, "control socket: cannot send");
+  if (!write_line(fd_, text + "\n")) return make_error(Errc::closed, "control socket: cannot send");
   while (true) {
     const auto newline = pending_.find('\n');
     if (newline != std::string::npos) {
@@ -182,6 +205,36 @@ Result<nlohmann::json> ControlClient::request(const nlohmann::json& request, int
     if (n <= 0) return make_error(Errc::closed, "control socket closed by the emulator");
     pending_.append(buffer, static_cast<std::size_t>(n));
   }
+}
+
+Result<double> control_number(const nlohmann::json& request, std::string_view key, double min, double max,
+                              std::optional<double> fallback) {
+  const std::string command = request.contains("cmd") && request.at("cmd").is_string()
+                                  ? request.at("cmd").get<std::string>()
+                                  : std::string("request");
+  const auto shortest = [](double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", value);
+    return std::string(text);
+  };
+  const std::string range = "within " + shortest(min) + " .. " + shortest(max);
+  const std::string name(key);
+  const auto found = request.find(std::string(key));
+  if (found == request.end()) {
+    if (fallback) return *fallback;
+    return make_error(Errc::out_of_range, command + ": needs '" + name + "' (a number " + range + ")");
+  }
+  const double value = found->is_number() ? found->get<double>() : std::nan("");
+  // NaN fails both comparisons; JSON has no infinity, but a double can overflow to it (1e999).
+  if (!(value >= min && value <= max)) {
+    return make_error(Errc::out_of_range,
+                      command + ": '" + name + "' must be a number " + range + ", not " + safe_dump(*found));
+  }
+  return value;
+}
+
+std::string safe_dump(const nlohmann::json& value) {
+  return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 }  // namespace rangekit
