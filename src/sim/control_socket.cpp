@@ -12,6 +12,7 @@
 #include <cstring>
 
 #include "rangekit/core/fd_transport.hpp"
+#include "rangekit/core/text.hpp"
 
 namespace rangekit {
 namespace {
@@ -48,27 +49,10 @@ bool write_line(int fd, const std::string& line) {
   return true;
 }
 
-// The line as printable ASCII for an error message: other bytes as \xNN, so the
-// reply is valid JSON whatever arrived (issue 18: invalid UTF-8 used to end the emulator).
-std::string printable(std::string_view line) {
-  std::string text;
-  for (const char c : line.substr(0, 200)) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (byte >= 0x20 && byte < 0x7f) {
-      text += c;
-    } else {
-      char escaped[8];
-      std::snprintf(escaped, sizeof escaped, "\\x%02x", byte);
-      text += escaped;
-    }
-  }
-  return text;
-}
-
 std::string answer(const ControlSocket::Handler& handler, const std::string& line) {
   nlohmann::json request = nlohmann::json::parse(line, nullptr, false);
   if (request.is_discarded() || !request.is_object()) {
-    return safe_dump({{"error", "not a JSON object (or not valid UTF-8): " + printable(line)}});
+    return safe_dump({{"error", "not a JSON object (or not valid UTF-8): " + text::printable(line, true)}});
   }
   try {
     return safe_dump(handler(request));
