@@ -49,19 +49,6 @@ bool write_line(int fd, const std::string& line) {
   return true;
 }
 
-std::string answer(const ControlSocket::Handler& handler, const std::string& line) {
-  nlohmann::json request = nlohmann::json::parse(line, nullptr, false);
-  if (request.is_discarded() || !request.is_object()) {
-    return safe_dump({{"error", "not a JSON object (or not valid UTF-8): " + text::printable(line, true)}});
-  }
-  try {
-    return safe_dump(handler(request));
-  } catch (const std::exception& error) {
-    // A request with fields of the wrong type (nlohmann throws type_error).
-    return safe_dump({{"error", std::string("bad request: ") + error.what()}});
-  }
-}
-
 }  // namespace
 
 Result<std::unique_ptr<ControlSocket>> ControlSocket::listen(const std::string& path) {
@@ -119,7 +106,7 @@ void ControlSocket::service(const Handler& handler) {
       const std::string line = client.pending.substr(0, newline);
       client.pending.erase(0, newline + 1);
       if (line.empty()) continue;
-      if (!write_line(client.fd, answer(handler, line) + "\n")) {
+      if (!write_line(client.fd, answer_control_line(handler, line) + "\n")) {
         ::close(client.fd);
         client.fd = -1;
       }
@@ -188,6 +175,19 @@ Result<nlohmann::json> ControlClient::request_line(const std::string& text, int 
     const ssize_t n = ::recv(fd_, buffer, sizeof buffer, 0);
     if (n <= 0) return make_error(Errc::closed, "control socket closed by the emulator");
     pending_.append(buffer, static_cast<std::size_t>(n));
+  }
+}
+
+std::string answer_control_line(const ControlSocket::Handler& handler, const std::string& line) {
+  nlohmann::json request = nlohmann::json::parse(line, nullptr, false);
+  if (request.is_discarded() || !request.is_object()) {
+    return safe_dump({{"error", "not a JSON object (or not valid UTF-8): " + text::printable(line, true)}});
+  }
+  try {
+    return safe_dump(handler(request));
+  } catch (const std::exception& error) {
+    // A request with fields of the wrong type (nlohmann throws type_error).
+    return safe_dump({{"error", std::string("bad request: ") + error.what()}});
   }
 }
 

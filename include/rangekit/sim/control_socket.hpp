@@ -65,6 +65,11 @@ class ControlClient {
   std::string pending_;
 };
 
+// The reply line (without '\n') to one request line: what the socket sends back. Never
+// throws; a line that is not a JSON object or not UTF-8 gets {"error": ...} (fuzzed
+// by fuzz/control_fuzz.cpp).
+std::string answer_control_line(const ControlSocket::Handler& handler, const std::string& line);
+
 // A number field of a control request checked against the range it means
 // ("noise: 'drop_rate' must be a number within 0 .. 1, not 2"). Without the
 // key the result is `fallback`, or an error when there is none. Errc::out_of_range.
