@@ -3,7 +3,7 @@
 # its seed corpus in fuzz/corpus/<name>/ (never modified: new inputs go to a work copy):
 #   run-fuzz.sh DIR SECONDS        each for SECONDS (`make fuzz`, the short run)
 #   run-fuzz.sh DIR 0 RUNS         each to RUNS executions (`make fuzz-long`: 10^7)
-# After each target: executions, exec/s, coverage (libFuzzer's cov: and ft: of its last line).
+# fuzz/<name>.options holds a target's own flags. After each target: executions, exec/s, coverage (libFuzzer's cov: and ft: of its last line).
 set -euo pipefail
 dir=${1:?usage: run-fuzz.sh FUZZER_DIR SECONDS [RUNS]}
 seconds=${2:-30}
@@ -25,7 +25,10 @@ for fuzzer in "$dir"/*; do
     limit=(-max_total_time="$seconds")
     echo "== $name ($seconds s)"
   fi
-  if ! "$fuzzer" "${limit[@]}" -print_final_stats=1 -artifact_prefix="$work/$name/" \
+  # fuzz/<name>.options: extra libFuzzer flags, one a line (the frame fuzzers' -max_len).
+  options=()
+  [ -f "fuzz/$name.options" ] && mapfile -t options < "fuzz/$name.options"
+  if ! "$fuzzer" "${limit[@]}" "${options[@]}" -print_final_stats=1 -artifact_prefix="$work/$name/" \
        "$work/$name" $seeds > "$work/$name.log" 2>&1; then
     status=1
     tail -n 40 "$work/$name.log"

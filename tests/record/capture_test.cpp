@@ -251,6 +251,20 @@ TEST(Capture, OtherSqliteDatabaseIsRefusedAndLeftUntouched) {
   expect_refused_untouched(path, read_file(path), "not a rangekit capture");
 }
 
+// A database whose meta row holds NULL (another program's meta table) used to be read with
+// strlen(NULL): refused as not a capture, like any other database (found writing fuzz/replay_fuzz.cpp).
+TEST(Capture, MetaWithANullFormatIsRefusedAndLeftUntouched) {
+  TempDir dir;
+  const auto path = dir.file("null-meta.sqlite");
+  sqlite3* database = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &database), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(database, "CREATE TABLE meta(key TEXT, value TEXT); INSERT INTO meta VALUES ('format', NULL);",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(database);
+  expect_refused_untouched(path, read_file(path), "not a rangekit capture");
+}
+
 TEST(Capture, CorruptCaptureIsRefusedAndLeftUntouched) {
   TempDir dir;
   const auto path = dir.file("corrupt.sqlite");
