@@ -33,7 +33,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     options.timeout = 20ms;  // never reached: the script reads as closed once used up
     options.measure_timeout = 20ms;
     options.read_retries = 0;
-    rangekit::uls::Driver driver(std::make_unique<rangekit::fuzz::ScriptedTransport>(script, rangekit::Errc::closed), options);
+    rangekit::uls::Driver driver(std::make_unique<rangekit::fuzz::ScriptedTransport>(script, rangekit::Errc::closed),
+                                 options);
     check(driver.info());
     check(driver.get("MO"));
     check(driver.get("PF"));
@@ -44,7 +45,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     options.address = (flags & 2) != 0 ? 0x00 : 0x01;
     options.timeout = 20ms;
     options.read_retries = 0;
-    rangekit::ls5::Driver driver(std::make_unique<rangekit::fuzz::ScriptedTransport>(script, rangekit::Errc::closed), options);
+    rangekit::ls5::Driver driver(std::make_unique<rangekit::fuzz::ScriptedTransport>(script, rangekit::Errc::closed),
+                                 options);
     check(driver.identify());
     check(driver.read_parameter(0x01));
     check(driver.read_last());
