@@ -21,6 +21,13 @@ const std::string& state_dir() {
     const char* base = ::access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp";
     std::string path = std::string(base) + "/rangekit-state-fuzz-" + std::to_string(::getpid());
     ::mkdir(path.c_str(), 0700);
+    // libFuzzer ends with exit(): the memory files and the directory go with it.
+    std::atexit([] {
+      const std::string& dir = state_dir();
+      std::remove((dir + "/uls.json").c_str());
+      std::remove((dir + "/ls5-157-01.json").c_str());
+      ::rmdir(dir.c_str());
+    });
     return path;
   }();
   return dir;
