@@ -17,20 +17,21 @@
 namespace {
 
 const std::string& state_dir() {
-  static const std::string dir = [] {
+  // Never destroyed, so the exit handler below can still read it.
+  static const std::string* const dir = [] {
     const char* base = ::access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp";
-    std::string path = std::string(base) + "/rangekit-state-fuzz-" + std::to_string(::getpid());
-    ::mkdir(path.c_str(), 0700);
+    auto* path = new std::string(std::string(base) + "/rangekit-state-fuzz-" + std::to_string(::getpid()));
+    ::mkdir(path->c_str(), 0700);
     // libFuzzer ends with exit(): the memory files and the directory go with it.
     std::atexit([] {
-      const std::string& dir = state_dir();
-      std::remove((dir + "/uls.json").c_str());
-      std::remove((dir + "/ls5-157-01.json").c_str());
-      ::rmdir(dir.c_str());
+      const std::string& directory = state_dir();
+      std::remove((directory + "/uls.json").c_str());
+      std::remove((directory + "/ls5-157-01.json").c_str());
+      ::rmdir(directory.c_str());
     });
     return path;
   }();
-  return dir;
+  return *dir;
 }
 
 void write(const std::string& path, const std::uint8_t* data, std::size_t size) {
