@@ -76,6 +76,8 @@ void add_common_sim_options(CLI::App& command, SimCommonOptions& options) {
                    "time moves only on {\"cmd\":\"advance\"} from the control socket (for tests)");
 }
 
+int scene_exit_code(const Error& error) { return error.code == Errc::io ? exit_io : exit_bad_input; }
+
 int run_emulator(std::vector<LineConfig> lines, const SimCommonOptions& options, const std::string& title,
                  EmulatorRuntime::ControlExtension extension) {
   if (options.virtual_clock && options.control.empty()) {

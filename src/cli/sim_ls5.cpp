@@ -84,7 +84,7 @@ int run(const Ls5SimOptions& options, const SimCommonOptions& common) {
     auto loaded = ls5::emulator::load_scene(common.scene);
     if (!loaded) {
       fmt::print(stderr, "rangekit sim ls5: {}\n", loaded.error().message);
-      return exit_bad_input;
+      return scene_exit_code(loaded.error());
     }
     scene = std::move(*loaded);
   }

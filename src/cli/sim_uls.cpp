@@ -95,7 +95,7 @@ int run(const SimUlsOptions& options) {
     auto loaded = uls::emulator::load_scene(options.common.scene);
     if (!loaded) {
       fmt::print(stderr, "rangekit sim uls: {}\n", loaded.error().message);
-      return exit_usage;
+      return scene_exit_code(loaded.error());
     }
     scene = std::move(*loaded);
   }

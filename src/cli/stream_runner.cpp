@@ -8,9 +8,11 @@
 #include <atomic>
 #include <csignal>
 #include <string>
+#include <vector>
 
 #include "cli/commands.hpp"
 #include "cli/stop_signals.hpp"
+#include "rangekit/record/diagnostic_limiter.hpp"
 #include "rangekit/record/format.hpp"
 #include "rangekit/record/stream_loop.hpp"
 
@@ -108,14 +110,22 @@ int run_stream_as(SampleSource& source, const StreamOptions& options, const std:
   const bool output_on_terminal = options.out.empty() && stdout_on_terminal;
   StatusLine status(!options.quiet && stdout_on_terminal && ::isatty(STDERR_FILENO) == 1);
   record::StreamObserver observer;
-  observer.on_event = [&status, &command_name](const StreamEvent& event) {
+  // A babbling line rejects thousands of fragments a second: the first of each kind is
+  // printed, the rest merged into one summary a second (issue 18 item 3).
+  record::DiagnosticLimiter limiter;
+  const auto print = [&status, &command_name](const std::vector<std::string>& lines) {
+    if (lines.empty()) return;
     status.clear();
-    std::string line;
-    record::append_text(line, event);
-    fmt::print(stderr, "rangekit {}: {}", command_name, line);
+    for (const auto& line : lines) fmt::print(stderr, "rangekit {}: {}", command_name, line);
+  };
+  observer.on_event = [&limiter, &print](const StreamEvent& event) {
+    print(limiter.on_event(event, std::chrono::steady_clock::now()));
+  };
+  observer.on_status = [&limiter, &print, &status](const record::StreamStats& stats) {
+    print(limiter.tick(std::chrono::steady_clock::now()));
+    status.show(stats);
   };
   if (status.enabled()) {
-    observer.on_status = [&status](const record::StreamStats& stats) { status.show(stats); };
     if (output_on_terminal) {
       observer.before_output_flush = [&status] { status.clear(); };
       observer.after_output_flush = [&status](const record::StreamStats& stats) { status.show(stats); };
@@ -124,6 +134,7 @@ int run_stream_as(SampleSource& source, const StreamOptions& options, const std:
 
   StopSignals signals;
   const auto outcome = record::run_stream_loop(source, loop, signals.flag(), observer);
+  print(limiter.finish(std::chrono::steady_clock::now()));
   status.clear();
   if (status.enabled()) fmt::print(stderr, "{}\n", status_text(outcome.stats));
   if (stats_out != nullptr) *stats_out = outcome.stats;

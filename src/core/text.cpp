@@ -88,4 +88,29 @@ std::string hex_byte(std::uint8_t value) {
   return text;
 }
 
+namespace {
+std::string to_lower_hex(unsigned char byte) {
+  constexpr const char* digits = "0123456789abcdef";
+  return {digits[byte >> 4], digits[byte & 0x0f]};
+}
+}  // namespace
+
+std::string printable(std::string_view text, bool ascii_only, std::size_t limit) {
+  std::string shown;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (i == limit) {
+      shown += "...";
+      break;
+    }
+    const auto byte = static_cast<unsigned char>(text[i]);
+    if (byte < 0x20 || byte == 0x7f || (ascii_only && byte > 0x7f)) {
+      shown += "\\x";
+      shown += to_lower_hex(byte);
+    } else {
+      shown += text[i];
+    }
+  }
+  return shown;
+}
+
 }  // namespace rangekit::text

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "rangekit/core/result.hpp"
+#include "rangekit/core/text.hpp"
 
 namespace rangekit {
 
@@ -17,7 +18,7 @@ namespace rangekit {
 inline Result<toml::table> parse_toml(std::string_view text, std::string_view source_name) {
   const auto failure = [&](const toml::parse_error& error) {
     return make_error(Errc::invalid_frame, std::string(source_name) + ":" + std::to_string(error.source().begin.line) +
-                                               ": " + std::string(error.description()));
+                                               ": " + text::printable(error.description()));
   };
 #if TOML_EXCEPTIONS
   try {

@@ -6,8 +6,12 @@
 
 namespace rangekit::ls5::detail {
 
-std::string quote(std::string_view text) {
+std::string quote(std::string_view whole) {
+  // A frame is at most 64 bytes; longer text (a whole junk buffer handed to a line
+  // parser) is cut, so a message stays a line and costs no more than a frame's worth.
+  const std::string_view text = whole.substr(0, max_quoted_bytes);
   std::string out = "'";
+  out.reserve(text.size() + 24);
   for (const char c : text) {
     const auto byte = static_cast<std::uint8_t>(c);
     if (byte < 0x20 || byte >= 0x7f) {
@@ -19,6 +23,7 @@ std::string quote(std::string_view text) {
     }
   }
   out.push_back('\'');
+  if (whole.size() > text.size()) out += "... (" + std::to_string(whole.size()) + " bytes)";
   return out;
 }
 

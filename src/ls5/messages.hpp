@@ -11,6 +11,8 @@
 namespace rangekit::ls5::detail {
 
 // 'text' with control and non-ASCII bytes as \xNN, so messages stay printable.
+// Text longer than max_quoted_bytes is cut there: "'...'... (4096 bytes)".
+inline constexpr std::size_t max_quoted_bytes = 96;
 std::string quote(std::string_view text);
 
 // Error whose message starts with "LS5 frame: ".

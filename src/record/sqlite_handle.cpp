@@ -1,7 +1,10 @@
 #include "sqlite_handle.hpp"
 
+#include <optional>
+#include <string>
 #include <string_view>
 
+#include "rangekit/core/text.hpp"
 #include "rangekit/record/capture.hpp"
 
 namespace rangekit::record {
@@ -66,12 +69,28 @@ Status check_is_capture(const std::string& path, sqlite3* database) {
     return make_error(Errc::io, "capture " + path + ": corrupt (" + (verdict ? verdict : "?") + ")");
   }
 
-  sqlite3_stmt* raw = nullptr;
-  code = sqlite3_prepare_v2(database, "SELECT value FROM meta WHERE key = 'format'", -1, &raw, nullptr);
-  Statement format(raw);
-  if (code != SQLITE_OK || sqlite3_step(format.get()) != SQLITE_ROW ||
-      std::string_view(reinterpret_cast<const char*>(sqlite3_column_text(format.get(), 0))) != "rangekit-capture") {
+  const auto meta = [database](const char* key) -> std::optional<std::string> {
+    sqlite3_stmt* raw = nullptr;
+    const int prepared = sqlite3_prepare_v2(database, "SELECT value FROM meta WHERE key = ?1", -1, &raw, nullptr);
+    Statement query(raw);
+    if (prepared != SQLITE_OK) return std::nullopt;
+    sqlite3_bind_text(query.get(), 1, key, -1, SQLITE_STATIC);
+    if (sqlite3_step(query.get()) != SQLITE_ROW) return std::nullopt;
+    const auto* value = reinterpret_cast<const char*>(sqlite3_column_text(query.get(), 0));
+    if (value == nullptr) return std::nullopt;  // a NULL value, whatever the schema says
+    return std::string(value, static_cast<std::size_t>(sqlite3_column_bytes(query.get(), 0)));
+  };
+  if (meta("format") != "rangekit-capture") {
     return make_error(Errc::io, "capture " + path + ": an SQLite database, but not a rangekit capture");
+  }
+  // A newer rangekit may store what this one would drop or misread: refuse to replay or
+  // append rather than go on without notice (issue 18). Every capture has written the row.
+  const auto version = meta("format_version");
+  if (version != "1" && version != "2") {
+    return make_error(Errc::unsupported,
+                      "capture " + path + ": format version " +
+                          (version ? "'" + text::printable(*version, true, 40) + "'" : std::string("(none)")) +
+                          " is not one this rangekit reads (1, 2); was it written by a newer rangekit?");
   }
   return ok_status();
 }

@@ -7,9 +7,12 @@
 #include <sys/un.h>
 #include <unistd.h>
 #include <cerrno>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "rangekit/core/fd_transport.hpp"
+#include "rangekit/core/text.hpp"
 
 namespace rangekit {
 namespace {
@@ -44,19 +47,6 @@ bool write_line(int fd, const std::string& line) {
     return false;
   }
   return true;
-}
-
-nlohmann::json answer(const ControlSocket::Handler& handler, const std::string& line) {
-  nlohmann::json request = nlohmann::json::parse(line, nullptr, false);
-  if (request.is_discarded() || !request.is_object()) {
-    return {{"error", "not a JSON object: " + line.substr(0, 200)}};
-  }
-  try {
-    return handler(request);
-  } catch (const std::exception& error) {
-    // A request with fields of the wrong type (nlohmann throws type_error).
-    return {{"error", std::string("bad request: ") + error.what()}};
-  }
 }
 
 }  // namespace
@@ -116,7 +106,7 @@ void ControlSocket::service(const Handler& handler) {
       const std::string line = client.pending.substr(0, newline);
       client.pending.erase(0, newline + 1);
       if (line.empty()) continue;
-      if (!write_line(client.fd, answer(handler, line).dump() + "\n")) {
+      if (!write_line(client.fd, answer_control_line(handler, line) + "\n")) {
         ::close(client.fd);
         client.fd = -1;
       }
@@ -162,8 +152,12 @@ ControlClient::~ControlClient() {
 }
 
 Result<nlohmann::json> ControlClient::request(const nlohmann::json& request, int timeout_ms) {
+  return request_line(safe_dump(request), timeout_ms);
+}
+
+Result<nlohmann::json> ControlClient::request_line(const std::string& text, int timeout_ms) {
   if (fd_ < 0) return make_error(Errc::closed, "control connection is closed");
-  if (!write_line(fd_, request.dump() + "\n")) return make_error(Errc::closed, "control socket: cannot send");
+  if (!write_line(fd_, text + "\n")) return make_error(Errc::closed, "control socket: cannot send");
   while (true) {
     const auto newline = pending_.find('\n');
     if (newline != std::string::npos) {
@@ -182,6 +176,49 @@ Result<nlohmann::json> ControlClient::request(const nlohmann::json& request, int
     if (n <= 0) return make_error(Errc::closed, "control socket closed by the emulator");
     pending_.append(buffer, static_cast<std::size_t>(n));
   }
+}
+
+std::string answer_control_line(const ControlSocket::Handler& handler, const std::string& line) {
+  nlohmann::json request = nlohmann::json::parse(line, nullptr, false);
+  if (request.is_discarded() || !request.is_object()) {
+    return safe_dump({{"error", "not a JSON object (or not valid UTF-8): " + text::printable(line, true)}});
+  }
+  try {
+    return safe_dump(handler(request));
+  } catch (const std::exception& error) {
+    // A request with fields of the wrong type (nlohmann throws type_error).
+    return safe_dump({{"error", std::string("bad request: ") + error.what()}});
+  }
+}
+
+Result<double> control_number(const nlohmann::json& request, std::string_view key, double min, double max,
+                              std::optional<double> fallback) {
+  const std::string command = request.contains("cmd") && request.at("cmd").is_string()
+                                  ? request.at("cmd").get<std::string>()
+                                  : std::string("request");
+  const auto shortest = [](double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", value);
+    return std::string(text);
+  };
+  const std::string range = "within " + shortest(min) + " .. " + shortest(max);
+  const std::string name(key);
+  const auto found = request.find(std::string(key));
+  if (found == request.end()) {
+    if (fallback) return *fallback;
+    return make_error(Errc::out_of_range, command + ": needs '" + name + "' (a number " + range + ")");
+  }
+  const double value = found->is_number() ? found->get<double>() : std::nan("");
+  // NaN fails both comparisons; JSON has no infinity, but a double can overflow to it (1e999).
+  if (!(value >= min && value <= max)) {
+    return make_error(Errc::out_of_range,
+                      command + ": '" + name + "' must be a number " + range + ", not " + safe_dump(*found));
+  }
+  return value;
+}
+
+std::string safe_dump(const nlohmann::json& value) {
+  return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 }  // namespace rangekit

@@ -191,6 +191,10 @@ Status EmulatorRuntime::advance_to(Nanos when) {
   return flush_output(when);
 }
 
+namespace {
+constexpr double max_advance_seconds = 86400.0;
+}  // namespace
+
 nlohmann::json EmulatorRuntime::handle_control(const nlohmann::json& request) {
   const std::string command = request.value("cmd", "");
   if (command == "status") {
@@ -207,9 +211,10 @@ nlohmann::json EmulatorRuntime::handle_control(const nlohmann::json& request) {
             {"dropped_output_bytes", dropped_output_}};
   }
   if (command == "advance") {
-    const double by = request.value("seconds", 0.0);
-    if (!(by >= 0)) return {{"error", "advance: 'seconds' must be a number >= 0"}};
-    auto advanced = advance_to(now() + Nanos(static_cast<std::int64_t>(by * 1e9)));
+    // At most a day a request: nanoseconds stay far inside int64, and every step is simulated.
+    const auto by = control_number(request, "seconds", 0.0, max_advance_seconds, 0.0);
+    if (!by) return {{"error", by.error().message}};
+    auto advanced = advance_to(now() + Nanos(static_cast<std::int64_t>(*by * 1e9)));
     if (!advanced) return {{"error", advanced.error().message}};
     return {{"ok", true}, {"time_s", seconds(now())}};
   }
@@ -217,8 +222,13 @@ nlohmann::json EmulatorRuntime::handle_control(const nlohmann::json& request) {
     const std::string name = request.value("line", lines_.front().config.name);
     for (auto& line : lines_) {
       if (line.config.name != name) continue;
-      line.noise.bit_error_rate = request.value("bit_error_rate", 0.0);
-      line.noise.drop_rate = request.value("drop_rate", 0.0);
+      // Both are probabilities per bit and per byte (issue 18: 2 and -1 were accepted).
+      const auto bit_error_rate = control_number(request, "bit_error_rate", 0.0, 1.0, 0.0);
+      if (!bit_error_rate) return {{"error", bit_error_rate.error().message}};
+      const auto drop_rate = control_number(request, "drop_rate", 0.0, 1.0, 0.0);
+      if (!drop_rate) return {{"error", drop_rate.error().message}};
+      line.noise.bit_error_rate = *bit_error_rate;
+      line.noise.drop_rate = *drop_rate;
       return {{"ok", true}, {"line", name}};
     }
     return {{"error", "noise: no line named '" + name + "'"}};

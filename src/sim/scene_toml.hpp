@@ -8,6 +8,7 @@
 
 #include "core/toml.hpp"  // private: toml++ is no part of the public API
 #include "rangekit/core/result.hpp"
+#include "rangekit/core/text.hpp"
 
 namespace rangekit::sim {
 
@@ -16,7 +17,9 @@ namespace rangekit::sim {
 enum class KeyStyle { quoted, plain };
 
 inline std::string where(std::string_view source, const toml::node& node, std::string_view key, KeyStyle style) {
-  const std::string name = style == KeyStyle::quoted ? "'" + std::string(key) + "'" : std::string(key);
+  // A key may hold any character, NUL and escape sequences too (issue 18): shown escaped.
+  const std::string shown = text::printable(key);
+  const std::string name = style == KeyStyle::quoted ? "'" + shown + "'" : shown;
   return std::string(source) + ":" + std::to_string(node.source().begin.line) + ": " + name;
 }
 

@@ -81,8 +81,12 @@ std::size_t write_fixed(std::int64_t scaled, int decimals, char* out) noexcept {
 
 std::string hex_byte(std::uint8_t byte) { return "0x" + text::hex_byte(byte); }
 
-std::string quoted(std::string_view field) {
+std::string quoted(std::string_view whole) {
+  // Longer than any frame (a whole junk buffer handed to a line parser): cut, so a
+  // message stays a line and costs no more than a frame's worth (issue 18).
+  const std::string_view field = whole.substr(0, max_quoted_bytes);
   std::string text = "'";
+  text.reserve(field.size() + 24);
   for (const char c : field) {
     const auto byte = static_cast<std::uint8_t>(c);
     if (byte < 0x20 || byte >= 0x7F) {
@@ -95,6 +99,7 @@ std::string quoted(std::string_view field) {
     }
   }
   text += "'";
+  if (whole.size() > field.size()) text += "... (" + std::to_string(whole.size()) + " bytes)";
   return text;
 }
 

@@ -29,6 +29,8 @@ std::size_t write_fixed(std::int64_t scaled, int decimals, char* out) noexcept;
 // "0x2F": one byte for messages.
 std::string hex_byte(std::uint8_t byte);
 // The field quoted for messages, non-printable bytes as \xNN.
+// Text longer than max_quoted_bytes is cut there: "'...'... (4096 bytes)".
+inline constexpr std::size_t max_quoted_bytes = 96;
 std::string quoted(std::string_view text);
 
 }  // namespace rangekit::uls::detail

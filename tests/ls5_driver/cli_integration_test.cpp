@@ -285,6 +285,14 @@ TEST(Ls5Cli, ConfigSaveChangeDiffLoadVerify) {
   EXPECT_EQ(bad.exit_code, cli::exit_usage) << bad.err;
   EXPECT_TRUE(contains(bad.err, "thinning")) << bad.err;
   EXPECT_EQ(w.ls5({"get", "--port", w.port, "median-points"}).out, "median-points=5\n") << "nothing was written";
+
+  // Issue 18: an empty file exited 0 with "0 settings written, verified", where `uls config
+  // load` refuses the same ("no [settings] table", exit 3): refused alike, nothing sent.
+  std::ofstream((w.dir / "empty.toml").string()) << "";
+  CliRun empty = w.ls5({"config", "load", "--port", w.port, (w.dir / "empty.toml").string()});
+  EXPECT_EQ(empty.exit_code, cli::exit_bad_input) << empty.err;
+  EXPECT_TRUE(contains(empty.err, "empty.toml: no settings in [link] or [parameters]; nothing to load")) << empty.err;
+  EXPECT_FALSE(contains(empty.out, "verified")) << empty.out;
 }
 
 // docs/conformance.md L60. §8.9 formula 8.2 with «Type of preliminary result» = 0x01: a

@@ -14,5 +14,28 @@ TEST(Ls5ConfigFile, SyntaxErrorNamesFileAndLine) {
   EXPECT_EQ(config.error().message.rfind("bad.toml:2: ", 0), 0u) << config.error().message;
 }
 
+// Issue 18: "`ls5 config load` of an empty file exits 0 with '0 settings written, verified',
+// where the ULS refuses the same". A file with no [link] or [parameters] setting is refused.
+TEST(Ls5ConfigFile, EmptyFileIsRefusedAsTheUlsRefusesIt) {
+  for (const char* text : {"", "# nothing\n", "[sensor]\naddress = 3\n", "[parameters]\n"}) {
+    const auto config = parse_config_toml(text, "empty.toml");
+    ASSERT_FALSE(config) << text;
+    EXPECT_EQ(config.error().code, Errc::invalid_frame);
+    EXPECT_EQ(config.error().message, "empty.toml: no settings in [link] or [parameters]; nothing to load");
+  }
+}
+
+// Issue 18: "a NUL in a TOML key is printed raw in an error". Keys and sections are printed
+// with control characters escaped (\x00, \x1b).
+TEST(Ls5ConfigFile, ControlCharactersInKeysArePrintedEscaped) {
+  auto config = parse_config_toml("[parameters]\n\"lase\\u0000r\" = 1\n", "nul.toml");
+  ASSERT_FALSE(config);
+  EXPECT_EQ(config.error().message, "nul.toml:2: 'lase\\x00r' is not an LS5 setting");
+  config = parse_config_toml("[\"\\u001b[2J\"]\nx = 1\n", "esc.toml");
+  ASSERT_FALSE(config);
+  EXPECT_EQ(config.error().message.find('\x1b'), std::string::npos) << config.error().message;
+  EXPECT_NE(config.error().message.find("[\\x1b[2J]"), std::string::npos) << config.error().message;
+}
+
 }  // namespace
 }  // namespace rangekit::ls5

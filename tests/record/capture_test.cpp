@@ -182,6 +182,42 @@ TEST(Capture, Version1CaptureReplaysAndTakesNewSessionsL63) {
   EXPECT_EQ(query(path, "SELECT value FROM meta WHERE key = 'format_version'"), "2");
 }
 
+// Issue 18: "a capture whose meta says format_version='2' is replayed and appended to without
+// notice" (when this build knew only version 1). A version this build does not know may hold
+// what it would drop or misread: append and replay refuse it, naming the version.
+TEST(Capture, UnknownFormatVersionIsRefusedByAppendAndReplay) {
+  TempDir dir;
+  const auto path = dir.file("future.sqlite");
+  {
+    auto capture = open_capture(path);
+    ASSERT_TRUE(capture.ok()) << capture.error().message;
+    write_items(**capture, {uls_averaging()});
+  }
+  for (const char* version : {"3", "2.1", "x\x1b[2J"}) {
+    sqlite3* database = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &database), SQLITE_OK);
+    const std::string update = std::string("UPDATE meta SET value = '") + version + "' WHERE key = 'format_version'";
+    ASSERT_EQ(sqlite3_exec(database, update.c_str(), nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(database);
+    const auto content = read_file(path);
+
+    auto capture = open_capture(path);
+    ASSERT_FALSE(capture.ok()) << version;
+    EXPECT_EQ(capture.error().code, Errc::unsupported);
+    EXPECT_NE(capture.error().message.find("format version '"), std::string::npos) << capture.error().message;
+    EXPECT_NE(capture.error().message.find("is not one this rangekit reads (1, 2)"), std::string::npos)
+        << capture.error().message;
+    EXPECT_EQ(capture.error().message.find('\x1b'), std::string::npos) << "printed escaped";
+    EXPECT_EQ(read_file(path), content) << "nothing appended";
+
+    const auto replay = open_replay(path, 0.0);
+    ASSERT_FALSE(replay.ok()) << version;
+    EXPECT_NE(replay.error().message.find("is not one this rangekit reads (1, 2)"), std::string::npos)
+        << replay.error().message;
+  }
+  EXPECT_EQ(query(path, "SELECT count(*) FROM samples"), "1");
+}
+
 void expect_refused_untouched(const std::string& path, const std::string& content, const std::string& why) {
   auto capture = open_capture(path);
   ASSERT_FALSE(capture.ok());
@@ -210,6 +246,20 @@ TEST(Capture, OtherSqliteDatabaseIsRefusedAndLeftUntouched) {
   ASSERT_EQ(sqlite3_open(path.c_str(), &database), SQLITE_OK);
   ASSERT_EQ(sqlite3_exec(database, "CREATE TABLE accounts(id INTEGER); INSERT INTO accounts VALUES (1);", nullptr,
                          nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(database);
+  expect_refused_untouched(path, read_file(path), "not a rangekit capture");
+}
+
+// A database whose meta row holds NULL (another program's meta table) used to be read with
+// strlen(NULL): refused as not a capture, like any other database (found writing fuzz/replay_fuzz.cpp).
+TEST(Capture, MetaWithANullFormatIsRefusedAndLeftUntouched) {
+  TempDir dir;
+  const auto path = dir.file("null-meta.sqlite");
+  sqlite3* database = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &database), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(database, "CREATE TABLE meta(key TEXT, value TEXT); INSERT INTO meta VALUES ('format', NULL);",
+                         nullptr, nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(database);
   expect_refused_untouched(path, read_file(path), "not a rangekit capture");

@@ -14,5 +14,20 @@ TEST(UlsConfigFile, SyntaxErrorNamesFileAndLine) {
   EXPECT_EQ(config.error().message.rfind("bad.toml:2: ", 0), 0u) << config.error().message;
 }
 
+// Issue 18: "a NUL in a TOML key is printed raw in an error": printed escaped.
+TEST(UlsConfigFile, NulInAKeyIsPrintedEscaped) {
+  const auto config = config_from_toml("[settings]\n\"mo\\u0000de\" = 1\n", "nul.toml");
+  ASSERT_FALSE(config);
+  EXPECT_EQ(config.error().message.find('\0'), std::string::npos);
+  EXPECT_EQ(config.error().message, "nul.toml:2: 'mo\\x00de' is not a ULS setting (see `rangekit uls get`)");
+}
+
+// The file the LS5 now refuses alike (issue 18): nothing to load is an error, not "0 written".
+TEST(UlsConfigFile, EmptyFileIsRefused) {
+  const auto config = config_from_toml("", "empty.toml");
+  ASSERT_FALSE(config);
+  EXPECT_EQ(config.error().message, "empty.toml: no [settings] table");
+}
+
 }  // namespace
 }  // namespace rangekit::uls

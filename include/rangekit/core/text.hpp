@@ -33,6 +33,11 @@ void write_hex(std::uint64_t value, std::size_t width, char* out) noexcept;
 // address or a byte in hex is written with it.
 std::string hex_byte(std::uint8_t value);
 
+// `text` safe to print in a message: control characters (NUL, ESC, DEL, ...) as \xNN,
+// and with `ascii_only` every byte outside printable ASCII too (text that may not be
+// UTF-8). At most `limit` bytes of `text` are shown, then "...".
+std::string printable(std::string_view text, bool ascii_only = false, std::size_t limit = 200);
+
 // Upper-case ASCII letters in place of lower-case ones.
 inline char to_upper(char c) noexcept { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }
 

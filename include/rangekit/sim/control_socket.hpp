@@ -5,7 +5,9 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -28,7 +30,8 @@ class ControlSocket {
   // File descriptors to poll for input (listener and clients).
   [[nodiscard]] std::vector<int> poll_fds() const;
   // Accepts new clients and answers every complete line that arrived. A line
-  // that is not a JSON object gets {"error": "..."}; nothing throws out of here.
+  // that is not a JSON object (invalid UTF-8 included) gets {"error": "..."};
+  // nothing throws out of here.
   void service(const Handler& handler);
   [[nodiscard]] const std::string& path() const noexcept { return path_; }
 
@@ -53,11 +56,27 @@ class ControlClient {
   ControlClient& operator=(const ControlClient&) = delete;
   ~ControlClient();
   Result<nlohmann::json> request(const nlohmann::json& request, int timeout_ms = 5000);
+  // Sends `line` as it is (a newline is added), for tests of what a malformed line gets.
+  Result<nlohmann::json> request_line(const std::string& line, int timeout_ms = 5000);
 
  private:
   explicit ControlClient(int fd) : fd_(fd) {}
   int fd_ = -1;
   std::string pending_;
 };
+
+// The reply line (without '\n') to one request line: what the socket sends back. Never
+// throws; a line that is not a JSON object or not UTF-8 gets {"error": ...} (fuzzed
+// by fuzz/control_fuzz.cpp).
+std::string answer_control_line(const ControlSocket::Handler& handler, const std::string& line);
+
+// A number field of a control request checked against the range it means
+// ("noise: 'drop_rate' must be a number within 0 .. 1, not 2"). Without the
+// key the result is `fallback`, or an error when there is none. Errc::out_of_range.
+Result<double> control_number(const nlohmann::json& request, std::string_view key, double min, double max,
+                              std::optional<double> fallback = std::nullopt);
+
+// JSON text of `value` with any invalid UTF-8 replaced (U+FFFD) instead of throwing.
+std::string safe_dump(const nlohmann::json& value);
 
 }  // namespace rangekit

@@ -108,19 +108,25 @@ Result<DeviceConfig> parse_config_toml(std::string_view text, const std::string&
     if ((section != "link" && section != "parameters") || entries == nullptr) {
       std::string message = source_name;
       message += ":" + std::to_string(section_node.source().begin.line);
-      message += ": unknown section [" + std::string(section) + "] (expected sensor, link, parameters)";
+      message += ": unknown section [" + text::printable(section) + "] (expected sensor, link, parameters)";
       return make_error(Errc::wrong_form, message);
     }
     for (const auto& [key, node] : *entries) {
       const std::string line = source_name + ":" + std::to_string(node.source().begin.line) + ": ";
       const HostSetting* setting = find_host_setting(key.str());
       if (setting == nullptr) {
-        return make_error(Errc::unknown_parameter, line + "'" + std::string(key.str()) + "' is not an LS5 setting");
+        return make_error(Errc::unknown_parameter, line + "'" + text::printable(key.str()) + "' is not an LS5 setting");
       }
       auto value = node_text(node);
-      if (!value) return make_error(value.error().code, line + std::string(key.str()) + ": " + value.error().message);
+      if (!value)
+        return make_error(value.error().code, line + text::printable(key.str()) + ": " + value.error().message);
       config.entries.push_back({setting, *value, {}});
     }
+  }
+  // As the ULS refuses a file without [settings]: loading nothing and reporting it
+  // "verified" would hide a wrong or truncated file (issue 18).
+  if (config.entries.empty()) {
+    return make_error(Errc::invalid_frame, source_name + ": no settings in [link] or [parameters]; nothing to load");
   }
   // toml++ hands keys out sorted by name: upload in table 9.2 order instead.
   std::sort(config.entries.begin(), config.entries.end(),

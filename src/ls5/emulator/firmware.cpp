@@ -3,6 +3,7 @@
 #include "rangekit/sim/ls5/firmware.hpp"
 
 #include "rangekit/core/text.hpp"
+#include "rangekit/sim/control_socket.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -626,12 +627,17 @@ nlohmann::json Firmware::control(const nlohmann::json& request, Nanos now) {
       return {{"ok", true}, {"device", label()}, {"phase", std::string(phase_name())}};
     }
     if (command == "move_target") {
-      if (!request.contains("position_mm")) return {{"error", "move_target: needs position_mm"}};
-      const double position = request["position_mm"].get<double>();
-      const double speed = request.value("speed_mm_per_s", 0.0);
-      config_.scene.target = Motion::constant_speed(position - speed * seconds_of(now), speed);
+      // The scene file's ranges, so no value the file refuses gets in this way (issue 18: -1e308 did).
+      const auto position = control_number(request, "position_mm", -max_scene_position_mm, max_scene_position_mm);
+      if (!position) return {{"error", position.error().message}};
+      const auto speed =
+          control_number(request, "speed_mm_per_s", -max_scene_speed_mm_per_s, max_scene_speed_mm_per_s, 0.0);
+      if (!speed) return {{"error", speed.error().message}};
+      const auto reflectivity = control_number(request, "reflectivity", 0.0, 1.0, config_.scene.reflectivity);
+      if (!reflectivity) return {{"error", reflectivity.error().message}};
+      config_.scene.target = Motion::constant_speed(*position - *speed * seconds_of(now), *speed);
       config_.scene.target_set = true;
-      if (request.contains("reflectivity")) config_.scene.reflectivity = request["reflectivity"].get<double>();
+      config_.scene.reflectivity = *reflectivity;
       return {{"ok", true}, {"device", label()}};
     }
     if (command == "set_scene") {

@@ -66,9 +66,9 @@ Result<Scene> from_table(const toml::table& root, const std::string& source) {
       scene.target = std::move(*motion);
       scene.target_set = true;
     } else if (target->get("position_mm")) {
-      auto position = number(source, *target, "position_mm", 0, -1e9, 1e9);
+      auto position = number(source, *target, "position_mm", 0, -max_scene_position_mm, max_scene_position_mm);
       if (!position) return std::move(position).error();
-      auto speed = number(source, *target, "speed_mm_per_s", 0, -1e9, 1e9);
+      auto speed = number(source, *target, "speed_mm_per_s", 0, -max_scene_speed_mm_per_s, max_scene_speed_mm_per_s);
       if (!speed) return std::move(speed).error();
       scene.target = Motion::constant_speed(*position, *speed);
       scene.target_set = true;

@@ -49,8 +49,8 @@ std::string unit_comment(const CommandInfo& command) {
 }
 
 Error toml_error(std::string_view file, std::size_t line, std::string_view key, std::string_view what) {
-  return make_error(Errc::bad_number, std::string(file) + ":" + std::to_string(line) + ": '" + std::string(key) + "' " +
-                                          std::string(what));
+  return make_error(Errc::bad_number, std::string(file) + ":" + std::to_string(line) + ": '" + text::printable(key) +
+                                          "' " + std::string(what));
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // The ULS firmware model; see firmware.hpp and docs/emulator-uls.md.
 #include "rangekit/sim/uls/firmware.hpp"
 
+#include "rangekit/sim/control_socket.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -1112,11 +1114,15 @@ nlohmann::json Firmware::control(const nlohmann::json& request, Nanos now) {
     return {{"ok", true}, {"device", label()}};
   }
   if (command == "move_target") {
-    const auto index = request.value("target", std::size_t{0});
-    if (!request.contains("distance_m") || !request.at("distance_m").is_number())
-      return {{"error", "move_target: needs 'distance_m' (number)"}};
-    if (!move_target(index, request.at("distance_m").get<double>(), now))
-      return {{"error", "move_target: no target " + std::to_string(index)}};
+    // The scene file's range (distance_m 0 .. 5000 m), so no value the file refuses gets in this way.
+    const auto index = control_number(request, "target", 0.0, static_cast<double>(scene_.targets.size()), 0.0);
+    if (!index || *index != std::floor(*index))
+      return {{"error", "move_target: 'target' must be the index of one of the scene's " +
+                            std::to_string(scene_.targets.size()) + " targets (0, 1, ...)"}};
+    const auto distance = control_number(request, "distance_m", 0.0, max_scene_distance_m);
+    if (!distance) return {{"error", distance.error().message}};
+    if (!move_target(static_cast<std::size_t>(*index), *distance, now))
+      return {{"error", "move_target: no target " + std::to_string(static_cast<std::size_t>(*index))}};
     return {{"ok", true}, {"device", label()}};
   }
   if (command == "fault") {

@@ -9,7 +9,7 @@
 namespace rangekit::uls::emulator {
 namespace {
 
-constexpr double max_distance_m = 5000.0;
+constexpr double max_distance_m = max_scene_distance_m;
 
 // Keys are quoted in messages: "s.toml:2: 'distnce_m': unknown key" (docs/emulator-uls.md).
 std::string where(std::string_view source, const toml::node& node, std::string_view key) {

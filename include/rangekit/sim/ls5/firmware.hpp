@@ -29,6 +29,10 @@ struct Dropout {
   std::string kind = "shading";
 };
 
+// The largest target position and speed a scene (file or control socket) may give: mm, mm/s.
+inline constexpr double max_scene_position_mm = 1e9;
+inline constexpr double max_scene_speed_mm_per_s = 1e9;
+
 // What the sensor looks at (docs/emulator-ls5.md, "Scene").
 struct Scene {
   Motion target = Motion::fixed(-1);  // distance from the sensor's window in mm; < 0: the middle of the range

@@ -31,6 +31,9 @@ struct SceneTarget {
   std::optional<double> pulse_width_ns;
 };
 
+// The farthest target a scene (file or control socket) may place, in metres.
+inline constexpr double max_scene_distance_m = 5000.0;
+
 struct Scene {
   std::vector<SceneTarget> targets;
   double dust = 0.0;           // probability per pulse of a weak return from dust near the unit

@@ -1,0 +1,106 @@
+// Issue 18, "Fix the crash": a control-socket line with invalid UTF-8 inside a JSON string
+// ({"cmd":"\xff"}) ended `sim uls` and `sim ls5` with exit 70, and out-of-range values
+// (noise bit_error_rate 2, drop_rate -1, move_target position_mm -1e308) were taken. Every
+// such line now gets one {"error": ...} line naming the problem, and the emulator keeps serving.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "ls5_driver/cli_process.hpp"
+#include "rangekit/sim/control_socket.hpp"
+
+namespace {
+
+using ls5_driver_test::Child;
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+struct BadLine {
+  std::string line;
+  std::string expected;  // part of the error text, typed from what the value means
+};
+
+// Sends every line raw, expects an error naming the problem for each, then checks that the
+// emulator still answers `status` and `outputs` and ends cleanly on `shutdown`.
+void expect_errors_and_still_serving(Child& sim, const std::string& control, const std::vector<BadLine>& lines) {
+  ASSERT_TRUE(contains(sim.read_line(), "ready:"));
+  auto client = rangekit::ControlClient::connect(control);
+  ASSERT_TRUE(client) << client.error().message;
+  for (const auto& bad : lines) {
+    auto reply = client->request_line(bad.line);
+    ASSERT_TRUE(reply) << bad.line << ": " << reply.error().message;
+    ASSERT_TRUE(reply->contains("error")) << bad.line << " got " << reply->dump();
+    EXPECT_TRUE(contains((*reply)["error"].get<std::string>(), bad.expected))
+        << bad.line << " got " << reply->dump() << ", expected a mention of " << bad.expected;
+    EXPECT_FALSE(reply->contains("ok")) << bad.line;
+  }
+  auto status = client->request({{"cmd", "status"}});
+  ASSERT_TRUE(status) << status.error().message;
+  EXPECT_EQ(status->value("ok", false), true) << status->dump();
+  auto outputs = client->request({{"cmd", "outputs"}});
+  ASSERT_TRUE(outputs) << outputs.error().message;
+  EXPECT_FALSE(outputs->contains("error")) << outputs->dump();
+  auto shutdown = client->request({{"cmd", "shutdown"}});
+  ASSERT_TRUE(shutdown) << shutdown.error().message;
+  EXPECT_EQ(sim.wait(), 0);
+}
+
+// Lines every emulator's runtime answers the same way (docs/emulator-*.md, "Control"):
+// `noise` "flipping each bit ... with that probability, and dropped bytes": both are
+// probabilities, 0 .. 1.
+std::vector<BadLine> runtime_lines() {
+  return {
+      {"{\"cmd\":\"\xff\"}", "not valid UTF-8"},
+      {"{\"cmd\":\"outputs\",\"note\":\"caf\xc3\"}", "not valid UTF-8"},
+      {"{\"cmd\":\"\xc0\xaf\"}", "\\xc0\\xaf"},
+      {"{\"cmd\":\"noise\",\"bit_error_rate\":2}", "'bit_error_rate' must be a number within 0 .. 1, not 2"},
+      {"{\"cmd\":\"noise\",\"drop_rate\":-1}", "'drop_rate' must be a number within 0 .. 1, not -1"},
+      {"{\"cmd\":\"noise\",\"bit_error_rate\":\"often\"}", "'bit_error_rate' must be a number within 0 .. 1"},
+      {"{\"cmd\":\"noise\",\"drop_rate\":1e999}", "drop_rate"},
+      {"{\"cmd\":\"advance\",\"seconds\":-1}", "'seconds' must be a number within 0 .. 86400"},
+      {"{\"cmd\":\"advance\",\"seconds\":1e300}", "'seconds' must be a number within 0 .. 86400"},
+      {"{\"cmd\":7}", "bad request"},
+      {"[1,2]", "not a JSON object"},
+  };
+}
+
+TEST(ControlSocket, UlsAnswersInvalidUtf8AndOutOfRangeValuesWithErrorsAndKeepsRunning) {
+  const ls5_driver_test::TempDir temp;
+  const std::string control = (temp.path / "uls.control").string();
+  Child sim({"sim", "uls", "--port", (temp.path / "uls").string(), "--control", control});
+  auto lines = runtime_lines();
+  // docs/emulator-uls.md, scene: distance_m of a target, 0 .. 5000 m as in the scene file.
+  lines.push_back({"{\"cmd\":\"move_target\",\"distance_m\":-1e308}",
+                   "'distance_m' must be a number within 0 .. 5000, not -1e+308"});
+  lines.push_back(
+      {"{\"cmd\":\"move_target\",\"distance_m\":5000.5}", "'distance_m' must be a number within 0 .. 5000"});
+  lines.push_back({"{\"cmd\":\"move_target\"}", "needs 'distance_m'"});
+  lines.push_back({"{\"cmd\":\"move_target\",\"target\":-1,\"distance_m\":3}", "'target' must be the index"});
+  lines.push_back({"{\"cmd\":\"move_target\",\"target\":0.5,\"distance_m\":3}", "'target' must be the index"});
+  lines.push_back({"{\"cmd\":\"min_pulse_width\",\"ns\":-5}", "ER 87"});
+  lines.push_back({"{\"cmd\":\"move_target\",\"device\":\"\xff\",\"distance_m\":3}", "not valid UTF-8"});
+  expect_errors_and_still_serving(sim, control, lines);
+}
+
+TEST(ControlSocket, Ls5AnswersInvalidUtf8AndOutOfRangeValuesWithErrorsAndKeepsRunning) {
+  const ls5_driver_test::TempDir temp;
+  const std::string control = (temp.path / "ls5.control").string();
+  Child sim({"sim", "ls5", "--port", (temp.path / "ls5").string(), "--control", control});
+  auto lines = runtime_lines();
+  // docs/emulator-ls5.md, scene: position_mm and speed_mm_per_s within +-1e9 as in the scene
+  // file; "reflectivity = 1  # 0 (black) .. 1 (white)".
+  lines.push_back({"{\"cmd\":\"move_target\",\"position_mm\":-1e308}",
+                   "'position_mm' must be a number within -1e+09 .. 1e+09, not -1e+308"});
+  lines.push_back({"{\"cmd\":\"move_target\",\"position_mm\":30,\"speed_mm_per_s\":1e300}", "'speed_mm_per_s'"});
+  lines.push_back({"{\"cmd\":\"move_target\",\"position_mm\":30,\"reflectivity\":2}",
+                   "'reflectivity' must be a number within 0 .. 1, not 2"});
+  lines.push_back({"{\"cmd\":\"move_target\",\"position_mm\":\"far\"}", "'position_mm' must be a number"});
+  lines.push_back({"{\"cmd\":\"move_target\"}", "needs 'position_mm'"});
+  lines.push_back({"{\"cmd\":\"sync\",\"level\":\"\xe2\x82\"}", "not valid UTF-8"});
+  lines.push_back({"{\"cmd\":\"set_scene\",\"toml\":\"[target]\\nreflectivity = 7\"}", "reflectivity"});
+  expect_errors_and_still_serving(sim, control, lines);
+}
+
+}  // namespace
