@@ -5,11 +5,13 @@
 #include <fmt/core.h>
 
 #include <chrono>
+#include <filesystem>
 #include <thread>
 
 #include "cli/commands.hpp"
 #include "cli/demo_site.hpp"
 #include "cli/stop_signals.hpp"
+#include "rangekit/hub/captures.hpp"
 #include "rangekit/hub/hub.hpp"
 #include "rangekit/web/server.hpp"
 
@@ -84,11 +86,29 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   }
   server_options.token = *token;
   auto hub = hub::Hub::start(*site);
+  // Captures go where [service] capture_dir says, relative to the site file's folder.
+  std::filesystem::path capture_dir = site->service.capture_dir;
+  if (capture_dir.is_relative() && !site->file.empty()) {
+    capture_dir = std::filesystem::path(site->file).parent_path() / capture_dir;
+  }
+  hub::CaptureManager captures(*hub, capture_dir.string());
+  server_options.captures = &captures;
   auto server = web::Server::start(*hub, server_options);
   if (!server) {
     fmt::print(stderr, "rangekit serve: {}\n", server.error().message);
     hub->stop();
     return exit_code_for(server.error());
+  }
+  std::vector<std::string> capture_at_start;
+  for (const hub::SensorConfig& sensor : site->sensors) {
+    if (sensor.capture) capture_at_start.push_back(sensor.name);
+  }
+  if (!capture_at_start.empty()) {
+    if (auto started = captures.start(capture_at_start); started) {
+      fmt::print("capturing {} sensors into {}\n", capture_at_start.size(), started->path);
+    } else {
+      fmt::print(stderr, "rangekit serve: capture not started: {}\n", started.error().message);
+    }
   }
   const Endpoint local = (*server)->local_endpoint();
   fmt::print("rangekit serve: {} sensors; API on http://{}:{}/api/sensors (docs/api.md)\n", site->sensors.size(),
@@ -104,8 +124,12 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
     for (const hub::SensorSnapshot& sensor : hub->sensors()) fmt::print("{}\n", summary_line(sensor));
     std::fflush(stdout);
   }
-  (*server)->stop();  // no new requests; streams closed
-  hub->stop();        // streams ended as found, ports released
+  (*server)->stop();    // no new requests; streams closed
+  captures.stop_all();  // every capture committed and closed
+  hub->stop();          // streams ended as found, ports released
+  for (const hub::CaptureInfo& capture : captures.list()) {
+    fmt::print("capture {}: {} samples, {} lost → {}\n", capture.id, capture.samples, capture.lost, capture.path);
+  }
   for (const hub::SensorSnapshot& sensor : hub->sensors()) fmt::print("{}\n", summary_line(sensor));
   return signals.stopped() ? exit_interrupted : exit_ok;
 }

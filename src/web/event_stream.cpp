@@ -50,7 +50,8 @@ EventStream::EventStream(beast::tcp_stream stream, hub::SubscriptionPtr subscrip
       poster_(std::move(poster)),
       counters_(counters),
       keepalive_(stream_.get_executor()),
-      bucket_timer_(stream_.get_executor()) {
+      bucket_timer_(stream_.get_executor()),
+      wake_timer_(stream_.get_executor()) {
   ++counters_.open;
 }
 
@@ -65,11 +66,14 @@ void EventStream::start() {
       "X-Accel-Buffering: no\r\nConnection: keep-alive\r\n\r\n: rangekit\n\n";
   for (const hub::HubItemPtr& item : backlog_) append(out, *item);
   backlog_.clear();
-  // The listener is called on a hub worker: it only schedules a flush on the event loop.
+  // The listener is called on a hub worker: it only schedules a flush on the event loop, at
+  // most one per wake_delay, so that a 1 kHz sensor wakes the loop for batches, not records
+  // (a cut-off is acted on at once).
   std::weak_ptr<EventStream> weak = weak_from_this();
-  subscription_->set_listener([weak, poster = poster_] {
+  subscription_->set_listener([weak, poster = poster_, wake = wake_pending_] {
+    if (wake->exchange(true)) return;
     poster->post([weak] {
-      if (auto self = weak.lock()) self->flush();
+      if (auto self = weak.lock()) self->on_wake();
     });
   });
   stream_.expires_never();
@@ -136,6 +140,21 @@ void EventStream::append_aggregates(std::string& out, bool all) {
   }
 }
 
+void EventStream::on_wake() {
+  if (finished_) return;
+  if (subscription_->cut_off()) {
+    wake_pending_->store(false);
+    return finish();
+  }
+  wake_timer_.expires_after(options_.wake_delay);
+  wake_timer_.async_wait([weak = weak_from_this()](beast::error_code error) {
+    auto self = weak.lock();
+    if (!self || error) return;
+    self->wake_pending_->store(false);  // before taking: an item landing after the take wakes us again
+    self->flush();
+  });
+}
+
 void EventStream::flush() {
   if (finished_) return;
   // Fell stream_queue items behind: closed now, even with a write still pending (the
@@ -178,6 +197,7 @@ void EventStream::finish() {
   subscription_->close();
   keepalive_.cancel();
   bucket_timer_.cancel();
+  wake_timer_.cancel();
   beast::error_code ignored;
   stream_.socket().shutdown(tcp::socket::shutdown_both, ignored);
   stream_.socket().close(ignored);
