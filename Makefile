@@ -35,8 +35,10 @@ test: build
 # The sensor service on a site of emulators (an LS5, a ULS, a bus of four ULS units):
 # until Ctrl-C, or DEMO_SECONDS=30 make demo to stop by itself.
 DEMO_SECONDS ?=
+# The service on emulators for a minute (DEMO_SECONDS=0: until Ctrl-C).
+DEMO_SECONDS ?= 60
 demo: build
-	@./$(BUILD)/rangekit serve --demo $(if $(DEMO_SECONDS),--duration $(DEMO_SECONDS))
+	@./$(BUILD)/rangekit serve --demo --duration $(DEMO_SECONDS)
 
 # Same tests with AddressSanitizer + UndefinedBehaviorSanitizer (CI runs this too).
 asan:
