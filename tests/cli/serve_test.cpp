@@ -3,10 +3,12 @@
 #include <signal.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include "ls5_driver/cli_process.hpp"
 #include "rangekit/sim/control_socket.hpp"
@@ -152,13 +154,15 @@ TEST(ServeDemo, ServesSevenLiveSensorsAndStopsItsEmulators) {
 
 // Issue 13, done means: "SIGTERM closes the captures cleanly and releases the ports." U86: the
 // stream the service started is ended (table 9.1 "SB: Stop the stream") before it exits.
-TEST(Serve, U86_SigtermReleasesThePortAndLeavesTheLs5NotStreaming) {
+// Issue 13: "SIGTERM closes the captures cleanly and releases the ports."
+TEST(Serve, U86_SigtermClosesTheCaptureReleasesThePortAndLeavesTheLs5NotStreaming) {
   TempDir dir;
   const auto port = (dir.path / "ls5").string();
   const auto control = (dir.path / "ls5.control").string();
   Child sim({"sim", "ls5", "--port", port, "--control", control});
   ASSERT_NE(sim.read_line().find("ready"), std::string::npos);
-  const auto site = write_site(dir, "[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"" + port + "\"\n");
+  const auto site =
+      write_site(dir, "[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"" + port + "\"\ncapture = true\n");
   Child service({"serve", "--config", site, "--listen", "127.0.0.1:0"});
   ASSERT_NE(api_port(service), 0);
   // The summary lines, until the service streams and has counted records.
@@ -170,12 +174,27 @@ TEST(Serve, U86_SigtermReleasesThePortAndLeavesTheLs5NotStreaming) {
   ASSERT_EQ(emulator_outputs(control).value("streaming", false), true);
 
   service.terminate();
-  while (!service.read_line().empty()) {
+  std::string capture_line;
+  for (line = service.read_line(); !line.empty(); line = service.read_line()) {
+    if (line.rfind("capture ", 0) == 0) capture_line = line;
   }
   EXPECT_EQ(service.wait(), 130);
   EXPECT_EQ(emulator_outputs(control).value("streaming", true), false);
   const auto info = run_cli(dir.path, {"ls5", "info", "--port", port});
   EXPECT_EQ(info.exit_code, 0) << info.err;
+  // The capture (capture = true, in captures/ beside the site file) was committed and closed:
+  // it replays, and holds what the service said it wrote.
+  ASSERT_NE(capture_line.find(" samples, 0 lost → "), std::string::npos) << capture_line;
+  std::string file = capture_line.substr(capture_line.find("→ ") + std::string("→ ").size());
+  while (!file.empty() && (file.back() == '\n' || file.back() == '\r')) file.pop_back();
+  const auto samples = std::stoul(capture_line.substr(capture_line.find(": ") + 2));
+  EXPECT_GT(samples, 0u);
+  const auto replay = run_cli(dir.path, {"replay", file, "--full-speed", "--format", "jsonl"});
+  EXPECT_EQ(replay.exit_code, 0) << replay.err;
+  std::istringstream lines(replay.out);
+  unsigned long replayed = 0;
+  for (std::string each; std::getline(lines, each);) replayed += each.find("\"device\":\"ls5\"") != std::string::npos;
+  EXPECT_EQ(replayed, samples);
 }
 
 }  // namespace
