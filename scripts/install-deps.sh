@@ -8,13 +8,14 @@ set -euo pipefail
 build_packages=(
   build-essential cmake make pkg-config
   libfmt-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libsqlite3-dev
-  libboost1.81-dev  # Beast + asio: the service's HTTP/SSE face (docs/api.md)
+  libboost1.81-dev libssl-dev  # Beast + asio (+ OpenSSL for HTTPS): the service's HTTP/SSE face (docs/api.md)
   pybind11-dev python3-dev  # the Python package (python/, docs/python.md)
 )
 test_packages=(
   libgtest-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev clang-format clang-tidy
   dpkg-dev  # dpkg-shlibdeps, for make package
+  openssl  # the TLS test makes its own certificate
   python3-numpy python3-pytest python3-serial  # the Python package's tests and benchmark (/usr/bin/python3)
 )
 

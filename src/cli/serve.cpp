@@ -85,6 +85,13 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
     return exit_code_for(token.error());
   }
   server_options.token = *token;
+  // TLS files, like the capture folder, are found from the site file's folder.
+  const auto beside_site = [&](const std::string& path) {
+    if (path.empty() || std::filesystem::path(path).is_absolute() || site->file.empty()) return path;
+    return (std::filesystem::path(site->file).parent_path() / path).string();
+  };
+  server_options.tls_certificate = beside_site(site->service.tls_certificate);
+  server_options.tls_key = beside_site(site->service.tls_key);
   auto hub = hub::Hub::start(*site);
   // Captures go where [service] capture_dir says, relative to the site file's folder.
   std::filesystem::path capture_dir = site->service.capture_dir;
@@ -111,8 +118,8 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
     }
   }
   const Endpoint local = (*server)->local_endpoint();
-  fmt::print("rangekit serve: {} sensors; API on http://{}:{}/api/sensors (docs/api.md)\n", site->sensors.size(),
-             local.host, local.port);
+  fmt::print("rangekit serve: {} sensors; API on {}://{}:{}/api/sensors (docs/api.md)\n", site->sensors.size(),
+             server_options.tls_certificate.empty() ? "http" : "https", local.host, local.port);
   std::fflush(stdout);
   const auto started = std::chrono::steady_clock::now();
   const auto limit = std::chrono::duration<double>(options.duration_s);

@@ -27,7 +27,8 @@ std::string number_text(double value) {
 
 }  // namespace
 
-struct EventStream::Aggregate {
+template <class Stream>
+struct EventStream<Stream>::Aggregate {
   std::int64_t bucket = -1;
   std::uint64_t last_id = 0;
   std::size_t count = 0;    // samples in the bucket
@@ -39,9 +40,10 @@ struct EventStream::Aggregate {
   std::chrono::system_clock::time_point time;
 };
 
-EventStream::EventStream(beast::tcp_stream stream, hub::SubscriptionPtr subscription,
-                         std::vector<hub::HubItemPtr> backlog, std::uint64_t after, EventStreamOptions options,
-                         std::shared_ptr<Poster> poster, EventStreamCounters& counters)
+template <class Stream>
+EventStream<Stream>::EventStream(Stream stream, hub::SubscriptionPtr subscription, std::vector<hub::HubItemPtr> backlog,
+                                 std::uint64_t after, EventStreamOptions options, std::shared_ptr<Poster> poster,
+                                 EventStreamCounters& counters, EventCache& cache)
     : stream_(std::move(stream)),
       subscription_(std::move(subscription)),
       backlog_(std::move(backlog)),
@@ -49,18 +51,21 @@ EventStream::EventStream(beast::tcp_stream stream, hub::SubscriptionPtr subscrip
       options_(options),
       poster_(std::move(poster)),
       counters_(counters),
-      keepalive_(stream_.get_executor()),
-      bucket_timer_(stream_.get_executor()),
-      wake_timer_(stream_.get_executor()) {
+      cache_(cache),
+      keepalive_(tcp_of(stream_).get_executor()),
+      bucket_timer_(tcp_of(stream_).get_executor()),
+      wake_timer_(tcp_of(stream_).get_executor()) {
   ++counters_.open;
 }
 
-EventStream::~EventStream() {
+template <class Stream>
+EventStream<Stream>::~EventStream() {
   --counters_.open;
   subscription_->close();
 }
 
-void EventStream::start() {
+template <class Stream>
+void EventStream<Stream>::start() {
   std::string out =
       "HTTP/1.1 200 OK\r\nContent-Type: text/event-stream\r\nCache-Control: no-cache\r\n"
       "X-Accel-Buffering: no\r\nConnection: keep-alive\r\n\r\n: rangekit\n\n";
@@ -69,24 +74,25 @@ void EventStream::start() {
   // The listener is called on a hub worker: it only schedules a flush on the event loop, at
   // most one per wake_delay, so that a 1 kHz sensor wakes the loop for batches, not records
   // (a cut-off is acted on at once).
-  std::weak_ptr<EventStream> weak = weak_from_this();
+  std::weak_ptr<EventStream> weak = this->weak_from_this();
   subscription_->set_listener([weak, poster = poster_, wake = wake_pending_] {
     if (wake->exchange(true)) return;
     poster->post([weak] {
       if (auto self = weak.lock()) self->on_wake();
     });
   });
-  stream_.expires_never();
+  tcp_of(stream_).expires_never();
   // A bounded kernel buffer per client: a client that stops reading fills it and then its
   // queue, and is cut off, instead of the system holding megabytes for it.
   beast::error_code ignored;
-  stream_.socket().set_option(net::socket_base::send_buffer_size(64 * 1024), ignored);
+  tcp_of(stream_).socket().set_option(net::socket_base::send_buffer_size(64 * 1024), ignored);
   arm_keepalive();
   if (options_.max_rate) arm_bucket_timer();
   write(std::move(out));
 }
 
-void EventStream::append(std::string& out, const hub::HubItem& item) {
+template <class Stream>
+void EventStream<Stream>::append(std::string& out, const hub::HubItem& item) {
   if (item.sequence <= last_sent_) return;  // already sent from the backlog
   last_sent_ = item.sequence;
   const auto* sample = std::get_if<Sample>(&item.item);
@@ -114,10 +120,11 @@ void EventStream::append(std::string& out, const hub::HubItem& item) {
     return;
   }
   if (options_.max_rate) append_aggregates(out, true);  // a link event after the samples before it
-  out += "id: " + std::to_string(item.sequence) + "\nevent: " + item_type(item) + "\ndata: " + item_json(item) + "\n\n";
+  out += cache_.frame(item);
 }
 
-void EventStream::append_aggregates(std::string& out, bool all) {
+template <class Stream>
+void EventStream<Stream>::append_aggregates(std::string& out, bool all) {
   const double period_ms = options_.max_rate ? 1000.0 / *options_.max_rate : 0;
   const auto now = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch());
   const auto current = period_ms > 0 ? static_cast<std::int64_t>(std::floor(now.count() / period_ms)) : 0;
@@ -140,14 +147,15 @@ void EventStream::append_aggregates(std::string& out, bool all) {
   }
 }
 
-void EventStream::on_wake() {
+template <class Stream>
+void EventStream<Stream>::on_wake() {
   if (finished_) return;
   if (subscription_->cut_off()) {
     wake_pending_->store(false);
     return finish();
   }
   wake_timer_.expires_after(options_.wake_delay);
-  wake_timer_.async_wait([weak = weak_from_this()](beast::error_code error) {
+  wake_timer_.async_wait([weak = this->weak_from_this()](beast::error_code error) {
     auto self = weak.lock();
     if (!self || error) return;
     self->wake_pending_->store(false);  // before taking: an item landing after the take wakes us again
@@ -155,7 +163,8 @@ void EventStream::on_wake() {
   });
 }
 
-void EventStream::flush() {
+template <class Stream>
+void EventStream<Stream>::flush() {
   if (finished_) return;
   // Fell stream_queue items behind: closed now, even with a write still pending (the
   // client stopped reading; that write would never end).
@@ -176,11 +185,12 @@ void EventStream::flush() {
   write(std::move(out));
 }
 
-void EventStream::write(std::string text) {
+template <class Stream>
+void EventStream<Stream>::write(std::string text) {
   writing_ = true;
   pending_ = std::move(text);
-  net::async_write(stream_.socket(), net::buffer(pending_),
-                   [self = shared_from_this()](beast::error_code error, std::size_t /*bytes*/) {
+  net::async_write(stream_, net::buffer(pending_),
+                   [self = this->shared_from_this()](beast::error_code error, std::size_t /*bytes*/) {
                      self->writing_ = false;
                      if (error) {
                        self->finish();  // the client went away
@@ -190,7 +200,8 @@ void EventStream::write(std::string text) {
                    });
 }
 
-void EventStream::finish() {
+template <class Stream>
+void EventStream<Stream>::finish() {
   if (finished_) return;
   finished_ = true;
   if (subscription_->cut_off()) ++counters_.cut_off;
@@ -199,14 +210,15 @@ void EventStream::finish() {
   bucket_timer_.cancel();
   wake_timer_.cancel();
   beast::error_code ignored;
-  stream_.socket().shutdown(tcp::socket::shutdown_both, ignored);
-  stream_.socket().close(ignored);
+  tcp_of(stream_).socket().shutdown(tcp::socket::shutdown_both, ignored);
+  tcp_of(stream_).socket().close(ignored);
 }
 
-void EventStream::arm_keepalive() {
+template <class Stream>
+void EventStream<Stream>::arm_keepalive() {
   keepalive_.expires_after(options_.keepalive);
   // The timer holds the stream alive while it is open: nothing else does between two writes.
-  keepalive_.async_wait([self = shared_from_this()](beast::error_code error) {
+  keepalive_.async_wait([self = this->shared_from_this()](beast::error_code error) {
     if (error || self->finished_) return;
     // A comment line: keeps proxies from closing an idle stream and finds clients that left.
     if (!self->writing_) self->write(": keepalive\n\n");
@@ -214,9 +226,10 @@ void EventStream::arm_keepalive() {
   });
 }
 
-void EventStream::arm_bucket_timer() {
+template <class Stream>
+void EventStream<Stream>::arm_bucket_timer() {
   bucket_timer_.expires_after(std::chrono::microseconds(static_cast<std::int64_t>(1e6 / *options_.max_rate)));
-  bucket_timer_.async_wait([weak = weak_from_this()](beast::error_code error) {
+  bucket_timer_.async_wait([weak = this->weak_from_this()](beast::error_code error) {
     auto self = weak.lock();
     if (error || !self || self->finished_) return;
     if (!self->writing_) {
@@ -227,5 +240,8 @@ void EventStream::arm_bucket_timer() {
     self->arm_bucket_timer();
   });
 }
+
+template class EventStream<PlainStream>;
+template class EventStream<TlsStream>;
 
 }  // namespace rangekit::web

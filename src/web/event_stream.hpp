@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "rangekit/hub/fanout.hpp"
+#include "web/event_cache.hpp"
 #include "web/http.hpp"
 
 namespace rangekit::web {
@@ -33,11 +34,12 @@ struct EventStreamCounters {
   std::atomic<std::uint64_t> cut_off{0};
 };
 
-class EventStream : public std::enable_shared_from_this<EventStream> {
+template <class Stream>  // PlainStream or TlsStream (instantiated in event_stream.cpp)
+class EventStream : public std::enable_shared_from_this<EventStream<Stream>> {
  public:
-  EventStream(beast::tcp_stream stream, hub::SubscriptionPtr subscription, std::vector<hub::HubItemPtr> backlog,
+  EventStream(Stream stream, hub::SubscriptionPtr subscription, std::vector<hub::HubItemPtr> backlog,
               std::uint64_t after, EventStreamOptions options, std::shared_ptr<Poster> poster,
-              EventStreamCounters& counters);
+              EventStreamCounters& counters, EventCache& cache);
   ~EventStream();
   void start();
 
@@ -52,13 +54,14 @@ class EventStream : public std::enable_shared_from_this<EventStream> {
   void arm_keepalive();
   void arm_bucket_timer();
 
-  beast::tcp_stream stream_;
+  Stream stream_;
   hub::SubscriptionPtr subscription_;
   std::vector<hub::HubItemPtr> backlog_;
   std::uint64_t last_sent_;
   EventStreamOptions options_;
   std::shared_ptr<Poster> poster_;
   EventStreamCounters& counters_;
+  EventCache& cache_;
   net::steady_timer keepalive_;
   net::steady_timer bucket_timer_;
   net::steady_timer wake_timer_;

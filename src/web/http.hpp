@@ -4,6 +4,7 @@
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/ssl.hpp>
 
 #include <map>
 #include <string>
@@ -16,6 +17,13 @@ namespace beast = boost::beast;
 namespace http = beast::http;
 namespace net = boost::asio;
 using tcp = net::ip::tcp;
+
+using PlainStream = beast::tcp_stream;
+using TlsStream = beast::ssl_stream<beast::tcp_stream>;  // [service] tls_certificate / tls_key
+
+// The TCP stream under either kind: timeouts, socket options, closing.
+inline beast::tcp_stream& tcp_of(PlainStream& stream) { return stream; }
+inline beast::tcp_stream& tcp_of(TlsStream& stream) { return stream.next_layer(); }
 
 using Request = http::request<http::string_body>;
 using Response = http::response<http::string_body>;

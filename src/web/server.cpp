@@ -60,6 +60,8 @@ struct Server::Impl {
   std::atomic<std::uint64_t> requests{0};
   std::atomic<std::uint64_t> refused{0};
   EventStreamCounters streams;
+  EventCache frames;                     // before the loop too: the streams it holds use it until they go
+  std::optional<net::ssl::context> tls;  // the certificate and key, when the service has them
   net::io_context context{1};
   tcp::acceptor acceptor{context};
   std::shared_ptr<Poster> poster = std::make_shared<Poster>(context);
@@ -73,20 +75,35 @@ struct Server::Impl {
 
 namespace {
 
-class Connection : public std::enable_shared_from_this<Connection> {
+template <class Stream>  // PlainStream, or TlsStream when the service has a certificate
+class Connection : public std::enable_shared_from_this<Connection<Stream>> {
  public:
-  Connection(tcp::socket socket, Server::Impl& server) : stream_(std::move(socket)), server_(server) {
+  Connection(Stream stream, Server::Impl& server) : stream_(std::move(stream)), server_(server) {
     ++server_.connections;
   }
   ~Connection() { --server_.connections; }
+
+  // TLS: the handshake first (bounded like a read), then the request.
+  void handshake() {
+    if constexpr (std::is_same_v<Stream, TlsStream>) {
+      tcp_of(stream_).expires_after(std::chrono::seconds(30));
+      stream_.async_handshake(net::ssl::stream_base::server,
+                              [self = this->shared_from_this()](beast::error_code error) {
+                                if (error) return self->close();  // not TLS, or a certificate the client refused
+                                self->read();
+                              });
+    } else {
+      read();
+    }
+  }
 
   void read() {
     parser_.emplace();
     parser_->body_limit(server_.options.max_body_bytes);
     parser_->header_limit(static_cast<std::uint32_t>(server_.options.max_header_bytes));
-    stream_.expires_after(std::chrono::seconds(60));  // an idle or trickling client is closed
+    tcp_of(stream_).expires_after(std::chrono::seconds(60));  // an idle or trickling client is closed
     http::async_read(stream_, buffer_, *parser_,
-                     [self = shared_from_this()](beast::error_code error, std::size_t) { self->on_read(error); });
+                     [self = this->shared_from_this()](beast::error_code error, std::size_t) { self->on_read(error); });
   }
 
   // Over the connection limit: one answer, then closed.
@@ -133,10 +150,11 @@ class Connection : public std::enable_shared_from_this<Connection> {
     response->keep_alive(keep_alive && request_.keep_alive());
     response->body() = std::move(body);
     response->prepare_payload();
-    http::async_write(stream_, *response, [self = shared_from_this(), response](beast::error_code error, std::size_t) {
-      if (error || response->need_eof()) return self->close();
-      self->read();
-    });
+    http::async_write(stream_, *response,
+                      [self = this->shared_from_this(), response](beast::error_code error, std::size_t) {
+                        if (error || response->need_eof()) return self->close();
+                        self->read();
+                      });
   }
 
   void fail(const Error& error, const hub::SettingValues& values = {}) {
@@ -154,8 +172,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
 
   void close() {
     beast::error_code ignored;
-    stream_.socket().shutdown(tcp::socket::shutdown_both, ignored);
-    stream_.socket().close(ignored);
+    tcp_of(stream_).socket().shutdown(tcp::socket::shutdown_both, ignored);
+    tcp_of(stream_).socket().close(ignored);
   }
 
   // A page on another origin must not make the browser write to the sensors, and a
@@ -255,13 +273,13 @@ class Connection : public std::enable_shared_from_this<Connection> {
       if (!same_origin() || !authorised(target)) return;
       if (method == http::verb::post) {
         return off_loop([&hub = server_.hub, name] { return hub.export_config(name); },
-                        [self = shared_from_this()](Result<std::string> result) {
+                        [self = this->shared_from_this()](Result<std::string> result) {
                           if (!result) return self->fail(result.error());
                           self->respond(http::status::ok, std::move(*result), true, "application/toml");
                         });
       }
       return off_loop([&hub = server_.hub, name, text = request_.body()] { return hub.import_config(name, text); },
-                      [self = shared_from_this()](Result<std::vector<hub::Field>> result) {
+                      [self = this->shared_from_this()](Result<std::vector<hub::Field>> result) {
                         if (!result) return self->fail(result.error());
                         auto uploaded = self->server_.hub.sensor(self->request_target_name());
                         self->respond(http::status::ok, uploaded ? sensor_json(*uploaded)["settings"].dump() : "{}");
@@ -326,7 +344,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
       if (method != http::verb::post) return wrong_method("POST");
       if (!same_origin() || !authorised(target)) return;
       return off_loop([manager, id] { return manager->stop(id); },
-                      [self = shared_from_this()](Result<hub::CaptureInfo> result) {
+                      [self = this->shared_from_this()](Result<hub::CaptureInfo> result) {
                         if (!result) return self->fail(result.error());
                         self->respond(http::status::ok, capture_json(*result).dump());
                       });
@@ -338,7 +356,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
       if (!format)
         return respond(http::status::bad_request, error_json("out_of_range", format.error().message, "format"));
       return off_loop([manager, id, format = *format] { return manager->export_file(id, format); },
-                      [self = shared_from_this(), id, format = *format, format_text](Result<std::string> file) {
+                      [self = this->shared_from_this(), id, format = *format, format_text](Result<std::string> file) {
                         if (!file) return self->fail(file.error());
                         self->send_file(*file, format, id + "." + format_text);
                       });
@@ -361,21 +379,23 @@ class Connection : public std::enable_shared_from_this<Connection> {
     response->set(http::field::content_disposition, "attachment; filename=\"" + name + "\"");
     response->keep_alive(request_.keep_alive());
     response->prepare_payload();
-    http::async_write(stream_, *response, [self = shared_from_this(), response](beast::error_code failed, std::size_t) {
-      if (failed || response->need_eof()) return self->close();
-      self->read();
-    });
+    http::async_write(stream_, *response,
+                      [self = this->shared_from_this(), response](beast::error_code failed, std::size_t) {
+                        if (failed || response->need_eof()) return self->close();
+                        self->read();
+                      });
   }
 
   // Runs a call that waits for the sensor on the command pool; answers on the loop.
   template <class Call, class Answer>
   void off_loop(Call call, Answer answer) {
-    net::post(
-        server_.commands, [self = shared_from_this(), call = std::move(call), answer = std::move(answer)]() mutable {
-          auto result = call();
-          self->server_.poster->post(
-              [self, answer = std::move(answer), result = std::move(result)]() mutable { answer(std::move(result)); });
-        });
+    net::post(server_.commands,
+              [self = this->shared_from_this(), call = std::move(call), answer = std::move(answer)]() mutable {
+                auto result = call();
+                self->server_.poster->post([self, answer = std::move(answer), result = std::move(result)]() mutable {
+                  answer(std::move(result));
+                });
+              });
   }
 
   void patch_settings(const std::string& name) {
@@ -383,7 +403,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
     if (body.error)
       return respond(http::status::bad_request, error_json("bad_body", body.error->message, body.error->field));
     off_loop([&hub = server_.hub, name, values = body.values] { return hub.set(name, values); },
-             [self = shared_from_this(), values = body.values](Result<std::vector<hub::Field>> result) {
+             [self = this->shared_from_this(), values = body.values](Result<std::vector<hub::Field>> result) {
                if (!result) return self->fail(result.error(), values);
                auto sensor = self->server_.hub.sensor(self->request_target_name());
                self->respond(http::status::ok, sensor ? sensor_json(*sensor)["settings"].dump() : "{}");
@@ -416,7 +436,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
       argument = json.value("argument", argument);
     }
     off_loop([&hub = server_.hub, name, action = *action, argument] { return hub.act(name, action, argument); },
-             [self = shared_from_this()](Result<std::string> result) {
+             [self = this->shared_from_this()](Result<std::string> result) {
                if (!result) return self->fail(result.error());
                self->respond(http::status::ok, nlohmann::json{{"result", *result}}.dump(
                                                    -1, ' ', false, nlohmann::json::error_handler_t::replace));
@@ -493,12 +513,13 @@ class Connection : public std::enable_shared_from_this<Connection> {
       auto since = server_.hub.since(sensor, after);
       if (since) backlog = std::move(since->items);
     }
-    auto stream = std::make_shared<EventStream>(std::move(stream_), std::move(*subscription), std::move(backlog), after,
-                                                options, server_.poster, server_.streams);
+    auto stream =
+        std::make_shared<EventStream<Stream>>(std::move(stream_), std::move(*subscription), std::move(backlog), after,
+                                              options, server_.poster, server_.streams, server_.frames);
     stream->start();
   }
 
-  beast::tcp_stream stream_;
+  Stream stream_;
   Server::Impl& server_;
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
@@ -513,12 +534,18 @@ void Server::Impl::accept() {
       if (!stopped && error != net::error::operation_aborted) accept();
       return;
     }
-    auto connection = std::make_shared<Connection>(std::move(socket), *this);
-    if (connections.load() > options.max_connections) {
-      ++refused;
-      connection->refuse();
+    const auto serve = [this](auto connection) {
+      if (connections.load() > options.max_connections) {
+        ++refused;
+        connection->refuse();
+      } else {
+        connection->handshake();
+      }
+    };
+    if (tls) {
+      serve(std::make_shared<Connection<TlsStream>>(TlsStream(std::move(socket), *tls), *this));
     } else {
-      connection->read();
+      serve(std::make_shared<Connection<PlainStream>>(PlainStream(std::move(socket)), *this));
     }
     accept();
   });
@@ -536,6 +563,18 @@ Result<std::unique_ptr<Server>> Server::start(hub::Hub& hub, ServerOptions optio
   const auto address = net::ip::make_address(endpoint->host == "localhost" ? "127.0.0.1" : endpoint->host, error);
   if (error) return make_error(Errc::out_of_range, "listen: '" + endpoint->host + "' is not an IP address");
   const tcp::endpoint local{address, endpoint->port};
+  if (!impl->options.tls_certificate.empty() || !impl->options.tls_key.empty()) {
+    if (impl->options.tls_certificate.empty() || impl->options.tls_key.empty()) {
+      return make_error(Errc::wrong_form, "TLS needs both a certificate and a key");
+    }
+    impl->tls.emplace(net::ssl::context::tls_server);
+    impl->tls->set_options(net::ssl::context::default_workarounds | net::ssl::context::no_sslv2 |
+                           net::ssl::context::no_sslv3 | net::ssl::context::no_tlsv1 | net::ssl::context::no_tlsv1_1);
+    impl->tls->use_certificate_chain_file(impl->options.tls_certificate, error);
+    if (error) return make_error(Errc::io, "TLS certificate " + impl->options.tls_certificate + ": " + error.message());
+    impl->tls->use_private_key_file(impl->options.tls_key, net::ssl::context::pem, error);
+    if (error) return make_error(Errc::io, "TLS key " + impl->options.tls_key + ": " + error.message());
+  }
   impl->acceptor.open(local.protocol(), error);
   if (!error) impl->acceptor.set_option(net::socket_base::reuse_address(true), error);
   if (!error) impl->acceptor.bind(local, error);

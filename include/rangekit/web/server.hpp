@@ -27,6 +27,9 @@ struct ServerOptions {
   std::size_t stream_queue = 4096;
   std::size_t command_threads = 4;          // settings and actions wait for the sensor here, not in the event loop
   hub::CaptureManager* captures = nullptr;  // /api/captures; none: those paths answer 404
+  // HTTPS and TLS streams when both are given (PEM files): [service] tls_certificate, tls_key.
+  std::string tls_certificate;
+  std::string tls_key;
 };
 
 struct ServerStats {
