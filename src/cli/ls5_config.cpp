@@ -19,6 +19,7 @@ struct ConfigCommand {
 // The same lines as `rangekit uls config diff` (docs/cli.md).
 std::vector<DiffLine> diff_lines(const std::vector<ls5::ConfigDifference>& differences) {
   std::vector<DiffLine> lines;
+  lines.reserve(differences.size());
   for (const auto& difference : differences)
     lines.push_back({std::string(difference.setting->name), difference.file_value, difference.device_value});
   return lines;

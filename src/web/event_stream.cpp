@@ -134,10 +134,19 @@ void EventStream<Stream>::append_aggregates(std::string& out, bool all) {
     std::string time;
     record::append_iso_time(time, aggregate.time);
     const bool valued = aggregate.count > aggregate.without;
-    out += "id: " + std::to_string(aggregate.last_id) +
-           "\nevent: aggregate\ndata: {\"id\":" + std::to_string(aggregate.last_id) + ",\"sensor\":\"" + sensor +
-           "\",\"type\":\"aggregate\",\"data\":{\"time\":\"" + time +
-           "\",\"count\":" + std::to_string(aggregate.count) + ",\"gaps\":" + std::to_string(aggregate.without);
+    const std::string id = std::to_string(aggregate.last_id);
+    out += "id: ";
+    out += id;
+    out += "\nevent: aggregate\ndata: {\"id\":";
+    out += id;
+    out += ",\"sensor\":\"";
+    out += sensor;
+    out += "\",\"type\":\"aggregate\",\"data\":{\"time\":\"";
+    out += time;
+    out += "\",\"count\":";
+    out += std::to_string(aggregate.count);
+    out += ",\"gaps\":";
+    out += std::to_string(aggregate.without);
     if (valued) {
       out += ",\"min\":" + number_text(aggregate.min) + ",\"max\":" + number_text(aggregate.max) +
              ",\"last\":" + number_text(aggregate.last) + ",\"unit\":\"" + aggregate.unit + "\"";

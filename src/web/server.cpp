@@ -279,7 +279,7 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
                         });
       }
       return off_loop([&hub = server_.hub, name, text = request_.body()] { return hub.import_config(name, text); },
-                      [self = this->shared_from_this()](Result<std::vector<hub::Field>> result) {
+                      [self = this->shared_from_this()](const Result<std::vector<hub::Field>>& result) {
                         if (!result) return self->fail(result.error());
                         auto uploaded = self->server_.hub.sensor(self->request_target_name());
                         self->respond(http::status::ok, uploaded ? sensor_json(*uploaded)["settings"].dump() : "{}");
@@ -403,7 +403,7 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     if (body.error)
       return respond(http::status::bad_request, error_json("bad_body", body.error->message, body.error->field));
     off_loop([&hub = server_.hub, name, values = body.values] { return hub.set(name, values); },
-             [self = this->shared_from_this(), values = body.values](Result<std::vector<hub::Field>> result) {
+             [self = this->shared_from_this(), values = body.values](const Result<std::vector<hub::Field>>& result) {
                if (!result) return self->fail(result.error(), values);
                auto sensor = self->server_.hub.sensor(self->request_target_name());
                self->respond(http::status::ok, sensor ? sensor_json(*sensor)["settings"].dump() : "{}");
@@ -553,7 +553,12 @@ void Server::Impl::accept() {
 
 Server::Server(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
-Server::~Server() { stop(); }
+Server::~Server() {
+  try {
+    stop();
+  } catch (...) {  // NOLINT(bugprone-empty-catch): a destructor must not throw; stop() only joins
+  }
+}
 
 Result<std::unique_ptr<Server>> Server::start(hub::Hub& hub, ServerOptions options) {
   auto endpoint = parse_endpoint(options.listen);

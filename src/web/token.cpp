@@ -3,9 +3,9 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstring>
 #include <fstream>
 #include <random>
+#include <system_error>
 
 #include "rangekit/web/server.hpp"
 
@@ -37,7 +37,8 @@ Result<Token> load_or_create_token(const std::string& path) {
     value.push_back(digits[byte & 0xF]);
   }
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-  if (fd < 0) return make_error(Errc::io, "cannot create token file " + path + ": " + std::strerror(errno));
+  if (fd < 0)
+    return make_error(Errc::io, "cannot create token file " + path + ": " + std::generic_category().message(errno));
   const std::string line = value + "\n";
   const bool written = ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size());
   ::close(fd);

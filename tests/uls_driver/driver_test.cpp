@@ -777,7 +777,7 @@ TEST(UlsDriver, U67_AGetReplyEqualToAnEarlierSetIsNoEcho) {
     ASSERT_EQ(values->size(), 1U);
     EXPECT_EQ(values->front(), "12.500");
     EXPECT_EQ(rig.driver->counters().echoes, echo ? 3U : 0U);  // MU (the distance's units), the set, the get
-    EXPECT_EQ(rig.driver->counters().retries, 0U);  // answered the first time, not by a retry
+    EXPECT_EQ(rig.driver->counters().retries, 0U);             // answered the first time, not by a retry
   }
 }
 

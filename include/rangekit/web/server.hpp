@@ -21,8 +21,8 @@ struct ServerOptions {
   // every stream when not empty. The service sets it whenever it listens beyond loopback.
   std::string token;
   std::size_t max_connections = 256;
-  std::size_t max_body_bytes = 64 * 1024;
-  std::size_t max_header_bytes = 8 * 1024;
+  std::size_t max_body_bytes = std::size_t{64} * 1024;
+  std::size_t max_header_bytes = std::size_t{8} * 1024;
   // Items a stream client may fall behind before it is cut off (it resumes with Last-Event-ID).
   std::size_t stream_queue = 4096;
   std::size_t command_threads = 4;          // settings and actions wait for the sensor here, not in the event loop

@@ -65,7 +65,7 @@ std::string distance_field(double metres, Units units) {
 }  // namespace
 
 std::string setting_key(const CommandInfo& command) {
-  const std::string name(command.cli_name);
+  std::string name(command.cli_name);
   if (command.is_distance()) return name + "-m";
   switch (command.kind) {
     case ValueKind::milliamps:
