@@ -51,12 +51,22 @@ struct Service {
   }
 };
 
+// 1 kHz, as the issue asks; a tenth of it under the sanitizers, which slow the service
+// (and the twenty readers in this process) several times over.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr int period_ms = 10;
+#else
+constexpr int period_ms = 1;
+#endif
+constexpr std::size_t rate_hz = 1000 / period_ms;
+
 TEST(WebEvents, TwentyClientsLoseNothingAndAStalledOneIsCutOff) {
   web::ServerOptions options;
-  options.stream_queue = 2048;  // 2 s at 1 kHz: a loaded machine does not cut off the twenty, the stalled one soon
+  options.stream_queue = 2 * rate_hz;  // 2 s: a loaded machine does not cut off the twenty, the stalled one soon
   Service service(options);
   // LS5 table 9.2: the measurement period in 0.1 ms steps; 1 ms gives 1000 records a second.
-  const auto period = http(service.port, "PATCH", "/api/sensors/belt/settings", R"({"period-ms": 1})");
+  const auto period =
+      http(service.port, "PATCH", "/api/sensors/belt/settings", R"({"period-ms": )" + std::to_string(period_ms) + "}");
   ASSERT_EQ(period.status, 200) << period.body;
   const long before_kb = resident_kb();
 
@@ -65,10 +75,10 @@ TEST(WebEvents, TwentyClientsLoseNothingAndAStalledOneIsCutOff) {
   for (int i = 0; i < 20; ++i)
     readers.push_back(std::make_unique<EventReader>(service.port, "/api/sensors/belt/events"));
 
-  // The twenty read side by side (as browsers would) until each has 2000 samples (2 s at
+  // The twenty read side by side (as browsers would) until each has 2 s of samples (2000 at
   // 1 kHz) and the stalled one has been cut off; the deadline is a safety net only.
   // Only the ids are kept, so that this process's memory is the service's.
-  constexpr std::size_t wanted = 2000;
+  constexpr std::size_t wanted = 2 * rate_hz;
   std::vector<std::vector<std::uint64_t>> ids(readers.size());
   const auto deadline = std::chrono::steady_clock::now() + 120s;
   bool done = false;
