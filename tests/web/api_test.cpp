@@ -287,6 +287,11 @@ TEST(WebApi, CapturesStartStopListAndDownloadInEveryFormat) {
   const Reply ls5 = http(service.port, "POST", "/api/captures", R"({"sensors": ["belt"]})");
   ASSERT_EQ(ls5.status, 201);
   const std::string ls5_id = json_of(ls5)["id"];
+  // Holding a sample at least (bounded), so that there is an LS5 record to refuse.
+  const auto ls5_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (json_of(http(service.port, "GET", "/api/captures/" + ls5_id))["samples"].get<int>() < 1 &&
+         std::chrono::steady_clock::now() < ls5_deadline) {
+  }
   EXPECT_EQ(http(service.port, "POST", "/api/captures/" + ls5_id + "/stop").status, 200);
   const Reply no_log = http(service.port, "GET", "/api/captures/" + ls5_id + "/download?format=log");
   EXPECT_EQ(no_log.status, 409) << no_log.body;
