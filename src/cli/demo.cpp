@@ -14,6 +14,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/demo.hpp"
+#include "cli/demo_scenes.hpp"
 #include "cli/host_sources.hpp"
 #include "cli/sim_process.hpp"
 #include "cli/stream_runner.hpp"
@@ -32,42 +33,6 @@ struct DemoOptions {
   std::string format = "text";
   bool walkthrough = false;
 };
-
-// A forklift-style target moving between 5 m and 25 m and back every 20 s,
-// with a weak far wall behind it (§3: binning would show both).
-constexpr const char* uls_scene = R"(dust = 0.002
-
-[[targets]]
-name = "pallet"
-path = [[0, 5], [10, 25], [20, 5]]
-repeat = true
-reflectivity = 0.6
-
-[[targets]]
-name = "back wall"
-distance_m = 60
-reflectivity = 0.2
-)";
-
-// A part passing under the triangulation head: 12 mm to 44 mm from the sensor
-// (the 8.1234/40.001 model measures 8.1234 ... 48.1244 mm), with one shading gap.
-constexpr const char* ls5_scene = R"([target]
-path = [[0.0, 12.0], [10.0, 44.0], [20.0, 12.0]]
-repeat = true
-reflectivity = 0.8
-
-[[dropout]]
-start_s = 6.0
-end_s = 6.5
-kind = "shading"
-)";
-
-Status write_file(const fs::path& path, const char* text) {
-  std::ofstream file(path);
-  file << text;
-  if (!file.flush()) return make_error(Errc::io, "cannot write " + path.string());
-  return ok_status();
-}
 
 // Removes an earlier demo capture (and its WAL files) so each run starts fresh.
 void remove_capture(const std::string& path) {
@@ -97,8 +62,10 @@ int run_live_demo(const DemoOptions& options) {
   if (::mkdtemp(pattern.data()) == nullptr)
     return fail("cannot create a directory in " + fs::temp_directory_path().string());
   const fs::path dir = pattern;
-  if (auto status = write_file(dir / "uls-scene.toml", uls_scene); !status) return fail(status.error().message);
-  if (auto status = write_file(dir / "ls5-scene.toml", ls5_scene); !status) return fail(status.error().message);
+  if (auto status = demo_scenes::write_file(dir / "uls-scene.toml", demo_scenes::uls); !status)
+    return fail(status.error().message);
+  if (auto status = demo_scenes::write_file(dir / "ls5-scene.toml", demo_scenes::ls5); !status)
+    return fail(status.error().message);
 
   const std::string uls_port = (dir / "uls").string();
   const std::string uls_config_port = (dir / "uls-config").string();

@@ -1,4 +1,5 @@
 #include "cli/demo_site.hpp"
+#include "cli/demo_scenes.hpp"
 
 #include <arpa/inet.h>
 #include <fmt/core.h>
@@ -9,6 +10,7 @@
 #include <fstream>
 #include <utility>
 
+#include "cli/demo_scenes.hpp"
 #include "cli/host_sources.hpp"
 #include "rangekit/core/fd_transport.hpp"
 #include "rangekit/sim/control_socket.hpp"
@@ -18,36 +20,6 @@ namespace rangekit::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The ULS alone ("silo"): a pallet moving between 5 m and 25 m and back every 20 s
-// in front of a weak far wall (the scene of `rangekit demo`).
-constexpr const char* silo_scene = R"(dust = 0.002
-
-[[targets]]
-name = "pallet"
-path = [[0, 5], [10, 25], [20, 5]]
-repeat = true
-reflectivity = 0.6
-
-[[targets]]
-name = "back wall"
-distance_m = 60
-reflectivity = 0.2
-)";
-
-// The LS5 ("belt", and its Ethernet packets "belt-udp"): a part passing under the
-// head, 12 mm to 44 mm (the 8.1234/40.001 model measures 8.1234 ... 48.1244 mm),
-// with one shading gap.
-constexpr const char* belt_scene = R"([target]
-path = [[0.0, 12.0], [10.0, 44.0], [20.0, 12.0]]
-repeat = true
-reflectivity = 0.8
-
-[[dropout]]
-start_s = 6.0
-end_s = 6.5
-kind = "shading"
-)";
 
 // The bus units share the emulator's scene file (bay-C's: a level rising and
 // falling); bay-A, bay-B and bay-D get their own through the control socket.
@@ -74,13 +46,6 @@ const nlohmann::json look_down_scene = {{"targets",
                                            {"reflectivity", 0.7}}}}};
 // bay-D in averaging: a wall at 35 m.
 const nlohmann::json wall_scene = {{"targets", {{{"name", "wall"}, {"distance_m", 35}, {"reflectivity", 0.9}}}}};
-
-Status write_file(const fs::path& path, const char* text) {
-  std::ofstream file(path);
-  file << text;
-  if (!file.flush()) return make_error(Errc::io, "cannot write " + path.string());
-  return ok_status();
-}
 
 // A UDP port free on loopback now, for the LS5 emulator's packets and the service's listener.
 Result<std::uint16_t> free_udp_port() {
@@ -146,9 +111,10 @@ Result<DemoSite> DemoSite::start() {
   DemoSite demo;
   demo.dir_ = pattern;
   const fs::path& dir = demo.dir_;
-  for (const auto& [file, text] : {std::pair{"silo-scene.toml", silo_scene}, std::pair{"belt-scene.toml", belt_scene},
-                                   std::pair{"bus-scene.toml", bus_scene}}) {
-    if (auto status = write_file(dir / file, text); !status) return std::move(status).error();
+  for (const auto& [file, text] :
+       {std::pair{"silo-scene.toml", demo_scenes::uls}, std::pair{"belt-scene.toml", demo_scenes::ls5},
+        std::pair{"bus-scene.toml", bus_scene}}) {
+    if (auto status = demo_scenes::write_file(dir / file, text); !status) return std::move(status).error();
   }
   auto udp_port = free_udp_port();
   if (!udp_port) return std::move(udp_port).error();
