@@ -13,6 +13,7 @@
 #include <cstring>
 
 #include "cli/commands.hpp"
+#include "rangekit/sim/pty.hpp"
 
 namespace rangekit::cli {
 namespace {
@@ -31,16 +32,15 @@ void install_signal_handlers() {
 }
 
 // An emulator killed with kill -9 leaves its pty symlink (pointing at a /dev/pts
-// entry that went with it) and its control socket (that nobody listens on) behind.
-// Those are removed, said once on stderr, so the next `sim` starts; a link to a pty
-// that is still there, or a socket that still answers, is left for the runtime to refuse.
+// entry that went with it, or that a newer pty reuses) and its control socket (that
+// nobody listens on) behind. Those are removed, said once on stderr, so the next `sim`
+// starts; a link to a live pty, or a socket that still answers, is left for the
+// runtime to refuse.
 void remove_if_stale_link(const std::string& path) {
-  struct stat link {};
-  if (::lstat(path.c_str(), &link) != 0 || !S_ISLNK(link.st_mode)) return;
-  struct stat target {};
-  if (::stat(path.c_str(), &target) == 0 || errno != ENOENT) return;
-  if (::unlink(path.c_str()) == 0)
-    fmt::print(stderr, "rangekit sim: removed the stale link {} (its pty is gone; an earlier emulator was killed)\n",
+  if (PseudoTerminal::link_is_stale(path) && ::unlink(path.c_str()) == 0)
+    fmt::print(stderr,
+               "rangekit sim: removed the stale link {} (its pty is gone or belongs to another program now; an earlier "
+               "emulator was killed)\n",
                path);
 }
 

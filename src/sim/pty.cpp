@@ -53,6 +53,23 @@ Result<std::unique_ptr<PseudoTerminal>> PseudoTerminal::open(std::optional<std::
   return std::unique_ptr<PseudoTerminal>(new PseudoTerminal(master, name, std::move(link_path)));
 }
 
+bool pty_target_is_newer_than_link(const struct stat& link, const struct stat& target) {
+  if (!S_ISCHR(target.st_mode)) return false;
+  // A pty is created before its link (open() below), so its ctime is not later.
+  if (target.st_ctim.tv_sec != link.st_ctim.tv_sec) return target.st_ctim.tv_sec > link.st_ctim.tv_sec;
+  return target.st_ctim.tv_nsec > link.st_ctim.tv_nsec;
+}
+
+bool PseudoTerminal::link_is_stale(const std::string& link_path) {
+  struct stat link {};
+  if (::lstat(link_path.c_str(), &link) != 0 || !S_ISLNK(link.st_mode)) return false;
+  struct stat target {};
+  if (::stat(link_path.c_str(), &target) != 0) return errno == ENOENT;
+  // Under parallel load the kernel hands the dead emulator's /dev/pts number to the
+  // next pty opened anywhere; the link then resolves, but to someone else's pty.
+  return pty_target_is_newer_than_link(link, target);
+}
+
 Status PseudoTerminal::hold_slave_open() {
   if (held_slave_fd_ >= 0) return ok_status();
   held_slave_fd_ = ::open(slave_path_.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);

@@ -3,6 +3,8 @@
 // serial program can open it as if it were a real port.
 #pragma once
 
+#include <sys/stat.h>
+
 #include <optional>
 #include <string>
 
@@ -17,6 +19,12 @@ class PseudoTerminal final : public FdTransport {
   // slave device; fails with a clear error if something already exists at that path.
   static Result<std::unique_ptr<PseudoTerminal>> open(std::optional<std::string> link_path = std::nullopt);
   ~PseudoTerminal() override;  // removes the symlink it created
+
+  // Whether a symlink left at `link_path` by a killed emulator points at nothing of
+  // its own any more: its pty is gone, or the kernel gave that /dev/pts number to a
+  // newer pty (one created after the link). Not stale: no symlink there, or a link to
+  // anything else (a live emulator's pty, a file the user put there).
+  static bool link_is_stale(const std::string& link_path);
 
   [[nodiscard]] const std::string& slave_path() const noexcept { return slave_path_; }
   // The path users open: the symlink when there is one, else the slave device.
@@ -34,5 +42,9 @@ class PseudoTerminal final : public FdTransport {
   std::optional<std::string> link_path_;
   int held_slave_fd_ = -1;
 };
+
+// The decision of link_is_stale on the two stat results, apart for tests: a target
+// that is a character device changed (created) after the link was made is a reused pty.
+bool pty_target_is_newer_than_link(const struct stat& link, const struct stat& target);
 
 }  // namespace rangekit
