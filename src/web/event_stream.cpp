@@ -4,6 +4,7 @@
 #include <variant>
 
 #include "rangekit/record/format.hpp"
+#include "web/flush_ticker.hpp"
 #include "web/json_views.hpp"
 
 namespace rangekit::web {
@@ -42,19 +43,18 @@ struct EventStream<Stream>::Aggregate {
 
 template <class Stream>
 EventStream<Stream>::EventStream(Stream stream, hub::SubscriptionPtr subscription, std::vector<hub::HubItemPtr> backlog,
-                                 std::uint64_t after, EventStreamOptions options, std::shared_ptr<Poster> poster,
+                                 std::uint64_t after, EventStreamOptions options, std::shared_ptr<FlushTicker> ticker,
                                  EventStreamCounters& counters, EventCache& cache)
     : stream_(std::move(stream)),
       subscription_(std::move(subscription)),
       backlog_(std::move(backlog)),
       last_sent_(after),
       options_(options),
-      poster_(std::move(poster)),
+      ticker_(std::move(ticker)),
       counters_(counters),
       cache_(cache),
       keepalive_(tcp_of(stream_).get_executor()),
-      bucket_timer_(tcp_of(stream_).get_executor()),
-      wake_timer_(tcp_of(stream_).get_executor()) {
+      bucket_timer_(tcp_of(stream_).get_executor()) {
   ++counters_.open;
 }
 
@@ -71,14 +71,17 @@ void EventStream<Stream>::start() {
       "X-Accel-Buffering: no\r\nConnection: keep-alive\r\n\r\n: rangekit\n\n";
   for (const hub::HubItemPtr& item : backlog_) append(out, *item);
   backlog_.clear();
-  // The listener is called on a hub worker: it only schedules a flush on the event loop, at
-  // most one per wake_delay, so that a 1 kHz sensor wakes the loop for batches, not records
-  // (a cut-off is acted on at once).
+  // The listener is called on a hub worker: it only asks the server's ticker for a flush,
+  // once until that flush runs, so that a 1 kHz sensor wakes the loop for batches, not
+  // records, and all streams share the wake-up.
   std::weak_ptr<EventStream> weak = this->weak_from_this();
-  subscription_->set_listener([weak, poster = poster_, wake = wake_pending_] {
+  subscription_->set_listener([weak, ticker = ticker_, wake = wake_pending_] {
     if (wake->exchange(true)) return;
-    poster->post([weak] {
-      if (auto self = weak.lock()) self->on_wake();
+    ticker->request([weak] {
+      auto self = weak.lock();
+      if (!self) return;
+      self->wake_pending_->store(false);  // before taking: an item landing after the take asks again
+      self->flush();
     });
   });
   tcp_of(stream_).expires_never();
@@ -157,22 +160,6 @@ void EventStream<Stream>::append_aggregates(std::string& out, bool all) {
 }
 
 template <class Stream>
-void EventStream<Stream>::on_wake() {
-  if (finished_) return;
-  if (subscription_->cut_off()) {
-    wake_pending_->store(false);
-    return finish();
-  }
-  wake_timer_.expires_after(options_.wake_delay);
-  wake_timer_.async_wait([weak = this->weak_from_this()](beast::error_code error) {
-    auto self = weak.lock();
-    if (!self || error) return;
-    self->wake_pending_->store(false);  // before taking: an item landing after the take wakes us again
-    self->flush();
-  });
-}
-
-template <class Stream>
 void EventStream<Stream>::flush() {
   if (finished_) return;
   // Fell stream_queue items behind: closed now, even with a write still pending (the
@@ -217,7 +204,6 @@ void EventStream<Stream>::finish() {
   subscription_->close();
   keepalive_.cancel();
   bucket_timer_.cancel();
-  wake_timer_.cancel();
   beast::error_code ignored;
   tcp_of(stream_).socket().shutdown(tcp::socket::shutdown_both, ignored);
   tcp_of(stream_).socket().close(ignored);

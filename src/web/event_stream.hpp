@@ -20,13 +20,11 @@
 namespace rangekit::web {
 
 class Poster;
+class FlushTicker;
 
 struct EventStreamOptions {
   std::optional<double> max_rate;  // points a second per sensor, 1-1000
   std::chrono::seconds keepalive{15};
-  // How long a woken stream waits to gather what else arrives before it writes: the
-  // price of one write per batch instead of one per record, well inside the 20 ms goal.
-  std::chrono::milliseconds wake_delay{1};
 };
 
 struct EventStreamCounters {
@@ -38,14 +36,13 @@ template <class Stream>  // PlainStream or TlsStream (instantiated in event_stre
 class EventStream : public std::enable_shared_from_this<EventStream<Stream>> {
  public:
   EventStream(Stream stream, hub::SubscriptionPtr subscription, std::vector<hub::HubItemPtr> backlog,
-              std::uint64_t after, EventStreamOptions options, std::shared_ptr<Poster> poster,
+              std::uint64_t after, EventStreamOptions options, std::shared_ptr<FlushTicker> ticker,
               EventStreamCounters& counters, EventCache& cache);
   ~EventStream();
   void start();
 
  private:
   struct Aggregate;
-  void on_wake();
   void flush();
   void append(std::string& out, const hub::HubItem& item);
   void append_aggregates(std::string& out, bool all);
@@ -59,12 +56,11 @@ class EventStream : public std::enable_shared_from_this<EventStream<Stream>> {
   std::vector<hub::HubItemPtr> backlog_;
   std::uint64_t last_sent_;
   EventStreamOptions options_;
-  std::shared_ptr<Poster> poster_;
+  std::shared_ptr<FlushTicker> ticker_;
   EventStreamCounters& counters_;
   EventCache& cache_;
   net::steady_timer keepalive_;
   net::steady_timer bucket_timer_;
-  net::steady_timer wake_timer_;
   std::shared_ptr<std::atomic<bool>> wake_pending_ = std::make_shared<std::atomic<bool>>(false);
   std::map<std::string, std::unique_ptr<Aggregate>> aggregates_;
   std::string pending_;  // what is being written

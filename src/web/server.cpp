@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "web/event_stream.hpp"
+#include "web/flush_ticker.hpp"
 #include "web/http.hpp"
 #include "web/json_views.hpp"
 #include "web/metrics.hpp"
@@ -65,6 +66,7 @@ struct Server::Impl {
   net::io_context context{1};
   tcp::acceptor acceptor{context};
   std::shared_ptr<Poster> poster = std::make_shared<Poster>(context);
+  std::shared_ptr<FlushTicker> ticker = std::make_shared<FlushTicker>(context, poster, options.stream_tick);
   net::thread_pool commands;
   std::thread thread;
   std::atomic<bool> stopped{false};
@@ -515,7 +517,7 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     }
     auto stream =
         std::make_shared<EventStream<Stream>>(std::move(stream_), std::move(*subscription), std::move(backlog), after,
-                                              options, server_.poster, server_.streams, server_.frames);
+                                              options, server_.ticker, server_.streams, server_.frames);
     stream->start();
   }
 

@@ -4,6 +4,7 @@
 // server reaches the sensors only through rangekit::hub::Hub.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -25,6 +26,9 @@ struct ServerOptions {
   std::size_t max_header_bytes = std::size_t{8} * 1024;
   // Items a stream client may fall behind before it is cut off (it resumes with Last-Event-ID).
   std::size_t stream_queue = 4096;
+  // How long the SSE streams gather items before they write (one wake-up and one write per
+  // client per tick): the latency it adds against the CPU of many small writes.
+  std::chrono::milliseconds stream_tick{4};
   std::size_t command_threads = 4;          // settings and actions wait for the sensor here, not in the event loop
   hub::CaptureManager* captures = nullptr;  // /api/captures; none: those paths answer 404
   // HTTPS and TLS streams when both are given (PEM files): [service] tls_certificate, tls_key.
