@@ -52,10 +52,9 @@ class Ls5Backend final : public Backend {
 
   [[nodiscard]] bool connected() const override { return driver_ != nullptr; }
 
-  bool pump(std::chrono::milliseconds wait) override {
-    if (!stream_) return false;
-    drain(*stream_, session_, publisher_, wait);
-    return true;
+  Pumped pump(std::chrono::milliseconds wait) override {
+    if (!stream_) return Pumped::nothing_to_do;
+    return drain(*stream_, session_, publisher_, wait) > 0 ? Pumped::drained : Pumped::polled;
   }
 
   Status set_streaming(Session& /*session*/, bool on) override {
@@ -248,10 +247,9 @@ class Ls5UdpBackend final : public Backend {
     return ok_status();
   }
   [[nodiscard]] bool connected() const override { return receiver_ != nullptr; }
-  bool pump(std::chrono::milliseconds wait) override {
-    if (!receiver_) return false;
-    drain(*receiver_, session_, publisher_, wait);
-    return true;
+  Pumped pump(std::chrono::milliseconds wait) override {
+    if (!receiver_) return Pumped::nothing_to_do;
+    return drain(*receiver_, session_, publisher_, wait) > 0 ? Pumped::drained : Pumped::polled;
   }
   Status set_streaming(Session& /*session*/, bool on) override {
     if (on) return ok_status();
