@@ -1,0 +1,216 @@
+// Browser tests of the overview page (issue 14, "Done means"): Debian's headless chromium
+// driven by playwright-core against `rangekit serve --demo` on a free loopback port.
+// Run by ctest (browser.overview) from BUILD/web; RANGEKIT_CLI names the binary and
+// RANGEKIT_SCREENSHOTS the folder each test leaves its screenshot in. Every wait is on a
+// condition of the page, with generous timeouts; the one time bound is the issue's own
+// "within 2 s" for a killed emulator.
+import assert from 'node:assert/strict';
+import { spawn } from 'node:child_process';
+import { existsSync, mkdirSync, readdirSync, readFileSync } from 'node:fs';
+import path from 'node:path';
+import { after, before, test } from 'node:test';
+import { chromium } from 'playwright-core';
+
+const browserPath = process.env.RANGEKIT_CHROMIUM ?? '/usr/bin/chromium';
+if (!existsSync(browserPath)) {
+  console.log(`SKIPPED: no browser at ${browserPath}; \`bash scripts/install-deps.sh test\` installs Debian's chromium`);
+  process.exit(77);  // ctest: SKIP_RETURN_CODE
+}
+const cli = process.env.RANGEKIT_CLI;
+if (!cli || !existsSync(cli)) throw new Error(`RANGEKIT_CLI (${cli}) is not the rangekit binary`);
+const screenshots = process.env.RANGEKIT_SCREENSHOTS ?? path.resolve('screenshots');
+mkdirSync(screenshots, { recursive: true });
+
+const START_TIMEOUT = 120_000;
+const WAIT = { timeout: 60_000, polling: 100 };
+
+let serve;
+let restarted;
+let url;
+let demoDir;
+let browser;
+let page;
+const pageErrors = [];
+
+// Reads the child's stdout until `pattern` matches; its first group.
+function waitForLine(child, pattern, what) {
+  return new Promise((resolve, reject) => {
+    let text = '';
+    const timer = setTimeout(() => reject(new Error(`no ${what} within ${START_TIMEOUT} ms:\n${text}`)), START_TIMEOUT);
+    const onData = (chunk) => {
+      text += chunk;
+      const match = text.match(pattern);
+      if (match) {
+        clearTimeout(timer);
+        child.stdout.off('data', onData);
+        resolve(match[1]);
+      }
+    };
+    child.stdout.on('data', onData);
+    child.once('exit', (code) => reject(new Error(`rangekit exited (${code}) before ${what}:\n${text}`)));
+  });
+}
+
+function stopped(child) {
+  return new Promise((resolve) => {
+    if (!child || child.exitCode !== null || child.signalCode !== null) return resolve();
+    child.once('exit', () => resolve());
+    child.kill('SIGTERM');
+  });
+}
+
+// The demo's emulator process serving `port` (its pty link), found by its command line.
+function emulatorOn(port) {
+  for (const entry of readdirSync('/proc')) {
+    if (!/^\d+$/.test(entry)) continue;
+    let args;
+    try {
+      args = readFileSync(`/proc/${entry}/cmdline`, 'utf8').split('\0').filter(Boolean);
+    } catch {
+      continue;  // gone meanwhile
+    }
+    const at = args.indexOf('--port');
+    if (args[1] === 'sim' && at > 0 && args[at + 1] === port) return { pid: Number(entry), args };
+  }
+  throw new Error(`no emulator process serves ${port}`);
+}
+
+const card = (name) => `[data-sensor="${name}"]`;
+
+function connectedIs(name, connected) {
+  return page.waitForFunction(
+    ([selector, want]) => document.querySelector(selector)?.getAttribute('data-connected') === want,
+    [card(name), String(connected)],
+    WAIT,
+  );
+}
+
+before(async () => {
+  serve = spawn(cli, ['serve', '--demo', '--listen', '127.0.0.1:0'], { stdio: ['ignore', 'pipe', 'inherit'] });
+  serve.stdout.setEncoding('utf8');
+  const dirPromise = waitForLine(serve, /pseudo-terminals in (\S+)/, 'emulator folder');
+  const urlPromise = waitForLine(serve, /dashboard: (http:\/\/\S+)/, 'dashboard address');
+  demoDir = await dirPromise;
+  url = await urlPromise;
+  serve.stdout.resume();  // the service's per-second summary lines, not needed
+  browser = await chromium.launch({
+    executablePath: browserPath,
+    headless: true,
+    args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'],
+  });
+  page = await browser.newPage({ viewport: { width: 1400, height: 720 } });
+  page.on('pageerror', (error) => pageErrors.push(String(error)));
+  page.on('console', (message) => {
+    if (message.type() === 'error') pageErrors.push(message.text());
+  });
+  await page.goto(url);
+});
+
+after(async () => {
+  await browser?.close();
+  await stopped(restarted);
+  await stopped(serve);
+});
+
+test('the page lists every sensor of the demo, each with its family', async () => {
+  await page.waitForFunction(() => document.querySelectorAll('.card').length === 7, null, WAIT);
+  const cards = await page.$$eval('.card', (found) =>
+    found.map((element) => [element.dataset.sensor, element.querySelector('.family').textContent]));
+  assert.deepEqual(cards, [
+    ['belt', 'LS5'], ['belt-udp', 'LS5'], ['silo', 'ULS'],
+    ['bay-A', 'ULS'], ['bay-B', 'ULS'], ['bay-C', 'ULS'], ['bay-D', 'ULS'],
+  ]);
+});
+
+test('the live value updates on a card (bay-C: a level rising and falling)', async () => {
+  const value = `${card('bay-C')} .value`;
+  await page.waitForFunction((selector) => /^\d/.test(document.querySelector(selector)?.textContent ?? ''), value, WAIT);
+  const first = await page.textContent(value);
+  await page.waitForFunction(([selector, was]) => document.querySelector(selector).textContent !== was,
+    [value, first], WAIT);
+  assert.match(await page.textContent(`${card('bay-C')} .unit`), /^m$/);
+  // The sparkline has drawn (uPlot's canvas) and holds some seconds of readings.
+  await page.waitForSelector(`${card('bay-C')} .spark canvas`, { timeout: WAIT.timeout });
+  await page.waitForFunction((selector) => Number(document.querySelector(selector).dataset.points) >= 24,
+    card('bay-C'), WAIT);
+  await page.screenshot({ path: path.join(screenshots, 'overview.png') });
+});
+
+// U113: §3 "A distance is not produced" in look down; bay-B is in look down (§8 US "n = 3").
+test('a ULS in look down says it gives no distance, not that it has no signal (U113)', async () => {
+  await page.waitForFunction((selector) => document.querySelector(selector)?.textContent === 'look down: no distance',
+    `${card('bay-B')} .value`, WAIT);
+  assert.equal(await page.getAttribute(card('bay-B'), 'data-reading'), 'none');
+});
+
+test('every input has a label and the page is usable with the keyboard alone', async () => {
+  const unlabelled = await page.$$eval('input, select, textarea, button', (controls) =>
+    controls.filter((control) => !(control.labels?.length || control.getAttribute('aria-label')))
+      .map((control) => control.outerHTML));
+  assert.deepEqual(unlabelled, []);
+  await page.keyboard.press('Tab');
+  assert.equal(await page.evaluate(() => document.activeElement.textContent), 'Skip to the sensors');
+  await page.keyboard.press('Tab');
+  assert.equal(await page.evaluate(() => document.activeElement.id), 'filter');
+  await page.keyboard.type('bay');
+  await page.waitForFunction(() =>
+    [...document.querySelectorAll('.card')].filter((element) => !element.hidden).length === 4, null, WAIT);
+  await page.screenshot({ path: path.join(screenshots, 'keyboard-filter.png') });
+  await page.keyboard.press('Tab');
+  assert.equal(await page.evaluate(() => document.activeElement.id), 'problems');
+  await page.keyboard.press('Space');
+  assert.equal(await page.isChecked('#problems'), true);
+  await page.keyboard.press('Space');
+  assert.equal(await page.isChecked('#problems'), false);
+  // Back to the filter, cleared from the keyboard: every card again.
+  await page.keyboard.press('Shift+Tab');
+  await page.keyboard.press('Control+A');
+  await page.keyboard.press('Backspace');
+  await page.waitForFunction(() =>
+    [...document.querySelectorAll('.card')].every((element) => !element.hidden), null, WAIT);
+  // The cards come next in the tab order, and each says what it shows.
+  await page.keyboard.press('Tab');
+  await page.keyboard.press('Tab');
+  const focused = await page.evaluate(() => ({
+    sensor: document.activeElement.dataset.sensor,
+    label: document.getElementById(document.activeElement.getAttribute('aria-labelledby'))?.textContent,
+  }));
+  assert.deepEqual(focused, { sensor: 'belt', label: 'belt' });
+  await page.screenshot({ path: path.join(screenshots, 'keyboard-focus.png') });
+  // The skip link takes the focus to the sensors.
+  await page.keyboard.press('Shift+Tab');
+  await page.keyboard.press('Shift+Tab');
+  await page.keyboard.press('Shift+Tab');
+  assert.equal(await page.evaluate(() => document.activeElement.textContent), 'Skip to the sensors');
+  await page.keyboard.press('Enter');
+  await page.waitForFunction(() => document.activeElement.id === 'sensors', null, WAIT);
+});
+
+test('a killed emulator turns its card disconnected within 2 s and back when it returns', async () => {
+  await connectedIs('belt', true);
+  const emulator = emulatorOn(path.join(demoDir, 'ls5'));
+  const killed = Date.now();
+  process.kill(emulator.pid, 'SIGKILL');
+  await connectedIs('belt', false);
+  const seen = Date.now() - killed;
+  console.log(`belt's card showed disconnected ${seen} ms after kill -9 of its emulator`);
+  // Issue 14: "a killed emulator turns its card to disconnected within 2 s".
+  assert.ok(seen <= 2000, `disconnected shown after ${seen} ms`);
+  assert.equal(await page.textContent(`${card('belt')} .state`), 'Disconnected');
+  await page.screenshot({ path: path.join(screenshots, 'disconnected.png') });
+
+  // The same emulator again on the same pty link (its control socket left out: the old one's file remains).
+  const args = emulator.args.slice(1);
+  const control = args.indexOf('--control');
+  if (control >= 0) args.splice(control, 2);
+  restarted = spawn(cli, args, { stdio: 'ignore' });
+  await connectedIs('belt', true);
+  await page.waitForFunction((selector) => document.querySelector(selector)?.dataset.reading !== 'stale',
+    card('belt'), WAIT);
+  assert.equal(await page.textContent(`${card('belt')} .state`), 'Connected');
+  await page.screenshot({ path: path.join(screenshots, 'reconnected.png') });
+});
+
+test('the page raised no script error or policy violation', () => {
+  assert.deepEqual(pageErrors, []);
+});
