@@ -6,23 +6,10 @@
 // "within 2 s" for a killed emulator.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
-import { existsSync, mkdirSync, readdirSync, readFileSync } from 'node:fs';
+import { readdirSync, readFileSync } from 'node:fs';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
-import { chromium } from 'playwright-core';
-
-const browserPath = process.env.RANGEKIT_CHROMIUM ?? '/usr/bin/chromium';
-if (!existsSync(browserPath)) {
-  console.log(`SKIPPED: no browser at ${browserPath}; \`bash scripts/install-deps.sh test\` installs Debian's chromium`);
-  process.exit(77);  // ctest: SKIP_RETURN_CODE
-}
-const cli = process.env.RANGEKIT_CLI;
-if (!cli || !existsSync(cli)) throw new Error(`RANGEKIT_CLI (${cli}) is not the rangekit binary`);
-const screenshots = process.env.RANGEKIT_SCREENSHOTS ?? path.resolve('screenshots');
-mkdirSync(screenshots, { recursive: true });
-
-const START_TIMEOUT = 120_000;
-const WAIT = { timeout: 60_000, polling: 100 };
+import { cli, launch, screenshots, stopped, WAIT, waitForLine, watchErrors } from './support.mjs';
 
 let serve;
 let restarted;
@@ -30,34 +17,7 @@ let url;
 let demoDir;
 let browser;
 let page;
-const pageErrors = [];
-
-// Reads the child's stdout until `pattern` matches; its first group.
-function waitForLine(child, pattern, what) {
-  return new Promise((resolve, reject) => {
-    let text = '';
-    const timer = setTimeout(() => reject(new Error(`no ${what} within ${START_TIMEOUT} ms:\n${text}`)), START_TIMEOUT);
-    const onData = (chunk) => {
-      text += chunk;
-      const match = text.match(pattern);
-      if (match) {
-        clearTimeout(timer);
-        child.stdout.off('data', onData);
-        resolve(match[1]);
-      }
-    };
-    child.stdout.on('data', onData);
-    child.once('exit', (code) => reject(new Error(`rangekit exited (${code}) before ${what}:\n${text}`)));
-  });
-}
-
-function stopped(child) {
-  return new Promise((resolve) => {
-    if (!child || child.exitCode !== null || child.signalCode !== null) return resolve();
-    child.once('exit', () => resolve());
-    child.kill('SIGTERM');
-  });
-}
+let pageErrors;
 
 // The demo's emulator process serving `port` (its pty link), found by its command line.
 function emulatorOn(port) {
@@ -93,16 +53,9 @@ before(async () => {
   demoDir = await dirPromise;
   url = await urlPromise;
   serve.stdout.resume();  // the service's per-second summary lines, not needed
-  browser = await chromium.launch({
-    executablePath: browserPath,
-    headless: true,
-    args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'],
-  });
+  browser = await launch();
   page = await browser.newPage({ viewport: { width: 1400, height: 720 } });
-  page.on('pageerror', (error) => pageErrors.push(String(error)));
-  page.on('console', (message) => {
-    if (message.type() === 'error') pageErrors.push(message.text());
-  });
+  pageErrors = watchErrors(page);
   await page.goto(url);
 });
 
