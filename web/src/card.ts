@@ -49,13 +49,15 @@ export class Card {
     const id = `card-${name}`;
     this.root = element('article', 'card');
     this.root.dataset.sensor = name;
-    this.root.tabIndex = 0;
     this.root.setAttribute('aria-labelledby', `${id}-name`);
-    this.root.setAttribute('aria-describedby', `${id}-value ${id}-state`);
 
     const head = element('header', 'card-head');
-    const title = element('h2', 'name', name);
+    const title = element('h2', 'name');
     title.id = `${id}-name`;
+    const link = element('a', undefined, name);
+    link.href = `#/sensor/${encodeURIComponent(name)}`;
+    link.setAttribute('aria-describedby', `${id}-value ${id}-state`);
+    title.append(link);
     const badge = element('span', 'family', this.family);
     badge.title = family === 'uls' ? 'LTI ULS' : 'Prizma LS5';
     this.state = element('span', 'state');

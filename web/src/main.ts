@@ -7,6 +7,7 @@ import './style.css';
 import { eventsUrl, listSensors, setToken, streamRefusal, token } from './api';
 import type { Aggregate, Item, LinkEvent, Sensor } from './api';
 import { Card } from './card';
+import { UlsPage } from './uls_page';
 
 const MAX_RATE = 4;
 const POLL_MS = 2000;
@@ -18,7 +19,12 @@ const notice = document.getElementById('notice') as HTMLElement;
 const filter = document.getElementById('filter') as HTMLInputElement;
 const problemsOnly = document.getElementById('problems') as HTMLInputElement;
 
+const overview = document.getElementById('overview') as HTMLElement;
+const sensorView = document.getElementById('sensor-view') as HTMLElement;
+const controls = document.querySelector('.controls') as HTMLElement;
 const cards = new Map<string, Card>();
+let families = new Map<string, string>();
+let sensorPage: UlsPage | null = null;
 let streamState: 'connecting' | 'live' | 'interrupted' = 'connecting';
 // The service's clock, advanced by ours between items, so the sparklines slide smoothly.
 let serverTime = Date.now() / 1000;
@@ -84,7 +90,10 @@ function cardFor(sensor: Pick<Sensor, 'name' | 'family'>): Card {
 async function poll(): Promise<void> {
   try {
     const sensors = await listSensors();
+    families = new Map(sensors.map((sensor) => [sensor.name, sensor.family]));
     for (const sensor of sensors) cardFor(sensor).update(sensor);
+    const shown = sensorPage && sensors.find((sensor) => sensor.name === sensorPage!.name);
+    if (shown) sensorPage!.update(shown);
     if (streamState !== 'interrupted') showNotice(null);
   } catch (error) {
     showNotice(`The service does not answer (${(error as Error).message}); trying again.`);
@@ -156,11 +165,56 @@ function openStream(): void {
   });
 }
 
+// "#/sensor/NAME": that sensor's page; anything else: the overview.
+function route(): void {
+  const match = location.hash.match(/^#\/sensor\/(.+)$/);
+  const name = match ? decodeURIComponent(match[1]) : null;
+  if (sensorPage && sensorPage.name !== name) {
+    sensorPage.close();
+    sensorPage = null;
+  }
+  sensorView.replaceChildren();
+  if (name === null) {
+    overview.hidden = false;
+    controls.hidden = false;
+    sensorView.hidden = true;
+    document.title = 'rangekit · sensors';
+    return;
+  }
+  overview.hidden = true;
+  controls.hidden = true;
+  sensorView.hidden = false;
+  document.title = `rangekit · ${name}`;
+  if (families.get(name) === 'uls') {
+    sensorPage ??= new UlsPage(name);
+    sensorView.append(sensorPage.root);
+    sensorPage.open();
+    void poll();
+  } else {
+    const back = document.createElement('a');
+    back.href = '#';
+    back.className = 'back';
+    back.textContent = '← All sensors';
+    const title = document.createElement('h1');
+    title.className = 'page-title';
+    title.textContent = name;
+    title.tabIndex = -1;
+    const text = document.createElement('p');
+    text.textContent = families.has(name)
+      ? 'The LS5 page is not built yet: its live value is on the overview.'
+      : 'No sensor of this site has that name.';
+    sensorView.append(back, title, text);
+  }
+  (sensorView.querySelector('h1') as HTMLElement | null)?.focus();
+}
+
+window.addEventListener('hashchange', route);
 filter.addEventListener('input', applyFilter);
 problemsOnly.addEventListener('change', applyFilter);
 
 token();  // keeps a token given in the address for this tab
 void poll().then(() => {
+  route();
   openStream();
   setInterval(() => void poll(), POLL_MS);
   setInterval(() => {

@@ -98,7 +98,8 @@ test('a ULS in look down says it gives no distance, not that it has no signal (U
 
 test('every input has a label and the page is usable with the keyboard alone', async () => {
   const unlabelled = await page.$$eval('input, select, textarea, button', (controls) =>
-    controls.filter((control) => !(control.labels?.length || control.getAttribute('aria-label')))
+    controls.filter((control) => !(control.labels?.length || control.getAttribute('aria-label') ||
+      (control.tagName === 'BUTTON' && control.textContent.trim())))
       .map((control) => control.outerHTML));
   assert.deepEqual(unlabelled, []);
   await page.keyboard.press('Tab');
@@ -121,14 +122,15 @@ test('every input has a label and the page is usable with the keyboard alone', a
   await page.keyboard.press('Backspace');
   await page.waitForFunction(() =>
     [...document.querySelectorAll('.card')].every((element) => !element.hidden), null, WAIT);
-  // The cards come next in the tab order, and each says what it shows.
+  // The cards' names come next in the tab order: each a link to the sensor's page.
   await page.keyboard.press('Tab');
   await page.keyboard.press('Tab');
   const focused = await page.evaluate(() => ({
-    sensor: document.activeElement.dataset.sensor,
-    label: document.getElementById(document.activeElement.getAttribute('aria-labelledby'))?.textContent,
+    name: document.activeElement.textContent,
+    href: document.activeElement.getAttribute('href'),
+    card: document.activeElement.closest('.card')?.dataset.sensor,
   }));
-  assert.deepEqual(focused, { sensor: 'belt', label: 'belt' });
+  assert.deepEqual(focused, { name: 'belt', href: '#/sensor/belt', card: 'belt' });
   await page.screenshot({ path: path.join(screenshots, 'keyboard-focus.png') });
   // The skip link takes the focus to the sensors.
   await page.keyboard.press('Shift+Tab');
@@ -137,6 +139,81 @@ test('every input has a label and the page is usable with the keyboard alone', a
   assert.equal(await page.evaluate(() => document.activeElement.textContent), 'Skip to the sensors');
   await page.keyboard.press('Enter');
   await page.waitForFunction(() => document.activeElement.id === 'sensors', null, WAIT);
+});
+
+// §2 "Icons: Displayed above the black measurement window, show measurement and the main parameters."
+const ICON_MEANINGS = {
+  'Laser On': 'The laser is firing.',
+  'G': 'Gates are set.',
+  'CT': 'Cooperative Target.',
+  'O': 'an Offset value is being applied to measurements.',
+  'BM': 'The ULS is producing valid measurements more than once every two seconds.',
+};
+
+const indicatorIs = (key, state) => page.waitForFunction(([which, want]) =>
+  document.querySelector(`[data-indicator="${which}"]`)?.dataset.state === want, [key, state], WAIT);
+
+test('the ULS page: §2 indicators with their meanings, the live reading, the display choice, Read (U114, U115)', async () => {
+  // From the keyboard: the card's name is the way in.
+  await page.focus('a[href="#/sensor/bay-C"]');
+  await page.keyboard.press('Enter');
+  await page.waitForSelector('.sensor-page[data-sensor="bay-C"]', { timeout: WAIT.timeout });
+  const indicators = await page.$$eval('.indicator', (items) =>
+    items.map((item) => [item.firstChild.textContent, item.title]));
+  assert.equal(indicators.length, 6);
+  for (const [label, meaning] of Object.entries(ICON_MEANINGS)) {
+    const found = indicators.find(([text]) => text === label);
+    assert.ok(found, `no ${label} indicator`);
+    assert.ok(found[1].includes(meaning), `${label}'s tooltip "${found[1]}" lacks §2's "${meaning}"`);
+  }
+  await page.waitForFunction(() => /^\d+\.\d{3} m$/.test(document.querySelector('.measurement').textContent),
+    null, WAIT);
+  await indicatorIs('connected', 'on');
+  await indicatorIs('laser', 'on');  // bay-C measures in averaging (US 7)
+  await indicatorIs('basic', 'on');  // U115: readings several times a second
+  // U114: gates, cooperative target and offset are known once the settings have been read.
+  const unread = await page.$eval('[data-indicator="gates"]', (item) => item.dataset.state);
+  assert.ok(unread === 'unknown' || unread === 'off', unread);
+  await page.focus('button.action');
+  await page.keyboard.press('Enter');
+  await page.waitForFunction(() => document.querySelector('.page-message').textContent === 'Settings read.', null, WAIT);
+  await indicatorIs('gates', 'off');  // the emulator's factory settings: no gate, no CT, no offset
+  await indicatorIs('cooperative', 'off');
+  await indicatorIs('offset', 'off');
+  // Averaging: Distance, Intensity or Both (§2), each labelled; arrow keys move the choice.
+  const labels = await page.$$eval('.display input', (inputs) => inputs.map((input) => input.labels[0].textContent));
+  assert.deepEqual(labels, ['Distance', 'Intensity', 'Both']);
+  await page.focus('#display-distance');
+  await page.keyboard.press('ArrowRight');
+  assert.equal(await page.isChecked('#display-intensity'), true);
+  await page.waitForFunction(() => /^\d+\.\d{3} ns$/.test(document.querySelector('.measurement').textContent),
+    null, WAIT);
+  await page.keyboard.press('ArrowRight');
+  await page.waitForFunction(() => / m · .* ns$/.test(document.querySelector('.measurement').textContent), null, WAIT);
+  await page.screenshot({ path: path.join(screenshots, 'uls-page.png') });
+
+  // Binning (bay-A): first or last target; look down (bay-B): ON/OFF, no choice.
+  await page.evaluate(() => { location.hash = '#/sensor/bay-A'; });
+  await page.waitForFunction(() =>
+    [...document.querySelectorAll('.display input')].map((input) => input.labels[0].textContent).join() ===
+      'First target,Last target', null, WAIT);
+  await page.check('#display-last');
+  await page.waitForFunction(() => /\(last of \d+\)$/.test(document.querySelector('.measurement').textContent),
+    null, WAIT);
+  await page.screenshot({ path: path.join(screenshots, 'uls-page-binning.png') });
+  await page.evaluate(() => { location.hash = '#/sensor/bay-B'; });
+  await page.waitForFunction(() => /^(ON|OFF)$/.test(document.querySelector('.measurement')?.textContent ?? ''),
+    null, WAIT);
+  assert.equal(await page.$$eval('.display input', (inputs) => inputs.length), 0);
+  const unlabelled = await page.$$eval('input, select, textarea, button', (controls) =>
+    controls.filter((control) => !(control.labels?.length || control.getAttribute('aria-label') ||
+      (control.tagName === 'BUTTON' && control.textContent.trim())))
+      .map((control) => control.outerHTML));
+  assert.deepEqual(unlabelled, []);
+  // Back to the overview from the keyboard.
+  await page.focus('a.back');
+  await page.keyboard.press('Enter');
+  await page.waitForFunction(() => !document.getElementById('overview').hidden, null, WAIT);
 });
 
 test('a killed emulator turns its card disconnected within 2 s and back when it returns', async () => {
