@@ -32,10 +32,8 @@ build: configure
 test: build
 	@ctest --test-dir $(BUILD) --output-on-failure -j$(JOBS)
 
-# The sensor service on a site of emulators (an LS5, a ULS, a bus of four ULS units):
-# until Ctrl-C, or DEMO_SECONDS=30 make demo to stop by itself.
-DEMO_SECONDS ?=
-# The service on emulators for a minute (DEMO_SECONDS=0: until Ctrl-C).
+# The sensor service on a site of emulators (an LS5, a ULS, a bus of four ULS units) for a
+# minute (DEMO_SECONDS=0: until Ctrl-C); it prints the dashboard's address to open in a browser.
 DEMO_SECONDS ?= 60
 demo: build
 	@./$(BUILD)/rangekit serve --demo --duration $(DEMO_SECONDS)

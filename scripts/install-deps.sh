@@ -17,6 +17,7 @@ test_packages=(
   dpkg-dev  # dpkg-shlibdeps, for make package
   openssl  # the TLS test makes its own certificate
   python3-numpy python3-pytest python3-serial  # the Python package's tests and benchmark (/usr/bin/python3)
+  chromium fonts-dejavu-core fonts-liberation  # the dashboard's browser tests (headless, driven by playwright-core)
 )
 
 case "${1:-test}" in
@@ -26,6 +27,13 @@ case "${1:-test}" in
 esac
 
 missing=()
+# The dashboard (web/) is built with node 18+ and npm (esbuild, TypeScript from web/package-lock.json).
+# Any node/npm on PATH will do (e.g. NodeSource's, whose nodejs conflicts with Debian's npm);
+# otherwise Debian's.
+node_major=$(node -p 'process.versions.node.split(".")[0]' 2>/dev/null || echo 0)
+if ! command -v npm >/dev/null 2>&1 || [ "$node_major" -lt 18 ]; then
+  missing+=(nodejs npm)
+fi
 for package in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
     missing+=("$package")

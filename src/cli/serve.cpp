@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/dashboard.hpp"
 #include "cli/demo_site.hpp"
 #include "cli/stop_signals.hpp"
 #include "rangekit/hub/captures.hpp"
@@ -100,6 +101,7 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   }
   hub::CaptureManager captures(*hub, capture_dir.string());
   server_options.captures = &captures;
+  server_options.assets = dashboard_assets();
   auto server = web::Server::start(*hub, server_options);
   if (!server) {
     fmt::print(stderr, "rangekit serve: {}\n", server.error().message);
@@ -118,8 +120,14 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
     }
   }
   const Endpoint local = (*server)->local_endpoint();
-  fmt::print("rangekit serve: {} sensors; API on {}://{}:{}/api/sensors (docs/api.md)\n", site->sensors.size(),
-             server_options.tls_certificate.empty() ? "http" : "https", local.host, local.port);
+  const char* scheme = server_options.tls_certificate.empty() ? "http" : "https";
+  fmt::print("rangekit serve: {} sensors; API on {}://{}:{}/api/sensors (docs/api.md)\n", site->sensors.size(), scheme,
+             local.host, local.port);
+  if (!server_options.assets.empty()) {
+    // Beyond loopback the page needs the token for its live stream: it reads it from #token=.
+    fmt::print("dashboard: {}://{}:{}/{}\n", scheme, local.host, local.port,
+               server_options.token.empty() ? "" : "#token=TOKEN");
+  }
   std::fflush(stdout);
   const auto started = std::chrono::steady_clock::now();
   const auto limit = std::chrono::duration<double>(options.duration_s);

@@ -7,6 +7,7 @@
 
 #include <boost/asio/thread_pool.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <charconv>
 #include <thread>
@@ -159,6 +160,45 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
                       });
   }
 
+  // The dashboard's page and its files: exact paths only (the page routes by #fragment).
+  void static_asset(const Target& target) {
+    std::string path;
+    for (const std::string& segment : target.segments) path += "/" + segment;
+    if (path.empty()) path = "/";
+    const auto& assets = server_.options.assets;
+    const auto found =
+        std::find_if(assets.begin(), assets.end(), [&](const StaticAsset& asset) { return asset.path == path; });
+    if (found == assets.end()) {
+      return not_found(assets.empty() && path == "/"
+                           ? "this rangekit was built without the dashboard (-DRANGEKIT_DASHBOARD=OFF); the API is "
+                             "under /api (see docs/api.md)"
+                           : "no such path (see docs/api.md)");
+    }
+    if (request_.method() != http::verb::get) return wrong_method("GET");
+    const bool unchanged = !found->etag.empty() && request_[http::field::if_none_match] == found->etag;
+    auto response = std::make_shared<Response>(unchanged ? http::status::not_modified : http::status::ok,
+                                               request_.version() == 0 ? 11 : request_.version());
+    response->set(http::field::server, "rangekit");
+    response->set(http::field::content_type, found->content_type);
+    // Hashed names never change; the page itself is revalidated so a new build shows at once.
+    response->set(http::field::cache_control, found->immutable ? "public, max-age=31536000, immutable" : "no-cache");
+    if (!found->etag.empty()) response->set(http::field::etag, found->etag);
+    response->set("X-Content-Type-Options", "nosniff");
+    // Only this service's own scripts and API; no framing by another site (the pages write to sensors).
+    response->set("Content-Security-Policy",
+                  "default-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data:; "
+                  "frame-ancestors 'none'; base-uri 'none'; form-action 'self'");
+    response->set("Referrer-Policy", "no-referrer");
+    response->keep_alive(request_.keep_alive());
+    if (!unchanged) response->body() = std::string(found->body);
+    response->prepare_payload();
+    http::async_write(stream_, *response,
+                      [self = this->shared_from_this(), response](beast::error_code error, std::size_t) {
+                        if (error || response->need_eof()) return self->close();
+                        self->read();
+                      });
+  }
+
   void fail(const Error& error, const hub::SettingValues& values = {}) {
     respond(status_for(error), error_json(status_code_name(error.code), error.message, field_of(error, values)));
   }
@@ -232,7 +272,7 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
                               server_.refused.load(), server_.streams.cut_off.load()};
       return respond(http::status::ok, prometheus_text(server_.hub, stats), true, "text/plain; version=0.0.4");
     }
-    if (path.empty() || path[0] != "api") return not_found("no such path (see docs/api.md)");
+    if (path.empty() || path[0] != "api") return static_asset(target);
     if (path.size() == 2 && path[1] == "events") {
       if (method != http::verb::get) return wrong_method("GET");
       return open_stream(target, "");

@@ -28,7 +28,8 @@ TEST(ConformanceTable, EveryRowNamesExistingTestsThatMentionIt) {
   const std::string doc = read_file(root + "/docs/conformance.md");
   ASSERT_FALSE(doc.empty()) << "docs/conformance.md not found under " << root;
   const std::regex row_pattern(R"(^\| ([A-Z][0-9]+) \|.*$)");
-  const std::regex test_pattern("`(tests/[A-Za-z0-9_/]+\\.cpp)`");
+  // C++ tests, and the dashboard's browser tests (web/tests, node).
+  const std::regex test_pattern("`((?:tests|web/tests)/[A-Za-z0-9_/.]+\\.(?:cpp|mjs))`");
   std::map<char, int> rows_per_table;
   std::istringstream lines(doc);
   std::string line;

@@ -7,7 +7,9 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
+#include <string_view>
 
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/udp.hpp"
@@ -15,6 +17,15 @@
 #include "rangekit/hub/hub.hpp"
 
 namespace rangekit::web {
+
+// One file of the browser dashboard (web/, issue 14), embedded in the CLI at build time.
+struct StaticAsset {
+  std::string_view path;          // "/" for index.html, "/assets/app-3F2A.js"
+  std::string_view content_type;  // "text/html; charset=utf-8"
+  std::string_view body;
+  std::string_view etag;   // "\"<sha256 prefix>\"": a browser revalidates with If-None-Match
+  bool immutable = false;  // a name with its content hash in it: cached for a year
+};
 
 struct ServerOptions {
   std::string listen = "127.0.0.1:8080";  // HOST:PORT; port 0 picks a free one
@@ -34,6 +45,9 @@ struct ServerOptions {
   // HTTPS and TLS streams when both are given (PEM files): [service] tls_certificate, tls_key.
   std::string tls_certificate;
   std::string tls_key;
+  // The dashboard's files, answered to GET like the API's reads (no token, no Host check:
+  // they hold no sensor data). Empty: every path outside /api is 404.
+  std::span<const StaticAsset> assets;
 };
 
 struct ServerStats {

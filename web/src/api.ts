@@ -1,0 +1,104 @@
+// The service's API as the page uses it (docs/api.md): the sensor list and the one
+// Server-Sent Events stream of every sensor, merged per sensor to max_rate points a second.
+
+export interface Health {
+  connected: boolean;
+  rate_hz: number;
+  records: number;
+  errors: number;
+  no_signal: number;
+  lost: number;
+  bad_frames: number;
+  disconnects: number;
+  reconnects: number;
+  last_seen: string | null;
+  last_event: string;
+}
+
+export interface Sensor {
+  name: string;
+  family: 'uls' | 'ls5';
+  port: string;
+  address?: number;
+  udp?: string;
+  connected: boolean;
+  streaming: boolean;
+  identity: Record<string, unknown>;
+  status: Record<string, unknown>;
+  health: Health;
+}
+
+// `event: aggregate`: the samples of 1/max_rate s; min/max/last absent when all were gaps.
+export interface Aggregate {
+  time: string;
+  count: number;
+  gaps: number;
+  min?: number;
+  max?: number;
+  last?: number;
+  unit?: string;
+}
+
+// `event: event`: a link event (connected, disconnected, reconnected, lost_records, ...).
+export interface LinkEvent {
+  time: string;
+  event: string;
+  message?: string;
+  count?: number;
+}
+
+export interface Item<T> {
+  id: number;
+  sensor: string;
+  type: string;
+  data: T;
+}
+
+// Beyond loopback the service wants its token on streams and writes (docs/api.md, "Token").
+// The page takes it from its address (#token=... or ?token=) and keeps it for the tab.
+export function token(): string {
+  const fromHash = new URLSearchParams(location.hash.replace(/^#/, '')).get('token');
+  const fromQuery = new URLSearchParams(location.search).get('token');
+  const found = fromHash ?? fromQuery;
+  if (found) sessionStorage.setItem('rangekit-token', found);
+  return found ?? sessionStorage.getItem('rangekit-token') ?? '';
+}
+
+export function setToken(value: string): void {
+  sessionStorage.setItem('rangekit-token', value);
+}
+
+export async function listSensors(): Promise<Sensor[]> {
+  const response = await fetch('/api/sensors', { cache: 'no-store' });
+  if (!response.ok) throw new Error(`GET /api/sensors: ${response.status} ${response.statusText}`);
+  const body = (await response.json()) as { sensors: Sensor[] };
+  return body.sensors;
+}
+
+export function eventsUrl(maxRate: number): string {
+  const query = new URLSearchParams({ max_rate: String(maxRate) });
+  const value = token();
+  if (value) query.set('token', value);
+  return `/api/events?${query.toString()}`;
+}
+
+// Why a stream does not open: an EventSource cannot see the status, so ask once with fetch.
+export async function streamRefusal(url: string): Promise<number | null> {
+  const abort = new AbortController();
+  try {
+    const response = await fetch(url, { signal: abort.signal, cache: 'no-store' });
+    return response.ok ? null : response.status;
+  } catch {
+    return 0;  // the service cannot be reached
+  } finally {
+    abort.abort();
+  }
+}
+
+// A write (docs/api.md): same origin, and the token when the service wants one.
+export function authorisedFetch(url: string, init: RequestInit = {}): Promise<Response> {
+  const headers = new Headers(init.headers);
+  const value = token();
+  if (value) headers.set('Authorization', `Bearer ${value}`);
+  return fetch(url, { ...init, headers, cache: 'no-store' });
+}

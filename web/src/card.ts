@@ -1,0 +1,222 @@
+// One sensor's card on the overview: name, family, live value and rate, link state,
+// error and lost counts, and a sparkline (uPlot) of the last minute. Gaps (no signal,
+// disconnected, lost records, silence) are nulls, drawn as breaks and never joined.
+import uPlot from 'uplot';
+import type { Aggregate, LinkEvent, Sensor } from './api';
+
+export const WINDOW_S = 60;
+// Longer than this between two points is a silence, drawn as a gap.
+const SILENCE_S = 2;
+
+const numberFormat = new Intl.NumberFormat('en', { minimumFractionDigits: 3, maximumFractionDigits: 3 });
+const rateFormat = new Intl.NumberFormat('en', { maximumFractionDigits: 1, minimumFractionDigits: 1 });
+
+function element<K extends keyof HTMLElementTagNameMap>(tag: K, className?: string, text?: string) {
+  const made = document.createElement(tag);
+  if (className) made.className = className;
+  if (text !== undefined) made.textContent = text;
+  return made;
+}
+
+function stat(label: string): [HTMLElement, HTMLElement] {
+  const box = element('div');
+  const value = element('dd', undefined, '–');
+  box.append(element('dt', undefined, label), value);
+  return [box, value];
+}
+
+export class Card {
+  readonly root: HTMLElement;
+  private readonly state: HTMLElement;
+  private readonly value: HTMLElement;
+  private readonly unit: HTMLElement;
+  private readonly rate: HTMLElement;
+  private readonly errors: HTMLElement;
+  private readonly lost: HTMLElement;
+  private readonly lastEvent: HTMLElement;
+  private readonly spark: HTMLElement;
+  private plot: uPlot | null = null;
+  private times: number[] = [];
+  private values: (number | null)[] = [];
+  private connected = false;
+  private problem = false;
+  private family: string;
+  private valueText = '';
+  private lookDown = false;
+
+  constructor(readonly name: string, family: string) {
+    this.family = family.toUpperCase();
+    const id = `card-${name}`;
+    this.root = element('article', 'card');
+    this.root.dataset.sensor = name;
+    this.root.setAttribute('aria-labelledby', `${id}-name`);
+
+    const head = element('header', 'card-head');
+    const title = element('h2', 'name');
+    title.id = `${id}-name`;
+    const link = element('a', undefined, name);
+    link.href = `#/sensor/${encodeURIComponent(name)}`;
+    link.setAttribute('aria-describedby', `${id}-value ${id}-state`);
+    title.append(link);
+    const badge = element('span', 'family', this.family);
+    badge.title = family === 'uls' ? 'LTI ULS' : 'Prizma LS5';
+    this.state = element('span', 'state');
+    this.state.id = `${id}-state`;
+    head.append(title, badge, this.state);
+
+    const reading = element('p', 'reading');
+    reading.id = `${id}-value`;
+    this.value = element('span', 'value', '–');
+    this.unit = element('span', 'unit');
+    reading.append(this.value, this.unit);
+
+    const stats = element('dl', 'stats');
+    const [rateBox, rate] = stat('Rate');
+    const [errorBox, errors] = stat('Errors');
+    const [lostBox, lost] = stat('Lost');
+    this.rate = rate;
+    this.errors = errors;
+    this.lost = lost;
+    stats.append(rateBox, errorBox, lostBox);
+
+    this.spark = element('div', 'spark');
+    this.spark.setAttribute('role', 'img');
+    this.spark.setAttribute('aria-label', `${name}: readings of the last minute`);
+    this.lastEvent = element('p', 'last-event');
+
+    this.root.append(head, reading, stats, this.spark, this.lastEvent);
+    this.setConnected(false);
+    this.showValue('waiting for a reading', '', 'none');
+  }
+
+  // From GET /api/sensors (every few seconds): the counters and the link state.
+  update(sensor: Sensor): void {
+    this.setConnected(sensor.health.connected);
+    this.rate.textContent = `${rateFormat.format(sensor.health.rate_hz)} Hz`;
+    this.errors.textContent = String(sensor.health.errors);
+    this.lost.textContent = String(sensor.health.lost);
+    this.errors.classList.toggle('bad', sensor.health.errors > 0);
+    this.lost.classList.toggle('bad', sensor.health.lost > 0);
+    this.problem = sensor.health.errors > 0 || sensor.health.lost > 0;
+    // "/dev/ttyUSB2: streaming (ST)": the port is the sensor's own, so shown once, in the tooltip.
+    const prefix = sensor.port ? `${sensor.port}: ` : '';
+    const event = sensor.health.last_event;
+    this.lastEvent.textContent = prefix && event.startsWith(prefix) ? event.slice(prefix.length) : event;
+    this.lastEvent.title = sensor.port ? `${sensor.port} · ${event}` : event;
+    // U113: §3 look down "A distance is not produced", so its aggregates carry no value; §8 Get
+    // Unit Status "n = 3 = laser firing and Look Down Mode" says which unit that is.
+    this.lookDown = sensor.family === 'uls' && sensor.status.status === 3;
+  }
+
+  aggregate(data: Aggregate): void {
+    const time = Date.parse(data.time) / 1000;
+    if (data.last === undefined) {
+      this.showValue(this.lookDown ? 'look down: no distance' : 'no signal', '', 'none');
+      this.push(time, null);
+    } else {
+      this.showValue(numberFormat.format(data.last), data.unit ?? '', 'live');
+      this.push(time, data.last);
+    }
+    if (!this.connected) this.setConnected(true);  // a reading proves the link
+  }
+
+  link(event: LinkEvent): void {
+    const time = Date.parse(event.time) / 1000;
+    this.lastEvent.textContent = event.message ? `${event.event}: ${event.message}` : event.event;
+    this.lastEvent.title = this.lastEvent.textContent;
+    if (event.event === 'disconnected') {
+      this.setConnected(false);
+      this.push(time, null);
+    } else if (event.event === 'connected' || event.event === 'reconnected') {
+      this.setConnected(true);
+    } else if (event.event === 'lost_records') {
+      this.push(time, null);  // records missing here: never joined across
+    }
+  }
+
+  get hasProblem(): boolean {
+    return !this.connected || this.problem;
+  }
+
+  // Redraws the sparkline for the window ending at `now` (seconds).
+  draw(now: number): void {
+    const from = now - WINDOW_S;
+    let first = 0;
+    while (first < this.times.length && this.times[first] < from) first++;
+    if (first > 0) {
+      this.times.splice(0, first);
+      this.values.splice(0, first);
+    }
+    if (!this.plot) this.createPlot();
+    if (!this.plot) return;
+    const width = Math.floor(this.spark.clientWidth);
+    if (width > 0 && width !== this.plot.width) this.plot.setSize({ width, height: this.plot.height });
+    this.plot.batch(() => {
+      this.plot!.setData([this.times, this.values], false);
+      this.plot!.setScale('x', { min: from, max: now });
+    });
+  }
+
+  private createPlot(): void {
+    const width = Math.floor(this.spark.clientWidth);
+    if (width <= 0) return;
+    const stroke = getComputedStyle(this.root).getPropertyValue('--plot').trim() || '#2563eb';
+    this.plot = new uPlot(
+      {
+        width,
+        height: 44,
+        pxAlign: false,
+        cursor: { show: false },
+        select: { show: false, left: 0, top: 0, width: 0, height: 0 },
+        legend: { show: false },
+        // At least 2 % of the value (or 0.01) tall: a steady wall stays a flat line, not magnified noise.
+        scales: {
+          x: { time: true },
+          y: {
+            range: (_plot, min, max) => {
+              const middle = (min + max) / 2;
+              const half = Math.max((max - min) / 2, Math.abs(middle) * 0.01, 0.005) * 1.1;
+              return [middle - half, middle + half];
+            },
+          },
+        },
+        axes: [{ show: false }, { show: false }],
+        series: [{}, { stroke, width: 1.5, spanGaps: false, points: { show: false } }],
+      },
+      [[], []],
+      this.spark,
+    );
+  }
+
+  private push(time: number, value: number | null): void {
+    const previous = this.times.length ? this.times[this.times.length - 1] : -Infinity;
+    if (!(time > previous)) return;  // a replayed item after a reconnect: already drawn
+    if (value !== null && this.times.length > 0 && time - previous > SILENCE_S && this.values[this.values.length - 1] !== null) {
+      this.times.push(previous + 0.001);
+      this.values.push(null);  // a silence is a gap, not a straight line
+    }
+    this.times.push(time);
+    this.values.push(value);
+    this.root.dataset.points = String(this.times.length);
+  }
+
+  private showValue(text: string, unit: string, kind: 'live' | 'none' | 'stale'): void {
+    this.value.textContent = text;
+    this.unit.textContent = unit;
+    this.root.dataset.reading = kind;
+    this.valueText = unit ? `${text} ${unit}` : text;
+    this.updateLabel();
+  }
+
+  private setConnected(connected: boolean): void {
+    this.connected = connected;
+    this.root.dataset.connected = String(connected);
+    this.state.textContent = connected ? 'Connected' : 'Disconnected';
+    if (!connected && this.root.dataset.reading === 'live') this.root.dataset.reading = 'stale';
+    this.updateLabel();
+  }
+
+  private updateLabel(): void {
+    this.root.title = `${this.name} (${this.family}): ${this.connected ? 'connected' : 'disconnected'}, ${this.valueText}`;
+  }
+}

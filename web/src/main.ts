@@ -1,0 +1,225 @@
+// The overview (issue 14 point 2): a card per sensor of the site, live from one
+// Server-Sent Events stream of every sensor at MAX_RATE points a second each (the
+// service merges the samples, so a 1 kHz LS5 costs the page 4 points a second), and
+// the counters from GET /api/sensors every POLL_MS.
+import 'uplot/dist/uPlot.min.css';
+import './style.css';
+import { eventsUrl, listSensors, setToken, streamRefusal, token } from './api';
+import type { Aggregate, Item, LinkEvent, Sensor } from './api';
+import { Card } from './card';
+import { UlsPage } from './uls_page';
+
+const MAX_RATE = 4;
+const POLL_MS = 2000;
+const DRAW_MS = 500;
+
+const grid = document.getElementById('sensors') as HTMLElement;
+const summary = document.getElementById('summary') as HTMLElement;
+const notice = document.getElementById('notice') as HTMLElement;
+const filter = document.getElementById('filter') as HTMLInputElement;
+const problemsOnly = document.getElementById('problems') as HTMLInputElement;
+
+const overview = document.getElementById('overview') as HTMLElement;
+const sensorView = document.getElementById('sensor-view') as HTMLElement;
+const controls = document.querySelector('.controls') as HTMLElement;
+const cards = new Map<string, Card>();
+let families = new Map<string, string>();
+let sensorPage: UlsPage | null = null;
+let streamState: 'connecting' | 'live' | 'interrupted' = 'connecting';
+// The service's clock, advanced by ours between items, so the sparklines slide smoothly.
+let serverTime = Date.now() / 1000;
+let serverTimeAt = performance.now();
+
+function now(): number {
+  return serverTime + (performance.now() - serverTimeAt) / 1000;
+}
+
+function heard(time: string): void {
+  const seconds = Date.parse(time) / 1000;
+  if (seconds > now()) {
+    serverTime = seconds;
+    serverTimeAt = performance.now();
+  }
+}
+
+function showNotice(content: Node | string | null): void {
+  notice.replaceChildren();
+  if (content === null) {
+    notice.hidden = true;
+    return;
+  }
+  notice.append(content);
+  notice.hidden = false;
+}
+
+function applyFilter(): void {
+  const text = filter.value.trim().toLowerCase();
+  for (const card of cards.values()) {
+    const shown = card.name.toLowerCase().includes(text) && (!problemsOnly.checked || card.hasProblem);
+    card.root.hidden = !shown;
+  }
+  updateSummary();
+}
+
+function updateSummary(): void {
+  let connected = 0;
+  let shown = 0;
+  for (const card of cards.values()) {
+    if (card.root.dataset.connected === 'true') connected++;
+    if (!card.root.hidden) shown++;
+  }
+  const disconnected = cards.size - connected;
+  const parts = [`${cards.size} sensors`, `${connected} connected`];
+  if (disconnected > 0) parts.push(`${disconnected} disconnected`);
+  if (shown !== cards.size) parts.push(`${shown} shown`);
+  parts.push(streamState === 'live' ? 'live' : streamState === 'connecting' ? 'connecting…' : 'live stream interrupted');
+  summary.textContent = parts.join(' · ');
+  summary.dataset.stream = streamState;
+}
+
+function cardFor(sensor: Pick<Sensor, 'name' | 'family'>): Card {
+  let card = cards.get(sensor.name);
+  if (!card) {
+    card = new Card(sensor.name, sensor.family);
+    cards.set(sensor.name, card);
+    grid.append(card.root);
+  }
+  return card;
+}
+
+async function poll(): Promise<void> {
+  try {
+    const sensors = await listSensors();
+    families = new Map(sensors.map((sensor) => [sensor.name, sensor.family]));
+    for (const sensor of sensors) cardFor(sensor).update(sensor);
+    const shown = sensorPage && sensors.find((sensor) => sensor.name === sensorPage!.name);
+    if (shown) sensorPage!.update(shown);
+    if (streamState !== 'interrupted') showNotice(null);
+  } catch (error) {
+    showNotice(`The service does not answer (${(error as Error).message}); trying again.`);
+  }
+  applyFilter();
+}
+
+function tokenForm(): HTMLElement {
+  const form = document.createElement('form');
+  form.className = 'token-form';
+  const text = document.createElement('p');
+  text.textContent =
+    'This service listens beyond loopback, so its live stream needs the token it printed at its first start.';
+  const label = document.createElement('label');
+  label.htmlFor = 'token';
+  label.textContent = 'Service token';
+  const input = document.createElement('input');
+  input.id = 'token';
+  input.type = 'password';
+  input.autocomplete = 'off';
+  const button = document.createElement('button');
+  button.type = 'submit';
+  button.textContent = 'Use token';
+  form.append(text, label, input, button);
+  form.addEventListener('submit', (event) => {
+    event.preventDefault();
+    setToken(input.value.trim());
+    showNotice(null);
+    openStream();
+  });
+  return form;
+}
+
+let source: EventSource | null = null;
+
+function openStream(): void {
+  source?.close();
+  const url = eventsUrl(MAX_RATE);
+  source = new EventSource(url);
+  streamState = 'connecting';
+  source.addEventListener('open', () => {
+    streamState = 'live';
+    showNotice(null);
+    updateSummary();
+  });
+  source.addEventListener('aggregate', (message) => {
+    const item = JSON.parse((message as MessageEvent<string>).data) as Item<Aggregate>;
+    heard(item.data.time);
+    cards.get(item.sensor)?.aggregate(item.data);  // a sensor not listed yet comes with the next poll
+  });
+  source.addEventListener('event', (message) => {
+    const item = JSON.parse((message as MessageEvent<string>).data) as Item<LinkEvent>;
+    heard(item.data.time);
+    cards.get(item.sensor)?.link(item.data);
+    updateSummary();
+  });
+  source.addEventListener('error', () => {
+    streamState = 'interrupted';
+    updateSummary();
+    // The browser retries by itself (resuming with Last-Event-ID); a refusal it cannot see.
+    void streamRefusal(url).then((status) => {
+      if (status === 401) {
+        source?.close();
+        showNotice(tokenForm());
+      } else if (status === 0) {
+        showNotice('The service cannot be reached; the page reconnects when it answers again.');
+      }
+    });
+  });
+}
+
+// "#/sensor/NAME": that sensor's page; anything else: the overview.
+function route(): void {
+  const match = location.hash.match(/^#\/sensor\/(.+)$/);
+  const name = match ? decodeURIComponent(match[1]) : null;
+  if (sensorPage && sensorPage.name !== name) {
+    sensorPage.close();
+    sensorPage = null;
+  }
+  sensorView.replaceChildren();
+  if (name === null) {
+    overview.hidden = false;
+    controls.hidden = false;
+    sensorView.hidden = true;
+    document.title = 'rangekit · sensors';
+    return;
+  }
+  overview.hidden = true;
+  controls.hidden = true;
+  sensorView.hidden = false;
+  document.title = `rangekit · ${name}`;
+  if (families.get(name) === 'uls') {
+    sensorPage ??= new UlsPage(name);
+    sensorView.append(sensorPage.root);
+    sensorPage.open();
+    void poll();
+  } else {
+    const back = document.createElement('a');
+    back.href = '#';
+    back.className = 'back';
+    back.textContent = '← All sensors';
+    const title = document.createElement('h1');
+    title.className = 'page-title';
+    title.textContent = name;
+    title.tabIndex = -1;
+    const text = document.createElement('p');
+    text.textContent = families.has(name)
+      ? 'The LS5 page is not built yet: its live value is on the overview.'
+      : 'No sensor of this site has that name.';
+    sensorView.append(back, title, text);
+  }
+  (sensorView.querySelector('h1') as HTMLElement | null)?.focus();
+}
+
+window.addEventListener('hashchange', route);
+filter.addEventListener('input', applyFilter);
+problemsOnly.addEventListener('change', applyFilter);
+
+token();  // keeps a token given in the address for this tab
+void poll().then(() => {
+  route();
+  openStream();
+  setInterval(() => void poll(), POLL_MS);
+  setInterval(() => {
+    if (document.hidden) return;
+    const time = now();
+    for (const card of cards.values()) if (!card.root.hidden) card.draw(time);
+  }, DRAW_MS);
+});

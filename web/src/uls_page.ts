@@ -1,0 +1,225 @@
+// The ULS page, mirroring the §2 main screen (issue 14 point 3), first part: the
+// indicators with their §2 meanings as tooltips, the live reading in the black
+// measurement box, the display choice of the mode, and Read. The panels, the other
+// buttons and the live plot come later.
+import type { Sensor } from './api';
+import { authorisedFetch } from './api';
+
+// §2 "Icons: Displayed above the black measurement window".
+const INDICATORS = [
+  ['connected', 'Connected', 'The service talks to the ULS (§2 Connect: "Activates the communication between the computer and the ULS").'],
+  ['laser', 'Laser On', '§2: "Laser On: The laser is firing."'],
+  ['gates', 'G', '§2: "G: Gates are set."'],
+  ['cooperative', 'CT', '§2: "CT: Cooperative Target."'],
+  ['offset', 'O', '§2: "O: an Offset value is being applied to measurements."'],
+  ['basic', 'BM', '§2: "BM (Basic Measurement): The ULS is producing valid measurements more than once every two seconds."'],
+] as const;
+type Indicator = (typeof INDICATORS)[number][0];
+
+// §2 "Display/Target Selection", per mode.
+const DISPLAY_CHOICES: Record<string, [string, string][]> = {
+  averaging: [['distance', 'Distance'], ['intensity', 'Intensity'], ['both', 'Both']],
+  binning: [['first', 'First target'], ['last', 'Last target']],
+};
+
+interface UlsSample {
+  time: string;
+  kind?: string;
+  distance_m?: number;
+  pulse_width?: number;  // integer picoseconds (U8), shown in ns (U92)
+  targets?: { distance_m: number; strength: number }[];
+  presence?: boolean;
+  error?: number;
+  error_text?: string;
+}
+
+function element<K extends keyof HTMLElementTagNameMap>(tag: K, className?: string, text?: string) {
+  const made = document.createElement(tag);
+  if (className) made.className = className;
+  if (text !== undefined) made.textContent = text;
+  return made;
+}
+
+export class UlsPage {
+  readonly root = element('section', 'sensor-page');
+  private readonly indicators = new Map<Indicator, HTMLElement>();
+  private readonly box = element('output', 'measurement');
+  private readonly choices = element('fieldset', 'display');
+  private readonly message = element('p', 'page-message');
+  private readonly caption = element('p');
+  private readonly readButton = element('button', 'action', 'Read');
+  private mode = '';
+  private display = '';
+  private validTimes: number[] = [];
+  private lastSample: UlsSample | null = null;
+  private source: EventSource | null = null;
+
+  constructor(readonly name: string) {
+    const back = element('a', 'back', '← All sensors');
+    back.href = '#';
+    const title = element('h1', 'page-title', name);
+    title.tabIndex = -1;  // takes the focus when the page opens
+    title.append(' ', element('span', 'family', 'ULS'));
+    const row = element('ul', 'indicators');
+    row.setAttribute('aria-label', 'Indicators');
+    for (const [key, label, meaning] of INDICATORS) {
+      const item = element('li', 'indicator', label);
+      item.dataset.indicator = key;
+      item.title = meaning;
+      item.tabIndex = 0;  // the tooltip's text reaches keyboard and screen-reader users too
+      const description = element('span', 'visually-hidden', meaning);
+      description.id = `meaning-${key}`;
+      item.setAttribute('aria-describedby', description.id);
+      item.append(description);
+      row.append(item);
+      this.indicators.set(key, item);
+      this.set(key, undefined);
+    }
+    this.box.setAttribute('aria-live', 'off');
+    this.box.setAttribute('aria-label', 'Measurement');
+    this.box.textContent = 'waiting for a reading';
+    this.readButton.type = 'button';
+    this.readButton.addEventListener('click', () => void this.read());
+    const buttons = element('div', 'buttons');
+    buttons.append(this.readButton);
+    this.message.setAttribute('role', 'status');
+    this.message.textContent = 'G, CT and O show once the settings have been read: press Read.';
+    this.caption.className = 'caption';
+    this.root.append(back, title, row, this.box, this.caption, this.choices, buttons, this.message);
+    this.root.dataset.sensor = name;
+  }
+
+  // From GET /api/sensors: link state, US status (§8), settings as last read.
+  update(sensor: Sensor): void {
+    this.set('connected', sensor.health.connected);
+    const status = sensor.status as Record<string, unknown>;
+    this.set('laser', status['laser-firing'] === undefined ? undefined : status['laser-firing'] === 'yes');
+    const settings = (sensor as Sensor & { settings: Record<string, unknown> }).settings ?? {};
+    const known = Object.keys(settings).length > 0;
+    // U114: G when a gate is not 0 (U44: "0 = off"), CT when the cooperative filter is on, O when the offset is not 0.
+    this.set('gates', known ? Number(settings['short-gate-m']) !== 0 || Number(settings['long-gate-m']) !== 0 : undefined);
+    this.set('cooperative', known ? settings['cooperative-filter'] === 'on' : undefined);
+    this.set('offset', known ? Number(settings['offset-m']) !== 0 : undefined);
+    // §8 US: 3 look down, 7 averaging, 11 binning (U6); the setting once read.
+    const mode = known ? String(settings.mode) :
+      ({ 3: 'look_down', 7: 'averaging', 11: 'binning' } as Record<number, string>)[Number(status.status)] ?? this.mode;
+    this.setMode(mode === 'look-down' ? 'look_down' : mode);
+  }
+
+  open(): void {
+    this.source?.close();
+    const query = new URLSearchParams();
+    const token = sessionStorage.getItem('rangekit-token');
+    if (token) query.set('token', token);
+    this.source = new EventSource(`/api/sensors/${encodeURIComponent(this.name)}/events?${query.toString()}`);
+    this.source.addEventListener('sample', (message) => {
+      const item = JSON.parse((message as MessageEvent<string>).data) as { data: UlsSample };
+      this.sample(item.data);
+    });
+    this.source.addEventListener('event', (message) => {
+      const item = JSON.parse((message as MessageEvent<string>).data) as { data: { event: string } };
+      if (item.data.event === 'disconnected') this.set('connected', false);
+      if (item.data.event === 'connected' || item.data.event === 'reconnected') this.set('connected', true);
+    });
+    this.tick = window.setInterval(() => this.updateBasic(), 500);
+  }
+
+  close(): void {
+    this.source?.close();
+    this.source = null;
+    window.clearInterval(this.tick);
+  }
+
+  private tick = 0;
+
+  private sample(sample: UlsSample): void {
+    this.lastSample = sample;
+    if (sample.kind && sample.kind !== this.mode && sample.kind !== 'error') this.setMode(sample.kind);
+    const valid = sample.distance_m !== undefined || (sample.targets?.length ?? 0) > 0 || sample.presence !== undefined;
+    if (valid) this.validTimes.push(performance.now());
+    this.show();
+    this.updateBasic();
+  }
+
+  // U115: BM when at least two valid measurements came within the last two seconds.
+  private updateBasic(): void {
+    const since = performance.now() - 2000;
+    while (this.validTimes.length && this.validTimes[0] < since) this.validTimes.shift();
+    this.set('basic', this.validTimes.length >= 2);
+  }
+
+  private show(): void {
+    const sample = this.lastSample;
+    if (!sample) return;
+    let text: string;
+    if (sample.kind === 'look_down') {
+      text = sample.presence ? 'ON' : 'OFF';  // §2: "the on/off condition of the trip signal"
+    } else if (sample.kind === 'binning') {
+      const targets = sample.targets ?? [];
+      const target = this.display === 'last' ? targets[targets.length - 1] : targets[0];
+      text = target ? `${target.distance_m.toFixed(3)} m (${this.display === 'last' ? 'last' : 'first'} of ${targets.length})` : 'no target';
+    } else if (sample.distance_m !== undefined) {
+      const distance = `${sample.distance_m.toFixed(3)} m`;
+      const intensity = sample.pulse_width !== undefined ? `${(sample.pulse_width / 1000).toFixed(3)} ns` : '–';
+      text = this.display === 'intensity' ? intensity : this.display === 'both' ? `${distance} · ${intensity}` : distance;
+    } else {
+      text = sample.error_text ? `error ${sample.error}: ${sample.error_text}` : 'no signal';
+    }
+    this.box.textContent = text;
+  }
+
+  private setMode(mode: string): void {
+    if (!mode || mode === this.mode) return;
+    this.mode = mode;
+    this.root.dataset.mode = mode;
+    this.choices.replaceChildren();
+    const legend = element('legend', undefined, 'Display');
+    this.choices.append(legend);
+    this.caption.textContent = mode === 'averaging'
+      ? 'Intensity: the received pulse width, in ns (§8, §9).'
+      : mode === 'binning' ? 'A target of the last measurement, and how many it found.' : '';
+    const choices = DISPLAY_CHOICES[mode];
+    if (!choices) {
+      this.display = '';
+      this.choices.append(element('p', 'hint', 'Look down: the ON/OFF condition of the trip signal (§2).'));
+      return;
+    }
+    this.display = choices[0][0];
+    for (const [value, label] of choices) {
+      const id = `display-${value}`;
+      const input = element('input');
+      input.type = 'radio';
+      input.name = 'display';
+      input.id = id;
+      input.value = value;
+      input.checked = value === this.display;
+      input.addEventListener('change', () => {
+        this.display = value;
+        this.show();
+      });
+      const text = element('label', undefined, label);
+      text.htmlFor = id;
+      this.choices.append(input, text);
+    }
+  }
+
+  private async read(): Promise<void> {
+    this.readButton.disabled = true;
+    this.message.textContent = 'Reading the settings…';
+    try {
+      const response = await authorisedFetch(`/api/sensors/${encodeURIComponent(this.name)}/actions/read`, { method: 'POST' });
+      const body = await response.json();
+      this.message.textContent = response.ok ? 'Settings read.' : `Read refused: ${body.error?.message ?? response.status}`;
+    } catch (error) {
+      this.message.textContent = `Read failed: ${(error as Error).message}`;
+    } finally {
+      this.readButton.disabled = false;
+    }
+  }
+
+  private set(key: Indicator, on: boolean | undefined): void {
+    const item = this.indicators.get(key);
+    if (!item) return;
+    item.dataset.state = on === undefined ? 'unknown' : on ? 'on' : 'off';
+  }
+}

@@ -1,0 +1,65 @@
+// What the browser tests share: the browser (Debian's chromium, or skip), the rangekit
+// binary, the screenshot folder, and child processes read and stopped.
+import { existsSync, mkdirSync } from 'node:fs';
+import path from 'node:path';
+import { chromium } from 'playwright-core';
+
+export const browserPath = process.env.RANGEKIT_CHROMIUM ?? '/usr/bin/chromium';
+if (!existsSync(browserPath)) {
+  console.log(`SKIPPED: no browser at ${browserPath}; \`bash scripts/install-deps.sh test\` installs Debian's chromium`);
+  process.exit(77);  // ctest: SKIP_RETURN_CODE
+}
+export const cli = process.env.RANGEKIT_CLI;
+if (!cli || !existsSync(cli)) throw new Error(`RANGEKIT_CLI (${cli}) is not the rangekit binary`);
+export const screenshots = process.env.RANGEKIT_SCREENSHOTS ?? path.resolve('screenshots');
+mkdirSync(screenshots, { recursive: true });
+
+export const START_TIMEOUT = 120_000;
+// Every wait is on a condition of the page; the timeout only ends a test that went wrong.
+export const WAIT = { timeout: 60_000, polling: 100 };
+
+export function launch() {
+  return chromium.launch({
+    executablePath: browserPath,
+    headless: true,
+    args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'],
+  });
+}
+
+// Reads the child's stdout (setEncoding done) until `pattern` matches; its first group.
+export function waitForLine(child, pattern, what) {
+  return new Promise((resolve, reject) => {
+    let text = '';
+    const timer = setTimeout(() => reject(new Error(`no ${what} within ${START_TIMEOUT} ms:\n${text}`)), START_TIMEOUT);
+    const onData = (chunk) => {
+      text += chunk;
+      const match = text.match(pattern);
+      if (match) {
+        clearTimeout(timer);
+        child.stdout.off('data', onData);
+        resolve(match[1]);
+      }
+    };
+    child.stdout.on('data', onData);
+    child.once('exit', (code) => reject(new Error(`${what}: the process exited (${code}) first:\n${text}`)));
+  });
+}
+
+// SIGTERM, then waits for the exit.
+export function stopped(child) {
+  return new Promise((resolve) => {
+    if (!child || child.exitCode !== null || child.signalCode !== null) return resolve();
+    child.once('exit', () => resolve());
+    child.kill('SIGTERM');
+  });
+}
+
+// Collects script errors and console errors (content-security violations among them).
+export function watchErrors(page) {
+  const errors = [];
+  page.on('pageerror', (error) => errors.push(String(error)));
+  page.on('console', (message) => {
+    if (message.type() === 'error') errors.push(message.text());
+  });
+  return errors;
+}
