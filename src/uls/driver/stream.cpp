@@ -201,6 +201,9 @@ Result<std::unique_ptr<MeasurementStream>> Driver::start_stream(StreamMode mode)
     return begun.error();
   }
   {
+    // The stream's ending lock first, then the request lock: the order a stop takes them
+    // in (stop_live_stream holds `stopping` while end_stream's ST takes the request lock).
+    std::lock_guard stopping(live->stopping);
     // No caller is between pumps of its own when the reader takes the link: one
     // waiting for the lock sees streaming_ and lets the reader hand its reply over.
     std::lock_guard request_lock(request_mutex_);
@@ -208,7 +211,6 @@ Result<std::unique_ptr<MeasurementStream>> Driver::start_stream(StreamMode mode)
       std::lock_guard lock(state_mutex_);  // set_address checks it under this lock
       streaming_ = true;
     }
-    std::lock_guard stopping(live->stopping);
     live->reader = std::thread([this, raw = live.get()] { reader_loop(*raw); });
   }
   return std::unique_ptr<MeasurementStream>(new MeasurementStream(std::move(live)));
