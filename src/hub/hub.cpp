@@ -116,14 +116,14 @@ std::unique_ptr<Hub> Hub::start(const SiteConfig& site, HubOptions options) {
       backend = make_uls_backend(*sessions.front(), *impl, options.open_port);
     }
     impl->workers.push_back(
-        std::make_unique<PortWorker>(std::move(backend), sessions, *impl, options.reconnect_interval, options.gather));
+        std::make_unique<PortWorker>(std::move(backend), sessions, *impl, options.reconnect_interval));
     for (Session* session : sessions) impl->worker_of[session->config.name] = impl->workers.back().get();
   }
   for (const auto& session : impl->sessions) {
     if (!session->config.port.empty() || session->config.udp.empty()) continue;
     impl->workers.push_back(std::make_unique<PortWorker>(make_ls5_udp_backend(*session, *impl),
                                                          std::vector<Session*>{session.get()}, *impl,
-                                                         options.reconnect_interval, options.gather));
+                                                         options.reconnect_interval));
     impl->worker_of[session->config.name] = impl->workers.back().get();
   }
   for (const auto& worker : impl->workers) worker->start();

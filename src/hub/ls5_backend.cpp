@@ -52,9 +52,10 @@ class Ls5Backend final : public Backend {
 
   [[nodiscard]] bool connected() const override { return driver_ != nullptr; }
 
-  Pumped pump(std::chrono::milliseconds wait) override {
-    if (!stream_) return Pumped::nothing_to_do;
-    return drain(*stream_, session_, publisher_, wait) > 0 ? Pumped::drained : Pumped::polled;
+  bool pump(std::chrono::milliseconds wait) override {
+    if (!stream_) return false;
+    drain(*stream_, session_, publisher_, wait);
+    return true;
   }
 
   Status set_streaming(Session& /*session*/, bool on) override {
@@ -247,9 +248,10 @@ class Ls5UdpBackend final : public Backend {
     return ok_status();
   }
   [[nodiscard]] bool connected() const override { return receiver_ != nullptr; }
-  Pumped pump(std::chrono::milliseconds wait) override {
-    if (!receiver_) return Pumped::nothing_to_do;
-    return drain(*receiver_, session_, publisher_, wait) > 0 ? Pumped::drained : Pumped::polled;
+  bool pump(std::chrono::milliseconds wait) override {
+    if (!receiver_) return false;
+    drain(*receiver_, session_, publisher_, wait);
+    return true;
   }
   Status set_streaming(Session& /*session*/, bool on) override {
     if (on) return ok_status();

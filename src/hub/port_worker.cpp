@@ -3,12 +3,11 @@
 namespace rangekit::hub {
 
 PortWorker::PortWorker(std::unique_ptr<Backend> backend, std::vector<Session*> sessions, Publisher& publisher,
-                       std::chrono::milliseconds reconnect_interval, std::chrono::milliseconds gather)
+                       std::chrono::milliseconds reconnect_interval)
     : backend_(std::move(backend)),
       sessions_(std::move(sessions)),
       publisher_(publisher),
-      reconnect_interval_(reconnect_interval),
-      gather_(gather) {}
+      reconnect_interval_(reconnect_interval) {}
 
 PortWorker::~PortWorker() { stop(); }
 
@@ -103,15 +102,9 @@ void PortWorker::loop() {
       connected = try_connect(was_connected, last_failure);
     }
     run_jobs(connected);
-    const Pumped pumped = connected ? backend_->pump(std::chrono::milliseconds(20)) : Pumped::nothing_to_do;
-    if (pumped == Pumped::polled) continue;
-    std::unique_lock lock(mutex_);
-    if (pumped == Pumped::drained) {
-      // Let the next records collect in the reader's queue, unless a command comes first.
-      if (gather_.count() > 0) wake_.wait_for(lock, gather_, [this] { return stopping_ || !jobs_.empty(); });
-      continue;
-    }
+    if (connected && backend_->pump(std::chrono::milliseconds(20))) continue;
     // Nothing to read: sleep until a command comes, or until it is time to retry the port.
+    std::unique_lock lock(mutex_);
     wake_.wait_for(lock, connected ? std::chrono::milliseconds(200) : reconnect_interval_,
                    [this] { return stopping_ || !jobs_.empty(); });
   }

@@ -19,7 +19,7 @@ namespace rangekit::hub {
 class PortWorker {
  public:
   PortWorker(std::unique_ptr<Backend> backend, std::vector<Session*> sessions, Publisher& publisher,
-             std::chrono::milliseconds reconnect_interval, std::chrono::milliseconds gather);
+             std::chrono::milliseconds reconnect_interval);
   ~PortWorker();  // stop()
   PortWorker(const PortWorker&) = delete;
   PortWorker& operator=(const PortWorker&) = delete;
@@ -58,7 +58,6 @@ class PortWorker {
   std::vector<Session*> sessions_;
   Publisher& publisher_;
   std::chrono::milliseconds reconnect_interval_;
-  std::chrono::milliseconds gather_;
   std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<Job> jobs_;

@@ -37,13 +37,6 @@ class Publisher {
   ~Publisher() = default;
 };
 
-// What one pump did, so the worker knows how to wait before the next.
-enum class Pumped : std::uint8_t {
-  nothing_to_do,  // no stream: wait for a command
-  polled,         // asked a sensor and took its answer: go on at once
-  drained,        // took what a reader thread had queued, which fills on while the worker waits
-};
-
 // The driver side of one port: one ULS, an RS-485 bus of ULS units, one LS5 or
 // an LS5 UDP listener. Called from its port's worker thread only.
 class Backend {
@@ -52,8 +45,9 @@ class Backend {
   // Opens the port and reads the identity of its sensors into their sessions.
   virtual Status connect() = 0;
   [[nodiscard]] virtual bool connected() const = 0;
-  // Reads or polls for up to `wait`, publishing what arrives.
-  virtual Pumped pump(std::chrono::milliseconds wait) = 0;
+  // Reads or polls for up to `wait`, publishing what arrives. False when there
+  // was nothing to do (no stream): the worker then waits for a command instead.
+  virtual bool pump(std::chrono::milliseconds wait) = 0;
   virtual Status set_streaming(Session& session, bool on) = 0;
   virtual Result<std::vector<Field>> read_settings(Session& session) = 0;
   virtual Result<std::vector<Field>> write_settings(Session& session, const SettingValues& values) = 0;

@@ -177,9 +177,10 @@ class UlsBackend final : public Backend {
 
   [[nodiscard]] bool connected() const override { return driver_ != nullptr; }
 
-  Pumped pump(std::chrono::milliseconds wait) override {
-    if (!streaming_) return Pumped::nothing_to_do;
-    return drain(*stream_, session_, publisher_, wait) > 0 ? Pumped::drained : Pumped::polled;
+  bool pump(std::chrono::milliseconds wait) override {
+    if (!streaming_) return false;
+    drain(*stream_, session_, publisher_, wait);
+    return true;
   }
 
   Status set_streaming(Session& /*session*/, bool on) override {
@@ -320,7 +321,7 @@ class UlsBusBackend final : public Backend {
 
   [[nodiscard]] bool connected() const override { return bus_ != nullptr; }
 
-  Pumped pump(std::chrono::milliseconds /*wait*/) override {
+  bool pump(std::chrono::milliseconds /*wait*/) override {
     // The next polling unit after the last one polled: every unit gets its turn.
     for (std::size_t step = 0; step < sessions_.size(); ++step) {
       next_ = (next_ + 1) % sessions_.size();
@@ -331,9 +332,9 @@ class UlsBusBackend final : public Backend {
       }
       if (!answering_[next_] && std::chrono::steady_clock::now() < retry_at_[next_]) continue;
       poll(next_);
-      return Pumped::polled;
+      return true;
     }
-    return Pumped::nothing_to_do;
+    return false;
   }
 
   Status set_streaming(Session& session, bool on) override {

@@ -47,10 +47,6 @@ struct HubOptions {
   std::size_t ring_capacity = 4096;  // recent items kept per sensor
   std::chrono::milliseconds command_timeout{15000};
   std::chrono::milliseconds reconnect_interval{500};
-  // How long a port worker lets a streaming sensor's records collect before it takes
-  // them: one wake-up per batch instead of one per record (a 1 kHz LS5), for at most
-  // that much latency. 0: take each record as it comes.
-  std::chrono::milliseconds gather{2};
   // How a worker opens its port; tests may hand in loopback transports.
   std::function<Result<TransportPtr>(const std::string& path, const SerialSettings& settings)> open_port;
 };
