@@ -48,5 +48,38 @@ TEST(StreamQueue, PushAfterCloseIsDiscardedUntilReopened) {
   EXPECT_EQ(queue.pop(0ms), 2);
 }
 
+// With a gather time a consumer woken by the first item lets the next ones join it;
+// a gather of an hour must still end at close(), with nothing lost and in order.
+// (Fewer wake-ups is a speed figure: bench/, not here.)
+TEST(StreamQueue, AWokenConsumerLetsTheNextItemsGatherBeforeItTakesOne) {
+  StreamQueue<int> queue(16, std::chrono::hours(1));
+  std::optional<int> first;
+  std::thread consumer([&] { first = queue.pop(std::chrono::hours(1)); });
+  queue.push(1);
+  queue.push(2);
+  queue.push(3);
+  queue.close();  // ends the gather at once
+  consumer.join();
+  EXPECT_EQ(first, 1);
+  EXPECT_EQ(queue.pop(0ms), 2);
+  EXPECT_EQ(queue.pop(0ms), 3);
+  EXPECT_EQ(queue.pop(0ms), std::nullopt);
+}
+
+// Pushes notify only when the queue fills from empty: two consumers waiting together
+// still both get one of two items pushed back to back.
+TEST(StreamQueue, TwoWaitingConsumersEachGetOneOfTwoItems) {
+  StreamQueue<int> queue;
+  std::optional<int> got[2];
+  std::thread a([&] { got[0] = queue.pop(std::chrono::hours(1)); });
+  std::thread b([&] { got[1] = queue.pop(std::chrono::hours(1)); });
+  queue.push(1);
+  queue.push(2);
+  a.join();
+  b.join();
+  ASSERT_TRUE(got[0] && got[1]);
+  EXPECT_EQ(*got[0] + *got[1], 3);
+}
+
 }  // namespace
 }  // namespace rangekit

@@ -131,6 +131,9 @@ class Driver {
   struct StreamOptions {
     std::optional<std::uint8_t> thinning;  // n of §8.4; unchanged when empty
     std::size_t queue_capacity = 65536;
+    // A consumer woken by a record lets the next ones collect this long before it takes
+    // it: at 1 kHz one wake-up per two or three records instead of one each (docs/performance.md).
+    std::chrono::microseconds gather{2000};
     std::chrono::milliseconds reconnect_interval{500};
     // No record for this long while streaming: the sensor is taken for power-cycled
     // (disconnected) and is asked again (ID, ST) every reconnect_interval.

@@ -39,7 +39,7 @@ struct ServerOptions {
   std::size_t stream_queue = 4096;
   // How long the SSE streams gather items before they write (one wake-up and one write per
   // client per tick): the latency it adds against the CPU of many small writes.
-  std::chrono::milliseconds stream_tick{4};
+  std::chrono::milliseconds stream_tick{3};
   std::size_t command_threads = 4;          // settings and actions wait for the sensor here, not in the event loop
   hub::CaptureManager* captures = nullptr;  // /api/captures; none: those paths answer 404
   // HTTPS and TLS streams when both are given (PEM files): [service] tls_certificate, tls_key.

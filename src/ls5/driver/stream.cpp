@@ -52,7 +52,7 @@ Sample make_ls5_sample(ResultCode code, std::optional<double> range_mm, std::str
 namespace detail {
 
 struct LiveStream {
-  explicit LiveStream(std::size_t capacity) : queue(capacity) {}
+  LiveStream(std::size_t capacity, std::chrono::microseconds gather) : queue(capacity, gather) {}
   StreamQueue<StreamItem> queue;
   std::mutex mutex;
   std::condition_variable wake;
@@ -133,7 +133,7 @@ Result<std::unique_ptr<MeasurementStream>> Driver::start_stream(const StreamOpti
   Status sent = transport_->write_all(start->bytes());
   if (!sent) return sent.error();
   if (live_stream_) detail::detach_driver(*live_stream_);  // a finished stream: it sends nothing more
-  auto live = std::make_shared<detail::LiveStream>(options.queue_capacity);
+  auto live = std::make_shared<detail::LiveStream>(options.queue_capacity, options.gather);
   live->driver = this;
   live->address = options_.address;
   live->port = transport_name();
