@@ -63,8 +63,8 @@ TEST(ReplayCli, CsvCountAndDeviceFilter) {
   EXPECT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(result.out,
             "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
-            "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text\n"
-            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,,,\n");
+            "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text,suspect,suspect_reason\n"
+            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,,,,false,\n");
 }
 
 TEST(ReplayCli, TextToAFile) {
@@ -116,8 +116,8 @@ TEST(ReplayCli, SigintClosesCleanlyWithExit130) {
   EXPECT_EQ(replay_copy.finish(), 0);
   EXPECT_EQ(replay_copy.out(),
             "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
-            "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text\n"
-            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,,,\n");
+            "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text,suspect,suspect_reason\n"
+            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,,,,false,\n");
 }
 
 }  // namespace
