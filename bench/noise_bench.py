@@ -179,6 +179,14 @@ def compare(truth, printed):
         else:
             result["wrong"] += 1
             result["wrong_flagged"] += 1 if suspect else 0
+            sent = truth[position - 1]
+            if isinstance(value, tuple) and isinstance(sent, tuple):
+                # ULS: which field was wrong, taking the line it stood for as the one sent.
+                for index, field in ((0, "distance"), (1, "pulse_width")):
+                    if value[index] != sent[index]:
+                        result[f"wrong_{field}"] = result.get(f"wrong_{field}", 0) + 1
+                        result[f"wrong_{field}_flagged"] = result.get(f"wrong_{field}_flagged", 0) + (
+                            1 if suspect else 0)
             if not suspect and len(result["examples"]) < 6:
                 result["examples"].append(f"unflagged {value} (sent {truth[position - 1]})")
     return result
@@ -251,6 +259,10 @@ def main():
             false_share = f"{r['right_flagged']} ({100.0 * r['right_flagged'] / right:.3f}%)" if right else "-"
             print(f"{family:6} {name:24} {r['printed']:8} {r['wrong']:6} {r['wrong_flagged']:8} {share:>7} "
                   f"{false_share:>11} {r['bad_frames']:10}   [{time.monotonic() - started:.0f} s]")
+            for field in ("distance", "pulse_width"):
+                if r.get(f"wrong_{field}"):
+                    print(f"       of which {field} wrong: {r[f'wrong_{field}']}, "
+                          f"flagged {r[f'wrong_{field}_flagged']}")
             if r["resyncs"]:
                 print(f"       {r['resyncs']} resynchronisations (more than {LOOKAHEAD} lines lost at once)")
             for example in r["examples"]:
