@@ -87,6 +87,7 @@ void add_capture_command(CLI::App& app, int& exit_code) {
   command->add_option("--echo", arguments.echo, "also print the samples: jsonl, csv or text")
       ->check(CLI::IsMember({"jsonl", "csv", "text"}));
   command->add_flag("--quiet", arguments.stream.quiet, "no live status line");
+  add_quality_options(*command, arguments.stream);
   command->callback([&exit_code] { exit_code = run_capture(arguments); });
 }
 

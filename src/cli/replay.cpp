@@ -31,6 +31,7 @@ int run_replay(const ReplayArguments& arguments) {
   }
   auto stream = arguments.stream;
   stream.link_lost_is_failure = false;
+  stream.check_quality = false;  // the capture holds each sample's flag as it was recorded
   return run_stream_as(**source, stream, "replay");
 }
 
@@ -46,7 +47,7 @@ void add_replay_command(CLI::App& app, int& exit_code) {
       ->excludes(full_speed);
   command->add_option("--device", arguments->device, "only samples of this family (events always)")
       ->check(CLI::IsMember({"uls", "ls5"}));
-  add_stream_options(*command, arguments->stream);
+  add_stream_options(*command, arguments->stream, false);
   command->callback([arguments, &exit_code] { exit_code = run_replay(*arguments); });
 }
 

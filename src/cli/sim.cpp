@@ -74,6 +74,8 @@ void add_common_sim_options(CLI::App& command, SimCommonOptions& options) {
       ->check(in_range(0.001, 1000, "times real time"));
   command.add_flag("--virtual-clock", options.virtual_clock,
                    "time moves only on {\"cmd\":\"advance\"} from the control socket (for tests)");
+  command.add_option("--wire-log", options.wire_log,
+                     "write every byte sent to the host, before line noise, to FILE (for benchmarks)");
 }
 
 int scene_exit_code(const Error& error) { return error.code == Errc::io ? exit_io : exit_bad_input; }
@@ -92,6 +94,7 @@ int run_emulator(std::vector<LineConfig> lines, const SimCommonOptions& options,
   runtime_options.time_scale = options.time_scale;
   runtime_options.seed = options.seed;
   if (!options.control.empty()) runtime_options.control_path = options.control;
+  if (!options.wire_log.empty()) runtime_options.wire_log_path = options.wire_log;
   auto runtime = EmulatorRuntime::create(std::move(lines), runtime_options);
   if (!runtime) {
     fmt::print(stderr, "rangekit sim: {}\n", runtime.error().message);

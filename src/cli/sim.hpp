@@ -17,6 +17,7 @@ struct SimCommonOptions {
   std::uint32_t seed = 1;  // --seed N
   double time_scale = 1;   // --time-scale X
   bool virtual_clock = false;
+  std::string wire_log;  // --wire-log FILE
 };
 
 void add_common_sim_options(CLI::App& command, SimCommonOptions& options);

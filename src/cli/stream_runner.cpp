@@ -21,8 +21,11 @@ namespace {
 
 std::string status_text(const record::StreamStats& stats) {
   const double rate = stats.elapsed_s > 0 ? static_cast<double>(stats.samples) / stats.elapsed_s : 0.0;
-  return fmt::format("{} samples  {:.1f}/s  errors {}  lost {}  disconnects {}", stats.samples, rate, stats.errors,
-                     stats.lost, stats.disconnects);
+  std::string text = fmt::format("{} samples  {:.1f}/s  errors {}  lost {}  disconnects {}", stats.samples, rate,
+                                 stats.errors, stats.lost, stats.disconnects);
+  if (stats.suspect > 0) text += fmt::format("  suspect {}", stats.suspect);
+  if (stats.dropped_suspect > 0) text += fmt::format(" ({} dropped)", stats.dropped_suspect);
+  return text;
 }
 
 // The status line lives on stderr and is redrawn in place with \r; anything
@@ -76,7 +79,7 @@ int exit_code_for(const record::StreamOutcome& outcome, const StreamOptions& opt
 
 }  // namespace
 
-void add_stream_options(CLI::App& command, StreamOptions& options) {
+void add_stream_options(CLI::App& command, StreamOptions& options, bool live) {
   command.add_option("--format", options.format, "output format: jsonl, csv or text")
       ->check(CLI::IsMember({"jsonl", "csv", "text"}))
       ->capture_default_str();
@@ -85,6 +88,19 @@ void add_stream_options(CLI::App& command, StreamOptions& options) {
   command.add_option("--out", options.out, "write the stream to FILE instead of standard output");
   command.add_option("--capture", options.capture, "also append everything to the SQLite capture FILE");
   command.add_flag("--quiet", options.quiet, "no live status line, even on a terminal");
+  add_quality_options(command, options, live);
+}
+
+void add_quality_options(CLI::App& command, StreamOptions& options, bool live) {
+  command.add_flag("--drop-suspect", options.drop_suspect,
+                   "leave out samples marked suspect (a value no real target gives: a corrupted line)");
+  if (live) {
+    command
+        .add_option("--max-speed", options.max_speed_mps,
+                    "fastest the target moves, m/s: a faster jump is suspect (default: ULS 25, LS5 its range a "
+                    "second)")
+        ->check(CLI::PositiveNumber);
+  }
 }
 
 int run_stream(SampleSource& source, const StreamOptions& options) { return run_stream_as(source, options, "stream"); }
@@ -102,6 +118,8 @@ int run_stream_as(SampleSource& source, const StreamOptions& options, const std:
   loop.capture = options.capture;
   loop.count = options.count;
   loop.duration_s = options.duration_s;
+  if (options.check_quality) loop.quality = QualitySettings{options.max_speed_mps};
+  loop.drop_suspect = options.drop_suspect;
 
   // Someone watches when standard output is a terminal: then the status line is
   // drawn (on stderr, so a terminal stdout keeps only the stream). A pipe or file

@@ -24,10 +24,18 @@ struct StreamOptions {
   // A live source that ends after a disconnect exits with exit_link_lost; a
   // replay only shows the recorded disconnect.
   bool link_lost_is_failure = true;
+  // Quality (issue 18 item 2): live streams check each sample; a replay keeps the flags
+  // recorded with it. --drop-suspect leaves suspect samples out of every output.
+  bool check_quality = true;
+  std::optional<double> max_speed_mps;  // --max-speed; nullopt = the family default
+  bool drop_suspect = false;
 };
 
-// Adds --format, --count, --duration, --out, --capture, --quiet to a subcommand.
-void add_stream_options(CLI::App& command, StreamOptions& options);
+// Adds --format, --count, --duration, --out, --capture, --quiet and --drop-suspect to a
+// subcommand, and --max-speed when it reads a live sensor (`live`).
+void add_stream_options(CLI::App& command, StreamOptions& options, bool live = true);
+// Only --drop-suspect and (live) --max-speed, for a command with its own other options.
+void add_quality_options(CLI::App& command, StreamOptions& options, bool live = true);
 
 // Runs until the source finishes, the limits are reached or SIGINT/SIGTERM.
 // Returns an exit code of commands.hpp (exit_ok, exit_write_failed, exit_interrupted, ...).

@@ -21,6 +21,11 @@ void HealthTracker::count_sample(std::chrono::steady_clock::time_point now) {
   ++buckets_[static_cast<std::size_t>(bucket) % bucket_count];
 }
 
+void HealthTracker::record_dropped_suspect() {
+  ++health_.suspect;
+  ++health_.dropped_suspect;
+}
+
 void HealthTracker::record(const StreamItem& item, std::chrono::steady_clock::time_point now) {
   if (const auto* sample = std::get_if<Sample>(&item)) {
     ++health_.records;
@@ -30,6 +35,7 @@ void HealthTracker::record(const StreamItem& item, std::chrono::steady_clock::ti
       ++health_.errors_by_number[*sample->device_error];
     }
     if (sample->signal == SignalState::lost) ++health_.no_signal;
+    if (sample->suspect) ++health_.suspect;
     count_sample(now);
     return;
   }

@@ -64,8 +64,19 @@ struct Hub::Impl final : Publisher {
     const auto now = std::chrono::steady_clock::now();
     // In the service a sample's source is its sensor's name (the port alone would not
     // tell the units of a bus apart in a capture or a download).
-    if (auto* sample = std::get_if<Sample>(&item)) sample->source = session.config.name;
+    auto* sample = std::get_if<Sample>(&item);
+    if (sample != nullptr) sample->source = session.config.name;
     std::lock_guard order(publish_mutex);
+    // Quality (issue 18 item 2): flagged here, so the ring, the streams, the captures and
+    // the health all see the same flag; a sensor with drop_suspect never shows them.
+    if (sample != nullptr) {
+      session.checker.check(*sample);
+      if (sample->suspect && session.config.drop_suspect) {
+        std::lock_guard lock(session.mutex);
+        session.health.record_dropped_suspect();
+        return;
+      }
+    }
     auto shared = std::make_shared<const HubItem>(HubItem{++sequence, session.config.name, std::move(item)});
     {
       std::lock_guard lock(session.mutex);

@@ -9,14 +9,17 @@
 #include <utility>
 #include <vector>
 
+#include "rangekit/core/sample_quality.hpp"
 #include "rangekit/hub/hub.hpp"
 
 namespace rangekit::hub {
 
 struct Session {
-  Session(SensorConfig sensor, std::size_t ring_capacity) : config(std::move(sensor)), ring(ring_capacity) {}
+  Session(SensorConfig sensor, std::size_t ring_capacity)
+      : config(std::move(sensor)), ring(ring_capacity), checker(QualitySettings{config.max_speed_mps}) {}
   const SensorConfig config;
   SampleRing ring;
+  SampleChecker checker;  // used under the hub's publish order (a serial and a UDP worker may share a session)
 
   mutable std::mutex mutex;  // guards what follows
   HealthTracker health;

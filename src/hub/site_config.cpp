@@ -111,7 +111,8 @@ Result<SensorConfig> sensor_from(std::string_view file, const toml::table& table
   SensorConfig sensor;
   sensor.line = table.source().begin.line;
   if (auto checked = only_keys(file, table, "[[sensor]]",
-                               {"name", "family", "port", "baud", "format", "address", "udp", "stream", "capture"});
+                               {"name", "family", "port", "baud", "format", "address", "udp", "stream", "capture",
+                                "max_speed", "drop_suspect"});
       !checked) {
     return std::move(checked).error();
   }
@@ -165,10 +166,17 @@ Result<SensorConfig> sensor_from(std::string_view file, const toml::table& table
         return at(file, node, Errc::out_of_range, "udp '" + *udp + "': " + endpoint.error().message);
       }
       sensor.udp = *udp;
-    } else if (k == "stream" || k == "capture") {
+    } else if (k == "stream" || k == "capture" || k == "drop_suspect") {
       auto on = flag_of(file, node, k);
       if (!on) return std::move(on).error();
-      (k == "stream" ? sensor.stream : sensor.capture) = *on;
+      (k == "stream" ? sensor.stream : k == "capture" ? sensor.capture : sensor.drop_suspect) = *on;
+    } else if (k == "max_speed") {
+      const auto speed = node.value<double>();  // an integer reads as a double too
+      if (!speed) return at(file, node, Errc::invalid_frame, "max_speed must be a number (metres per second)");
+      if (!(*speed > 0) || *speed > 1e6) {
+        return at(file, node, Errc::out_of_range, "max_speed must be above 0 and at most 1e6 m/s");
+      }
+      sensor.max_speed_mps = *speed;
     }
   }
   // The byte format last: it needs the family, and keeps the baud read above.

@@ -18,7 +18,7 @@ constexpr const char* rangekit_version = rangekit::version_string;
 constexpr const char* schema_sql = R"sql(
 BEGIN;
 CREATE TABLE IF NOT EXISTS meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
-INSERT OR IGNORE INTO meta(key, value) VALUES ('format', 'rangekit-capture'), ('format_version', '2');
+INSERT OR IGNORE INTO meta(key, value) VALUES ('format', 'rangekit-capture'), ('format_version', '3');
 CREATE TABLE IF NOT EXISTS sessions(
   id INTEGER PRIMARY KEY,
   started TEXT NOT NULL,
@@ -44,7 +44,9 @@ CREATE TABLE IF NOT EXISTS samples(
   distance_mm REAL,
   signal TEXT,
   derivative_mm REAL,
-  resolution_mm REAL);
+  resolution_mm REAL,
+  suspect INTEGER,
+  suspect_reason TEXT);
 CREATE TABLE IF NOT EXISTS events(
   seq INTEGER PRIMARY KEY,
   session INTEGER NOT NULL,
@@ -57,8 +59,9 @@ COMMIT;
 
 constexpr const char* insert_sample_sql =
     "INSERT INTO samples(seq, session, time_ns, device, source, address, kind, distance_m, pulse_width, targets, "
-    "presence, pulses_between_events, device_error, code, distance_mm, signal, derivative_mm, resolution_mm) "
-    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18)";
+    "presence, pulses_between_events, device_error, code, distance_mm, signal, derivative_mm, resolution_mm, suspect, "
+    "suspect_reason) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, "
+    "?20)";
 constexpr const char* insert_event_sql =
     "INSERT INTO events(seq, session, time_ns, kind, message, count) VALUES (?1, ?2, ?3, ?4, ?5, ?6)";
 
@@ -114,7 +117,7 @@ class SqliteCapture final : public CaptureSink {
       (void)execute(path_, db, "ROLLBACK");
       return status;
     }
-    if (auto status = add_version_2_columns(); !status) return status;
+    if (auto status = add_newer_columns(); !status) return status;
     if (auto status = read_next_seq(); !status) return status;
     if (auto status = insert_session(); !status) return status;
     auto samples = prepare(path_, db, insert_sample_sql);
@@ -159,6 +162,12 @@ class SqliteCapture final : public CaptureSink {
     }
     bind_optional_real(statement, 17, sample.derivative_mm);
     bind_optional_real(statement, 18, sample.resolution_mm);
+    sqlite3_bind_int64(statement, 19, sample.suspect ? 1 : 0);
+    if (sample.suspect) {
+      bind_text(statement, 20, sample.suspect_reason);
+    } else {
+      sqlite3_bind_null(statement, 20);
+    }
     if (auto status = step(statement, "writing a sample"); !status) return status;
     ++batch_samples_;
     if (sources_.insert(sample.device + " " + sample.source).second) sources_changed_ = true;
@@ -205,17 +214,17 @@ class SqliteCapture final : public CaptureSink {
   }
 
   // Format version 2 added the LS5 derivative and the sensor's resolution (the decimals
-  // its millimetres are printed with); a version 1 capture gets the columns, NULL in
-  // its earlier rows, so that new sessions can be appended to it.
-  Status add_version_2_columns() {
-    for (const char* column : version_2_columns) {
-      auto present = has_column(path_, database_.get(), "samples", column);
+  // its millimetres are printed with), version 3 the quality flag; an older capture gets
+  // the columns, NULL in its earlier rows, so that new sessions can be appended to it.
+  Status add_newer_columns() {
+    for (const auto& column : added_columns) {
+      auto present = has_column(path_, database_.get(), "samples", column.name);
       if (!present) return std::move(present).error();
       if (*present) continue;
-      const std::string alter = std::string("ALTER TABLE samples ADD COLUMN ") + column + " REAL";
+      const std::string alter = std::string("ALTER TABLE samples ADD COLUMN ") + column.name + " " + column.type;
       if (auto status = execute(path_, database_.get(), alter.c_str()); !status) return status;
     }
-    return execute(path_, database_.get(), "UPDATE meta SET value = '2' WHERE key = 'format_version'");
+    return execute(path_, database_.get(), "UPDATE meta SET value = '3' WHERE key = 'format_version'");
   }
 
   Status read_next_seq() {

@@ -237,6 +237,13 @@ void append_jsonl(std::string& out, const Sample& sample) {
       break;
     }
   }
+  // Only a suspect sample carries the keys, so clean streams read as before (issue 18).
+  if (sample.suspect) {
+    append_json_key(out, "suspect");
+    append_bool(out, true);
+    append_json_key(out, "suspect_reason");
+    append_json_string(out, sample.suspect_reason);
+  }
   out += "}\n";
 }
 
@@ -257,7 +264,7 @@ void append_jsonl(std::string& out, const StreamEvent& event) {
 
 const char* csv_header() noexcept {
   return "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,code,"
-         "distance_mm,signal,derivative_mm,pulses_overflow,error_text\n";
+         "distance_mm,signal,derivative_mm,pulses_overflow,error_text,suspect,suspect_reason\n";
 }
 
 void append_csv(std::string& out, const Sample& sample) {
@@ -302,6 +309,10 @@ void append_csv(std::string& out, const Sample& sample) {
   if (sample.kind == SampleKind::uls_look_down) append_bool(out, sample.pulses_overflow);
   out += ',';
   if (sample.device_error) append_csv_text(out, uls::error_text(*sample.device_error));
+  out += ',';
+  append_bool(out, sample.suspect);
+  out += ',';
+  append_csv_text(out, sample.suspect_reason);
   out += '\n';
 }
 
@@ -354,6 +365,10 @@ void append_text(std::string& out, const Sample& sample) {
       if (sample.code) append_printf(out, "  code %u", static_cast<unsigned>(*sample.code));
       break;
     }
+  }
+  if (sample.suspect) {
+    out += "  SUSPECT: ";
+    out += sample.suspect_reason;
   }
   out += '\n';
 }

@@ -82,6 +82,8 @@ Sample read_sample(sqlite3_stmt* row) {
   if (!is_null(row, 14)) sample.signal = parse_signal_state(column_text(row, 14));
   sample.derivative_mm = column_real(row, 15);
   sample.resolution_mm = column_real(row, 16);
+  sample.suspect = column_integer<int>(row, 17).value_or(0) != 0;
+  if (sample.suspect) sample.suspect_reason = column_text(row, 18);
   return sample;
 }
 
@@ -230,12 +232,12 @@ std::chrono::nanoseconds replay_delay(std::chrono::nanoseconds recorded_gap, dou
 Result<SampleSourcePtr> open_replay(const std::string& path, const ReplayOptions& options) {
   auto database = open_database(path, false, false);
   if (!database) return std::move(database).error();
-  // A version 1 capture has no derivative or resolution columns: they read as NULL.
+  // An older capture lacks the columns of later versions: they read as NULL.
   std::string samples_sql = samples_columns;
-  for (const char* column : version_2_columns) {
-    auto present = has_column(path, database->get(), "samples", column);
+  for (const auto& column : added_columns) {
+    auto present = has_column(path, database->get(), "samples", column.name);
     if (!present) return std::move(present).error();
-    samples_sql += std::string(", ") + (*present ? column : "NULL");
+    samples_sql += std::string(", ") + (*present ? column.name : "NULL");
   }
   samples_sql += " FROM samples ORDER BY seq";
   auto samples = prepare(path, database->get(), samples_sql.c_str());

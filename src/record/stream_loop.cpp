@@ -15,7 +15,9 @@ class StreamLoop {
  public:
   StreamLoop(SampleSource& source, const StreamLoopOptions& options, const std::atomic<bool>& stop_requested,
              const StreamObserver& observer)
-      : source_(source), options_(options), stop_requested_(stop_requested), observer_(observer) {}
+      : source_(source), options_(options), stop_requested_(stop_requested), observer_(observer) {
+    if (options_.quality) checker_.emplace(*options_.quality);
+  }
 
   StreamOutcome run() {
     if (auto opened = open_sinks(); !opened) return finish(StopReason::open_failed, std::move(opened).error());
@@ -66,7 +68,21 @@ class StreamLoop {
     return ok_status();
   }
 
-  Status handle(const Sample& sample) {
+  Status handle(const Sample& received) {
+    const Sample* checked = &received;
+    if (checker_) {
+      scratch_ = received;
+      checker_->check(scratch_);
+      checked = &scratch_;
+    }
+    const Sample& sample = *checked;
+    if (sample.suspect) {
+      ++stats_.suspect;
+      if (options_.drop_suspect) {
+        ++stats_.dropped_suspect;
+        return ok_status();
+      }
+    }
     ++stats_.samples;
     if (sample.kind == SampleKind::uls_error) ++stats_.errors;
     if (output_) {
@@ -164,6 +180,8 @@ class StreamLoop {
   SampleSinkPtr output_;
   std::unique_ptr<CaptureSink> capture_;
   StreamStats stats_;
+  std::optional<SampleChecker> checker_;
+  Sample scratch_;  // the checked copy of a sample, reused
   std::uint64_t lost_from_events_ = 0;
   Clock::time_point start_;
   Clock::time_point last_flush_;

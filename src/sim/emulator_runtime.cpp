@@ -54,6 +54,12 @@ Result<std::unique_ptr<EmulatorRuntime>> EmulatorRuntime::create(std::vector<Lin
     if (!control) return control.error();
     runtime->control_ = std::move(*control);
   }
+  if (options.wire_log_path) {
+    runtime->wire_log_.reset(std::fopen(options.wire_log_path->c_str(), "wb"));
+    if (!runtime->wire_log_) {
+      return make_error(Errc::io, "wire log " + *options.wire_log_path + ": cannot be created");
+    }
+  }
   return runtime;
 }
 
@@ -134,6 +140,7 @@ Status EmulatorRuntime::flush_output(Nanos now) {
         ++i;
       }
       if (!host_matches(line, attachment, &merged[i].byte)) value = garble(value);
+      if (wire_log_) (void)std::fputc(value, wire_log_.get());
       if (line.noise.drop_rate > 0 && std::uniform_real_distribution<double>(0, 1)(random_) < line.noise.drop_rate) {
         continue;
       }
@@ -145,7 +152,12 @@ Status EmulatorRuntime::flush_output(Nanos now) {
         }
       }
       wire.push_back(value);
+      if (line.noise.duplicate_rate > 0 &&
+          std::uniform_real_distribution<double>(0, 1)(random_) < line.noise.duplicate_rate) {
+        wire.push_back(value);
+      }
     }
+    if (wire_log_) (void)std::fflush(wire_log_.get());
     std::size_t written = 0;
     while (written < wire.size()) {
       const ssize_t n = ::write(line.pty->native_handle(), wire.data() + written, wire.size() - written);
@@ -227,8 +239,11 @@ nlohmann::json EmulatorRuntime::handle_control(const nlohmann::json& request) {
       if (!bit_error_rate) return {{"error", bit_error_rate.error().message}};
       const auto drop_rate = control_number(request, "drop_rate", 0.0, 1.0, 0.0);
       if (!drop_rate) return {{"error", drop_rate.error().message}};
+      const auto duplicate_rate = control_number(request, "duplicate_rate", 0.0, 1.0, 0.0);
+      if (!duplicate_rate) return {{"error", duplicate_rate.error().message}};
       line.noise.bit_error_rate = *bit_error_rate;
       line.noise.drop_rate = *drop_rate;
+      line.noise.duplicate_rate = *duplicate_rate;
       return {{"ok", true}, {"line", name}};
     }
     return {{"error", "noise: no line named '" + name + "'"}};

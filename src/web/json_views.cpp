@@ -51,6 +51,9 @@ nlohmann::json sensor_json(const hub::SensorSnapshot& sensor) {
   out["setting_units"] = units;
   if (config.address) out["address"] = *config.address;
   if (!config.udp.empty()) out["udp"] = config.udp;
+  // Quality settings from the site file (issue 18 item 2); null max_speed = the family default.
+  out["max_speed"] = config.max_speed_mps ? nlohmann::json(*config.max_speed_mps) : nlohmann::json(nullptr);
+  out["drop_suspect"] = config.drop_suspect;
   nlohmann::json errors = nlohmann::json::object();
   for (const auto& [number, count] : health.errors_by_number) errors[std::to_string(number)] = count;
   nlohmann::json health_json{{"connected", health.connected},
@@ -59,6 +62,8 @@ nlohmann::json sensor_json(const hub::SensorSnapshot& sensor) {
                              {"errors", health.errors},
                              {"errors_by_number", errors},
                              {"no_signal", health.no_signal},
+                             {"suspect", health.suspect},
+                             {"dropped_suspect", health.dropped_suspect},
                              {"lost", health.lost},
                              {"bad_frames", health.bad_frames},
                              {"disconnects", health.disconnects},

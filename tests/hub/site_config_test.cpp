@@ -99,7 +99,7 @@ port = "/dev/ttyUSB1"
 TEST(SiteConfig, RefusesWithFileLineAndReason) {
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nspeed = 9600\n"),
             "site.toml:5: unknown key 'speed' in [[sensor]] (allowed: name, family, port, baud, format, address, udp, "
-            "stream, capture)");
+            "stream, capture, max_speed, drop_suspect)");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"lms\"\nport = \"/dev/x\"\n"),
             "site.toml:3: family 'lms' is not \"uls\" or \"ls5\"");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a b\"\nfamily = \"uls\"\nport = \"/dev/x\"\n"),
@@ -124,6 +124,27 @@ TEST(SiteConfig, RefusesWithFileLineAndReason) {
             "site.toml:5: stream must be true or false");
   EXPECT_EQ(refusal("[http]\n"), "site.toml:1: unknown key 'http' in the site file (allowed: service, sensor)");
   EXPECT_NE(refusal("[[sensor]]\nname = \n").find("site.toml:2:"), std::string::npos);  // TOML syntax
+}
+
+// Issue 18 item 2 (U102, L71): per sensor, the fastest its target moves and whether suspect
+// samples are left out; unset, the family default and kept.
+TEST(SiteConfig, U102_L71_MaxSpeedAndDropSuspectPerSensor) {
+  const auto site = parse_ok(
+      "[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nmax_speed = 2.5\ndrop_suspect = true\n"
+      "[[sensor]]\nname = \"b\"\nfamily = \"ls5\"\nport = \"/dev/y\"\nmax_speed = 1\n"
+      "[[sensor]]\nname = \"c\"\nfamily = \"ls5\"\nport = \"/dev/z\"\n");
+  ASSERT_EQ(site.sensors.size(), 3u);
+  EXPECT_EQ(site.sensors[0].max_speed_mps, 2.5);
+  EXPECT_TRUE(site.sensors[0].drop_suspect);
+  EXPECT_EQ(site.sensors[1].max_speed_mps, 1.0);
+  EXPECT_FALSE(site.sensors[1].drop_suspect);
+  EXPECT_FALSE(site.sensors[2].max_speed_mps.has_value());
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nmax_speed = 0\n"),
+            "site.toml:5: max_speed must be above 0 and at most 1e6 m/s");
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nmax_speed = \"fast\"\n"),
+            "site.toml:5: max_speed must be a number (metres per second)");
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\ndrop_suspect = 1\n"),
+            "site.toml:5: drop_suspect must be true or false");
 }
 
 TEST(SiteConfig, RefusesTwoSensorsThatCannotShareAPort) {

@@ -138,8 +138,29 @@ TEST(Capture, Ls5DerivativeAndResolutionRoundTripL63) {
     write_items(**capture, items);
   }
   expect_same_items(replay_all(path), items);
-  EXPECT_EQ(query(path, "SELECT value FROM meta WHERE key = 'format_version'"), "2");
+  EXPECT_EQ(query(path, "SELECT value FROM meta WHERE key = 'format_version'"), "3");
   EXPECT_EQ(query(path, "SELECT kind || ' ' || derivative_mm FROM samples WHERE code = 25050"), "derivative 0.1");
+}
+
+// U102/L71 (issue 18 item 2): the flag and its reason are stored (format version 3) and
+// replayed as they were recorded.
+TEST(Capture, U102_L71_SuspectFlagAndReasonRoundTrip) {
+  TempDir dir;
+  const auto path = dir.file("suspect.sqlite");
+  auto clean = ls5_result(24845, 99.38, SignalState::ok);
+  auto corrupt = ls5_result(34845, 139.38, SignalState::ok);
+  corrupt.suspect = true;
+  corrupt.suspect_reason = "jump: 0.1394 m from the median 0.0994 m";
+  const std::vector<StreamItem> items{clean, corrupt};
+  {
+    auto capture = open_capture(path);
+    ASSERT_TRUE(capture.ok()) << capture.error().message;
+    write_items(**capture, items);
+  }
+  expect_same_items(replay_all(path), items);
+  EXPECT_EQ(query(path, "SELECT count(*) FROM samples WHERE suspect = 1"), "1");
+  EXPECT_EQ(query(path, "SELECT suspect_reason FROM samples WHERE code = 34845"),
+            "jump: 0.1394 m from the median 0.0994 m");
 }
 
 // A capture written before format version 2 (schema of docs/capture.md, version 1):
@@ -179,7 +200,7 @@ TEST(Capture, Version1CaptureReplaysAndTakesNewSessionsL63) {
     write_items(**capture, {fine});
   }
   expect_same_items(replay_all(path), {old_sample, fine});
-  EXPECT_EQ(query(path, "SELECT value FROM meta WHERE key = 'format_version'"), "2");
+  EXPECT_EQ(query(path, "SELECT value FROM meta WHERE key = 'format_version'"), "3");
 }
 
 // Issue 18: "a capture whose meta says format_version='2' is replayed and appended to without
@@ -193,7 +214,7 @@ TEST(Capture, UnknownFormatVersionIsRefusedByAppendAndReplay) {
     ASSERT_TRUE(capture.ok()) << capture.error().message;
     write_items(**capture, {uls_averaging()});
   }
-  for (const char* version : {"3", "2.1", "x\x1b[2J"}) {
+  for (const char* version : {"4", "2.1", "x\x1b[2J"}) {
     sqlite3* database = nullptr;
     ASSERT_EQ(sqlite3_open(path.c_str(), &database), SQLITE_OK);
     const std::string update = std::string("UPDATE meta SET value = '") + version + "' WHERE key = 'format_version'";
@@ -205,14 +226,14 @@ TEST(Capture, UnknownFormatVersionIsRefusedByAppendAndReplay) {
     ASSERT_FALSE(capture.ok()) << version;
     EXPECT_EQ(capture.error().code, Errc::unsupported);
     EXPECT_NE(capture.error().message.find("format version '"), std::string::npos) << capture.error().message;
-    EXPECT_NE(capture.error().message.find("is not one this rangekit reads (1, 2)"), std::string::npos)
+    EXPECT_NE(capture.error().message.find("is not one this rangekit reads (1, 2, 3)"), std::string::npos)
         << capture.error().message;
     EXPECT_EQ(capture.error().message.find('\x1b'), std::string::npos) << "printed escaped";
     EXPECT_EQ(read_file(path), content) << "nothing appended";
 
     const auto replay = open_replay(path, 0.0);
     ASSERT_FALSE(replay.ok()) << version;
-    EXPECT_NE(replay.error().message.find("is not one this rangekit reads (1, 2)"), std::string::npos)
+    EXPECT_NE(replay.error().message.find("is not one this rangekit reads (1, 2, 3)"), std::string::npos)
         << replay.error().message;
   }
   EXPECT_EQ(query(path, "SELECT count(*) FROM samples"), "1");

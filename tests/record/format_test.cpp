@@ -81,7 +81,7 @@ TEST(Jsonl, U88_UlsLookDownOverflowIsMoreThan65535PulsesNotZero) {
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":0,\"source\":\"/dev/ttyUSB1\","
             "\"kind\":\"look_down\",\"presence\":true,\"pulses_between_events\":null,\"pulses_overflow\":true}\n");
   EXPECT_EQ(csv(uls_look_down_overflow()),
-            "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,,,,,,,true,\n");
+            "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,,,,,,,true,,false,\n");
   EXPECT_EQ(text(uls_look_down_overflow()), "01:02:03.456 uls #0  present  pulses >65535\n");
 }
 
@@ -118,26 +118,29 @@ TEST(Jsonl, EventsAndEscapedStrings) {
 TEST(Csv, HeaderNamesTheJsonKeys) {
   EXPECT_STREQ(csv_header(),
                "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
-               "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text\n");
+               "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text,suspect,suspect_reason\n");
 }
 
 TEST(Csv, OneRowPerFamily) {
-  EXPECT_EQ(csv(uls_averaging()), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,,,\n");
-  EXPECT_EQ(csv(uls_binning()), "2026-11-26T01:02:03.456Z,uls,,/dev/ttyUSB0,binning,,,4.5720:42;7.1000:13,,,,,,,,,\n");
-  EXPECT_EQ(csv(uls_look_down()), "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,250,,,,,,false,\n");
-  EXPECT_EQ(
-      csv(uls_error()),
-      "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,,,,Lock Not Found (display: Target Not Found)\n");
+  EXPECT_EQ(csv(uls_averaging()),
+            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,,,,false,\n");
+  EXPECT_EQ(csv(uls_binning()),
+            "2026-11-26T01:02:03.456Z,uls,,/dev/ttyUSB0,binning,,,4.5720:42;7.1000:13,,,,,,,,,,false,\n");
+  EXPECT_EQ(csv(uls_look_down()),
+            "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,250,,,,,,false,,false,\n");
+  EXPECT_EQ(csv(uls_error()),
+            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,,,,Lock Not Found (display: Target Not "
+            "Found),false,\n");
   EXPECT_EQ(csv(ls5_result(12345, 1234.5, SignalState::ok)),
-            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,,,\n");
+            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,,,,false,\n");
   EXPECT_EQ(csv(ls5_result(65535, std::nullopt, SignalState::lost)),
-            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,65535,,lost,,,\n");
+            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,65535,,lost,,,,false,\n");
 }
 
 TEST(Csv, QuotesFieldsWithCommasOrQuotes) {
   auto sample = uls_averaging();
   sample.source = "a,\"b\"";
-  EXPECT_EQ(csv(sample), "2026-11-26T01:02:03.456Z,uls,3,\"a,\"\"b\"\"\",averaging,12.3450,18000,,,,,,,,,,\n");
+  EXPECT_EQ(csv(sample), "2026-11-26T01:02:03.456Z,uls,3,\"a,\"\"b\"\"\",averaging,12.3450,18000,,,,,,,,,,,false,\n");
 }
 
 TEST(Text, ReadableLinePerFamily) {
@@ -163,7 +166,7 @@ TEST(Ls5Precision, TheSensorsDiscretenessDecidesTheDecimalsL63) {
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"ls5\",\"address\":null,"
             "\"source\":\"udp:127.0.0.1:5000\",\"kind\":\"result\",\"code\":21124,\"distance_mm\":2.1124,"
             "\"signal\":\"ok\"}\n");
-  EXPECT_EQ(csv(fine), "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,21124,2.1124,ok,,,\n");
+  EXPECT_EQ(csv(fine), "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,21124,2.1124,ok,,,,false,\n");
   EXPECT_EQ(text(fine), "01:02:03.456 ls5  2.1124 mm  code 21124\n");
 
   // A 40 mm range: 0.001 (15432 of 50000 is 12.3456 mm); a 2000 mm range: 0.1 (20000 of 50000 is 800 mm).
@@ -186,7 +189,8 @@ TEST(Ls5Derivative, IsItsOwnKindWithDerivativeMmL60) {
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"ls5\",\"address\":null,"
             "\"source\":\"udp:127.0.0.1:5000\",\"kind\":\"derivative\",\"code\":25050,\"derivative_mm\":0.100,"
             "\"signal\":\"ok\"}\n");
-  EXPECT_EQ(csv(rising), "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,derivative,,,,,,,25050,,ok,0.100,,\n");
+  EXPECT_EQ(csv(rising),
+            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,derivative,,,,,,,25050,,ok,0.100,,,false,\n");
   EXPECT_EQ(text(rising), "01:02:03.456 ls5  derivative +0.100 mm  code 25050\n");
   auto falling = rising;
   falling.code = 24950;
@@ -207,6 +211,20 @@ TEST(Text, Events) {
             "01:02:03.456 polling: /dev/ttyUSB0: polling with BM every 50 ms\n");
   EXPECT_EQ(jsonl(event(StreamEventKind::polling, "p")),
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"event\":\"polling\",\"message\":\"p\",\"count\":0}\n");
+}
+
+// U102/L71 (issue 18 item 2): a suspect sample keeps its value and says so in every format.
+TEST(Formats, U102_L71_ASuspectSampleIsMarkedWithItsReason) {
+  auto sample = ls5_result(34845, 696.9, SignalState::ok);
+  sample.suspect = true;
+  sample.suspect_reason = "jump: 0.6969 m";
+  EXPECT_EQ(jsonl(sample),
+            "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"ls5\",\"address\":null,"
+            "\"source\":\"udp:127.0.0.1:5000\",\"kind\":\"result\",\"code\":34845,\"distance_mm\":696.90,"
+            "\"signal\":\"ok\",\"suspect\":true,\"suspect_reason\":\"jump: 0.6969 m\"}\n");
+  EXPECT_EQ(csv(sample),
+            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,34845,696.90,ok,,,,true,jump: 0.6969 m\n");
+  EXPECT_EQ(text(sample), "01:02:03.456 ls5  696.90 mm  code 34845  SUSPECT: jump: 0.6969 m\n");
 }
 
 }  // namespace

@@ -11,6 +11,12 @@ namespace {
 
 using namespace testing;
 
+std::size_t count_of(const std::string& text, const std::string& part) {
+  std::size_t count = 0;
+  for (auto at = text.find(part); at != std::string::npos; at = text.find(part, at + part.size())) ++count;
+  return count;
+}
+
 std::string make_capture(const TempDir& dir, const std::vector<StreamItem>& items) {
   const auto path = dir.file("capture.sqlite");
   auto capture = open_capture(path);
@@ -63,8 +69,27 @@ TEST(ReplayCli, CsvCountAndDeviceFilter) {
   EXPECT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(result.out,
             "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
-            "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text\n"
-            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,,,\n");
+            "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text,suspect,suspect_reason\n"
+            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,,,,false,\n");
+}
+
+// U102/L71 (issue 18 item 2): a replay shows the flags as recorded (it does not judge again)
+// and --drop-suspect leaves the suspect samples out.
+TEST(ReplayCli, U102_L71_ReplayKeepsTheRecordedFlagsAndDropSuspectLeavesThemOut) {
+  TempDir dir;
+  auto corrupt = ls5_result(34845, 139.38, SignalState::ok);
+  corrupt.suspect = true;
+  corrupt.suspect_reason = "jump";
+  const auto capture = make_capture(dir, {ls5_result(24845, 99.38, SignalState::ok), corrupt});
+  const auto all = run({"replay", capture, "--format", "jsonl", "--full-speed"});
+  EXPECT_EQ(all.exit_code, 0) << all.err;
+  EXPECT_EQ(count_of(all.out, "\"kind\""), 2u);
+  EXPECT_EQ(count_of(all.out, "\"suspect\":true,\"suspect_reason\":\"jump\""), 1u);
+  const auto kept = run({"replay", capture, "--format", "jsonl", "--full-speed", "--drop-suspect"});
+  EXPECT_EQ(kept.exit_code, 0) << kept.err;
+  EXPECT_EQ(count_of(kept.out, "\"kind\""), 1u);
+  EXPECT_EQ(count_of(kept.out, "\"code\":24845"), 1u);
+  EXPECT_EQ(count_of(kept.out, "suspect"), 0u);
 }
 
 TEST(ReplayCli, TextToAFile) {
@@ -116,8 +141,8 @@ TEST(ReplayCli, SigintClosesCleanlyWithExit130) {
   EXPECT_EQ(replay_copy.finish(), 0);
   EXPECT_EQ(replay_copy.out(),
             "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
-            "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text\n"
-            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,,,\n");
+            "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text,suspect,suspect_reason\n"
+            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,,,,false,\n");
 }
 
 }  // namespace

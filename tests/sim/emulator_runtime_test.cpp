@@ -1,11 +1,12 @@
 // The emulator runtime over real pseudo-terminals, with a trivial echo device
 // on the virtual clock: pacing, line faults, bus collisions, control socket.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
+
 #include <array>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <thread>
 
 #include "rangekit/sim/emulator_runtime.hpp"
@@ -63,12 +64,14 @@ struct Rig {
   std::unique_ptr<SerialPort> host;
 };
 
-Rig make_rig(std::vector<DeviceModel*> devices, std::uint32_t host_baud, std::optional<std::string> control = {}) {
+Rig make_rig(std::vector<DeviceModel*> devices, std::uint32_t host_baud, std::optional<std::string> control = {},
+             std::optional<std::string> wire_log = {}) {
   LineConfig line{"bus", std::nullopt, {}};
   for (auto* device : devices) line.attachments.push_back(LineAttachment{device, 0});
   RuntimeOptions options;
   options.virtual_clock = true;
   options.control_path = std::move(control);
+  options.wire_log_path = std::move(wire_log);
   auto runtime = EmulatorRuntime::create({line}, options);
   EXPECT_TRUE(runtime) << runtime.error().message;
   auto host = SerialPort::open((*runtime)->line_path(0), SerialSettings{host_baud, Parity::none, 1});
@@ -124,6 +127,28 @@ TEST(EmulatorRuntime, DroppedBytesNeverArrive) {
   ASSERT_TRUE(rig.runtime->advance_to(1ms));
   std::array<std::uint8_t, 8> buffer{};
   EXPECT_FALSE(rig.host->read_some(buffer, 20ms));
+}
+
+// Issue 18 "byte drop/duplicate": a duplicated byte arrives twice; the wire log (the noise
+// bench's truth) holds what the device sent, before any line noise.
+TEST(EmulatorRuntime, DuplicatedBytesArriveTwiceAndTheWireLogHoldsWhatWasSent) {
+  const auto log = std::filesystem::temp_directory_path() / ("rangekit-wire-" + std::to_string(::getpid()));
+  {
+    EchoDevice echo(115200);
+    auto rig = make_rig({&echo}, 115200, std::nullopt, log.string());
+    rig.runtime->set_noise(0, LineNoise{0.0, 0.0, 1.0});
+    deliver(rig, "ABC");
+    ASSERT_TRUE(rig.runtime->advance_to(1ms));
+    EXPECT_EQ(read_available(*rig.host, 6), "AABBCC");
+    rig.runtime->set_noise(0, LineNoise{1.0, 0.0, 0.0});  // every bit flipped
+    deliver(rig, "D");
+    ASSERT_TRUE(rig.runtime->advance_to(2ms));
+    EXPECT_EQ(read_available(*rig.host, 1), std::string(1, static_cast<char>('D' ^ 0xFF)));
+  }
+  std::ifstream file(log, std::ios::binary);
+  const std::string logged((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(logged, "ABCD");
+  std::filesystem::remove(log);
 }
 
 TEST(EmulatorRuntime, ControlSocketStatusAdvanceAndErrors) {

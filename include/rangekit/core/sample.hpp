@@ -59,6 +59,11 @@ struct Sample {
   std::optional<SignalState> signal;
   // The sensor's discreteness (LS5 table 3.1): how many decimals its millimetres deserve.
   std::optional<double> resolution_mm;
+  // Quality (issue 18 item 2): the frame decoded, but the value is one no real target
+  // gives here (core/sample_quality.hpp); suspect_reason says which check and why.
+  // Neither protocol has a checksum, so this is the only sign of a corrupted line.
+  bool suspect = false;
+  std::string suspect_reason;
 
   friend bool operator==(const Sample&, const Sample&) = default;
 };

@@ -19,8 +19,10 @@ struct SensorHealth {
   std::uint64_t records = 0;  // samples
   std::uint64_t errors = 0;   // samples that carry a device error (ULS $ER,n)
   std::map<int, std::uint64_t> errors_by_number;
-  std::uint64_t no_signal = 0;  // LS5 65535 (§9.3)
-  std::uint64_t lost = 0;       // records lost on the way (UDP gaps, full queues)
+  std::uint64_t no_signal = 0;        // LS5 65535 (§9.3)
+  std::uint64_t suspect = 0;          // samples marked suspect (issue 18 item 2), dropped ones included
+  std::uint64_t dropped_suspect = 0;  // of those, left out (drop_suspect in the site file)
+  std::uint64_t lost = 0;             // records lost on the way (UDP gaps, full queues)
   std::uint64_t bad_frames = 0;
   std::uint64_t disconnects = 0;
   std::uint64_t reconnects = 0;
@@ -35,6 +37,8 @@ class HealthTracker {
 
   void record(const StreamItem& item, std::chrono::steady_clock::time_point now);
   void set_connected(bool connected, std::string message);
+  // A suspect sample left out before it was published: counted, not a record.
+  void record_dropped_suspect();
   [[nodiscard]] SensorHealth snapshot(std::chrono::steady_clock::time_point now) const;
 
  private:

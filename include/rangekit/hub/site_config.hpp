@@ -28,7 +28,11 @@ struct SensorConfig {
   std::string udp;             // LS5 Ethernet: "HOST:PORT" the service listens on for its packets (§10)
   bool stream = true;          // stream from start
   bool capture = false;        // capture from start (into the service's capture folder)
-  std::size_t line = 0;        // where it was declared, for later messages
+  // Quality (issue 18 item 2): the fastest its target moves (m/s; nullopt = the family
+  // default of core/sample_quality.hpp), and whether suspect samples are left out.
+  std::optional<double> max_speed_mps;
+  bool drop_suspect = false;
+  std::size_t line = 0;  // where it was declared, for later messages
 };
 
 struct ServiceConfig {

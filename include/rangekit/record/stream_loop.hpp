@@ -14,6 +14,7 @@
 
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/sample.hpp"
+#include "rangekit/core/sample_quality.hpp"
 #include "rangekit/record/capture.hpp"
 #include "rangekit/record/sink.hpp"
 
@@ -29,6 +30,10 @@ struct StreamLoopOptions {
   std::chrono::milliseconds poll{50};             // longest wait on the source, so stops are prompt
   std::chrono::milliseconds flush_interval{100};  // text output and capture batches reach the file this often
   CaptureOptions capture_options;
+  // Quality checks on each sample (issue 18 item 2); nullopt keeps the flags the samples
+  // carry (a replay shows what was recorded).
+  std::optional<QualitySettings> quality;
+  bool drop_suspect = false;  // leave suspect samples out of the output and the capture
 };
 
 struct StreamStats {
@@ -37,6 +42,8 @@ struct StreamStats {
   std::uint64_t errors = 0;  // device error samples/events and undecodable frames
   std::uint64_t lost = 0;    // lost records reported by events or the source
   std::uint64_t disconnects = 0;
+  std::uint64_t suspect = 0;  // samples marked suspect (counted in `samples` unless dropped)
+  std::uint64_t dropped_suspect = 0;
   double elapsed_s = 0;
   bool link_down = false;  // a disconnect without a reconnect after it
 };

@@ -11,6 +11,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -41,12 +42,16 @@ struct RuntimeOptions {
   double time_scale = 1.0;     // real clock only: > 1 runs the firmware faster
   std::optional<std::string> control_path;
   std::uint32_t seed = 1;  // noise and garbling are repeatable
+  // Every byte each line sends to the host, before line noise (bench/noise_bench.py's
+  // truth: what a clean line would have carried).
+  std::optional<std::string> wire_log_path;
 };
 
 // Per-line fault injection (control: {"cmd":"noise", ...}).
 struct LineNoise {
   double bit_error_rate = 0;  // probability of flipping each bit sent to the host
   double drop_rate = 0;       // probability of losing each byte sent to the host
+  double duplicate_rate = 0;  // probability of sending a byte twice
 };
 
 class EmulatorRuntime {
@@ -104,6 +109,10 @@ class EmulatorRuntime {
   ControlExtension extension_;
   std::mt19937 random_;
   std::uint64_t dropped_output_ = 0;
+  struct FileCloser {
+    void operator()(std::FILE* file) const noexcept { (void)std::fclose(file); }
+  };
+  std::unique_ptr<std::FILE, FileCloser> wire_log_;
   bool shutdown_requested_ = false;
 };
 

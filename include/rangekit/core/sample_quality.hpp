@@ -1,0 +1,92 @@
+// Per-sample quality (issue 18 item 2). Neither protocol has a checksum: a bit error
+// that turns one digit into another gives a frame the codec accepts. The field shapes
+// are enforced by the codecs (a wrong frame is a bad_frame event and never a sample);
+// what reaches here is a well-formed value, judged against the recent ones: a distance
+// that moved further from the running median than a real target can at this rate, or
+// a ULS pulse width that changed by more than a factor of `max_pulse_width_ratio`.
+// Such a sample keeps its value and is marked suspect with the reason
+// (docs/reliability.md says what can and cannot be caught).
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <tuple>
+
+#include "rangekit/core/sample.hpp"
+
+namespace rangekit {
+
+struct QualitySettings {
+  // Fastest a real target moves along the beam, m/s; nullopt = the family default below.
+  std::optional<double> max_speed_mps;
+  // A ULS pulse width further than this factor from the median of the recent ones is suspect.
+  double max_pulse_width_ratio = 2.0;
+};
+
+// Defaults when no max_speed is configured. The LS5 crossing its whole range in one
+// second; the ULS 25 m/s (90 km/h, a vehicle passing the unit), about a tenth of its
+// 266 m white-wall range (§9) a second.
+inline constexpr double uls_default_max_speed_mps = 25.0;
+double ls5_default_max_speed_mps(double range_mm) noexcept;
+
+// The spread two honest readings of the same still target may show, in metres:
+// ULS ±4 cm typical in averaging (§9), LS5 ±0.15 % of the range (§3 table 3.1). Twice
+// the error limit, since the median and the new reading may err in opposite directions.
+inline constexpr double uls_noise_allowance_m = 2 * 0.04;
+double ls5_noise_allowance_m(double range_mm) noexcept;
+
+// The LS5's range from a record: formula 8.1 (distance = code / 50000 × range) read
+// backwards; nullopt when the sample carries no distance or the code is 0.
+std::optional<double> ls5_range_mm(const Sample& sample) noexcept;
+
+class SampleChecker {
+ public:
+  static constexpr std::size_t window = 5;  // samples in the running median
+  static constexpr std::size_t min_history = 3;
+
+  explicit SampleChecker(QualitySettings settings = {}) : settings_(settings) {}
+
+  // Marks `sample` suspect (suspect, suspect_reason) when a check fails; keeps its value.
+  // Every distance joins the history, suspect or not, so a real step (a new target)
+  // moves the median after min_history samples and flags at most a few.
+  void check(Sample& sample);
+
+ private:
+  struct Point {
+    double value = 0;
+    std::chrono::system_clock::time_point time;
+  };
+  struct Median {
+    double value = 0;
+    std::chrono::system_clock::time_point time;  // of the reading it is (the older middle one)
+    std::size_t age = 0;                         // readings since it, 1 = the newest
+  };
+  struct History {
+    std::array<Point, window> points{};
+    std::size_t size = 0;
+    std::size_t next = 0;
+    void push(Point point);
+    [[nodiscard]] Median median() const;
+  };
+  struct Stream {
+    History distance;
+    History pulse_width;
+    std::optional<double> range_mm;  // LS5: from the last record that showed it
+    // The mean receive interval so far, for when a read hands over several records at once.
+    std::optional<std::chrono::system_clock::time_point> first_time;
+    std::chrono::system_clock::time_point last_time;
+    std::uint64_t count = 0;
+    [[nodiscard]] double period_s() const;
+  };
+  using Key = std::tuple<std::string, std::string, int, SampleKind>;
+
+  QualitySettings settings_;
+  std::map<Key, Stream> streams_;
+};
+
+}  // namespace rangekit

@@ -1,0 +1,121 @@
+#include "rangekit/core/sample_quality.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace rangekit {
+namespace {
+
+constexpr double ls5_codes_per_range = 50000.0;  // LS5 formula 8.1/8.5: code = distance / range × 50000
+constexpr double ls5_error_fraction = 0.0015;    // LS5 §3 table 3.1: ±0.15 % of the range (digital)
+
+template <class... Args>
+std::string format_reason(const char* format, Args... args) {
+  std::array<char, 160> text{};
+  std::snprintf(text.data(), text.size(), format, args...);
+  return text.data();
+}
+
+}  // namespace
+
+double ls5_default_max_speed_mps(double range_mm) noexcept { return range_mm / 1000.0; }
+
+double ls5_noise_allowance_m(double range_mm) noexcept { return 2 * ls5_error_fraction * range_mm / 1000.0; }
+
+std::optional<double> ls5_range_mm(const Sample& sample) noexcept {
+  if (!sample.code || *sample.code == 0 || !sample.distance_mm || !std::isfinite(*sample.distance_mm)) {
+    return std::nullopt;
+  }
+  return *sample.distance_mm * ls5_codes_per_range / *sample.code;
+}
+
+void SampleChecker::History::push(Point point) {
+  points[next] = point;
+  next = (next + 1) % window;
+  size = std::min(size + 1, window);
+}
+
+SampleChecker::Median SampleChecker::History::median() const {
+  // Sort the points' slots by value; the median's age is that of its (older) middle point.
+  std::array<std::size_t, window> slots{};
+  for (std::size_t i = 0; i < size; ++i) slots[i] = i;
+  std::sort(slots.begin(), slots.begin() + static_cast<std::ptrdiff_t>(size),
+            [this](std::size_t a, std::size_t b) { return points[a].value < points[b].value; });
+  // How many pushes ago a slot was written: 1 for the newest.
+  const auto age = [this](std::size_t slot) { return (next + window - 1 - slot) % window + 1; };
+  const std::size_t upper = slots[size / 2];
+  if (size % 2 == 1) return {points[upper].value, points[upper].time, age(upper)};
+  const std::size_t lower = slots[size / 2 - 1];
+  const std::size_t older = age(lower) > age(upper) ? lower : upper;
+  return {(points[lower].value + points[upper].value) / 2, points[older].time, age(older)};
+}
+
+double SampleChecker::Stream::period_s() const {
+  if (!first_time || count < 2) return 0;
+  return std::max(0.0, std::chrono::duration<double>(last_time - *first_time).count()) / static_cast<double>(count - 1);
+}
+
+void SampleChecker::check(Sample& sample) {
+  std::optional<double> distance_m;
+  double noise_m = uls_noise_allowance_m;
+  double max_speed = settings_.max_speed_mps.value_or(uls_default_max_speed_mps);
+  Stream& stream = streams_[Key{sample.device, sample.source, sample.address, sample.kind}];
+  if (sample.kind == SampleKind::uls_averaging) {
+    distance_m = sample.distance_m;
+  } else if (sample.kind == SampleKind::ls5_result) {
+    if (const auto range = ls5_range_mm(sample)) stream.range_mm = range;
+    if (!stream.range_mm) return;  // the first records of a stream at code 0: no scale yet
+    if (sample.distance_mm) distance_m = *sample.distance_mm / 1000.0;
+    noise_m = ls5_noise_allowance_m(*stream.range_mm);
+    max_speed = settings_.max_speed_mps.value_or(ls5_default_max_speed_mps(*stream.range_mm));
+  } else {
+    return;  // binning targets come and go, look down and errors carry no distance
+  }
+
+  if (!stream.first_time) stream.first_time = sample.time;
+  stream.last_time = sample.time;
+  ++stream.count;
+  if (distance_m && std::isfinite(*distance_m)) {
+    History& history = stream.distance;
+    // Until the receive times have moved at all (a first read handing over several
+    // records), how far apart the readings are is unknown: nothing is judged.
+    if (history.size >= min_history && stream.period_s() > 0) {
+      // The median is one of the recent readings (the older middle one for an even count):
+      // the target was within the noise of it then and has moved at most max_speed since.
+      // Host receive times bunch up when a read returns several records, so the time
+      // since is at least the mean receive interval so far times the readings since.
+      const Median median_point = history.median();
+      const double received_s = std::chrono::duration<double>(sample.time - median_point.time).count();
+      const double span_s = std::max(received_s, stream.period_s() * static_cast<double>(median_point.age));
+      const double median = median_point.value;
+      const double allowed = noise_m + max_speed * span_s;
+      if (std::abs(*distance_m - median) > allowed) {
+        sample.suspect = true;
+        sample.suspect_reason =
+            format_reason("jump: %.4f m from the median %.4f m of the last readings; at most %.4f m in %.3f s",
+                          *distance_m, median, allowed, span_s);
+      }
+    }
+    history.push({*distance_m, sample.time});
+  }
+
+  if (sample.kind == SampleKind::uls_averaging && sample.pulse_width) {
+    History& history = stream.pulse_width;
+    const auto width = static_cast<double>(*sample.pulse_width);
+    if (history.size >= min_history && !sample.suspect) {
+      const double median = history.median().value;
+      const double ratio = settings_.max_pulse_width_ratio;
+      if (median > 0 && (width > median * ratio || width < median / ratio)) {
+        sample.suspect = true;
+        sample.suspect_reason = format_reason(
+            "pulse width: %.0f ps against the median %.0f ps of the last readings "
+            "(more than a factor %.1f)",
+            width, median, ratio);
+      }
+    }
+    history.push({width, sample.time});
+  }
+}
+
+}  // namespace rangekit
