@@ -5,8 +5,11 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/udp.hpp"
@@ -14,6 +17,17 @@
 #include "rangekit/hub/hub.hpp"
 
 namespace rangekit::web {
+
+// Another face of the same service (the MQTT bridge), as GET /healthz reports it. The
+// service fills it in; the server knows nothing of what it describes.
+struct FaceHealth {
+  std::string name;   // "mqtt"
+  bool ok = true;     // false: /healthz says "degraded"
+  std::string error;  // why not ok, in one sentence
+  bool connected = false;
+  std::string peer;                               // what it connects to ("mqtt://127.0.0.1:1883")
+  std::map<std::string, std::uint64_t> counters;  // "published", "dropped", ...
+};
 
 struct ServerOptions {
   std::string listen = "127.0.0.1:8080";  // HOST:PORT; port 0 picks a free one
@@ -30,6 +44,8 @@ struct ServerOptions {
   // HTTPS and TLS streams when both are given (PEM files): [service] tls_certificate, tls_key.
   std::string tls_certificate;
   std::string tls_key;
+  // The other faces' health, asked on each GET /healthz (called on the event loop: keep it quick).
+  std::function<std::vector<FaceHealth>()> faces;
 };
 
 struct ServerStats {
