@@ -147,3 +147,36 @@ TEST(ServeMqtt, RefusedCredentialsGiveOneClearErrorInTheLogAndOnHealthz) {
 }
 
 }  // namespace
+
+namespace {
+
+// Issue 15 point 4: "with --demo and no URL it starts a local mosquitto too, when one is
+// installed, so a newcomer can watch with mosquitto_sub -v -t 'rangekit/#'".
+TEST(ServeMqtt, TheDemoStartsALocalBrokerAndPrintsHowToWatchIt) {
+  Child service({"serve", "--demo", "--duration", "120", "--listen", "127.0.0.1:0"});
+  std::string log;
+  std::uint16_t port = 0;
+  for (std::string line = service.read_line(); !line.empty() && port == 0; line = service.read_line()) {
+    log += line;
+    const std::string watch = "mosquitto_sub -h 127.0.0.1 -p ";
+    const auto at = line.find(watch);
+    if (at != std::string::npos && line.find(" -v -t 'rangekit/#'") != std::string::npos) {
+      port = static_cast<std::uint16_t>(std::stoi(line.substr(at + watch.size())));
+    }
+  }
+  ASSERT_NE(port, 0) << log;
+  Subscriber watcher(port, {"rangekit/#"});
+  ASSERT_TRUE(watcher.wait_for([](const std::vector<Heard>& heard) {
+    bool belt = false;
+    bool silo = false;
+    for (const Heard& message : heard) {
+      belt = belt || message.topic == "rangekit/belt/reading";
+      silo = silo || message.topic == "rangekit/silo/availability";
+    }
+    return belt && silo;
+  }));
+  service.terminate();
+  EXPECT_EQ(service.wait(), 130) << log;  // interrupted: exit_interrupted
+}
+
+}  // namespace
