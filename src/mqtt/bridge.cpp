@@ -83,6 +83,9 @@ struct Bridge::Impl {
   std::atomic<std::uint64_t> refusals{0};
 
   Impl(hub::Hub& h, BridgeOptions o) : hub(h), options(std::move(o)) {}
+  ~Impl();
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
 
   void log(const std::string& line) const {
     if (options.log) options.log(line);
@@ -157,11 +160,12 @@ struct Link {
     return true;
   }
 
-  // After a (re)connect: retained messages in the queue are stale (the fresh state went out first).
-  void flush() {
+  // Sends what waited, oldest first. After a (re)connect its retained messages are stale (the
+  // fresh state goes out next) and are left out.
+  void flush(bool drop_retained) {
     const std::lock_guard lock(mutex);
     while (!queue.empty() && connected) {
-      if (!queue.front().retain && !try_publish(queue.front())) break;
+      if (!(drop_retained && queue.front().retain) && !try_publish(queue.front())) break;
       queue.pop_front();
     }
   }
@@ -399,7 +403,9 @@ void Bridge::Impl::run_publisher() {
       auto snapshot = hub.sensor(link->config.name);
       if (!snapshot) continue;
       const bool republish = link->republish.exchange(false);
-      if (republish) link->flush();  // what waited goes first; its retained messages are stale by now
+      // What waited goes first: after a reconnect without its stale retained messages; otherwise
+      // what a publish refused in passing (a connection that dropped and came back in between).
+      if (republish || link->connected) link->flush(republish);
       const bool online = snapshot->health.connected;
       nlohmann::json status = hub::sensor_json(*snapshot);
       nlohmann::json without_health = status;
@@ -500,6 +506,13 @@ void Bridge::Impl::handle(Command& command) {
     mosquitto_property_free_all(&props);
   }
   link.status_now = true;  // settings may have changed: the status goes out again at once
+}
+
+// Sessions made by a start() that failed before their threads ran; stop() destroys the others.
+Bridge::Impl::~Impl() {
+  for (const auto& link : links) {
+    if (link->client != nullptr) mosquitto_destroy(link->client);
+  }
 }
 
 Bridge::Bridge(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
