@@ -250,10 +250,10 @@ void Bridge::Impl::on_connected(Link& link, int reason) {
     }
     return;
   }
-  const std::string qos_topic_set = link.topic + "/set";
-  const std::string qos_topic_action = link.topic + "/action";
-  mosquitto_subscribe(link.client, nullptr, qos_topic_set.c_str(), options.config.qos_command);
-  mosquitto_subscribe(link.client, nullptr, qos_topic_action.c_str(), options.config.qos_command);
+  const std::string set_topic = link.topic + "/set";
+  const std::string action_topic = link.topic + "/action";
+  mosquitto_subscribe(link.client, nullptr, set_topic.c_str(), options.config.qos_command);
+  mosquitto_subscribe(link.client, nullptr, action_topic.c_str(), options.config.qos_command);
   {
     const std::lock_guard lock(link.mutex);
     if (link.ever_connected) ++link.reconnects;
