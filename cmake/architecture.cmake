@@ -12,6 +12,7 @@ set(rangekit_allowed_links_rangekit_sim rangekit_core rangekit_uls rangekit_ls5)
 set(rangekit_allowed_links_rangekit_hub rangekit_core rangekit_uls rangekit_ls5 rangekit_record)  # never sim: a site's real sensors
 # A face reaches the sensors only through the hub: never a driver (uls, ls5) itself.
 set(rangekit_allowed_links_rangekit_web rangekit_hub rangekit_core rangekit_record)
+set(rangekit_allowed_links_rangekit_mqtt rangekit_hub rangekit_core rangekit_record)
 
 # Checks one library's links (`links`: what it links, any kind of entry) against
 # its allowed list; returns the offending rangekit libraries in `out_violations`.
@@ -21,7 +22,7 @@ function(rangekit_forbidden_links target links out_violations)
     # $<LINK_ONLY:x>, $<BUILD_INTERFACE:x> and rangekit::x all name x.
     string(REGEX REPLACE "^\\$<[A-Z_]+:(.*)>$" "\\1" link "${link}")
     string(REGEX REPLACE "^rangekit::" "rangekit_" link "${link}")
-    if(NOT link MATCHES "^rangekit_(core|uls|ls5|record|sim|hub|web)$")
+    if(NOT link MATCHES "^rangekit_(core|uls|ls5|record|sim|hub|web|mqtt)$")
       continue()  # third-party or build-only (warnings) targets
     endif()
     if(NOT link IN_LIST rangekit_allowed_links_${target})

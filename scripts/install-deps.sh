@@ -9,6 +9,7 @@ build_packages=(
   build-essential cmake make pkg-config
   libfmt-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libsqlite3-dev
   libboost1.81-dev libssl-dev  # Beast + asio (+ OpenSSL for HTTPS): the service's HTTP/SSE face (docs/api.md)
+  libmosquitto-dev  # the service's MQTT face (docs/mqtt.md)
   pybind11-dev python3-dev  # the Python package (python/, docs/python.md)
 )
 test_packages=(
@@ -16,6 +17,7 @@ test_packages=(
   clang-14 libclang-rt-14-dev clang-format clang-tidy
   dpkg-dev  # dpkg-shlibdeps, for make package
   openssl  # the TLS test makes its own certificate
+  mosquitto mosquitto-clients  # the MQTT tests start a loopback broker and subscribe (docs/mqtt.md)
   python3-numpy python3-pytest python3-serial  # the Python package's tests and benchmark (/usr/bin/python3)
   chromium fonts-dejavu-core fonts-liberation  # the dashboard's browser tests (headless, driven by playwright-core)
 )

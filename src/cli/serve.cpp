@@ -5,6 +5,7 @@
 #include <fmt/core.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <thread>
 
@@ -14,6 +15,8 @@
 #include "cli/stop_signals.hpp"
 #include "rangekit/hub/captures.hpp"
 #include "rangekit/hub/hub.hpp"
+#include "rangekit/mqtt/bridge.hpp"
+#include "rangekit/mqtt/local_broker.hpp"
 #include "rangekit/web/server.hpp"
 
 namespace rangekit::cli {
@@ -24,6 +27,7 @@ struct ServeOptions {
   std::string check;
   bool demo = false;
   std::string listen;     // overrides [service] listen
+  std::string mqtt;       // overrides [mqtt] broker
   double duration_s = 0;  // 0: until Ctrl-C or SIGTERM
 };
 
@@ -51,7 +55,20 @@ int check_site(const std::string& path) {
   for (const hub::SensorConfig& sensor : site->sensors) {
     if (!sensor.udp.empty()) fmt::print("  udp {}: {}\n", sensor.udp, sensor.name);
   }
+  if (!site->mqtt.broker.empty()) {
+    const hub::MqttConfig& mqtt = site->mqtt;
+    fmt::print("  mqtt {} as {}: {}/<sensor>/..., {}, discovery {}\n", mqtt.broker, mqtt.client_id, mqtt.base_topic,
+               mqtt.max_rate_hz > 0 ? fmt::format("at most {} readings/s per sensor", mqtt.max_rate_hz)
+                                    : std::string("every reading"),
+               mqtt.discovery ? "under " + mqtt.discovery_prefix + "/" : std::string("off"));
+  }
   return exit_ok;
+}
+
+std::string mqtt_summary(const mqtt::BridgeStats& stats) {
+  return fmt::format("mqtt {}: {}, published {}, queued {}, dropped {}, reconnects {}, commands {}{}", stats.broker,
+                     stats.connected ? "connected" : "not connected", stats.published, stats.queued, stats.dropped,
+                     stats.reconnects, stats.commands, stats.error.empty() ? "" : "; " + stats.error);
 }
 
 // Beyond loopback every write and stream needs the token: made on the first start,
@@ -93,7 +110,42 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   };
   server_options.tls_certificate = beside_site(site->service.tls_certificate);
   server_options.tls_key = beside_site(site->service.tls_key);
+  hub::MqttConfig mqtt_config = site->mqtt;
+  if (!options.mqtt.empty()) mqtt_config.broker = options.mqtt;
+  if (auto broker = hub::parse_broker_url(mqtt_config.broker); !mqtt_config.broker.empty() && !broker) {
+    fmt::print(stderr, "rangekit serve: --mqtt: {}\n", broker.error().message);
+    return exit_bad_input;
+  }
   auto hub = hub::Hub::start(*site);
+  // The MQTT face: another face on the same hub, with its health on /healthz.
+  std::unique_ptr<mqtt::Bridge> bridge;
+  if (!mqtt_config.broker.empty()) {
+    mqtt::BridgeOptions bridge_options;
+    bridge_options.config = mqtt_config;
+    bridge_options.log = [](const std::string& line) {
+      fmt::print("{}\n", line);
+      std::fflush(stdout);
+    };
+    auto started_bridge = mqtt::Bridge::start(*hub, bridge_options);
+    if (!started_bridge) {
+      fmt::print(stderr, "rangekit serve: {}\n", started_bridge.error().message);
+      hub->stop();
+      return exit_code_for(started_bridge.error());
+    }
+    bridge = std::move(*started_bridge);
+    server_options.faces = [&bridge] {
+      const mqtt::BridgeStats stats = bridge->stats();
+      web::FaceHealth face{"mqtt", stats.error.empty(), stats.error, stats.connected, stats.broker, {}};
+      face.counters = {{"published", stats.published},   {"queued", stats.queued},     {"dropped", stats.dropped},
+                       {"reconnects", stats.reconnects}, {"commands", stats.commands}, {"refusals", stats.refusals}};
+      return std::vector<web::FaceHealth>{face};
+    };
+    const auto address = hub::parse_broker_url(mqtt_config.broker);
+    fmt::print(
+        "rangekit serve: publishing {} sensors to {} under {}/ (watch: mosquitto_sub -h {} -p {} -v -t '{}/#')\n",
+        site->sensors.size(), mqtt_config.broker, mqtt_config.base_topic, address->host, address->port,
+        mqtt_config.base_topic);
+  }
   // Captures go where [service] capture_dir says, relative to the site file's folder.
   std::filesystem::path capture_dir = site->service.capture_dir;
   if (capture_dir.is_relative() && !site->file.empty()) {
@@ -105,6 +157,7 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   auto server = web::Server::start(*hub, server_options);
   if (!server) {
     fmt::print(stderr, "rangekit serve: {}\n", server.error().message);
+    if (bridge) bridge->stop();
     hub->stop();
     return exit_code_for(server.error());
   }
@@ -139,13 +192,15 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
     for (const hub::SensorSnapshot& sensor : hub->sensors()) fmt::print("{}\n", summary_line(sensor));
     std::fflush(stdout);
   }
-  (*server)->stop();    // no new requests; streams closed
-  captures.stop_all();  // every capture committed and closed
-  hub->stop();          // streams ended as found, ports released
+  (*server)->stop();           // no new requests; streams closed
+  if (bridge) bridge->stop();  // every sensor marked offline on the broker, then a clean disconnect
+  captures.stop_all();         // every capture committed and closed
+  hub->stop();                 // streams ended as found, ports released
   for (const hub::CaptureInfo& capture : captures.list()) {
     fmt::print("capture {}: {} samples, {} lost → {}\n", capture.id, capture.samples, capture.lost, capture.path);
   }
   for (const hub::SensorSnapshot& sensor : hub->sensors()) fmt::print("{}\n", summary_line(sensor));
+  if (bridge) fmt::print("{}\n", mqtt_summary(bridge->stats()));
   return signals.stopped() ? exit_interrupted : exit_ok;
 }
 
@@ -169,7 +224,35 @@ int serve_demo(const ServeOptions& options) {
     fmt::print(stderr, "rangekit serve --demo: {}\n", demo.error().describe());
     return exit_code_for(demo.error());
   }
-  const int code = serve_site(demo->site(), options, signals);
+  // No broker given: a mosquitto of its own on a free loopback port, when one is installed.
+  ServeOptions with_broker = options;
+  std::unique_ptr<mqtt::LocalBroker> broker;
+  std::filesystem::path broker_dir;
+  if (options.mqtt.empty() && !mqtt::LocalBroker::find_executable().empty()) {
+    std::string pattern = (std::filesystem::temp_directory_path() / "rangekit-broker-XXXXXX").string();
+    if (::mkdtemp(pattern.data()) != nullptr) {
+      broker_dir = pattern;
+      mqtt::LocalBrokerOptions broker_options;
+      broker_options.dir = broker_dir;
+      auto started = mqtt::LocalBroker::start(broker_options);
+      if (started) {
+        broker = std::move(*started);
+        with_broker.mqtt = broker->url();
+        fmt::print(
+            "started a local mosquitto on 127.0.0.1:{}; watch it with:\n  mosquitto_sub -h 127.0.0.1 -p {} -v -t "
+            "'rangekit/#'\n",
+            broker->port(), broker->port());
+      } else {
+        fmt::print(stderr, "rangekit serve --demo: no local broker: {}\n", started.error().message);
+      }
+    }
+  }
+  const int code = serve_site(demo->site(), with_broker, signals);
+  if (broker) broker->stop();
+  if (!broker_dir.empty()) {
+    std::error_code ignored;
+    std::filesystem::remove_all(broker_dir, ignored);
+  }
   demo->stop();
   fmt::print("Emulators stopped.\n");
   return code;
@@ -186,6 +269,9 @@ void add_serve_command(CLI::App& app, int& exit_code) {
                       "serve a site of emulators started here: an LS5 (serial and UDP), a ULS and a bus of four ULS");
   serve_app->add_option("--listen", options->listen,
                         "HOST:PORT of the HTTP API (default: the site file's, else 127.0.0.1:8080; port 0 picks one)");
+  serve_app->add_option("--mqtt", options->mqtt,
+                        "broker URL mqtt://HOST[:PORT] or mqtts://HOST[:PORT]: publish every sensor there (overrides "
+                        "[mqtt] broker; --demo without it starts a local mosquitto when one is installed)");
   serve_app->add_option("--duration", options->duration_s, "stop after S seconds (default: until Ctrl-C)")
       ->check(duration_seconds());
   serve_app->callback([options, &exit_code] {

@@ -3,6 +3,7 @@
 #include "rangekit/hub/site_config.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -229,6 +230,117 @@ Status check_service(std::string_view file, const toml::table& table, ServiceCon
   return ok_status();
 }
 
+Status check_qos(std::string_view file, const toml::node& node, std::string_view key, int& qos) {
+  auto value = integer_of(file, node, key);
+  if (!value) return std::move(value).error();
+  if (*value < 0 || *value > 2) {
+    return at(file, node, Errc::out_of_range,
+              std::string(key) + " = " + std::to_string(*value) + ": a QoS is 0, 1 or 2");
+  }
+  qos = static_cast<int>(*value);
+  return ok_status();
+}
+
+// Topic levels the service builds on: no wildcards, no empty level, no leading or trailing '/'.
+bool valid_topic_base(std::string_view base) {
+  if (base.empty() || base.size() > 256 || base.front() == '/' || base.back() == '/') return false;
+  if (base.find("//") != std::string_view::npos) return false;
+  return base.find_first_of("#+") == std::string_view::npos;
+}
+
+Status check_mqtt(std::string_view file, const toml::table& table, MqttConfig& mqtt) {
+  mqtt.line = table.source().begin.line;
+  if (auto checked =
+          only_keys(file, table, "[mqtt]",
+                    {"broker", "client_id", "base_topic", "username", "password", "ca_file", "qos_reading", "qos_state",
+                     "qos_command", "max_rate_hz", "discovery", "discovery_prefix", "queue_limit", "reconnect_max_s"});
+      !checked) {
+    return checked;
+  }
+  for (const auto& [key, node] : table) {
+    const std::string_view k = key.str();
+    Status checked = ok_status();
+    if (k == "qos_reading") {
+      checked = check_qos(file, node, k, mqtt.qos_reading);
+    } else if (k == "qos_state") {
+      checked = check_qos(file, node, k, mqtt.qos_state);
+    } else if (k == "qos_command") {
+      checked = check_qos(file, node, k, mqtt.qos_command);
+    } else if (k == "discovery") {
+      auto flag = flag_of(file, node, k);
+      if (!flag) return std::move(flag).error();
+      mqtt.discovery = *flag;
+    } else if (k == "max_rate_hz") {
+      const double* rate = nullptr;
+      double value = 0;
+      if (const auto* floating = node.as_floating_point()) {
+        value = floating->get();
+        rate = &value;
+      } else if (const auto* integer = node.as_integer()) {
+        value = static_cast<double>(integer->get());
+        rate = &value;
+      }
+      if (rate == nullptr) return at(file, node, Errc::invalid_frame, "max_rate_hz must be a number");
+      if (!(value >= 0 && value <= 10000)) {
+        return at(file, node, Errc::out_of_range,
+                  "max_rate_hz = " + std::to_string(value) + ": 0 (every sample) or up to 10000 messages a second");
+      }
+      mqtt.max_rate_hz = value;
+    } else if (k == "reconnect_max_s") {
+      auto value = integer_of(file, node, k);
+      if (!value) return std::move(value).error();
+      if (*value < 1 || *value > 3600) {
+        return at(file, node, Errc::out_of_range,
+                  "reconnect_max_s = " + std::to_string(*value) + ": 1 to 3600 seconds");
+      }
+      mqtt.reconnect_max_s = static_cast<int>(*value);
+    } else if (k == "queue_limit") {
+      auto value = integer_of(file, node, k);
+      if (!value) return std::move(value).error();
+      if (*value < 1 || *value > 10000000) {
+        return at(file, node, Errc::out_of_range,
+                  "queue_limit = " + std::to_string(*value) + ": 1 to 10000000 messages per sensor");
+      }
+      mqtt.queue_limit = static_cast<std::size_t>(*value);
+    } else {
+      auto text = text_of(file, node, k);
+      if (!text) return std::move(text).error();
+      if (k == "broker") {
+        if (auto address = parse_broker_url(*text); !address) {
+          return at(file, node, Errc::out_of_range, address.error().message);
+        }
+        mqtt.broker = *text;
+      } else if (k == "client_id") {
+        if (text->empty() || text->size() > 64) {
+          return at(file, node, Errc::out_of_range, "client_id: 1 to 64 characters");
+        }
+        mqtt.client_id = *text;
+      } else if (k == "base_topic" || k == "discovery_prefix") {
+        if (!valid_topic_base(*text)) {
+          return at(file, node, Errc::out_of_range,
+                    std::string(k) + " '" + *text +
+                        "': topic levels without '+', '#', an empty level or a leading or trailing '/'");
+        }
+        (k == "base_topic" ? mqtt.base_topic : mqtt.discovery_prefix) = *text;
+      } else if (k == "username") {
+        mqtt.username = *text;
+      } else if (k == "password") {
+        mqtt.password = *text;
+      } else {
+        mqtt.ca_file = *text;
+      }
+    }
+    if (!checked) return checked;
+  }
+  if (!mqtt.password.empty() && mqtt.username.empty()) {
+    return at(file, table, Errc::invalid_frame, "[mqtt] password needs a username");
+  }
+  if (!mqtt.ca_file.empty() && !mqtt.broker.empty() && !parse_broker_url(mqtt.broker)->tls) {
+    return at(file, table, Errc::invalid_frame, "[mqtt] ca_file needs an mqtts:// broker");
+  }
+  return ok_status();
+}
+
 std::string line_of(const SensorConfig& sensor) { return "line " + std::to_string(sensor.line); }
 
 // Several sensors on one port must agree on how the port is set up, and only
@@ -288,6 +400,39 @@ Status check_ports(const SiteConfig& site) {
 
 const char* family_name(Family family) noexcept { return family == Family::uls ? "uls" : "ls5"; }
 
+Result<BrokerAddress> parse_broker_url(std::string_view url) {
+  BrokerAddress address;
+  std::string_view rest;
+  if (url.rfind("mqtt://", 0) == 0) {
+    rest = url.substr(7);
+  } else if (url.rfind("mqtts://", 0) == 0) {
+    rest = url.substr(8);
+    address.tls = true;
+    address.port = 8883;
+  } else {
+    return make_error(Errc::out_of_range,
+                      "broker '" + std::string(url) + "': give mqtt://HOST[:PORT] or mqtts://HOST[:PORT] (TLS)");
+  }
+  if (!rest.empty() && rest.back() == '/') rest.remove_suffix(1);
+  const auto colon = rest.rfind(':');
+  std::string_view host = rest.substr(0, colon);
+  if (colon != std::string_view::npos) {
+    const std::string_view port = rest.substr(colon + 1);
+    unsigned value = 0;
+    const auto [end, error] = std::from_chars(port.data(), port.data() + port.size(), value);
+    if (port.empty() || error != std::errc{} || end != port.data() + port.size() || value == 0 || value > 65535) {
+      return make_error(Errc::out_of_range,
+                        "broker '" + std::string(url) + "': the port '" + std::string(port) + "' is not 1-65535");
+    }
+    address.port = static_cast<std::uint16_t>(value);
+  }
+  if (host.empty() || host.find_first_of("/@ ") != std::string_view::npos) {
+    return make_error(Errc::out_of_range, "broker '" + std::string(url) + "': no host name in it");
+  }
+  address.host = std::string(host);
+  return address;
+}
+
 std::vector<PortGroup> port_groups(const SiteConfig& site) {
   std::vector<PortGroup> groups;
   for (const SensorConfig& sensor : site.sensors) {
@@ -308,13 +453,18 @@ Result<SiteConfig> parse_site_config(std::string_view text, std::string_view fil
   const toml::table& root = *parsed;
   SiteConfig site;
   site.file = std::string(file_name);
-  if (auto checked = only_keys(file_name, root, "the site file", {"service", "sensor"}); !checked) {
+  if (auto checked = only_keys(file_name, root, "the site file", {"service", "mqtt", "sensor"}); !checked) {
     return std::move(checked).error();
   }
   if (const toml::node* service = root.get("service")) {
     const auto* table = service->as_table();
     if (table == nullptr) return at(file_name, *service, Errc::invalid_frame, "service must be a table: [service]");
     if (auto checked = check_service(file_name, *table, site.service); !checked) return std::move(checked).error();
+  }
+  if (const toml::node* mqtt = root.get("mqtt")) {
+    const auto* table = mqtt->as_table();
+    if (table == nullptr) return at(file_name, *mqtt, Errc::invalid_frame, "mqtt must be a table: [mqtt]");
+    if (auto checked = check_mqtt(file_name, *table, site.mqtt); !checked) return std::move(checked).error();
   }
   const toml::node* sensors = root.get("sensor");
   if (sensors == nullptr) {

@@ -1,5 +1,5 @@
-// The JSON the API sends and takes (docs/api.md): sensors, items, errors, and
-// the settings body of a PATCH.
+// The JSON the API sends and takes (docs/api.md): items and captures here; sensors,
+// errors and the settings body of a PATCH from the hub, shared with the MQTT face.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -9,32 +9,23 @@
 
 #include "rangekit/hub/captures.hpp"
 #include "rangekit/hub/hub.hpp"
+#include "rangekit/hub/json_views.hpp"
 
 namespace rangekit::web {
 
-nlohmann::json sensor_json(const hub::SensorSnapshot& sensor);
+// The JSON every face shares (sensors, settings bodies, errors) is the hub's.
+using hub::BodyError;
+using hub::error_json;
+using hub::field_of;
+using hub::sensor_json;
+using hub::settings_from_body;
+using hub::SettingsBody;
+
 // {"id":N,"sensor":"...","type":"sample"|"event","data":{...}} (data as in `stream --format jsonl`).
 std::string item_json(const hub::HubItem& item);
 // The event name an SSE client sees: "sample" or "event".
 const char* item_type(const hub::HubItem& item);
 
-// A PATCH body: one JSON object of name -> value (number, string, true/false, or a list
-// of numbers), as text in the order given. Errors name the field.
-struct BodyError {
-  std::string field;
-  std::string message;
-};
-struct SettingsBody {
-  hub::SettingValues values;
-  std::optional<BodyError> error;
-};
-SettingsBody settings_from_body(std::string_view body);
-
 nlohmann::json capture_json(const hub::CaptureInfo& capture);
-
-// {"error":{"code":"out_of_range","message":"...","field":"median-points"}}
-std::string error_json(std::string_view code, std::string_view message, std::string_view field = {});
-// The request field an error of the hub is about: the setting its message begins with.
-std::string field_of(const Error& error, const hub::SettingValues& values);
 
 }  // namespace rangekit::web

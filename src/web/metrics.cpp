@@ -62,16 +62,22 @@ std::string prometheus_text(const hub::Hub& hub, const ServerStats& server) {
   return out;
 }
 
-nlohmann::json health_json(const hub::Hub& hub) {
+nlohmann::json health_json(const hub::Hub& hub, const std::vector<FaceHealth>& faces) {
   const auto sensors = hub.sensors();
   nlohmann::json down = nlohmann::json::array();
   for (const auto& sensor : sensors) {
     if (!sensor.health.connected) down.push_back(sensor.config.name);
   }
-  return nlohmann::json{{"status", down.empty() ? "ok" : "degraded"},
-                        {"sensors", sensors.size()},
-                        {"connected", sensors.size() - down.size()},
-                        {"disconnected", down}};
+  bool faces_ok = true;
+  nlohmann::json out{{"sensors", sensors.size()}, {"connected", sensors.size() - down.size()}, {"disconnected", down}};
+  for (const FaceHealth& face : faces) {
+    nlohmann::json entry{{"ok", face.ok}, {"error", face.error}, {"connected", face.connected}, {"peer", face.peer}};
+    for (const auto& [key, value] : face.counters) entry[key] = value;
+    out[face.name] = entry;
+    faces_ok = faces_ok && face.ok;
+  }
+  out["status"] = down.empty() && faces_ok ? "ok" : "degraded";
+  return out;
 }
 
 }  // namespace rangekit::web

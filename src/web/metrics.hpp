@@ -12,7 +12,7 @@ namespace rangekit::web {
 
 std::string prometheus_text(const hub::Hub& hub, const ServerStats& server);
 // {"status":"ok"|"degraded","sensors":N,"connected":M,"disconnected":[names]}: degraded
-// while any sensor is disconnected.
-nlohmann::json health_json(const hub::Hub& hub);
+// while any sensor is disconnected or another face (MQTT) is not ok; each face under its name.
+nlohmann::json health_json(const hub::Hub& hub, const std::vector<FaceHealth>& faces = {});
 
 }  // namespace rangekit::web

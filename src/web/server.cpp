@@ -21,14 +21,7 @@
 namespace rangekit::web {
 namespace {
 
-// "out of range" -> "out_of_range": one word a client can switch on.
-std::string status_code_name(Errc code) {
-  std::string name = errc_name(code);
-  for (char& c : name) {
-    if (c == ' ') c = '_';
-  }
-  return name;
-}
+std::string status_code_name(Errc code) { return hub::error_code_name(code); }
 
 http::status status_for(const Error& error) {
   switch (error.code) {
@@ -264,7 +257,8 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
       return respond(http::status::bad_request, error_json("bad_target", "the path or query does not decode"));
     if (path.size() == 1 && path[0] == "healthz") {
       if (method != http::verb::get) return wrong_method("GET");
-      return respond(http::status::ok, health_json(server_.hub).dump());
+      const auto faces = server_.options.faces ? server_.options.faces() : std::vector<FaceHealth>{};
+      return respond(http::status::ok, health_json(server_.hub, faces).dump());
     }
     if (path.size() == 1 && path[0] == "metrics") {
       if (method != http::verb::get) return wrong_method("GET");

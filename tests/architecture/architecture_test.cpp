@@ -121,6 +121,14 @@ TEST(Architecture, HubKnowsNoFaceAndNoEmulator) {
   }
 }
 
+TEST(Architecture, FacesReachTheSensorsOnlyThroughTheHub) {
+  // Issue 15: the MQTT bridge, like the HTTP face, is a face on the hub: no driver, codec or emulator.
+  for (const std::string folder : {"src/web", "src/mqtt", "include/rangekit/web", "include/rangekit/mqtt"}) {
+    expect_no_include(folder, R"(^rangekit/(uls|ls5|sim)/|^(uls|ls5|sim)/)",
+                      "a face reaches the sensors only through rangekit::hub");
+  }
+}
+
 TEST(Architecture, CliIncludesNoPrivateHeaderOfALibrary) {
   // Its own headers (cli/...) and the libraries' public ones (rangekit/...) only.
   expect_no_include("src/cli", R"(^(?!cli/|rangekit/))", "the CLI uses the libraries' public headers only");

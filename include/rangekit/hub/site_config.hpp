@@ -43,9 +43,39 @@ struct ServiceConfig {
   std::string tls_key;
 };
 
+// The `[mqtt]` table: the broker the MQTT face publishes every sensor to (docs/mqtt.md).
+// Only settings live here; the hub itself speaks no MQTT.
+struct MqttConfig {
+  std::string broker;  // mqtt://HOST[:1883] or mqtts://HOST[:8883]; empty: no MQTT
+  std::string client_id = "rangekit";
+  std::string base_topic = "rangekit";
+  std::string username;
+  std::string password;
+  std::string ca_file;  // mqtts: the CA that signed the broker's certificate (system store when empty)
+  int qos_reading = 0;  // reading messages
+  int qos_state = 1;    // status, availability, discovery (all retained)
+  int qos_command = 1;  // set/action subscriptions and their results
+  double max_rate_hz =
+      10;  // reading messages a second per sensor; above it, one window message each 1/rate s; 0: every sample
+  bool discovery = true;  // Home Assistant discovery under discovery_prefix
+  std::string discovery_prefix = "homeassistant";
+  std::size_t queue_limit = 10000;  // messages held per sensor while the broker is away; the oldest go first
+  int reconnect_max_s = 30;         // reconnect backoff doubles from 1 s up to this; also the retry after a refusal
+  std::size_t line = 0;             // where [mqtt] was declared
+};
+
+// A broker URL taken apart: mqtt://host:port or mqtts://host:port.
+struct BrokerAddress {
+  bool tls = false;
+  std::string host;
+  std::uint16_t port = 1883;
+};
+Result<BrokerAddress> parse_broker_url(std::string_view url);
+
 struct SiteConfig {
   std::string file;  // as given, for messages
   ServiceConfig service;
+  MqttConfig mqtt;
   std::vector<SensorConfig> sensors;
 };
 

@@ -6,10 +6,13 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <memory>
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/udp.hpp"
@@ -25,6 +28,17 @@ struct StaticAsset {
   std::string_view body;
   std::string_view etag;   // "\"<sha256 prefix>\"": a browser revalidates with If-None-Match
   bool immutable = false;  // a name with its content hash in it: cached for a year
+};
+
+// Another face of the same service (the MQTT bridge), as GET /healthz reports it. The
+// service fills it in; the server knows nothing of what it describes.
+struct FaceHealth {
+  std::string name;   // "mqtt"
+  bool ok = true;     // false: /healthz says "degraded"
+  std::string error;  // why not ok, in one sentence
+  bool connected = false;
+  std::string peer;                               // what it connects to ("mqtt://127.0.0.1:1883")
+  std::map<std::string, std::uint64_t> counters;  // "published", "dropped", ...
 };
 
 struct ServerOptions {
@@ -48,6 +62,8 @@ struct ServerOptions {
   // The dashboard's files, answered to GET like the API's reads (no token, no Host check:
   // they hold no sensor data). Empty: every path outside /api is 404.
   std::span<const StaticAsset> assets;
+  // The other faces' health, asked on each GET /healthz (called on the event loop: keep it quick).
+  std::function<std::vector<FaceHealth>()> faces;
 };
 
 struct ServerStats {

@@ -1,0 +1,149 @@
+// The faces' shared JSON (rangekit/hub/json_views.hpp): moved here from the web face
+// so the MQTT bridge reads settings and reports errors with the same code.
+#include "rangekit/hub/json_views.hpp"
+
+#include <array>
+#include <charconv>
+
+#include "rangekit/core/text.hpp"
+#include "rangekit/record/format.hpp"
+
+namespace rangekit::hub {
+namespace {
+
+// "12.5" and "2000" as JSON numbers, everything else as the text it is.
+nlohmann::json value_json(const std::string& text) {
+  if (const auto number = text::parse_decimal(text)) {
+    if (text.find('.') == std::string::npos && text.size() < 16) return static_cast<std::int64_t>(*number);
+    return *number;
+  }
+  return text;
+}
+
+nlohmann::json fields_json(const std::vector<Field>& fields) {
+  nlohmann::json object = nlohmann::json::object();
+  for (const Field& field : fields) object[field.key] = value_json(field.value);
+  return object;
+}
+
+std::string shortest(double value) {
+  std::array<char, 64> buffer{};
+  const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  return {buffer.data(), result.ptr};
+}
+
+}  // namespace
+
+nlohmann::json sensor_json(const SensorSnapshot& sensor) {
+  const SensorConfig& config = sensor.config;
+  const SensorHealth& health = sensor.health;
+  nlohmann::json out{{"name", config.name},
+                     {"family", family_name(config.family)},
+                     {"port", config.port},
+                     {"connected", health.connected},
+                     {"streaming", sensor.streaming},
+                     {"identity", fields_json(sensor.identity)},
+                     {"status", fields_json(sensor.status)},
+                     {"settings", fields_json(sensor.settings)},
+                     {"last_id", sensor.last_sequence}};
+  nlohmann::json units = nlohmann::json::object();
+  for (const Field& field : sensor.settings) {
+    if (!field.unit.empty()) units[field.key] = field.unit;
+  }
+  out["setting_units"] = units;
+  if (config.address) out["address"] = *config.address;
+  if (!config.udp.empty()) out["udp"] = config.udp;
+  // Quality settings from the site file (issue 18 item 2); null max_speed = the family default.
+  out["max_speed"] = config.max_speed_mps ? nlohmann::json(*config.max_speed_mps) : nlohmann::json(nullptr);
+  out["drop_suspect"] = config.drop_suspect;
+  nlohmann::json errors = nlohmann::json::object();
+  for (const auto& [number, count] : health.errors_by_number) errors[std::to_string(number)] = count;
+  nlohmann::json health_json{{"connected", health.connected},
+                             {"rate_hz", health.rate_hz},
+                             {"records", health.records},
+                             {"errors", health.errors},
+                             {"errors_by_number", errors},
+                             {"no_signal", health.no_signal},
+                             {"suspect", health.suspect},
+                             {"dropped_suspect", health.dropped_suspect},
+                             {"lost", health.lost},
+                             {"bad_frames", health.bad_frames},
+                             {"disconnects", health.disconnects},
+                             {"reconnects", health.reconnects},
+                             {"last_event", health.last_event}};
+  if (health.last_seen) {
+    std::string time;
+    record::append_iso_time(time, *health.last_seen);
+    health_json["last_seen"] = time;
+  } else {
+    health_json["last_seen"] = nullptr;
+  }
+  out["health"] = health_json;
+  return out;
+}
+
+SettingsBody settings_from_body(std::string_view body) {
+  SettingsBody parsed;
+  const auto fail = [&](std::string field, std::string message) {
+    parsed.error = BodyError{std::move(field), std::move(message)};
+    return parsed;
+  };
+  const nlohmann::json json = nlohmann::json::parse(body, nullptr, false);
+  if (json.is_discarded()) return fail("", "the body is not JSON: send one object of setting names and values");
+  if (!json.is_object() || json.empty()) {
+    return fail("", "the body must be one JSON object of setting names and values, e.g. {\"prf-hz\": 2000}");
+  }
+  for (const auto& [name, value] : json.items()) {
+    std::string text;
+    if (value.is_boolean()) {
+      text = value.get<bool>() ? "on" : "off";
+    } else if (value.is_number_integer()) {
+      text = std::to_string(value.get<std::int64_t>());
+    } else if (value.is_number()) {
+      text = shortest(value.get<double>());
+    } else if (value.is_string()) {
+      text = value.get<std::string>();
+    } else if (value.is_array()) {
+      for (const auto& element : value) {
+        if (!element.is_number()) return fail(name, name + ": a list holds numbers only");
+        text += (text.empty() ? "" : ",") + (element.is_number_integer() ? std::to_string(element.get<std::int64_t>())
+                                                                         : shortest(element.get<double>()));
+      }
+    } else {
+      return fail(name, name + ": give a number, a string, true/false or a list of numbers");
+    }
+    parsed.values.emplace_back(name, std::move(text));
+  }
+  return parsed;
+}
+
+std::string error_code_name(Errc code) {
+  std::string name = errc_name(code);
+  for (char& c : name) {
+    if (c == ' ') c = '_';
+  }
+  return name;
+}
+
+nlohmann::json error_object(std::string_view code, std::string_view message, std::string_view field) {
+  nlohmann::json error{{"code", code}, {"message", message}};
+  if (!field.empty()) error["field"] = field;
+  return nlohmann::json{{"error", error}};
+}
+
+std::string error_json(std::string_view code, std::string_view message, std::string_view field) {
+  return error_object(code, message, field).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+std::string field_of(const Error& error, const SettingValues& values) {
+  for (const auto& [name, value] : values) {
+    const std::string& message = error.message;
+    if (message.rfind(name, 0) == 0 || message.rfind("'" + name + "'", 0) == 0 ||
+        message.find(" " + name + " ") != std::string::npos || message.find("'" + name + "'") != std::string::npos) {
+      return name;
+    }
+  }
+  return "";
+}
+
+}  // namespace rangekit::hub

@@ -1,0 +1,625 @@
+// One libmosquitto session per sensor, so that each sensor's availability topic can
+// carry its own will ("offline", retained) and the broker marks every sensor offline
+// when the service dies. One publishing thread reads the hub's bounded subscription
+// and turns items into messages; a command thread runs `set` and `action` requests,
+// which wait for the sensor, off the network threads. libmosquitto's own thread per
+// session reconnects with exponential backoff (docs/mqtt.md says why libmosquitto).
+#include "rangekit/mqtt/bridge.hpp"
+
+#include <mosquitto.h>
+#include <mqtt_protocol.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "mqtt/reading_window.hpp"
+#include "rangekit/hub/json_views.hpp"
+
+namespace rangekit::mqtt {
+namespace {
+
+using namespace std::chrono_literals;
+
+struct Message {
+  std::string topic;
+  std::string payload;
+  int qos = 0;
+  bool retain = false;
+};
+
+// MQTT 5 CONNACK reason codes (and their MQTT 3.1.1 counterparts 4 and 5) that retrying will not fix.
+bool refused_credentials(int reason) {
+  return reason == MQTT_RC_BAD_USERNAME_OR_PASSWORD || reason == MQTT_RC_NOT_AUTHORIZED ||
+         reason == CONNACK_REFUSED_BAD_USERNAME_PASSWORD || reason == CONNACK_REFUSED_NOT_AUTHORIZED;
+}
+
+void init_library() {
+  static std::once_flag once;
+  std::call_once(once, [] { mosquitto_lib_init(); });
+}
+
+const char* manufacturer(hub::Family family) { return family == hub::Family::uls ? "Laser Technology Inc." : "Prizma"; }
+
+}  // namespace
+
+struct Link;
+
+struct Command {
+  Link* link = nullptr;
+  bool is_set = true;  // set, else action
+  std::string payload;
+  std::string response_topic;  // MQTT 5
+  std::string correlation;     // MQTT 5 correlation data, as bytes
+};
+
+struct Bridge::Impl {
+  hub::Hub& hub;
+  BridgeOptions options;
+  hub::BrokerAddress address;
+  std::vector<std::unique_ptr<Link>> links;
+  std::map<std::string, Link*, std::less<>> by_sensor;
+
+  std::atomic<bool> stopping{false};
+  std::thread publisher;
+  std::thread commander;
+  std::mutex command_mutex;
+  std::condition_variable command_ready;
+  std::deque<Command> commands;
+
+  mutable std::mutex state_mutex;  // error, logged flags
+  std::string error;
+  bool told_refused = false;
+  bool told_down = false;
+  std::atomic<int> connected_links{0};
+  std::atomic<std::uint64_t> hub_lost{0};
+  std::atomic<std::uint64_t> handled{0};
+  std::atomic<std::uint64_t> refusals{0};
+
+  Impl(hub::Hub& h, BridgeOptions o) : hub(h), options(std::move(o)) {}
+  ~Impl();
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+
+  void log(const std::string& line) const {
+    if (options.log) options.log(line);
+  }
+  void run_publisher();
+  void run_commands();
+  void handle(Command& command);
+  void on_connected(Link& link, int reason);
+  void on_lost(Link& link, int reason);
+  void retry_refused(Link& link, std::chrono::steady_clock::time_point now) const;
+};
+
+struct Link {
+  Bridge::Impl& bridge;
+  hub::SensorConfig config;
+  std::string topic;  // <base>/<sensor>
+  mosquitto* client = nullptr;
+  ReadingWindow window;
+
+  std::mutex mutex;  // the queue and the counters
+  std::deque<Message> queue;
+  std::uint64_t published = 0;
+  std::uint64_t dropped = 0;
+  std::uint64_t reconnects = 0;
+  bool ever_connected = false;
+  std::atomic<bool> connected{false};
+  std::atomic<bool> republish{false};  // set on connect: the publisher sends the retained state again
+
+  // Publisher-thread state: what was last said on availability and when status went out.
+  std::optional<bool> online;
+  std::chrono::steady_clock::time_point next_status{};
+
+  std::atomic<bool> status_now{false};
+  std::string last_status;  // publisher thread: the status without its health, to see a change
+  // Set when the broker refused the session: libmosquitto does not retry that, the publisher does,
+  // quietly, every config.reconnect_max_s (the log said it once).
+  std::atomic<bool> refused{false};
+  std::chrono::steady_clock::time_point
+      refused_at{};  // publisher thread  // a command changed something: status goes out at the next poll
+
+  // The clean stop waits for the offline message to leave: the messages the broker
+  // acknowledged, collected while stopping. Its own mutex, never held while calling libmosquitto.
+  std::mutex sent_mutex;
+  std::condition_variable sent;
+  bool collecting = false;
+  std::vector<int> acked;
+
+  Link(Bridge::Impl& b, hub::SensorConfig c)
+      : bridge(b),
+        config(std::move(c)),
+        topic(b.options.config.base_topic + "/" + config.name),
+        window(b.options.config.max_rate_hz) {}
+
+  // Never waits for the broker: when the session is down the message waits in the
+  // bounded queue, and a full queue loses its oldest message (counted).
+  void send(Message message) {
+    const std::lock_guard lock(mutex);
+    if (connected && queue.empty() && try_publish(message)) return;
+    queue.push_back(std::move(message));
+    while (queue.size() > bridge.options.config.queue_limit) {
+      queue.pop_front();
+      ++dropped;
+    }
+  }
+
+  // Called with the mutex held.
+  bool try_publish(const Message& message, int* mid = nullptr) {
+    const int rc = mosquitto_publish(client, mid, message.topic.c_str(), static_cast<int>(message.payload.size()),
+                                     message.payload.data(), message.qos, message.retain);
+    if (rc != MOSQ_ERR_SUCCESS) return false;
+    ++published;
+    return true;
+  }
+
+  // Sends what waited, oldest first. After a (re)connect its retained messages are stale (the
+  // fresh state goes out next) and are left out.
+  void flush(bool drop_retained) {
+    const std::lock_guard lock(mutex);
+    while (!queue.empty() && connected) {
+      if (!(drop_retained && queue.front().retain) && !try_publish(queue.front())) break;
+      queue.pop_front();
+    }
+  }
+};
+
+namespace {
+
+void on_connect(mosquitto* /*client*/, void* user, int reason, int /*flags*/, const mosquitto_property* /*props*/) {
+  auto* link = static_cast<Link*>(user);
+  link->bridge.on_connected(*link, reason);
+}
+
+void on_disconnect(mosquitto* /*client*/, void* user, int reason, const mosquitto_property* /*props*/) {
+  auto* link = static_cast<Link*>(user);
+  link->bridge.on_lost(*link, reason);
+}
+
+void on_publish(mosquitto* /*client*/, void* user, int mid, int /*reason*/, const mosquitto_property* /*props*/) {
+  auto* link = static_cast<Link*>(user);
+  const std::lock_guard lock(link->sent_mutex);
+  if (link->collecting) {
+    link->acked.push_back(mid);
+    link->sent.notify_all();
+  }
+}
+
+void on_message(mosquitto* /*client*/, void* user, const mosquitto_message* message, const mosquitto_property* props) {
+  auto* link = static_cast<Link*>(user);
+  Command command;
+  command.link = link;
+  const std::string topic = message->topic;
+  if (topic == link->topic + "/set") {
+    command.is_set = true;
+  } else if (topic == link->topic + "/action") {
+    command.is_set = false;
+  } else {
+    return;
+  }
+  if (message->payloadlen > 0) {
+    command.payload.assign(static_cast<const char*>(message->payload), static_cast<std::size_t>(message->payloadlen));
+  }
+  char* response = nullptr;
+  if (mosquitto_property_read_string(props, MQTT_PROP_RESPONSE_TOPIC, &response, false) != nullptr &&
+      response != nullptr) {
+    command.response_topic = response;
+    free(response);  // NOLINT(cppcoreguidelines-no-malloc): libmosquitto allocates it with malloc
+  }
+  void* correlation = nullptr;
+  std::uint16_t length = 0;
+  if (mosquitto_property_read_binary(props, MQTT_PROP_CORRELATION_DATA, &correlation, &length, false) != nullptr &&
+      correlation != nullptr) {
+    command.correlation.assign(static_cast<const char*>(correlation), length);
+    free(correlation);  // NOLINT(cppcoreguidelines-no-malloc)
+  }
+  Bridge::Impl& bridge = link->bridge;
+  {
+    const std::lock_guard lock(bridge.command_mutex);
+    if (bridge.commands.size() >= 64) return;  // a flood of commands is not queued without end
+    bridge.commands.push_back(std::move(command));
+  }
+  bridge.command_ready.notify_one();
+}
+
+}  // namespace
+
+void Bridge::Impl::on_connected(Link& link, int reason) {
+  if (reason != 0) {
+    ++refusals;
+    link.refused = true;
+    const std::lock_guard lock(state_mutex);
+    if (refused_credentials(reason)) {
+      error = "broker " + options.config.broker + " refused the credentials" +
+              (options.config.username.empty() ? std::string(" (none given)")
+                                               : " of user '" + options.config.username + "'") +
+              ": " + mosquitto_reason_string(reason) + "; check [mqtt] username and password";
+      if (!told_refused) log("mqtt: " + error);  // once: the retries behind it say nothing more
+      told_refused = true;
+    } else if (!told_down) {
+      log("mqtt: broker " + options.config.broker + " refused the connection: " + mosquitto_reason_string(reason) +
+          "; retrying");
+      told_down = true;
+    }
+    return;
+  }
+  const std::string set_topic = link.topic + "/set";
+  const std::string action_topic = link.topic + "/action";
+  mosquitto_subscribe(link.client, nullptr, set_topic.c_str(), options.config.qos_command);
+  mosquitto_subscribe(link.client, nullptr, action_topic.c_str(), options.config.qos_command);
+  {
+    const std::lock_guard lock(link.mutex);
+    if (link.ever_connected) ++link.reconnects;
+    link.ever_connected = true;
+    link.connected = true;
+  }
+  link.republish = true;
+  const int now_connected = ++connected_links;
+  const std::lock_guard lock(state_mutex);
+  error.clear();
+  told_refused = false;
+  if (now_connected == static_cast<int>(links.size())) {
+    log("mqtt: connected to " + options.config.broker + " as " + options.config.client_id + "-* (" +
+        std::to_string(links.size()) + " sensors under " + options.config.base_topic + "/)");
+    told_down = false;
+  }
+}
+
+void Bridge::Impl::on_lost(Link& link, int reason) {
+  bool was = false;
+  {
+    const std::lock_guard lock(link.mutex);
+    was = link.connected;
+    link.connected = false;
+  }
+  if (!was) return;
+  --connected_links;
+  if (stopping || reason == 0) return;
+  const std::lock_guard lock(state_mutex);
+  if (!told_down) {
+    log("mqtt: lost the broker " + options.config.broker + " (" + mosquitto_strerror(reason) + "); queueing up to " +
+        std::to_string(options.config.queue_limit) + " messages per sensor and reconnecting with backoff");
+    told_down = true;
+  }
+}
+
+namespace {
+
+std::string discovery_device(const Link& link, const hub::MqttConfig& config, nlohmann::json& out) {
+  std::string id = config.client_id + "_" + link.config.name;
+  out["device"] = {{"identifiers", {id}},
+                   {"name", link.config.name},
+                   {"manufacturer", manufacturer(link.config.family)},
+                   {"model", link.config.family == hub::Family::uls ? "ULS" : "LS5"},
+                   {"via_device", config.client_id}};
+  out["availability_topic"] = link.topic + "/availability";
+  out["payload_available"] = "online";
+  out["payload_not_available"] = "offline";
+  return id;
+}
+
+// Home Assistant MQTT discovery: one retained config message per entity.
+std::vector<Message> discovery_messages(const Link& link, const hub::MqttConfig& config) {
+  std::vector<Message> out;
+  const auto entity = [&](const char* component, const char* object, nlohmann::json body) {
+    const std::string id = discovery_device(link, config, body);
+    body["unique_id"] = id + "_" + object;
+    body["object_id"] = id + "_" + object;
+    out.push_back(Message{config.discovery_prefix + "/" + component + "/" + id + "/" + object + "/config", body.dump(),
+                          config.qos_state, true});
+  };
+  const bool uls = link.config.family == hub::Family::uls;
+  // A window message carries "last"; a sample its own distance field (null without a signal).
+  const std::string field = uls ? "distance_m" : "distance_mm";
+  entity("sensor", "distance",
+         {{"name", "Distance"},
+          {"state_topic", link.topic + "/reading"},
+          {"value_template", "{{ value_json.last if value_json.window is defined else value_json." + field + " }}"},
+          {"unit_of_measurement", uls ? "m" : "mm"},
+          {"device_class", "distance"},
+          {"state_class", "measurement"}});
+  if (uls) {  // ULS look-down mode (§3): a target present or not
+    entity("binary_sensor", "presence",
+           {{"name", "Presence"},
+            {"state_topic", link.topic + "/reading"},
+            {"value_template", "{{ 'ON' if value_json.presence else 'OFF' }}"},
+            {"device_class", "presence"}});
+  }
+  entity("sensor", "rate",
+         {{"name", "Rate"},
+          {"state_topic", link.topic + "/status"},
+          {"value_template", "{{ value_json.health.rate_hz }}"},
+          {"unit_of_measurement", "Hz"},
+          {"entity_category", "diagnostic"},
+          {"state_class", "measurement"}});
+  entity("sensor", "errors",
+         {{"name", "Device errors"},
+          {"state_topic", link.topic + "/status"},
+          {"value_template", "{{ value_json.health.errors }}"},
+          {"entity_category", "diagnostic"},
+          {"state_class", "total_increasing"}});
+  return out;
+}
+
+}  // namespace
+
+void Bridge::Impl::retry_refused(Link& link, std::chrono::steady_clock::time_point now) const {
+  if (link.refused_at == std::chrono::steady_clock::time_point{}) {
+    link.refused_at = now;
+    return;
+  }
+  if (now - link.refused_at < std::chrono::seconds(options.config.reconnect_max_s)) return;
+  link.refused = false;
+  link.refused_at = {};
+  // The session's thread has ended after the refusal: a new one connects again.
+  mosquitto_disconnect(link.client);
+  mosquitto_loop_stop(link.client, false);
+  mosquitto_connect_async(link.client, address.host.c_str(), address.port, options.keepalive_s);
+  mosquitto_loop_start(link.client);
+}
+
+void Bridge::Impl::run_publisher() {
+  auto subscription = hub.subscribe("", 65536, hub::OverflowPolicy::drop_oldest);
+  if (!subscription) {
+    log("mqtt: cannot subscribe to the hub: " + subscription.error().message);
+    return;
+  }
+  const hub::MqttConfig& config = options.config;
+  auto next_poll = std::chrono::steady_clock::now();
+  while (!stopping) {
+    for (const hub::HubItemPtr& item : (*subscription)->take(1024, 20ms)) {
+      const auto found = by_sensor.find(item->sensor);
+      if (found == by_sensor.end()) continue;
+      Link& link = *found->second;
+      const auto now = std::chrono::steady_clock::now();
+      if (const auto* sample = std::get_if<Sample>(&item->item)) {
+        if (auto message = link.window.add(*sample, now)) {
+          link.send(Message{link.topic + "/reading", std::move(*message), config.qos_reading, false});
+        }
+      } else if (const auto* event = std::get_if<StreamEvent>(&item->item);
+                 event != nullptr && event->kind == StreamEventKind::lost_records) {
+        link.window.add_lost(event->count);
+      }
+    }
+    hub_lost = (*subscription)->lost();
+    const auto now = std::chrono::steady_clock::now();
+    for (const auto& link : links) {
+      if (auto message = link->window.flush_due(now)) {
+        link->send(Message{link->topic + "/reading", std::move(*message), config.qos_reading, false});
+      }
+    }
+    if (now < next_poll) continue;
+    next_poll = now + 100ms;
+    // Availability follows the sensor's link; status goes out on a change and every status_interval.
+    for (const auto& link : links) {
+      if (link->refused) retry_refused(*link, now);
+      auto snapshot = hub.sensor(link->config.name);
+      if (!snapshot) continue;
+      const bool republish = link->republish.exchange(false);
+      // What waited goes first: after a reconnect without its stale retained messages; otherwise
+      // what a publish refused in passing (a connection that dropped and came back in between).
+      if (republish || link->connected) link->flush(republish);
+      const bool online = snapshot->health.connected;
+      nlohmann::json status = hub::sensor_json(*snapshot);
+      nlohmann::json without_health = status;
+      without_health.erase("health");
+      without_health.erase("last_id");
+      std::string fingerprint = without_health.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+      const bool changed = fingerprint != link->last_status;
+      link->last_status = std::move(fingerprint);
+      const bool status_now = link->status_now.exchange(false) || changed;
+      if (republish || status_now || link->online != online || now >= link->next_status) {
+        if (republish && config.discovery) {
+          for (Message& message : discovery_messages(*link, config)) link->send(std::move(message));
+        }
+        if (republish || link->online != online) {
+          link->send(Message{link->topic + "/availability", online ? "online" : "offline", config.qos_state, true});
+        }
+        status["service"] = config.client_id;
+        link->send(Message{link->topic + "/status",
+                           status.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), config.qos_state,
+                           true});
+        link->online = online;
+        link->next_status = now + options.status_interval;
+      }
+    }
+  }
+  (*subscription)->close();
+}
+
+void Bridge::Impl::run_commands() {
+  while (true) {
+    Command command;
+    {
+      std::unique_lock lock(command_mutex);
+      command_ready.wait(lock, [&] { return stopping || !commands.empty(); });
+      if (commands.empty()) return;
+      command = std::move(commands.front());
+      commands.pop_front();
+    }
+    handle(command);
+  }
+}
+
+void Bridge::Impl::handle(Command& command) {
+  Link& link = *command.link;
+  const std::string& name = link.config.name;
+  nlohmann::json result;
+  if (command.is_set) {
+    // The same reading of the body as the HTTP PATCH, then the hub's check against the CLI's tables.
+    const hub::SettingsBody body = hub::settings_from_body(command.payload);
+    if (body.error) {
+      result = hub::error_object("bad_body", body.error->message, body.error->field);
+    } else if (auto set = hub.set(name, body.values); !set) {
+      result = hub::error_object(hub::error_code_name(set.error().code), set.error().message,
+                                 hub::field_of(set.error(), body.values));
+    } else {
+      auto snapshot = hub.sensor(name);
+      result = {{"ok", true}, {"settings", snapshot ? hub::sensor_json(*snapshot)["settings"] : nlohmann::json{}}};
+    }
+  } else {
+    // "start", or {"action": "pointer", "argument": "on"}.
+    std::string action_name = command.payload;
+    std::string argument;
+    const auto json = nlohmann::json::parse(command.payload, nullptr, false);
+    if (!json.is_discarded() && json.is_object()) {
+      action_name = json.value("action", std::string());
+      argument = json.value("argument", std::string());
+    } else if (!json.is_discarded() && json.is_string()) {
+      action_name = json.get<std::string>();
+    }
+    if (const auto action = hub::parse_action(action_name); !action) {
+      result = hub::error_object(
+          "unknown_action",
+          "'" + action_name + "' is not an action (start, stop, single, pointer, save, reset, latch, read)", "action");
+    } else if (auto done = hub.act(name, *action, argument); !done) {
+      result = hub::error_object(hub::error_code_name(done.error().code), done.error().message);
+    } else {
+      result = {{"ok", true}, {"action", hub::action_name(*action)}, {"result", *done}};
+    }
+  }
+  if (result.contains("error")) result["ok"] = false;
+  ++handled;
+  const hub::MqttConfig& config = options.config;
+  const std::string payload = result.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  link.send(
+      Message{link.topic + (command.is_set ? "/set/result" : "/action/result"), payload, config.qos_command, false});
+  if (!command.response_topic.empty()) {
+    // MQTT 5 request/response: the answer on the asked topic, with the request's correlation data.
+    mosquitto_property* props = nullptr;
+    if (!command.correlation.empty()) {
+      mosquitto_property_add_binary(&props, MQTT_PROP_CORRELATION_DATA, command.correlation.data(),
+                                    static_cast<std::uint16_t>(command.correlation.size()));
+    }
+    const std::lock_guard lock(link.mutex);
+    if (mosquitto_publish_v5(link.client, nullptr, command.response_topic.c_str(), static_cast<int>(payload.size()),
+                             payload.data(), config.qos_command, false, props) == MOSQ_ERR_SUCCESS) {
+      ++link.published;
+    }
+    mosquitto_property_free_all(&props);
+  }
+  link.status_now = true;  // settings may have changed: the status goes out again at once
+}
+
+// Sessions made by a start() that failed before their threads ran; stop() destroys the others.
+Bridge::Impl::~Impl() {
+  for (const auto& link : links) {
+    if (link->client != nullptr) mosquitto_destroy(link->client);
+  }
+}
+
+Bridge::Bridge(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+Bridge::~Bridge() { stop(); }
+
+Result<std::unique_ptr<Bridge>> Bridge::start(hub::Hub& hub, BridgeOptions options) {
+  auto address = hub::parse_broker_url(options.config.broker);
+  if (!address) return std::move(address).error();
+  init_library();
+  auto impl = std::make_unique<Impl>(hub, std::move(options));
+  impl->address = *address;
+  const hub::MqttConfig& config = impl->options.config;
+  for (const hub::SensorSnapshot& sensor : hub.sensors()) {
+    impl->links.push_back(std::make_unique<Link>(*impl, sensor.config));
+    Link& link = *impl->links.back();
+    impl->by_sensor.emplace(sensor.config.name, &link);
+    const std::string client_id = config.client_id + "-" + sensor.config.name;
+    link.client = mosquitto_new(client_id.c_str(), true, &link);
+    if (link.client == nullptr) return make_error(Errc::io, "mqtt: cannot make a client (out of memory)");
+    mosquitto_int_option(link.client, MOSQ_OPT_PROTOCOL_VERSION, MQTT_PROTOCOL_V5);
+    mosquitto_connect_v5_callback_set(link.client, on_connect);
+    mosquitto_disconnect_v5_callback_set(link.client, on_disconnect);
+    mosquitto_publish_v5_callback_set(link.client, on_publish);
+    mosquitto_message_v5_callback_set(link.client, on_message);
+    mosquitto_reconnect_delay_set(link.client, static_cast<unsigned>(impl->options.reconnect_min_s),
+                                  static_cast<unsigned>(config.reconnect_max_s), true);
+    const std::string availability = link.topic + "/availability";
+    mosquitto_will_set_v5(link.client, availability.c_str(), 7, "offline", config.qos_state, true, nullptr);
+    if (!config.username.empty()) {
+      mosquitto_username_pw_set(link.client, config.username.c_str(),
+                                config.password.empty() ? nullptr : config.password.c_str());
+    }
+    if (address->tls) {
+      const int rc = mosquitto_tls_set(link.client, config.ca_file.empty() ? nullptr : config.ca_file.c_str(),
+                                       config.ca_file.empty() ? "/etc/ssl/certs" : nullptr, nullptr, nullptr, nullptr);
+      if (rc != MOSQ_ERR_SUCCESS) {
+        return make_error(Errc::io, "mqtt: TLS with CA file '" + config.ca_file + "': " + mosquitto_strerror(rc));
+      }
+    }
+  }
+  Impl* raw = impl.get();
+  for (const auto& link : impl->links) {
+    // Refused or unreachable now is retried by the session's thread with backoff.
+    mosquitto_connect_async(link->client, address->host.c_str(), address->port, raw->options.keepalive_s);
+    mosquitto_loop_start(link->client);
+  }
+  impl->publisher = std::thread([raw] { raw->run_publisher(); });
+  impl->commander = std::thread([raw] { raw->run_commands(); });
+  return std::unique_ptr<Bridge>(new Bridge(std::move(impl)));
+}
+
+void Bridge::stop() {
+  if (!impl_ || impl_->stopping.exchange(true)) return;
+  impl_->command_ready.notify_all();
+  if (impl_->commander.joinable()) impl_->commander.join();
+  if (impl_->publisher.joinable()) impl_->publisher.join();
+  const hub::MqttConfig& config = impl_->options.config;
+  for (const auto& link : impl_->links) {
+    // A clean stop says offline itself (the broker sends no will after a DISCONNECT) and
+    // waits, bounded, for it to leave.
+    {
+      const std::lock_guard lock(link->sent_mutex);
+      link->collecting = true;
+    }
+    int mid = -1;
+    bool published = false;
+    {
+      const std::lock_guard lock(link->mutex);
+      published = link->connected &&
+                  link->try_publish(
+                      Message{link->topic + "/availability", "offline", std::max(config.qos_state, 1), true}, &mid);
+    }
+    if (published) {
+      std::unique_lock lock(link->sent_mutex);
+      link->sent.wait_for(lock, 5s, [&] {
+        return !link->connected || std::find(link->acked.begin(), link->acked.end(), mid) != link->acked.end();
+      });
+    }
+    mosquitto_disconnect(link->client);
+  }
+  for (const auto& link : impl_->links) {
+    mosquitto_loop_stop(link->client, false);
+    mosquitto_destroy(link->client);
+    link->client = nullptr;
+  }
+}
+
+BridgeStats Bridge::stats() const {
+  BridgeStats stats;
+  stats.broker = impl_->options.config.broker;
+  stats.connected = impl_->connected_links.load() == static_cast<int>(impl_->links.size());
+  {
+    const std::lock_guard lock(impl_->state_mutex);
+    stats.error = impl_->error;
+  }
+  stats.dropped = impl_->hub_lost.load();
+  stats.commands = impl_->handled.load();
+  stats.refusals = impl_->refusals.load();
+  for (const auto& link : impl_->links) {
+    const std::lock_guard lock(link->mutex);
+    stats.published += link->published;
+    stats.dropped += link->dropped;
+    stats.queued += link->queue.size();
+    stats.reconnects += link->reconnects;
+  }
+  return stats;
+}
+
+}  // namespace rangekit::mqtt

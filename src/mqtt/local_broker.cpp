@@ -1,0 +1,161 @@
+#include "rangekit/mqtt/local_broker.hpp"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+namespace rangekit::mqtt {
+namespace {
+
+sockaddr_in loopback(std::uint16_t port) {
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(port);
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  return address;
+}
+
+// A port the kernel hands out now; the broker binds it a moment later (retried on a clash).
+std::uint16_t free_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) return 0;
+  sockaddr_in address = loopback(0);
+  socklen_t length = sizeof address;
+  std::uint16_t port = 0;
+  if (::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0 &&
+      ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0) {
+    port = ntohs(address.sin_port);
+  }
+  ::close(fd);
+  return port;
+}
+
+bool accepts(std::uint16_t port) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) return false;
+  sockaddr_in address = loopback(port);
+  const bool connected = ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0;
+  ::close(fd);
+  return connected;
+}
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
+std::string LocalBroker::find_executable() {
+  std::vector<std::string> places;
+  if (const char* path = std::getenv("PATH")) {  // NOLINT(concurrency-mt-unsafe): read once, nothing sets it
+    std::stringstream folders(path);
+    for (std::string folder; std::getline(folders, folder, ':');) places.push_back(folder + "/mosquitto");
+  }
+  places.emplace_back("/usr/sbin/mosquitto");
+  places.emplace_back("/usr/local/sbin/mosquitto");
+  for (const std::string& place : places) {
+    if (::access(place.c_str(), X_OK) == 0) return place;
+  }
+  return {};
+}
+
+Result<std::unique_ptr<LocalBroker>> LocalBroker::start(LocalBrokerOptions options) {
+  if (options.executable.empty()) options.executable = find_executable();
+  if (options.executable.empty()) {
+    return make_error(Errc::unsupported, "no mosquitto installed (Debian: apt-get install mosquitto)");
+  }
+  const bool pick = options.port == 0;
+  std::unique_ptr<LocalBroker> broker(new LocalBroker(std::move(options)));
+  Status started = ok_status();
+  for (int attempt = 0; attempt < 5; ++attempt) {
+    if (pick) broker->options_.port = free_port();
+    started = broker->launch();
+    if (started || !pick) break;
+  }
+  if (!started) return std::move(started).error();
+  return broker;
+}
+
+Status LocalBroker::launch() {
+  const auto config_path = options_.dir / "mosquitto.conf";
+  {
+    std::ofstream config(config_path);
+    config << "# written by rangekit for a loopback broker of its own\n"
+           << "listener " << options_.port << " 127.0.0.1\n"
+           << "user root\n"  // started as root it would switch to 'mosquitto', who cannot read this folder
+           << "persistence false\n"
+           << "log_dest stderr\n";
+    if (options_.password_file.empty()) {
+      config << "allow_anonymous true\n";
+    } else {
+      config << "allow_anonymous false\npassword_file " << options_.password_file << "\n";
+    }
+    if (!config.flush()) return make_error(Errc::io, "cannot write " + config_path.string());
+  }
+  const std::string log = log_path();
+  const pid_t pid = ::fork();
+  if (pid < 0) return make_error(Errc::io, "cannot start mosquitto: fork failed");
+  if (pid == 0) {
+    // Its own process group: a Ctrl-C in the terminal reaches the service, which stops the broker last.
+    ::setpgid(0, 0);
+    const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0600);
+    const int null = ::open("/dev/null", O_RDONLY);
+    ::dup2(null, STDIN_FILENO);
+    ::dup2(out, STDOUT_FILENO);
+    ::dup2(out, STDERR_FILENO);
+    const std::string config = config_path.string();
+    ::execl(options_.executable.c_str(), options_.executable.c_str(), "-c", config.c_str(),
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  pid_ = pid;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (accepts(options_.port)) return ok_status();
+    int status = 0;
+    if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+      pid_ = -1;
+      return make_error(Errc::io,
+                        "mosquitto on port " + std::to_string(options_.port) + " exited at start: " + read_text(log));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));  // polls a port that is not open yet
+  }
+  stop();
+  return make_error(Errc::timeout, "mosquitto did not listen on 127.0.0.1:" + std::to_string(options_.port));
+}
+
+void LocalBroker::kill_hard() {
+  if (pid_ <= 0) return;
+  ::kill(pid_, SIGKILL);
+  ::waitpid(pid_, nullptr, 0);
+  pid_ = -1;
+}
+
+Status LocalBroker::restart() {
+  stop();
+  return launch();
+}
+
+void LocalBroker::stop() {
+  if (pid_ <= 0) return;
+  ::kill(pid_, SIGTERM);
+  ::waitpid(pid_, nullptr, 0);
+  pid_ = -1;
+}
+
+LocalBroker::~LocalBroker() { stop(); }
+
+}  // namespace rangekit::mqtt

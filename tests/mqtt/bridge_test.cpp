@@ -1,0 +1,332 @@
+// The MQTT bridge against a real mosquitto and an LS5 emulator on a pty (issue 15):
+// readings with the scene's distance, windows above the rate, retained state and
+// discovery, `set` and `action` checked on the emulator's side, and a broker killed
+// and restarted mid-stream.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <fstream>
+#include <thread>
+
+#include "ls5_driver/cli_process.hpp"
+#include "mqtt/mqtt_fixture.hpp"
+#include "rangekit/hub/hub.hpp"
+#include "rangekit/mqtt/bridge.hpp"
+#include "rangekit/sim/control_socket.hpp"
+
+namespace {
+
+using namespace rangekit;
+using namespace std::chrono_literals;
+using ls5_driver_test::Child;
+using ls5_driver_test::TempDir;
+using mqtt_test::Broker;
+using mqtt_test::Heard;
+using mqtt_test::Subscriber;
+
+std::string written(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+// An LS5 with range 0-50 mm (model LS5-0/50) and its target fixed at 20 mm, noise off:
+// §8 formula (8.1) "distance = range · code / 50000" gives code 20000 and 20 mm.
+struct Ls5 {
+  TempDir temp;
+  std::string port = (temp.path / "ls5").string();
+  std::string control = (temp.path / "ls5.control").string();
+  std::string scene = written(temp.path / "scene.toml", "[target]\nposition_mm = 20.0\nnoise_mm = 0.0\n");
+  Child sim{
+      {"sim", "ls5", "--port", port, "--model", "LS5-0/50-232-U10-2-24-A", "--scene", scene, "--control", control}};
+  hub::SiteConfig site;
+  Ls5() {
+    EXPECT_NE(sim.read_line().find("ready"), std::string::npos);
+    auto parsed =
+        hub::parse_site_config("[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"" + port + "\"\n", "site.toml");
+    EXPECT_TRUE(parsed.ok());
+    if (parsed) site = *parsed;
+  }
+  nlohmann::json outputs() const {
+    auto client = ControlClient::connect(control);
+    if (!client) return {};
+    auto reply = client->request({{"cmd", "outputs"}});
+    if (!reply) return {};
+    return reply->contains("devices") ? (*reply)["devices"][0] : *reply;
+  }
+  void move_target(double position_mm) const {
+    auto client = ControlClient::connect(control);
+    ASSERT_TRUE(client.ok());
+    ASSERT_TRUE(client->request({{"cmd", "move_target"}, {"position_mm", position_mm}}).ok());
+  }
+};
+
+mqtt::BridgeOptions options_for(const Broker& broker, double max_rate_hz) {
+  mqtt::BridgeOptions options;
+  options.config.broker = broker.url();
+  options.config.max_rate_hz = max_rate_hz;
+  return options;
+}
+
+std::vector<nlohmann::json> payloads_on(const std::vector<Heard>& heard, const std::string& topic) {
+  std::vector<nlohmann::json> out;
+  for (const Heard& message : heard) {
+    if (message.topic == topic) out.push_back(nlohmann::json::parse(message.payload, nullptr, false));
+  }
+  return out;
+}
+
+const Heard* find(const std::vector<Heard>& heard, const std::string& topic) {
+  for (const Heard& message : heard) {
+    if (message.topic == topic) return &message;
+  }
+  return nullptr;
+}
+
+// Polls the bridge's counters (they have no event to wait on); the deadline is a safety net.
+template <class Done>
+bool until(Done done, std::chrono::seconds limit = 90s) {
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  while (!done()) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(20ms);
+  }
+  return true;
+}
+
+TEST(MqttBridge, ReadingsCarryTheScenesDistanceAndNoSignalIsNeverADistance) {
+  Broker broker;
+  Ls5 ls5;
+  auto hub = hub::Hub::start(ls5.site);
+  Subscriber subscriber(broker.port(), {"rangekit/belt/reading"});
+  ASSERT_TRUE(subscriber.wait_subscribed());
+  auto bridge = mqtt::Bridge::start(*hub, options_for(broker, 0));  // every sample
+  ASSERT_TRUE(bridge.ok()) << bridge.error().message;
+  const auto with_distance = [](const std::vector<Heard>& heard) {
+    return std::count_if(heard.begin(), heard.end(),
+                         [](const Heard& m) { return m.payload.find("\"distance_mm\":20") != std::string::npos; }) >= 5;
+  };
+  ASSERT_TRUE(subscriber.wait_for(with_distance)) << subscriber.heard().size() << " readings";
+  for (const auto& reading : payloads_on(subscriber.heard(), "rangekit/belt/reading")) {
+    ASSERT_TRUE(reading.is_object());
+    EXPECT_EQ(reading["kind"], "result");
+    if (reading["signal"] == "ok") {
+      EXPECT_EQ(reading["code"], 20000);
+      EXPECT_DOUBLE_EQ(reading["distance_mm"].get<double>(), 20.0);
+    }
+  }
+  // Beyond the range: §8 "65535 – to indicate that there is no signal." (L77) The reading says
+  // so, with no distance at all.
+  subscriber.clear();
+  ls5.move_target(80.0);
+  ASSERT_TRUE(subscriber.wait_for([](const std::vector<Heard>& heard) {
+    return std::count_if(heard.begin(), heard.end(), [](const Heard& m) {
+             return m.payload.find("\"signal\":\"lost\"") != std::string::npos;
+           }) >= 3;
+  }));
+  for (const auto& reading : payloads_on(subscriber.heard(), "rangekit/belt/reading")) {
+    if (reading["signal"] != "lost") continue;
+    EXPECT_EQ(reading["code"], 65535);
+    EXPECT_TRUE(reading["distance_mm"].is_null()) << reading.dump();
+  }
+  (*bridge)->stop();
+}
+
+TEST(MqttBridge, AboveTheRateOneWindowMessageWithCountMinMeanMaxLastAndQuality) {
+  Broker broker;
+  Ls5 ls5;
+  auto hub = hub::Hub::start(ls5.site);
+  Subscriber subscriber(broker.port(), {"rangekit/belt/reading"});
+  ASSERT_TRUE(subscriber.wait_subscribed());
+  auto bridge = mqtt::Bridge::start(*hub, options_for(broker, 2));  // at most 2 messages a second
+  ASSERT_TRUE(bridge.ok()) << bridge.error().message;
+  const auto windows = [](const std::vector<Heard>& heard, const char* needle) {
+    return std::count_if(heard.begin(), heard.end(), [&](const Heard& m) {
+      return m.payload.find("\"window\":true") != std::string::npos && m.payload.find(needle) != std::string::npos;
+    });
+  };
+  ASSERT_TRUE(subscriber.wait_for([&](const auto& heard) { return windows(heard, "\"last\":20.0") >= 2; }));
+  for (const auto& window : payloads_on(subscriber.heard(), "rangekit/belt/reading")) {
+    if (!window.contains("window") || window["distances"] == 0) continue;
+    EXPECT_GT(window["count"].get<int>(), 1) << window.dump();
+    EXPECT_EQ(window["unit"], "mm");
+    EXPECT_DOUBLE_EQ(window["min"].get<double>(), 20.0) << window.dump();
+    EXPECT_DOUBLE_EQ(window["mean"].get<double>(), 20.0) << window.dump();
+    EXPECT_DOUBLE_EQ(window["max"].get<double>(), 20.0) << window.dump();
+  }
+  // No signal (L77): counted in the window, and no distance from it.
+  subscriber.clear();
+  ls5.move_target(80.0);
+  ASSERT_TRUE(subscriber.wait_for([&](const auto& heard) { return windows(heard, "\"distances\":0") >= 1; }));
+  for (const auto& window : payloads_on(subscriber.heard(), "rangekit/belt/reading")) {
+    if (!window.contains("window") || window["distances"] != 0) continue;
+    EXPECT_EQ(window["no_signal"], window["count"]) << window.dump();
+    EXPECT_TRUE(window["last"].is_null() && window["min"].is_null()) << window.dump();
+  }
+  (*bridge)->stop();
+}
+
+TEST(MqttBridge, RetainedStatusAvailabilityAndDiscoveryAreThereForALateSubscriber) {
+  Broker broker;
+  Ls5 ls5;
+  auto hub = hub::Hub::start(ls5.site);
+  auto bridge = mqtt::Bridge::start(*hub, options_for(broker, 10));
+  ASSERT_TRUE(bridge.ok()) << bridge.error().message;
+  // A subscriber that comes later gets the retained messages from the broker.
+  {
+    // Once the sensor is connected and identified, both went out (retained).
+    Subscriber probe(broker.port(), {"rangekit/belt/availability", "rangekit/belt/status"});
+    ASSERT_TRUE(probe.wait_for([](const auto& heard) {
+      bool online = false;
+      bool identified = false;
+      for (const Heard& message : heard) {
+        if (message.topic == "rangekit/belt/availability") online = message.payload == "online";
+        if (message.topic == "rangekit/belt/status") {
+          identified = message.payload.find("\"serial\":157") != std::string::npos;
+        }
+      }
+      return online && identified;
+    }));
+  }
+  Subscriber late(broker.port(), {"rangekit/belt/status", "rangekit/belt/availability", "homeassistant/#"});
+  const std::string distance = "homeassistant/sensor/rangekit_belt/distance/config";
+  ASSERT_TRUE(late.wait_for([&](const auto& heard) {
+    return find(heard, "rangekit/belt/status") != nullptr && find(heard, distance) != nullptr &&
+           find(heard, "homeassistant/sensor/rangekit_belt/errors/config") != nullptr &&
+           find(heard, "homeassistant/sensor/rangekit_belt/rate/config") != nullptr;
+  }));
+  const auto heard = late.heard();
+  const Heard* availability = find(heard, "rangekit/belt/availability");
+  ASSERT_NE(availability, nullptr);
+  EXPECT_TRUE(availability->retained);
+  EXPECT_EQ(availability->payload, "online");
+  const Heard* status = find(heard, "rangekit/belt/status");
+  EXPECT_TRUE(status->retained);
+  const auto status_json = nlohmann::json::parse(status->payload);
+  EXPECT_EQ(status_json["name"], "belt");
+  EXPECT_EQ(status_json["identity"]["serial"], 157);  // `sim ls5` default serial number (its --help)
+  EXPECT_TRUE(status_json["health"]["connected"].get<bool>());
+  const Heard* config = find(heard, distance);
+  EXPECT_TRUE(config->retained);
+  const auto entity = nlohmann::json::parse(config->payload);
+  EXPECT_EQ(entity["unit_of_measurement"], "mm");
+  EXPECT_EQ(entity["device_class"], "distance");
+  EXPECT_EQ(entity["state_topic"], "rangekit/belt/reading");
+  EXPECT_EQ(entity["availability_topic"], "rangekit/belt/availability");
+  EXPECT_EQ(
+      nlohmann::json::parse(find(heard, "homeassistant/sensor/rangekit_belt/rate/config")->payload)["entity_category"],
+      "diagnostic");
+  // An LS5 has no look-down mode: no presence entity for it.
+  EXPECT_EQ(find(heard, "homeassistant/binary_sensor/rangekit_belt/presence/config"), nullptr);
+  // A clean stop marks the sensor offline (retained).
+  Subscriber watcher(broker.port(), {"rangekit/belt/availability"});
+  ASSERT_TRUE(watcher.wait_for([](const auto& h) { return find(h, "rangekit/belt/availability") != nullptr; }));
+  (*bridge)->stop();
+  EXPECT_TRUE(watcher.wait_for([](const auto& h) { return !h.empty() && h.back().payload == "offline"; }));
+}
+
+TEST(MqttBridge, SetReachesTheEmulatorAndAnInvalidOneGetsAnErrorAndNothingReachesIt) {
+  Broker broker;
+  Ls5 ls5;
+  auto hub = hub::Hub::start(ls5.site);
+  Subscriber client(broker.port(), {"rangekit/belt/set/result", "rangekit/belt/action/result", "test/reply"});
+  ASSERT_TRUE(client.wait_subscribed());
+  auto bridge = mqtt::Bridge::start(*hub, options_for(broker, 10));
+  ASSERT_TRUE(bridge.ok()) << bridge.error().message;
+  ASSERT_TRUE(until([&] { return (*bridge)->stats().connected; }));
+  // LS5 table 9.2, parameter 03 "Analog output is enabled/disabled"; default 01.
+  ASSERT_EQ(ls5.outputs()["analog_enabled"], true);
+  client.publish("rangekit/belt/set", R"({"analog-output": "disabled"})");
+  ASSERT_TRUE(client.wait_for([](const auto& heard) { return find(heard, "rangekit/belt/set/result") != nullptr; }));
+  auto result = nlohmann::json::parse(find(client.heard(), "rangekit/belt/set/result")->payload);
+  EXPECT_EQ(result["ok"], true) << result.dump();
+  EXPECT_EQ(result["settings"]["analog-output"], "disabled") << result.dump();
+  EXPECT_EQ(ls5.outputs()["analog_enabled"], false);  // checked on the emulator's side
+
+  // Table 9.2 0D, the median filter: an odd number of points (L4). An invalid request names
+  // the field and its range, and nothing of it reaches the sensor, not even its valid part.
+  client.clear();
+  client.publish("rangekit/belt/set", R"({"analog-output": "enabled", "median-points": 8})", "test/reply",
+                 "request-17");
+  ASSERT_TRUE(client.wait_for([](const auto& heard) {
+    return find(heard, "rangekit/belt/set/result") != nullptr && find(heard, "test/reply") != nullptr;
+  }));
+  result = nlohmann::json::parse(find(client.heard(), "rangekit/belt/set/result")->payload);
+  EXPECT_EQ(result["ok"], false);
+  EXPECT_EQ(result["error"]["field"], "median-points") << result.dump();
+  EXPECT_NE(result["error"]["message"].get<std::string>().find("49"), std::string::npos) << result.dump();
+  EXPECT_EQ(ls5.outputs()["analog_enabled"], false);
+  // MQTT 5: the answer also on the response topic, with the request's correlation data.
+  const auto replies = client.heard();
+  const Heard* reply = find(replies, "test/reply");
+  EXPECT_EQ(reply->correlation, "request-17");
+  EXPECT_EQ(nlohmann::json::parse(reply->payload)["error"]["field"], "median-points");
+
+  client.clear();
+  client.publish("rangekit/belt/set", "median-points=7");
+  ASSERT_TRUE(client.wait_for([](const auto& heard) { return find(heard, "rangekit/belt/set/result") != nullptr; }));
+  EXPECT_EQ(nlohmann::json::parse(find(client.heard(), "rangekit/belt/set/result")->payload)["error"]["code"],
+            "bad_body");
+
+  // Actions: stop reaches the sensor (table 9.1 SB), an unknown one is named.
+  client.clear();
+  client.publish("rangekit/belt/action", "stop");
+  ASSERT_TRUE(client.wait_for([](const auto& heard) { return find(heard, "rangekit/belt/action/result") != nullptr; }));
+  EXPECT_EQ(nlohmann::json::parse(find(client.heard(), "rangekit/belt/action/result")->payload)["ok"], true);
+  EXPECT_EQ(ls5.outputs()["streaming"], false);
+  client.clear();
+  client.publish("rangekit/belt/action", R"({"action": "explode"})");
+  ASSERT_TRUE(client.wait_for([](const auto& heard) { return find(heard, "rangekit/belt/action/result") != nullptr; }));
+  EXPECT_EQ(nlohmann::json::parse(find(client.heard(), "rangekit/belt/action/result")->payload)["error"]["code"],
+            "unknown_action");
+  (*bridge)->stop();
+}
+
+TEST(MqttBridge, BrokerKilledAndRestartedMidStreamTheServiceResumesAndCountsTheDrops) {
+  Broker broker;
+  Ls5 ls5;
+  auto hub = hub::Hub::start(ls5.site);
+  auto options = options_for(broker, 0);
+  options.config.queue_limit = 5;  // a small queue, so the outage surely overflows it
+  options.config.reconnect_max_s = 1;
+  auto bridge = mqtt::Bridge::start(*hub, options);
+  ASSERT_TRUE(bridge.ok()) << bridge.error().message;
+  {
+    Subscriber before(broker.port(), {"rangekit/belt/reading"});
+    ASSERT_TRUE(before.wait_for([](const auto& heard) { return heard.size() >= 5; }));
+  }
+  broker.broker->kill_hard();
+  ASSERT_TRUE(until([&] { return (*bridge)->stats().dropped > 0; })) << "nothing dropped while the broker was away";
+  const auto during = hub->sensor("belt");
+  EXPECT_TRUE(during->health.connected);  // the sensor never waited for the broker
+  const auto records = during->health.records;
+  ASSERT_TRUE(broker.broker->restart().ok());
+  ASSERT_TRUE(until([&] { return (*bridge)->stats().reconnects >= 1 && (*bridge)->stats().connected; }));
+  {
+    Subscriber probe(broker.port(), {"rangekit/belt/status"});
+    ASSERT_TRUE(probe.wait_for([](const auto& heard) { return !heard.empty(); }));
+  }
+  // The broker kept nothing (persistence off): what it retains now was published again after the reconnect.
+  Subscriber after(broker.port(), {"rangekit/belt/reading", "rangekit/belt/status", "rangekit/belt/availability"});
+  ASSERT_TRUE(after.wait_for([](const auto& heard) {
+    const auto status = find(heard, "rangekit/belt/status");
+    return status != nullptr && status->retained && find(heard, "rangekit/belt/availability") != nullptr &&
+           std::count_if(heard.begin(), heard.end(),
+                         [](const Heard& m) { return m.topic == "rangekit/belt/reading"; }) >= 5;
+  })) <<
+      [&] {
+        std::string topics;
+        for (const Heard& m : after.heard()) topics += m.topic + (m.retained ? " (retained) " : " ");
+        return "heard: " + topics.substr(0, 2000) +
+               "\nbroker log: " + ls5_driver_test::read_file(broker.broker->log_path());
+      }();
+  EXPECT_EQ(find(after.heard(), "rangekit/belt/availability")->payload, "online");
+  const auto stats = (*bridge)->stats();
+  EXPECT_GE(stats.reconnects, 1u);
+  EXPECT_GT(stats.dropped, 0u);
+  EXPECT_GT(hub->sensor("belt")->health.records, records);
+  (*bridge)->stop();
+}
+
+}  // namespace

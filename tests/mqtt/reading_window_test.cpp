@@ -1,0 +1,104 @@
+// What `<base>/<sensor>/reading` carries (issue 15 point 1): each sample under the rate,
+// one window above it; no sample without a distance is ever published as one.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "mqtt/reading_window.hpp"
+
+namespace {
+
+using namespace rangekit;
+using namespace std::chrono_literals;
+using Clock = mqtt::ReadingWindow::Clock;
+
+Sample ls5(std::optional<double> distance_mm, std::uint16_t code, SignalState signal) {
+  Sample sample;
+  sample.device = "ls5";
+  sample.kind = SampleKind::ls5_result;
+  sample.code = code;
+  sample.distance_mm = distance_mm;
+  sample.signal = signal;
+  return sample;
+}
+
+// L77: §8 "65534 – to indicate that the sensor has not made any measurements yet ...
+// 65535 – to indicate that there is no signal." Neither is a distance.
+TEST(ReadingWindow, L77NoSignalAndNoMeasurementYetAreCountedNeverADistance) {
+  EXPECT_FALSE(mqtt::distance_of(ls5(std::nullopt, 65535, SignalState::lost)));
+  EXPECT_FALSE(mqtt::distance_of(ls5(std::nullopt, 65534, SignalState::none_yet)));
+  const auto distance = mqtt::distance_of(ls5(20.0, 20000, SignalState::ok));
+  ASSERT_TRUE(distance);
+  EXPECT_DOUBLE_EQ(distance->value, 20.0);
+  EXPECT_STREQ(distance->unit, "mm");
+
+  mqtt::ReadingWindow window(10);  // one message per 100 ms
+  const auto start = Clock::now();
+  ASSERT_TRUE(window.add(ls5(20.0, 20000, SignalState::ok), start));  // the first goes out at once
+  EXPECT_FALSE(window.add(ls5(10.0, 10000, SignalState::ok), start + 10ms));
+  EXPECT_FALSE(window.add(ls5(std::nullopt, 65535, SignalState::lost), start + 20ms));
+  EXPECT_FALSE(window.add(ls5(30.0, 30000, SignalState::ok), start + 30ms));
+  window.add_lost(2);
+  EXPECT_FALSE(window.flush_due(start + 90ms));
+  const auto text = window.flush_due(start + 100ms);
+  ASSERT_TRUE(text);
+  const auto json = nlohmann::json::parse(*text);
+  EXPECT_EQ(json["window"], true);
+  EXPECT_EQ(json["count"], 3);
+  EXPECT_EQ(json["distances"], 2);
+  EXPECT_DOUBLE_EQ(json["min"].get<double>(), 10.0);
+  EXPECT_DOUBLE_EQ(json["mean"].get<double>(), 20.0);
+  EXPECT_DOUBLE_EQ(json["max"].get<double>(), 30.0);
+  EXPECT_DOUBLE_EQ(json["last"].get<double>(), 30.0);
+  EXPECT_EQ(json["no_signal"], 1);
+  EXPECT_EQ(json["lost"], 2);
+  EXPECT_EQ(json["unit"], "mm");
+  EXPECT_FALSE(window.flush_due(start + 300ms));  // nothing pending: nothing sent
+}
+
+// U107: §10 "Error Number ... Explanation" ($ER,n) is a measurement that failed: counted as an
+// error, never a distance. §2 "In Binning Mode you can choose to display the first target the
+// laser sees or the last target": the window's distance is the first (nearest) target.
+TEST(ReadingWindow, U107UlsErrorsAreCountedAndBinningGivesTheNearestTarget) {
+  Sample error;
+  error.device = "uls";
+  error.kind = SampleKind::uls_error;
+  error.device_error = 4;
+  EXPECT_FALSE(mqtt::distance_of(error));
+  Sample binning;
+  binning.device = "uls";
+  binning.kind = SampleKind::uls_binning;
+  binning.targets = {{42.5, 10}, {12.25, 30}};
+  const auto nearest = mqtt::distance_of(binning);
+  ASSERT_TRUE(nearest);
+  EXPECT_DOUBLE_EQ(nearest->value, 12.25);
+  EXPECT_STREQ(nearest->unit, "m");
+  Sample look_down;
+  look_down.device = "uls";
+  look_down.kind = SampleKind::uls_look_down;
+  look_down.presence = true;
+  EXPECT_FALSE(mqtt::distance_of(look_down));
+
+  mqtt::ReadingWindow every(0);  // 0: every sample as `stream --format jsonl` writes it
+  const auto own = every.add(error, Clock::now());
+  ASSERT_TRUE(own);
+  const auto json = nlohmann::json::parse(*own);
+  EXPECT_EQ(json["error"], 4);
+  EXPECT_FALSE(json.contains("distance_m"));
+
+  mqtt::ReadingWindow window(1);
+  const auto start = Clock::now();
+  ASSERT_TRUE(window.add(binning, start));
+  EXPECT_FALSE(window.add(error, start + 100ms));
+  EXPECT_FALSE(window.add(look_down, start + 200ms));
+  const auto text = window.flush_due(start + 1s);
+  ASSERT_TRUE(text);
+  const auto closed = nlohmann::json::parse(*text);
+  EXPECT_EQ(closed["count"], 2);
+  EXPECT_EQ(closed["errors"], 1);
+  EXPECT_EQ(closed["distances"], 0);
+  EXPECT_TRUE(closed["last"].is_null());
+  EXPECT_EQ(closed["presence"], true);
+}
+
+}  // namespace
