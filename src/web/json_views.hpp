@@ -32,6 +32,11 @@ SettingsBody settings_from_body(std::string_view body);
 
 nlohmann::json capture_json(const hub::CaptureInfo& capture);
 
+// GET /api/sensors/{name}/settings/schema of a ULS: every setting of §8's command table
+// (the CLI's registry) under the name `get` prints, with the range a value must keep in
+// the unit of that name, the §10 number a unit answers outside it, and the named values.
+nlohmann::json uls_settings_schema();
+
 // {"error":{"code":"out_of_range","message":"...","field":"median-points"}}
 std::string error_json(std::string_view code, std::string_view message, std::string_view field = {});
 // The request field an error of the hub is about: the setting its message begins with.
