@@ -6,6 +6,7 @@
 #include "rangekit/core/text.hpp"
 #include "rangekit/record/format.hpp"
 #include "rangekit/uls/commands.hpp"
+#include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/formulas.hpp"
 #include "rangekit/uls/named_settings.hpp"
 
@@ -235,7 +236,11 @@ nlohmann::json uls_settings_schema() {
       settings.push_back(schema_row(command, uls::named::setting_key(command)));
     }
   }
-  return nlohmann::json{{"family", "uls"}, {"settings", settings}};
+  // §10's table, so a page can show a refusal as the Interface Program does ("ULS Interface Display").
+  nlohmann::json errors = nlohmann::json::array();
+  for (const uls::ErrorInfo& error : uls::error_table())
+    errors.push_back({{"number", error.number}, {"explanation", error.explanation}, {"display", error.display}});
+  return nlohmann::json{{"family", "uls"}, {"settings", settings}, {"errors", errors}};
 }
 
 }  // namespace rangekit::web

@@ -122,7 +122,7 @@ TEST(WebApi, PatchIsCheckedByTheTableWrittenAndReadBack) {
   EXPECT_NE(too_far.body.find("1700"), std::string::npos) << too_far.body;
 }
 
-// The ranges the dashboard checks a field by before it sends anything (issue 14 point 3,
+// U119: the ranges the dashboard checks a field by before it sends anything (issue 14 point 3,
 // "Every field shows the document's range and unit"), served from the command table the
 // CLI uses. Expectations typed from §8: "Set/Get PRF ... 10 to 5000 Hz" (error 32 "Invalid
 // PRF"), Short Gate 0-1700 m, Bin Size 0-8 (§2 "2.5 (13)"), Measurement Mode 1-3.
@@ -151,6 +151,15 @@ TEST(WebApi, SettingsSchemaGivesEachSettingsRangeUnitAndError) {
   EXPECT_EQ(by_key.at("mode")["values"][0]["name"], "averaging");
   EXPECT_EQ(by_key.at("trip-timeout-s")["unit"], "s");
   EXPECT_FALSE(by_key.at("version")["writable"].get<bool>());
+  // §10: "49 Pulse Per Output Must Be Greater Than Average Weight | PPO Must Be Greater Than Average Weight".
+  bool error_49 = false;
+  for (const auto& error : schema["errors"]) {
+    if (error["number"] != 49) continue;
+    error_49 = true;
+    EXPECT_EQ(error["explanation"], "Pulse Per Output Must Be Greater Than Average Weight");
+    EXPECT_EQ(error["display"], "PPO Must Be Greater Than Average Weight");
+  }
+  EXPECT_TRUE(error_49);
   EXPECT_EQ(http(service.port, "GET", "/api/sensors/belt/settings/schema").status, 409);  // LS5: not yet
   EXPECT_EQ(http(service.port, "POST", "/api/sensors/bay-C/settings/schema").status, 405);
 }
