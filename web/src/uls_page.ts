@@ -4,6 +4,7 @@
 // panels (uls_panels.ts). The live plot comes later.
 import type { Sensor } from './api';
 import { authorisedFetch } from './api';
+import { CapturePanel } from './capture_panel';
 import { UlsPanels } from './uls_panels';
 
 // §2 "Icons: Displayed above the black measurement window".
@@ -50,6 +51,7 @@ export class UlsPage {
   private readonly caption = element('p');
   private readonly readButton = element('button', 'action', 'Read');
   private readonly panels: UlsPanels;
+  private readonly capture: CapturePanel;
   private readonly singleButton = element('button', 'action', 'Single Measurement');
   private mode = '';
   private display = '';
@@ -104,8 +106,9 @@ export class UlsPage {
     this.message.setAttribute('role', 'status');
     this.message.textContent = 'G, CT, O and the panels below show the settings once they have been read: press Read.';
     this.caption.className = 'caption';
-    this.root.append(back, title, row, this.box, this.caption, this.choices, buttons, this.message, this.panels.message,
-      this.panels.root);
+    this.capture = new CapturePanel(name);
+    this.root.append(back, title, row, this.box, this.caption, this.choices, buttons, this.message, this.capture.root,
+      this.panels.message, this.panels.root);
     this.panels.load().catch((error: Error) => {
       this.panels.message.textContent = `The panels could not be built: ${error.message}`;
     });
@@ -153,6 +156,7 @@ export class UlsPage {
     this.source?.close();
     this.source = null;
     window.clearInterval(this.tick);
+    this.capture.close();
   }
 
   private tick = 0;

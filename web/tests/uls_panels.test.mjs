@@ -67,7 +67,7 @@ after(async () => {
 });
 
 test('each §2 panel shows its fields with the range and unit of the document', async () => {
-  const legends = await page.$$eval('.panel legend', (items) => items.map((item) => item.textContent));
+  const legends = await page.$$eval('.panels .panel legend', (items) => items.map((item) => item.textContent));
   assert.deepEqual(legends, ['Basic Setup', 'Measurement Mode', 'PRF and Pulses/Measure', 'Averaging Parameters',
     'Laser Power', 'Output Setup', 'Binning Parameters', 'Look Down', 'Current Loop']);
   // §2 "PRF ... Values range from 10 to 5000"; §8 Short Gate "0-1700 m" (U18).
