@@ -1,10 +1,11 @@
 // The ULS page, mirroring the §2 main screen (issue 14 point 3), first part: the
 // indicators with their §2 meanings as tooltips, the live reading in the black
 // measurement box, the display choice of the mode, the §2 buttons and the parameter
-// panels (uls_panels.ts). The live plot comes later.
+// panels (uls_panels.ts), capture (capture_panel.ts) and the live plot (live_plot.ts).
 import type { Sensor } from './api';
 import { authorisedFetch } from './api';
 import { CapturePanel } from './capture_panel';
+import { LivePlot } from './live_plot';
 import { UlsPanels } from './uls_panels';
 
 // §2 "Icons: Displayed above the black measurement window".
@@ -52,6 +53,7 @@ export class UlsPage {
   private readonly readButton = element('button', 'action', 'Read');
   private readonly panels: UlsPanels;
   private readonly capture: CapturePanel;
+  private readonly plot = new LivePlot();
   private readonly singleButton = element('button', 'action', 'Single Measurement');
   private mode = '';
   private display = '';
@@ -107,7 +109,8 @@ export class UlsPage {
     this.message.textContent = 'G, CT, O and the panels below show the settings once they have been read: press Read.';
     this.caption.className = 'caption';
     this.capture = new CapturePanel(name);
-    this.root.append(back, title, row, this.box, this.caption, this.choices, buttons, this.message, this.capture.root,
+    this.root.append(back, title, row, this.box, this.caption, this.choices, buttons, this.message, this.plot.root,
+      this.capture.root,
       this.panels.message, this.panels.root);
     this.panels.load().catch((error: Error) => {
       this.panels.message.textContent = `The panels could not be built: ${error.message}`;
@@ -146,10 +149,15 @@ export class UlsPage {
     });
     this.source.addEventListener('event', (message) => {
       const item = JSON.parse((message as MessageEvent<string>).data) as { data: { event: string } };
-      if (item.data.event === 'disconnected') this.set('connected', false);
+      if (item.data.event === 'disconnected') {
+        this.set('connected', false);
+        this.plot.gap(Date.now() / 1000);
+      }
+      if (item.data.event === 'lost_records') this.plot.gap(Date.now() / 1000);
       if (item.data.event === 'connected' || item.data.event === 'reconnected') this.set('connected', true);
     });
     this.tick = window.setInterval(() => this.updateBasic(), 500);
+    this.plot.start();
   }
 
   close(): void {
@@ -157,12 +165,14 @@ export class UlsPage {
     this.source = null;
     window.clearInterval(this.tick);
     this.capture.close();
+    this.plot.stop();
   }
 
   private tick = 0;
 
   private sample(sample: UlsSample): void {
     this.lastSample = sample;
+    this.plot.add(sample);
     if (sample.kind && sample.kind !== this.mode && sample.kind !== 'error') this.setMode(sample.kind);
     const valid = sample.distance_m !== undefined || (sample.targets?.length ?? 0) > 0 || sample.presence !== undefined;
     if (valid) this.validTimes.push(performance.now());
