@@ -28,4 +28,9 @@ const char* item_type(const hub::HubItem& item);
 
 nlohmann::json capture_json(const hub::CaptureInfo& capture);
 
+// GET /api/sensors/{name}/settings/schema of a ULS: every setting of §8's command table
+// (the CLI's registry) under the name `get` prints, with the range a value must keep in
+// the unit of that name, the §10 number a unit answers outside it, and the named values.
+nlohmann::json uls_settings_schema();
+
 }  // namespace rangekit::web

@@ -298,6 +298,13 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
       if (!same_origin() || !authorised(target)) return;
       return patch_settings(name);
     }
+    if (what == "settings" && path.size() == 5 && path[4] == "schema") {
+      if (method != http::verb::get) return wrong_method("GET");
+      if (sensor->config.family != hub::Family::uls) {
+        return fail(make_error(Errc::unsupported, "the settings schema is served for ULS sensors only, so far"));
+      }
+      return respond(http::status::ok, uls_settings_schema().dump());
+    }
     if (what == "actions" && path.size() == 5) {
       if (method != http::verb::post) return wrong_method("POST");
       if (!same_origin() || !authorised(target)) return;

@@ -338,6 +338,16 @@ TEST(UlsBehaviour, MinimumPulseWidthRejectsNarrowReturns) {
   EXPECT_EQ(unit.firmware->control({{"cmd", "outputs"}}, unit.now)["min_pulse_width_ns"], 25.0);
 }
 
+// The control socket's `outputs` reports the PRF $PF holds per mode (docs/emulator-uls.md):
+// §8 Set/Get PRF "$PF,a,b,c" sets the averaging, binning and look down PRFs.
+TEST(UlsBehaviour, OutputsReportThePrfOfEachMode) {
+  Unit unit(scene_of({target_at(12.0)}));
+  EXPECT_EQ(unit.ask("$PF,1000,2000,3000"), "$OK");
+  EXPECT_EQ(unit.firmware->control({{"cmd", "outputs"}}, unit.now)["prf_hz"], nlohmann::json({1000, 2000, 3000}));
+  EXPECT_EQ(unit.ask("$PF,4000"), "$OK");  // one value: the current mode's (averaging)
+  EXPECT_EQ(unit.firmware->control({{"cmd", "outputs"}}, unit.now)["prf_hz"], nlohmann::json({4000, 2000, 3000}));
+}
+
 // docs/conformance.md U41
 TEST(UlsBehaviour, MinimumPulseWidthLetsTheUnitSeeThroughDust) {
   // Dust answers half the pulses with a 3 ns return: 992 good of 1024 cannot be filled.

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <map>
 #include <regex>
 #include <sstream>
 
@@ -119,6 +120,48 @@ TEST(WebApi, PatchIsCheckedByTheTableWrittenAndReadBack) {
   EXPECT_EQ(too_far.status, 400) << too_far.body;
   EXPECT_EQ(error_field(too_far), "short-gate-m");
   EXPECT_NE(too_far.body.find("1700"), std::string::npos) << too_far.body;
+}
+
+// U119: the ranges the dashboard checks a field by before it sends anything (issue 14 point 3,
+// "Every field shows the document's range and unit"), served from the command table the
+// CLI uses. Expectations typed from §8: "Set/Get PRF ... 10 to 5000 Hz" (error 32 "Invalid
+// PRF"), Short Gate 0-1700 m, Bin Size 0-8 (§2 "2.5 (13)"), Measurement Mode 1-3.
+TEST(WebApi, SettingsSchemaGivesEachSettingsRangeUnitAndError) {
+  Service service;
+  const Reply reply = http(service.port, "GET", "/api/sensors/bay-C/settings/schema");
+  ASSERT_EQ(reply.status, 200) << reply.body;
+  const auto schema = json_of(reply);
+  EXPECT_EQ(schema["family"], "uls");
+  std::map<std::string, nlohmann::json> by_key;
+  for (const auto& row : schema["settings"]) by_key[row["key"].get<std::string>()] = row;
+  const auto& prf = by_key.at("prf-hz");
+  EXPECT_EQ(prf["mnemonic"], "PF");
+  EXPECT_EQ(prf["min"], 10);
+  EXPECT_EQ(prf["max"], 5000);
+  EXPECT_EQ(prf["unit"], "Hz");
+  EXPECT_EQ(prf["error"], 32);
+  EXPECT_EQ(prf["max_fields"], 3);
+  const auto& gate = by_key.at("short-gate-m");
+  EXPECT_EQ(gate["min"], 0);
+  EXPECT_EQ(gate["max"], 1700);
+  EXPECT_EQ(gate["unit"], "m");
+  EXPECT_EQ(by_key.at("offset-m")["min"], -1700);
+  EXPECT_EQ(by_key.at("bin-size")["values"][0]["name"], "1 inch");     // §8 BS "n = 0 = 1 inch"
+  EXPECT_EQ(by_key.at("bin-size")["values"][0]["label"], "2.5 (13)");  // §2 "Bin Size (Range) 2.5 (13)"
+  EXPECT_EQ(by_key.at("mode")["values"][0]["name"], "averaging");
+  EXPECT_EQ(by_key.at("trip-timeout-s")["unit"], "s");
+  EXPECT_FALSE(by_key.at("version")["writable"].get<bool>());
+  // §10: "49 Pulse Per Output Must Be Greater Than Average Weight | PPO Must Be Greater Than Average Weight".
+  bool error_49 = false;
+  for (const auto& error : schema["errors"]) {
+    if (error["number"] != 49) continue;
+    error_49 = true;
+    EXPECT_EQ(error["explanation"], "Pulse Per Output Must Be Greater Than Average Weight");
+    EXPECT_EQ(error["display"], "PPO Must Be Greater Than Average Weight");
+  }
+  EXPECT_TRUE(error_49);
+  EXPECT_EQ(http(service.port, "GET", "/api/sensors/belt/settings/schema").status, 409);  // LS5: not yet
+  EXPECT_EQ(http(service.port, "POST", "/api/sensors/bay-C/settings/schema").status, 405);
 }
 
 TEST(WebApi, ActionsRunOnTheSensor) {

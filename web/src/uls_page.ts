@@ -1,9 +1,12 @@
 // The ULS page, mirroring the §2 main screen (issue 14 point 3), first part: the
 // indicators with their §2 meanings as tooltips, the live reading in the black
-// measurement box, the display choice of the mode, and Read. The panels, the other
-// buttons and the live plot come later.
+// measurement box, the display choice of the mode, the §2 buttons and the parameter
+// panels (uls_panels.ts), capture (capture_panel.ts) and the live plot (live_plot.ts).
 import type { Sensor } from './api';
 import { authorisedFetch } from './api';
+import { CapturePanel } from './capture_panel';
+import { LivePlot } from './live_plot';
+import { UlsPanels } from './uls_panels';
 
 // §2 "Icons: Displayed above the black measurement window".
 const INDICATORS = [
@@ -48,6 +51,10 @@ export class UlsPage {
   private readonly message = element('p', 'page-message');
   private readonly caption = element('p');
   private readonly readButton = element('button', 'action', 'Read');
+  private readonly panels: UlsPanels;
+  private readonly capture: CapturePanel;
+  private readonly plot = new LivePlot();
+  private readonly singleButton = element('button', 'action', 'Single Measurement');
   private mode = '';
   private display = '';
   private validTimes: number[] = [];
@@ -81,11 +88,33 @@ export class UlsPage {
     this.readButton.type = 'button';
     this.readButton.addEventListener('click', () => void this.read());
     const buttons = element('div', 'buttons');
-    buttons.append(this.readButton);
+    this.panels = new UlsPanels(name);
+    const upload = element('button', 'action', 'Upload Settings');
+    upload.type = 'button';
+    upload.addEventListener('click', () => void this.panels.upload());
+    buttons.append(upload, this.readButton);
+    // §2 buttons, through POST /api/sensors/NAME/actions/... (docs/api.md).
+    for (const [label, action, argument] of [['Pointer On', 'pointer', 'on'], ['Pointer Off', 'pointer', 'off'],
+      ['Measurement Start', 'start', ''], ['Measurement Stop', 'stop', '']] as const) {
+      const button = element('button', 'action', label);
+      button.type = 'button';
+      button.addEventListener('click', () => void this.act(action, argument, label));
+      buttons.append(button);
+    }
+    this.singleButton.type = 'button';
+    this.singleButton.hidden = true;  // §2: with Continuous Output off, "select Single Measurement"
+    this.singleButton.addEventListener('click', () => void this.act('single', '', 'Single Measurement'));
+    buttons.append(this.singleButton);
     this.message.setAttribute('role', 'status');
-    this.message.textContent = 'G, CT and O show once the settings have been read: press Read.';
+    this.message.textContent = 'G, CT, O and the panels below show the settings once they have been read: press Read.';
     this.caption.className = 'caption';
-    this.root.append(back, title, row, this.box, this.caption, this.choices, buttons, this.message);
+    this.capture = new CapturePanel(name);
+    this.root.append(back, title, row, this.box, this.caption, this.choices, buttons, this.message, this.plot.root,
+      this.capture.root,
+      this.panels.message, this.panels.root);
+    this.panels.load().catch((error: Error) => {
+      this.panels.message.textContent = `The panels could not be built: ${error.message}`;
+    });
     this.root.dataset.sensor = name;
   }
 
@@ -96,6 +125,8 @@ export class UlsPage {
     this.set('laser', status['laser-firing'] === undefined ? undefined : status['laser-firing'] === 'yes');
     const settings = (sensor as Sensor & { settings: Record<string, unknown> }).settings ?? {};
     const known = Object.keys(settings).length > 0;
+    this.panels.update(settings);
+    this.singleButton.hidden = !(known && settings.continuous === 'off');
     // U114: G when a gate is not 0 (U44: "0 = off"), CT when the cooperative filter is on, O when the offset is not 0.
     this.set('gates', known ? Number(settings['short-gate-m']) !== 0 || Number(settings['long-gate-m']) !== 0 : undefined);
     this.set('cooperative', known ? settings['cooperative-filter'] === 'on' : undefined);
@@ -118,22 +149,30 @@ export class UlsPage {
     });
     this.source.addEventListener('event', (message) => {
       const item = JSON.parse((message as MessageEvent<string>).data) as { data: { event: string } };
-      if (item.data.event === 'disconnected') this.set('connected', false);
+      if (item.data.event === 'disconnected') {
+        this.set('connected', false);
+        this.plot.gap(Date.now() / 1000);
+      }
+      if (item.data.event === 'lost_records') this.plot.gap(Date.now() / 1000);
       if (item.data.event === 'connected' || item.data.event === 'reconnected') this.set('connected', true);
     });
     this.tick = window.setInterval(() => this.updateBasic(), 500);
+    this.plot.start();
   }
 
   close(): void {
     this.source?.close();
     this.source = null;
     window.clearInterval(this.tick);
+    this.capture.close();
+    this.plot.stop();
   }
 
   private tick = 0;
 
   private sample(sample: UlsSample): void {
     this.lastSample = sample;
+    this.plot.add(sample);
     if (sample.kind && sample.kind !== this.mode && sample.kind !== 'error') this.setMode(sample.kind);
     const valid = sample.distance_m !== undefined || (sample.targets?.length ?? 0) > 0 || sample.presence !== undefined;
     if (valid) this.validTimes.push(performance.now());
@@ -210,10 +249,28 @@ export class UlsPage {
       const response = await authorisedFetch(`/api/sensors/${encodeURIComponent(this.name)}/actions/read`, { method: 'POST' });
       const body = await response.json();
       this.message.textContent = response.ok ? 'Settings read.' : `Read refused: ${body.error?.message ?? response.status}`;
+      if (response.ok) {
+        const settings = await fetch(`/api/sensors/${encodeURIComponent(this.name)}/settings`, { cache: 'no-store' });
+        if (settings.ok) this.panels.update((await settings.json()) as Record<string, unknown>, true);
+      }
     } catch (error) {
       this.message.textContent = `Read failed: ${(error as Error).message}`;
     } finally {
       this.readButton.disabled = false;
+    }
+  }
+
+  private async act(action: string, argument: string, label: string): Promise<void> {
+    this.message.textContent = `${label}…`;
+    try {
+      const query = argument ? `?argument=${encodeURIComponent(argument)}` : '';
+      const response = await authorisedFetch(`/api/sensors/${encodeURIComponent(this.name)}/actions/${action}${query}`,
+        { method: 'POST' });
+      const body = await response.json();
+      this.message.textContent = response.ok ? `${label}: done${body.result ? ` (${body.result})` : ''}.`
+        : `${label} refused: ${body.error?.message ?? response.status}`;
+    } catch (error) {
+      this.message.textContent = `${label} failed: ${(error as Error).message}`;
     }
   }
 

@@ -174,7 +174,7 @@ test('the ULS page: §2 indicators with their meanings, the live reading, the di
   // U114: gates, cooperative target and offset are known once the settings have been read.
   const unread = await page.$eval('[data-indicator="gates"]', (item) => item.dataset.state);
   assert.ok(unread === 'unknown' || unread === 'off', unread);
-  await page.focus('button.action');
+  await page.getByRole('button', { name: 'Read', exact: true }).focus();
   await page.keyboard.press('Enter');
   await page.waitForFunction(() => document.querySelector('.page-message').textContent === 'Settings read.', null, WAIT);
   await indicatorIs('gates', 'off');  // the emulator's factory settings: no gate, no CT, no offset

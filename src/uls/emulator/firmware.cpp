@@ -1102,6 +1102,9 @@ nlohmann::json Firmware::control(const nlohmann::json& request, Nanos now) {
                          {"skipped_lines", o.skipped_lines},
                          {"binning_restarts", o.binning_restarts},
                          {"min_pulse_width_ns", settings_.min_pulse_width_ns},
+                         // What $PF holds, per mode (averaging, binning, look down), so a test can
+                         // check a write from outside the link (the dashboard's PRF test, issue 14).
+                         {"prf_hz", {settings_.prf[0], settings_.prf[1], settings_.prf[2]}},
                          {"last_error", o.last_error}};
     reply["distance_m"] = o.last_distance_m ? nlohmann::json(*o.last_distance_m) : nlohmann::json(nullptr);
     return reply;

@@ -1,0 +1,231 @@
+// The ULS page's parameter panels (§2 "Basic Setup" ... "Current Loop"; issue 14 point 3):
+// each field built from GET /api/sensors/NAME/settings/schema (the §8 command table the CLI
+// checks by), shown with its range and unit, and checked here before anything is sent.
+// Upload Settings sends only the fields that changed, as one PATCH; a refusal of the unit
+// shows the API's message, which carries the §10 number and its Interface text.
+import { authorisedFetch } from './api';
+
+export interface SchemaRow {
+  key: string;
+  mnemonic: string;
+  title: string;
+  unit: string;
+  writable: boolean;
+  min?: number;
+  max?: number;
+  min_fields: number;
+  max_fields: number;
+  error: number;
+  reference: string;
+  values?: { value: number; name: string; label?: string }[];
+}
+
+// §2's parameter windows and the settings each shows (names as `rangekit uls get` prints them).
+const PANELS: [string, [string, string][]][] = [
+  ['Basic Setup', [['units', 'Units'], ['short-gate-m', 'Short Gate'], ['long-gate-m', 'Long Gate'], ['offset-m', 'Offset']]],
+  ['Measurement Mode', [['mode', 'Mode']]],
+  ['PRF and Pulses/Measure', [['prf-hz', 'PRF (averaging, binning, look down)'], ['ppm', 'Pulses/Measure (averaging, binning)']]],
+  ['Averaging Parameters', [['dither', 'Dithering'], ['averaging-weight', 'Required Dither / Minimum Good Pulses']]],
+  ['Laser Power', [['power', 'Laser Power']]],
+  ['Output Setup', [['output-port', 'Output Port'], ['display', 'Display Mode'], ['continuous', 'Continuous Output'],
+    ['autostart', 'ULS Autostart'], ['pointer-autostart', 'Pointer Autostart'], ['cooperative-filter', 'Cooperative Target'],
+    ['termination', 'Termination']]],
+  ['Binning Parameters', [['bin-threshold', 'Bin Hits'], ['bin-size', 'Bin Size (Range), cm (m)']]],
+  ['Look Down', [['trip-point-m', 'Trip Point'], ['trip-timeout-s', 'Re-reference time'], ['time-between-events', 'Time Between Events']]],
+  ['Current Loop', [['current-loop', 'Current Loop'], ['range-4ma-m', 'Range at 4 mA'], ['range-20ma-m', 'Range at 20 mA'],
+    ['fault-timeout-s', 'Fault Timeout'], ['fault-current-ma', 'Fault Current']]],
+];
+
+// "off (polled)" -> "off", "1 inch" -> "1-inch": how the API names a value (named_settings.cpp).
+function keyName(name: string): string {
+  return name.split('(')[0].trim().toLowerCase().replace(/[ _]+/g, '-').replace(/-+$/, '');
+}
+
+function element<K extends keyof HTMLElementTagNameMap>(tag: K, className?: string, text?: string) {
+  const made = document.createElement(tag);
+  if (className) made.className = className;
+  if (text !== undefined) made.textContent = text;
+  return made;
+}
+
+function rangeText(row: SchemaRow): string {
+  if (row.values) return '';
+  const unit = row.unit ? ` ${row.unit}` : '';
+  const count = row.max_fields > 1 ? (row.min_fields === row.max_fields ? `${row.max_fields} values, each ` : `${row.min_fields} or ${row.max_fields} values, each `) : '';
+  return `${count}${row.min} – ${row.max}${unit}`;
+}
+
+interface Field {
+  row: SchemaRow;
+  input: HTMLInputElement | HTMLSelectElement;
+  problem: HTMLElement;
+  sent: string;  // the value as last read, in the field's own form
+}
+
+export class UlsPanels {
+  readonly root = element('div', 'panels');
+  readonly message = element('p', 'panel-message');
+  private readonly fields = new Map<string, Field>();
+  private schemaLoaded = false;
+  private errorDisplay = new Map<number, string>();  // §10 "ULS Interface Display" by number
+
+  constructor(private readonly name: string) {
+    this.message.setAttribute('role', 'status');
+  }
+
+  async load(): Promise<void> {
+    const response = await fetch(`/api/sensors/${encodeURIComponent(this.name)}/settings/schema`, { cache: 'no-store' });
+    if (!response.ok) throw new Error(`settings schema: ${response.status}`);
+    const schema = (await response.json()) as { settings: SchemaRow[]; errors?: { number: number; display: string }[] };
+    for (const error of schema.errors ?? []) this.errorDisplay.set(error.number, error.display);
+    const rows = new Map(schema.settings.map((row) => [row.key, row]));
+    for (const [title, entries] of PANELS) {
+      const panel = element('fieldset', 'panel');
+      panel.append(element('legend', undefined, title));
+      for (const [key, label] of entries) {
+        const row = rows.get(key);
+        if (row?.writable) panel.append(this.field(row, label));
+      }
+      this.root.append(panel);
+    }
+    this.schemaLoaded = true;
+  }
+
+  private field(row: SchemaRow, label: string): HTMLElement {
+    const id = `setting-${row.key}`;
+    const wrapper = element('div', 'field');
+    const labelElement = element('label', undefined, label);
+    labelElement.htmlFor = id;
+    let input: HTMLInputElement | HTMLSelectElement;
+    if (row.values) {
+      const select = element('select');
+      for (const value of row.values) {
+        const option = element('option', undefined, value.label ?? value.name);
+        option.value = String(value.value);
+        select.append(option);
+      }
+      input = select;
+    } else {
+      const text = element('input');
+      text.type = 'text';
+      text.inputMode = 'decimal';
+      text.autocomplete = 'off';
+      input = text;
+    }
+    input.id = id;
+    input.dataset.setting = row.key;
+    input.disabled = true;  // until the settings have been read
+    const hint = element('span', 'range', rangeText(row));
+    hint.id = `${id}-range`;
+    const problem = element('span', 'problem');
+    problem.id = `${id}-problem`;
+    problem.setAttribute('role', 'alert');
+    input.setAttribute('aria-describedby', `${hint.id} ${problem.id}`);
+    input.title = `${row.title} (${row.mnemonic}, ${row.reference})`;
+    input.addEventListener('input', () => this.check(this.fields.get(row.key)!));
+    input.addEventListener('change', () => this.check(this.fields.get(row.key)!));
+    wrapper.append(labelElement, input, hint, problem);
+    this.fields.set(row.key, { row, input, problem, sent: '' });
+    return wrapper;
+  }
+
+  // The settings as last read (GET /api/sensors): every field shows them, except one being edited.
+  update(settings: Record<string, unknown>, force = false): void {
+    if (!this.schemaLoaded || Object.keys(settings).length === 0) return;
+    for (const field of this.fields.values()) {
+      const raw = settings[field.row.key];
+      if (raw === undefined) continue;
+      const value = this.formOf(field.row, raw);
+      const edited = field.input.value !== field.sent && field.sent !== '';
+      if (force || !edited) field.input.value = value;
+      field.sent = value;
+      field.input.disabled = false;
+      if (force || !edited) this.check(field);
+    }
+  }
+
+  private formOf(row: SchemaRow, raw: unknown): string {
+    if (!row.values) return String(raw);
+    const text = String(raw);
+    const byNumber = row.values.find((value) => String(value.value) === text);
+    if (byNumber) return String(byNumber.value);
+    const named = row.values.find((value) => keyName(value.name) === text);
+    if (named) return String(named.value);
+    if (text === 'on' || text === 'off') return text === 'on' ? '1' : '0';  // flags named otherwise ("idle on power up")
+    return text;
+  }
+
+  // §8's range of the field (the document's numbers, served by the API); '' when it is fine.
+  private problemOf(field: Field): string {
+    const row = field.row;
+    if (row.values) return '';
+    const parts = field.input.value.split(',').map((part) => part.trim());
+    if (parts.length < row.min_fields || parts.length > row.max_fields) {
+      return `${row.min_fields === row.max_fields ? row.min_fields : `${row.min_fields} or ${row.max_fields}`} value${row.max_fields > 1 ? 's' : ''} separated by commas`;
+    }
+    for (const part of parts) {
+      const number = Number(part);
+      if (part === '' || !Number.isFinite(number)) return `'${part}' is not a number`;
+      if ((row.unit === 'Hz' || row.unit === 'pulses' || row.unit === 'hits') && !Number.isInteger(number)) {
+        return `${part} is not a whole number`;
+      }
+      if (row.min !== undefined && row.max !== undefined && (number < row.min || number > row.max)) {
+        return `${part} is out of range: ${row.min} – ${row.max}${row.unit ? ` ${row.unit}` : ''} (the ULS answers error ${row.error})`;
+      }
+    }
+    return '';
+  }
+
+  private check(field: Field): boolean {
+    const problem = this.problemOf(field);
+    field.problem.textContent = problem;
+    field.input.setAttribute('aria-invalid', problem ? 'true' : 'false');
+    field.input.closest('.field')?.classList.toggle('changed', field.input.value !== field.sent);
+    return problem === '';
+  }
+
+  // PATCH of the changed fields, after every field passed its check; nothing is sent otherwise.
+  async upload(): Promise<void> {
+    const body: Record<string, unknown> = {};
+    const wrong: string[] = [];
+    for (const [key, field] of this.fields) {
+      if (!this.check(field)) wrong.push(key);
+      if (field.input.value === field.sent || field.input.disabled) continue;
+      const parts = field.input.value.split(',').map((part) => Number(part.trim()));
+      body[key] = field.row.max_fields > 1 ? parts : parts[0];
+    }
+    if (wrong.length > 0) {
+      this.message.textContent = `Nothing sent: ${wrong.map((key) => `${key}: ${this.fields.get(key)!.problem.textContent}`).join('; ')}`;
+      this.message.dataset.state = 'error';
+      this.fields.get(wrong[0])!.input.focus();
+      return;
+    }
+    if (Object.keys(body).length === 0) {
+      this.message.textContent = 'Nothing to upload: no field was changed.';
+      this.message.dataset.state = '';
+      return;
+    }
+    this.message.textContent = `Uploading ${Object.keys(body).join(', ')}…`;
+    this.message.dataset.state = '';
+    const response = await authorisedFetch(`/api/sensors/${encodeURIComponent(this.name)}/settings`, {
+      method: 'PATCH',
+      headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify(body),
+    });
+    const answer = (await response.json()) as Record<string, unknown> & { error?: { message: string; field?: string } };
+    if (!response.ok) {
+      // device_error: "$AW: device error 49: Pulse Per Output Must Be Greater Than Average Weight" (§10)
+      const message = answer.error?.message ?? String(response.status);
+      const number = /device error (\d+)/.exec(message)?.[1];
+      const display = number ? this.errorDisplay.get(Number(number)) : undefined;
+      // As the Interface Program shows it (§10), then the service's whole message.
+      this.message.textContent = display ? `Upload refused: ULS error ${number}: ${display} (${message})`
+        : `Upload refused: ${message}`;
+      this.message.dataset.state = 'error';
+      return;
+    }
+    this.update(answer, true);
+    this.message.textContent = `Uploaded and read back: ${Object.keys(body).join(', ')}.`;
+    this.message.dataset.state = 'done';
+  }
+}
