@@ -10,6 +10,7 @@
 #include "rangekit/hub/captures.hpp"
 #include "rangekit/hub/hub.hpp"
 #include "rangekit/hub/json_views.hpp"
+#include "rangekit/hub/settings_schema.hpp"
 
 namespace rangekit::web {
 
@@ -20,6 +21,7 @@ using hub::field_of;
 using hub::sensor_json;
 using hub::settings_from_body;
 using hub::SettingsBody;
+using hub::uls_settings_schema;
 
 // {"id":N,"sensor":"...","type":"sample"|"event","data":{...}} (data as in `stream --format jsonl`).
 std::string item_json(const hub::HubItem& item);
@@ -27,10 +29,5 @@ std::string item_json(const hub::HubItem& item);
 const char* item_type(const hub::HubItem& item);
 
 nlohmann::json capture_json(const hub::CaptureInfo& capture);
-
-// GET /api/sensors/{name}/settings/schema of a ULS: every setting of §8's command table
-// (the CLI's registry) under the name `get` prints, with the range a value must keep in
-// the unit of that name, the §10 number a unit answers outside it, and the named values.
-nlohmann::json uls_settings_schema();
 
 }  // namespace rangekit::web
