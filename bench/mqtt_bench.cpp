@@ -139,6 +139,7 @@ class Pipeline {
     if (out >= 0) posix_spawn_file_actions_adddup2(&actions, out, STDOUT_FILENO);
     posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
     std::vector<char*> argv;
+    argv.reserve(args.size() + 1);
     for (auto& arg : args) argv.push_back(arg.data());
     argv.push_back(nullptr);
     pid_t pid = -1;
@@ -243,7 +244,7 @@ void BM_MqttServiceVersusPipelines(benchmark::State& state) {
   std::this_thread::sleep_for(200ms);  // its SUBSCRIBEs reach the broker
 
   const auto window_s = std::chrono::duration<double>(window).count();
-  for (auto _ : state) {
+  for (auto _ : state) {  // NOLINT(clang-analyzer-deadcode.DeadStores): the benchmark loop
     // Baseline: one pipeline per LS5.
     Figures baseline;
     {
