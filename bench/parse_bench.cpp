@@ -240,6 +240,28 @@ void print_service_comparison(const SummaryReporter& reporter, const char* name)
       p99 <= 20.0 && value("lat_samples") > 0 ? "met" : "MISSED");
 }
 
+// The MQTT bridge (issue 15): CPU against `ls5 stream | mosquitto_pub -l` of the same
+// LS5s, same run; goals: less CPU, record-to-subscriber latency p99 <= 10 ms, no loss.
+void print_mqtt_comparison(const SummaryReporter& reporter, const char* name) {
+  const auto s = reporter.figures.find(name);
+  if (s == reporter.figures.end()) return;
+  auto value = [&](const char* counter) {
+    const auto it = s->second.counters.find(counter);
+    return it == s->second.counters.end() ? 0.0 : it->second;
+  };
+  const double service = value("service_cpu_pct");
+  const double baseline = value("baseline_cpu_pct");
+  const double p99 = value("lat_p99_ms");
+  const double records = value("records");
+  const double lost = value("lost");
+  std::printf(
+      "%-26s CPU %5.1f%% vs (ls5 stream | mosquitto_pub) x2 %5.1f%% (goal less: %s); latency p50 %.2f ms p99 %.2f "
+      "ms max %.2f ms (goal p99 <= 10: %s); lost %.0f of %.0f (goal none: %s)\n",
+      "mqtt 2 LS5 1 kHz full rate", service, baseline, service < baseline && baseline > 0 ? "met" : "MISSED",
+      value("lat_p50_ms"), p99, value("lat_max_ms"), p99 <= 10.0 && records > 0 ? "met" : "MISSED", lost, records,
+      lost == 0 && records > 0 ? "met" : "MISSED");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -256,6 +278,7 @@ int main(int argc, char** argv) {
   print_host_comparison(reporter, "host ULS binning @ 230400", "BM_HostUlsDriverBinning230400/iterations:1/real_time",
                         "BM_CatUlsFloorBinning230400/iterations:1/real_time");
   print_service_comparison(reporter, "BM_ServiceVersusLs5Stream/iterations:1/real_time");
+  print_mqtt_comparison(reporter, "BM_MqttServiceVersusPipelines/iterations:1/real_time");
   benchmark::Shutdown();
   return 0;
 }
