@@ -101,7 +101,13 @@ TEST(WebEvents, TwentyClientsLoseNothingAndAStalledOneIsCutOff) {
   const long after_kb = resident_kb();
   std::printf("resident memory: %ld kB before the 21 streams, %ld kB with them (+%ld kB)\n", before_kb, after_kb,
               after_kb - before_kb);
+#if defined(__SANITIZE_ADDRESS__)
+  // Not a figure of the service under ASan: its allocator holds freed memory back (a
+  // quarantine of up to 256 MB), so resident memory grows with every allocation made
+  // here. The bound is checked in the plain and TSan builds.
+#else
   EXPECT_LT(after_kb - before_kb, 64 * 1024);  // bounded: the queues and socket buffers, not the stream's history
+#endif
 
   // Lost nothing: each reader's ids are exactly the sensor's ids in the ring over the same
   // span. Compared after the memory is measured (parsing the ring's JSON here would count
@@ -153,7 +159,7 @@ TEST(WebEvents, AKilledEmulatorShowsDisconnectedThenReconnected) {
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
   EXPECT_LE(seen, 5000ms);  // sanitizers slow everything several times over
 #else
-  EXPECT_LE(seen, 1000ms);  // issue 13: "shows disconnected on SSE within 1 s"
+  EXPECT_LE(seen, 1000ms);                     // issue 13: "shows disconnected on SSE within 1 s"
 #endif
   EXPECT_FALSE(nlohmann::json::parse(http(service.port, "GET", "/api/sensors/belt").body)["connected"].get<bool>());
   hub_test::Child again({"sim", "ls5", "--port", (service.site.temp.path / "ls5").string()});
