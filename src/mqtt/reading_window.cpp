@@ -51,7 +51,10 @@ std::optional<std::string> ReadingWindow::add(const Sample& sample, Clock::time_
   last_time_ = sample.time;
   ++count_;
   single_ = std::move(own);
-  if (const auto distance = distance_of(sample)) {
+  const auto distance = distance_of(sample);
+  if (distance && sample.suspect) {
+    ++suspect_;
+  } else if (distance) {
     if (distances_ == 0) {
       min_ = max_ = distance->value;
     } else {
@@ -82,8 +85,8 @@ std::optional<std::string> ReadingWindow::close_window(Clock::time_point now) {
   if (count_ == 1 && lost_ == 0) {
     out = std::move(single_);
   } else {
-    nlohmann::json window{{"window", true},          {"count", count_}, {"unit", unit_},
-                          {"no_signal", no_signal_}, {"lost", lost_},   {"errors", errors_}};
+    nlohmann::json window{{"window", true}, {"count", count_},   {"unit", unit_},      {"no_signal", no_signal_},
+                          {"lost", lost_},  {"errors", errors_}, {"suspect", suspect_}};
     std::string first;
     std::string last;
     record::append_iso_time(first, first_time_);
@@ -103,7 +106,7 @@ std::optional<std::string> ReadingWindow::close_window(Clock::time_point now) {
     out = window.dump();
   }
   last_publish_ = now;
-  count_ = distances_ = no_signal_ = lost_ = errors_ = 0;
+  count_ = distances_ = no_signal_ = lost_ = errors_ = suspect_ = 0;
   sum_ = 0;
   presence_.reset();
   single_.clear();

@@ -2,7 +2,8 @@
 // writes it while the sensor stays under the configured rate; above it, one message
 // per window of 1/rate seconds with count, min, mean, max and last of the distances
 // plus the quality counts. A sample without a distance (LS5 no signal, ULS $ER) is
-// counted, never published as a distance.
+// counted, never published as a distance; a suspect one (issue 18) is counted and kept
+// out of min/mean/max/last, so one corrupt record cannot move a window's figures.
 #pragma once
 
 #include <chrono>
@@ -44,7 +45,7 @@ class ReadingWindow {
   std::uint64_t distances_ = 0;
   double min_ = 0, max_ = 0, sum_ = 0, last_ = 0;
   const char* unit_ = "m";
-  std::uint64_t no_signal_ = 0, lost_ = 0, errors_ = 0;
+  std::uint64_t no_signal_ = 0, lost_ = 0, errors_ = 0, suspect_ = 0;
   std::optional<bool> presence_;
   std::string single_;  // the only sample's own message, when the window holds one
   std::chrono::system_clock::time_point first_time_{}, last_time_{};

@@ -3,44 +3,11 @@
 #include <cmath>
 #include <variant>
 
-#include "rangekit/record/format.hpp"
 #include "web/flush_ticker.hpp"
 #include "web/json_views.hpp"
+#include "web/sample_aggregate.hpp"
 
 namespace rangekit::web {
-namespace {
-
-// The one number a live view plots for a sample, and its unit; none for
-// look-down edges, device errors and LS5 no-signal records (drawn as gaps).
-std::optional<std::pair<double, const char*>> plotted(const Sample& sample) {
-  if (sample.distance_m) return std::pair{*sample.distance_m, "m"};
-  if (!sample.targets.empty()) return std::pair{sample.targets.front().distance_m, "m"};
-  if (sample.distance_mm) return std::pair{*sample.distance_mm, "mm"};
-  if (sample.derivative_mm) return std::pair{*sample.derivative_mm, "mm"};
-  return std::nullopt;
-}
-
-std::string number_text(double value) {
-  std::array<char, 32> buffer{};
-  std::snprintf(buffer.data(), buffer.size(), "%.6g", value);
-  return buffer.data();
-}
-
-}  // namespace
-
-template <class Stream>
-struct EventStream<Stream>::Aggregate {
-  std::int64_t bucket = -1;
-  std::uint64_t last_id = 0;
-  std::size_t count = 0;    // samples in the bucket
-  std::size_t without = 0;  // of which with no plotted value (gaps)
-  double min = 0;
-  double max = 0;
-  double last = 0;
-  const char* unit = "";
-  std::chrono::system_clock::time_point time;
-};
-
 template <class Stream>
 EventStream<Stream>::EventStream(Stream stream, hub::SubscriptionPtr subscription, std::vector<hub::HubItemPtr> backlog,
                                  std::uint64_t after, EventStreamOptions options, std::shared_ptr<FlushTicker> ticker,
@@ -100,26 +67,11 @@ void EventStream<Stream>::append(std::string& out, const hub::HubItem& item) {
   last_sent_ = item.sequence;
   const auto* sample = std::get_if<Sample>(&item.item);
   if (options_.max_rate && sample != nullptr) {
-    auto& slot = aggregates_[item.sensor];
-    if (!slot) slot = std::make_unique<Aggregate>();
-    Aggregate& aggregate = *slot;
-    const double period_ms = 1000.0 / *options_.max_rate;
-    const auto now = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch());
-    const auto bucket = static_cast<std::int64_t>(std::floor(now.count() / period_ms));
-    if (aggregate.count > 0 && bucket != aggregate.bucket) append_aggregates(out, true);
+    SampleAggregate& aggregate = aggregates_[item.sensor];
+    const auto bucket = bucket_now();
+    if (!aggregate.empty() && bucket != aggregate.bucket) append_aggregates(out, true);
     aggregate.bucket = bucket;
-    aggregate.last_id = item.sequence;
-    aggregate.time = sample->time;
-    ++aggregate.count;
-    if (const auto value = plotted(*sample)) {
-      const std::size_t valued = aggregate.count - aggregate.without;
-      aggregate.min = valued == 1 ? value->first : std::min(aggregate.min, value->first);
-      aggregate.max = valued == 1 ? value->first : std::max(aggregate.max, value->first);
-      aggregate.last = value->first;
-      aggregate.unit = value->second;
-    } else {
-      ++aggregate.without;
-    }
+    aggregate.add(*sample, item.sequence);
     return;
   }
   if (options_.max_rate) append_aggregates(out, true);  // a link event after the samples before it
@@ -127,35 +79,18 @@ void EventStream<Stream>::append(std::string& out, const hub::HubItem& item) {
 }
 
 template <class Stream>
-void EventStream<Stream>::append_aggregates(std::string& out, bool all) {
-  const double period_ms = options_.max_rate ? 1000.0 / *options_.max_rate : 0;
+std::int64_t EventStream<Stream>::bucket_now() const {
+  const double period_ms = 1000.0 / *options_.max_rate;
   const auto now = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch());
-  const auto current = period_ms > 0 ? static_cast<std::int64_t>(std::floor(now.count() / period_ms)) : 0;
-  for (auto& [sensor, slot] : aggregates_) {
-    Aggregate& aggregate = *slot;
-    if (aggregate.count == 0 || (!all && aggregate.bucket >= current)) continue;
-    std::string time;
-    record::append_iso_time(time, aggregate.time);
-    const bool valued = aggregate.count > aggregate.without;
-    const std::string id = std::to_string(aggregate.last_id);
-    out += "id: ";
-    out += id;
-    out += "\nevent: aggregate\ndata: {\"id\":";
-    out += id;
-    out += ",\"sensor\":\"";
-    out += sensor;
-    out += "\",\"type\":\"aggregate\",\"data\":{\"time\":\"";
-    out += time;
-    out += "\",\"count\":";
-    out += std::to_string(aggregate.count);
-    out += ",\"gaps\":";
-    out += std::to_string(aggregate.without);
-    if (valued) {
-      out += ",\"min\":" + number_text(aggregate.min) + ",\"max\":" + number_text(aggregate.max) +
-             ",\"last\":" + number_text(aggregate.last) + ",\"unit\":\"" + aggregate.unit + "\"";
-    }
-    out += "}}\n\n";
-    aggregate = Aggregate{};
+  return static_cast<std::int64_t>(std::floor(now.count() / period_ms));
+}
+
+template <class Stream>
+void EventStream<Stream>::append_aggregates(std::string& out, bool all) {
+  const std::int64_t current = bucket_now();
+  for (auto& [sensor, aggregate] : aggregates_) {
+    if (aggregate.empty() || (!all && aggregate.bucket >= current)) continue;
+    aggregate.append_event(out, sensor);
   }
 }
 

@@ -2,8 +2,8 @@
 // then every live item of its subscription, written as fast as the client reads.
 // A client that falls stream_queue items behind is cut off (counted); its
 // EventSource reconnects and resumes from the ring. With max_rate the samples of
-// each sensor are merged per 1/max_rate s into min/max/last (link events pass
-// unmerged), so a 1 kHz sensor stays cheap for a browser.
+// each sensor are merged per 1/max_rate s into min/max/last (web/sample_aggregate.hpp; link
+// events pass unmerged), so a 1 kHz sensor stays cheap for a browser.
 #pragma once
 
 #include <atomic>
@@ -16,6 +16,7 @@
 #include "rangekit/hub/fanout.hpp"
 #include "web/event_cache.hpp"
 #include "web/http.hpp"
+#include "web/sample_aggregate.hpp"
 
 namespace rangekit::web {
 
@@ -42,10 +43,10 @@ class EventStream : public std::enable_shared_from_this<EventStream<Stream>> {
   void start();
 
  private:
-  struct Aggregate;
   void flush();
   void append(std::string& out, const hub::HubItem& item);
   void append_aggregates(std::string& out, bool all);
+  std::int64_t bucket_now() const;  // the 1/max_rate slot of the steady clock now
   void write(std::string text);
   void finish();
   void arm_keepalive();
@@ -62,7 +63,7 @@ class EventStream : public std::enable_shared_from_this<EventStream<Stream>> {
   net::steady_timer keepalive_;
   net::steady_timer bucket_timer_;
   std::shared_ptr<std::atomic<bool>> wake_pending_ = std::make_shared<std::atomic<bool>>(false);
-  std::map<std::string, std::unique_ptr<Aggregate>> aggregates_;
+  std::map<std::string, SampleAggregate> aggregates_;
   std::string pending_;  // what is being written
   bool writing_ = false;
   bool finished_ = false;

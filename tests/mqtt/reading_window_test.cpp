@@ -102,3 +102,28 @@ TEST(ReadingWindow, U107UlsErrorsAreCountedAndBinningGivesTheNearestTarget) {
 }
 
 }  // namespace
+
+// Issue 18 item 2: "Suspect samples stay in captures and outputs, marked." A window is a
+// summary, not the samples: a suspect distance is counted there and kept out of the figures,
+// so one corrupt record (`34845` for `24845`) cannot move its min, mean, max or last.
+TEST(ReadingWindow, SuspectSamplesAreCountedAndKeptOutOfTheFigures) {
+  mqtt::ReadingWindow window(10);
+  const auto start = Clock::now();
+  ASSERT_TRUE(window.add(ls5(24.845, 24845, SignalState::ok), start));
+  auto corrupt = ls5(34.845, 34845, SignalState::ok);
+  corrupt.suspect = true;
+  corrupt.suspect_reason = "jump";
+  EXPECT_FALSE(window.add(ls5(24.840, 24840, SignalState::ok), start + 10ms));
+  EXPECT_FALSE(window.add(corrupt, start + 20ms));
+  EXPECT_FALSE(window.add(ls5(24.850, 24850, SignalState::ok), start + 30ms));
+  const auto text = window.flush_due(start + 100ms);
+  ASSERT_TRUE(text);
+  const auto json = nlohmann::json::parse(*text);
+  EXPECT_EQ(json["count"], 3);
+  EXPECT_EQ(json["distances"], 2);
+  EXPECT_EQ(json["suspect"], 1);
+  EXPECT_DOUBLE_EQ(json["min"].get<double>(), 24.840);
+  EXPECT_DOUBLE_EQ(json["max"].get<double>(), 24.850);
+  EXPECT_DOUBLE_EQ(json["mean"].get<double>(), 24.845);
+  EXPECT_DOUBLE_EQ(json["last"].get<double>(), 24.850);
+}
