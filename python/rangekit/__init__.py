@@ -20,6 +20,7 @@ from ._rangekit import (
     FLAG_NO_SIGNAL,
     FLAG_PRESENCE,
     FLAG_PULSES_OVERFLOW,
+    FLAG_SUSPECT,
     FLAG_VALID,
     Event,
     Sample,
@@ -36,4 +37,5 @@ __all__ = [
     "uls", "ls5", "sim", "capture", "errors", "RangekitError", "Sample", "Event", "Stream",
     "sample_dtype", "sample_kinds", "FLAG_VALID", "FLAG_NO_SIGNAL", "FLAG_NO_RESULT_YET",
     "FLAG_DERIVATIVE", "FLAG_PRESENCE", "FLAG_PULSES_OVERFLOW", "FLAG_DEVICE_ERROR",
+    "FLAG_SUSPECT",
 ]

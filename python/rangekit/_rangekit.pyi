@@ -19,6 +19,7 @@ FLAG_DERIVATIVE: int  # 0x08 LS5 distance derivative
 FLAG_PRESENCE: int  # 0x10 ULS look down: target present
 FLAG_PULSES_OVERFLOW: int  # 0x20 ULS look down: > 65535 pulses
 FLAG_DEVICE_ERROR: int  # 0x40 ULS $ER,n
+FLAG_SUSPECT: int  # 0x80 marked by the quality checks (Sample.suspect_reason)
 
 class Sample:
     """One measurement (ULS or LS5); fields that do not apply are None."""
@@ -56,6 +57,10 @@ class Sample:
     def signal(self) -> Optional[str]: ...  # ok | none_yet | lost
     @property
     def resolution_mm(self) -> Optional[float]: ...
+    @property
+    def suspect(self) -> bool: ...  # a value no real target gives at this rate (docs/reliability.md)
+    @property
+    def suspect_reason(self) -> Optional[str]: ...  # which check and why, or None
     @property
     def is_event(self) -> bool: ...  # False
 

@@ -34,15 +34,34 @@ class Driver(BaseDriver):
         self._impl.restore_defaults()
 
     def stream(
-        self, thinning: Optional[int] = None, reconnect_interval: float = 0.5, silence_timeout: float = 3.0
+        self,
+        thinning: Optional[int] = None,
+        reconnect_interval: float = 0.5,
+        silence_timeout: float = 3.0,
+        *,
+        check_quality: bool = True,
+        max_speed: Optional[float] = None,
+        drop_suspect: bool = False,
     ) -> "_rangekit.Stream":
         """Starts the record stream (ST) and returns it.
 
         ``thinning``: n of §8.4 (0-255), written first when given. After ``silence_timeout``
         seconds without a record the sensor is taken for gone (a ``disconnected`` event) and
         asked again every ``reconnect_interval`` seconds (``reconnected``).
+
+        Each record is checked as ``rangekit ls5 stream`` does (docs/reliability.md): one further
+        from the running median than ``max_speed`` m/s allows (default: the range a second) gets
+        ``suspect`` (and ``FLAG_SUSPECT`` in arrays); ``drop_suspect`` leaves such records out,
+        ``check_quality=False`` turns the checks off.
         """
-        return self._impl.stream(thinning, reconnect_interval, silence_timeout)
+        return self._impl.stream(
+            thinning,
+            reconnect_interval,
+            silence_timeout,
+            check_quality=check_quality,
+            max_speed=max_speed,
+            drop_suspect=drop_suspect,
+        )
 
 
 def open(port: str, baud: int = 115200, address: int = 1, timeout: float = 0.5) -> Driver:

@@ -34,15 +34,27 @@ class Driver(BaseDriver):
         """US decoded into its bits (§8 Get Unit Status)."""
         return self._impl.status()
 
-    def stream(self, mode: str = "automatic") -> "_rangekit.Stream":
+    def stream(
+        self,
+        mode: str = "automatic",
+        *,
+        check_quality: bool = True,
+        max_speed: Optional[float] = None,
+        drop_suspect: bool = False,
+    ) -> "_rangekit.Stream":
         """Starts measuring (GO unless already measuring) and returns the stream.
 
         ``mode``: ``automatic`` (continuous lines, falling back to polling with BM when none
         arrive), ``continuous`` or ``polled``. Iterate it for :class:`rangekit.Sample` and
         :class:`rangekit.Event` objects, or ``read(n)`` / ``read(duration=s)`` NumPy arrays.
         Ending it leaves the unit as found (U86).
+
+        Each sample is checked as ``rangekit uls stream`` does (docs/reliability.md): a distance
+        further from the running median than ``max_speed`` m/s allows (default 25), or a pulse
+        width off by more than a factor 2, gets ``suspect`` (and ``FLAG_SUSPECT`` in arrays);
+        ``drop_suspect`` leaves such samples out, ``check_quality=False`` turns the checks off.
         """
-        return self._impl.stream(mode)
+        return self._impl.stream(mode, check_quality=check_quality, max_speed=max_speed, drop_suspect=drop_suspect)
 
 
 def open(port: str, baud: int = 115200, address: Optional[Union[str, int]] = None, timeout: float = 1.0) -> Driver:

@@ -19,6 +19,7 @@
 
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/sample.hpp"
+#include "rangekit/core/sample_quality.hpp"
 
 namespace rangekit::python {
 
@@ -55,6 +56,7 @@ inline constexpr std::uint8_t derivative = 0x08;       // LS5 distance derivativ
 inline constexpr std::uint8_t presence = 0x10;         // ULS look down: a target present
 inline constexpr std::uint8_t pulses_overflow = 0x20;  // ULS look down: more than 65535 pulses (U88)
 inline constexpr std::uint8_t device_error = 0x40;     // ULS $ER,n in the stream
+inline constexpr std::uint8_t suspect = 0x80;          // marked by the quality checks (Sample.suspect_reason)
 }  // namespace flag
 
 // One row of the structured arrays read() and captures return (docs/python.md).
@@ -85,9 +87,17 @@ std::optional<StreamItem> wait_next(SampleSource& source, std::optional<std::chr
                                     std::atomic<bool>& waiting);
 
 // The Python stream object over a driver's MeasurementStream or a replay.
+// The per-sample quality checks a stream applies, as `rangekit ls5|uls stream` does
+// (--max-speed, --drop-suspect; core/sample_quality.hpp).
+struct StreamQuality {
+  bool check = true;
+  std::optional<double> max_speed_mps;  // none: the family default
+  bool drop_suspect = false;
+};
+
 class Stream {
  public:
-  explicit Stream(SampleSourcePtr source) : source_(std::move(source)) {}
+  Stream(SampleSourcePtr source, StreamQuality quality);
   ~Stream();
   py::object next_item();  // StopIteration at the end
   // The next item within `seconds` (none: for ever); None on timeout or at the end.
@@ -101,10 +111,19 @@ class Stream {
   [[nodiscard]] std::uint64_t lost() const;
 
  private:
+  // Runs the quality checks on a sample; false when it is suspect and dropped.
+  bool admit(StreamItem& item);
+  std::optional<StreamItem> next_admitted(std::optional<std::chrono::steady_clock::time_point> deadline);
+
   SampleSourcePtr source_;
+  std::optional<SampleChecker> checker_;
+  bool drop_suspect_ = false;
   std::deque<StreamEvent> events_;  // met by read(), kept for take_events()
   std::atomic<bool> waiting_{false};
 };
+
+// The stream() keyword arguments both families share: check_quality, max_speed, drop_suspect.
+StreamQuality stream_quality(bool check, std::optional<double> max_speed_mps, bool drop_suspect);
 
 void init_samples(py::module_& module);
 void init_streams(py::module_& module);

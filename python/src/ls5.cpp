@@ -157,7 +157,9 @@ void init_ls5(py::module_& parent) {
           "DF: factory parameters, in RAM until save() (L27)")
       .def(
           "stream",
-          [](Ls5Device& device, std::optional<int> thinning, double reconnect_interval, double silence_timeout) {
+          [](Ls5Device& device, std::optional<int> thinning, double reconnect_interval, double silence_timeout,
+             bool check_quality, std::optional<double> max_speed, bool drop_suspect) {
+            const StreamQuality quality = stream_quality(check_quality, max_speed, drop_suspect);
             ls5::Driver::StreamOptions options;
             if (thinning) {
               if (*thinning < 0 || *thinning > 255) throw py::value_error("thinning must be 0-255 (§8.4)");
@@ -167,11 +169,14 @@ void init_ls5(py::module_& parent) {
             options.silence_timeout = std::chrono::milliseconds(static_cast<long>(silence_timeout * 1000.0));
             auto stream =
                 unwrap(device.call([&](ls5::Driver& driver) { return driver.start_stream(options); }), family);
-            return std::make_unique<Stream>(SampleSourcePtr(std::move(stream)));
+            return std::make_unique<Stream>(SampleSourcePtr(std::move(stream)), quality);
           },
           py::arg("thinning") = py::none(), py::arg("reconnect_interval") = 0.5, py::arg("silence_timeout") = 3.0,
-          py::keep_alive<0, 1>(),
-          "Starts the record stream (ST, optionally writing thinning n first, §8.4) and returns the Stream");
+          py::kw_only(), py::arg("check_quality") = true, py::arg("max_speed") = py::none(),
+          py::arg("drop_suspect") = false, py::keep_alive<0, 1>(),
+          "Starts the record stream (ST, optionally writing thinning n first, §8.4) and returns the Stream. "
+          "Each sample is checked as `rangekit ls5 stream` does: one further from the running median than "
+          "max_speed (m/s; default the range a second) allows is marked suspect, or left out with drop_suspect.");
 
   module.def(
       "open",

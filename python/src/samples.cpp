@@ -109,6 +109,7 @@ SampleRecord to_record(const Sample& sample) noexcept {
   if (sample.kind == SampleKind::ls5_derivative) flags |= flag::derivative;
   if (sample.presence.value_or(false)) flags |= flag::presence;
   if (sample.pulses_overflow) flags |= flag::pulses_overflow;
+  if (sample.suspect) flags |= flag::suspect;
   record.flags = flags;
   return record;
 }
@@ -138,6 +139,7 @@ void init_samples(py::module_& module) {
   module.attr("FLAG_PRESENCE") = flag::presence;
   module.attr("FLAG_PULSES_OVERFLOW") = flag::pulses_overflow;
   module.attr("FLAG_DEVICE_ERROR") = flag::device_error;
+  module.attr("FLAG_SUSPECT") = flag::suspect;
   py::list kinds;
   for (auto kind : {SampleKind::uls_averaging, SampleKind::uls_binning, SampleKind::uls_look_down,
                     SampleKind::uls_error, SampleKind::ls5_result, SampleKind::ls5_derivative})
@@ -204,6 +206,11 @@ void init_samples(py::module_& module) {
       .def_property_readonly(
           "resolution_mm", [](const Sample& s) { return optional_object(s.resolution_mm); },
           "LS5: the sensor's discreteness in millimetres (table 3.1), or None")
+      .def_readonly("suspect", &Sample::suspect,
+                    "marked by the quality checks: a value no real target gives at this rate (docs/reliability.md)")
+      .def_property_readonly(
+          "suspect_reason", [](const Sample& s) { return s.suspect ? py::cast(s.suspect_reason) : py::none(); },
+          "which check marked it and why, or None")
       .def_property_readonly("is_event", [](const Sample&) { return false; })
       .def("__repr__", [](const Sample& s) {
         std::string text = "<rangekit.Sample " + std::string(sample_kind_name(s.kind));
@@ -211,6 +218,7 @@ void init_samples(py::module_& module) {
         if (s.distance_mm) text += " distance_mm=" + std::to_string(*s.distance_mm);
         if (s.code) text += " code=" + std::to_string(*s.code);
         if (s.device_error) text += " device_error=" + std::to_string(*s.device_error);
+        if (s.suspect) text += " suspect";
         return text + ">";
       });
 

@@ -46,6 +46,31 @@ std::optional<StreamItem> wait_next(SampleSource& source, std::optional<steady_c
   }
 }
 
+StreamQuality stream_quality(bool check, std::optional<double> max_speed_mps, bool drop_suspect) {
+  if (max_speed_mps && !(*max_speed_mps > 0)) throw py::value_error("max_speed must be more than 0 m/s");
+  if (drop_suspect && !check) throw py::value_error("drop_suspect needs check_quality");
+  return StreamQuality{check, max_speed_mps, drop_suspect};
+}
+
+Stream::Stream(SampleSourcePtr source, StreamQuality quality)
+    : source_(std::move(source)), drop_suspect_(quality.drop_suspect) {
+  if (quality.check) checker_.emplace(QualitySettings{quality.max_speed_mps});
+}
+
+bool Stream::admit(StreamItem& item) {
+  auto* sample = std::get_if<Sample>(&item);
+  if (sample == nullptr || !checker_) return true;
+  checker_->check(*sample);
+  return !(sample->suspect && drop_suspect_);
+}
+
+std::optional<StreamItem> Stream::next_admitted(std::optional<steady_clock::time_point> deadline) {
+  while (true) {
+    auto item = wait_next(*source_, deadline, waiting_);
+    if (!item || admit(*item)) return item;
+  }
+}
+
 Stream::~Stream() {
   // Joins the reader and leaves the device as the stream's own stop says.
   py::gil_scoped_release release;
@@ -54,7 +79,7 @@ Stream::~Stream() {
 
 py::object Stream::next_item() {
   if (!source_) throw py::stop_iteration();
-  auto item = wait_next(*source_, std::nullopt, waiting_);
+  auto item = next_admitted(std::nullopt);
   if (!item) throw py::stop_iteration();
   return to_python(std::move(*item));
 }
@@ -65,7 +90,7 @@ py::object Stream::next_within(std::optional<double> seconds) {
   if (seconds)
     deadline = steady_clock::now() +
                std::chrono::duration_cast<steady_clock::duration>(std::chrono::duration<double>(*seconds));
-  auto item = wait_next(*source_, deadline, waiting_);
+  auto item = next_admitted(deadline);
   if (!item) return py::none();
   return to_python(std::move(*item));
 }
@@ -96,6 +121,7 @@ py::array Stream::read(std::optional<std::size_t> count, std::optional<double> d
           std::this_thread::sleep_for(std::min<steady_clock::duration>(batch_period, slice_end - steady_clock::now()));
           continue;
         }
+        if (!admit(*item)) continue;  // suspect, and drop_suspect
         if (const auto* sample = std::get_if<Sample>(&*item)) {
           records.push_back(to_record(*sample));
         } else {

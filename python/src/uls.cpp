@@ -197,15 +197,20 @@ void init_uls(py::module_& parent) {
           "SU: the user settings into non-volatile memory")
       .def(
           "stream",
-          [](UlsDevice& device, const std::string& mode) {
+          [](UlsDevice& device, const std::string& mode, bool check_quality, std::optional<double> max_speed,
+             bool drop_suspect) {
+            const StreamQuality quality = stream_quality(check_quality, max_speed, drop_suspect);
             uls::Driver& driver = device.driver();
             const uls::StreamMode stream_mode = parse_stream_mode(mode);
             auto stream = unwrap(without_gil([&] { return driver.start_stream(stream_mode); }), family);
-            return std::make_unique<Stream>(SampleSourcePtr(std::move(stream)));
+            return std::make_unique<Stream>(SampleSourcePtr(std::move(stream)), quality);
           },
-          py::arg("mode") = "automatic", py::keep_alive<0, 1>(),
+          py::arg("mode") = "automatic", py::kw_only(), py::arg("check_quality") = true,
+          py::arg("max_speed") = py::none(), py::arg("drop_suspect") = false, py::keep_alive<0, 1>(),
           "Starts measuring (GO unless already measuring) and returns the Stream; mode automatic, continuous "
-          "or polled");
+          "or polled. Each sample is checked as `rangekit uls stream` does: a distance further from the running "
+          "median than max_speed (m/s; default 25) allows, or a pulse width off by more than 2x, is marked "
+          "suspect, or left out with drop_suspect.");
 
   module.def(
       "open",
