@@ -1,5 +1,6 @@
 // rangekit.capture: a SQLite capture (docs/capture.md) read into NumPy in one pass,
-// through the replay of rangekit::record at full speed, without the GIL.
+// through rangekit::record's bulk reader (for_each_in_capture), without the GIL.
+#include <cstring>
 #include <string>
 
 #include "common.hpp"
@@ -14,30 +15,35 @@ void init_capture(py::module_& parent) {
       [](const std::string& path, const std::string& device) {
         if (!device.empty() && device != "uls" && device != "ls5")
           throw py::value_error("device '" + device + "' must be 'uls', 'ls5' or '' (both)");
-        record::ReplayOptions options;
-        options.speed = 0;  // as fast as it reads
-        options.device = device;
-        auto source = unwrap(without_gil([&] { return record::open_replay(path, options); }));
-        std::vector<SampleRecord> records;
+        // Records gather in fixed chunks (no reallocation copying what was read) and are
+        // copied once into the array.
+        constexpr std::size_t chunk_size = 1U << 16U;
+        std::vector<std::vector<SampleRecord>> chunks;
+        std::size_t total = 0;
         std::vector<StreamEvent> events;
+        const Status read = without_gil([&] {
+          return record::for_each_in_capture(
+              path, device,
+              [&](const Sample& sample) {
+                if (chunks.empty() || chunks.back().size() == chunk_size) chunks.emplace_back().reserve(chunk_size);
+                chunks.back().push_back(to_record(sample));
+                ++total;
+              },
+              [&](StreamEvent&& event) { events.push_back(std::move(event)); });
+        });
+        check(read);
+        py::array_t<SampleRecord> samples(static_cast<py::ssize_t>(total));
+        SampleRecord* target = samples.mutable_data();
         without_gil([&] {
-          while (true) {
-            auto item = source->next(std::chrono::milliseconds(0));
-            if (!item) {
-              if (source->finished()) break;
-              continue;
-            }
-            if (const auto* sample = std::get_if<Sample>(&*item)) {
-              records.push_back(to_record(*sample));
-            } else {
-              events.push_back(std::get<StreamEvent>(std::move(*item)));
-            }
+          for (const auto& chunk : chunks) {
+            std::memcpy(target, chunk.data(), chunk.size() * sizeof(SampleRecord));
+            target += chunk.size();
           }
           return 0;
         });
         py::list event_objects;
         for (StreamEvent& event : events) event_objects.append(py::cast(std::move(event)));
-        return py::make_tuple(records_to_array(records), event_objects);
+        return py::make_tuple(samples, event_objects);
       },
       py::arg("path"), py::arg("device") = "",
       "(samples as a NumPy structured array of rangekit.sample_dtype, [Event, ...]) of a capture file; "

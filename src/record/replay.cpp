@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <condition_variable>
+#include <functional>
 #include <mutex>
 #include <utility>
 
@@ -29,6 +30,12 @@ std::string column_text(sqlite3_stmt* statement, int column) {
                          : std::string();
 }
 
+std::string_view column_view(sqlite3_stmt* statement, int column) {
+  const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(statement, column));
+  return text != nullptr ? std::string_view(text, static_cast<std::size_t>(sqlite3_column_bytes(statement, column)))
+                         : std::string_view();
+}
+
 bool is_null(sqlite3_stmt* statement, int column) { return sqlite3_column_type(statement, column) == SQLITE_NULL; }
 
 template <class T>
@@ -42,10 +49,9 @@ std::optional<double> column_real(sqlite3_stmt* statement, int column) {
   return sqlite3_column_double(statement, column);
 }
 
-std::vector<TargetHit> parse_targets(const std::string& text) {
-  std::vector<TargetHit> targets;
+void parse_targets(std::string_view text, std::vector<TargetHit>& targets) {
   const auto array = nlohmann::json::parse(text, nullptr, false);
-  if (!array.is_array()) return targets;
+  if (!array.is_array()) return;
   for (const auto& entry : array) {
     if (!entry.is_object()) continue;
     TargetHit target;
@@ -57,19 +63,32 @@ std::vector<TargetHit> parse_targets(const std::string& text) {
     }
     targets.push_back(target);
   }
-  return targets;
 }
 
-Sample read_sample(sqlite3_stmt* row) {
-  Sample sample;
+// Fills `sample` from a row, reusing its strings' and targets' storage: a scan of
+// millions of rows allocates nothing per row.
+void read_sample_into(sqlite3_stmt* row, Sample& sample) {
+  std::string device = std::move(sample.device);
+  std::string source = std::move(sample.source);
+  std::string reason = std::move(sample.suspect_reason);
+  std::vector<TargetHit> targets = std::move(sample.targets);
+  sample = Sample{};
+  const auto assign_text = [row](std::string& to, int column) {
+    const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(row, column));
+    to.assign(text != nullptr ? text : "", static_cast<std::size_t>(sqlite3_column_bytes(row, column)));
+  };
   sample.time = from_nanos(sqlite3_column_int64(row, 1));
-  sample.device = column_text(row, 2);
-  sample.source = column_text(row, 3);
+  assign_text(device, 2);
+  sample.device = std::move(device);
+  assign_text(source, 3);
+  sample.source = std::move(source);
   sample.address = column_integer<int>(row, 4).value_or(-1);
-  sample.kind = parse_sample_kind(column_text(row, 5)).value_or(SampleKind::uls_averaging);
+  sample.kind = parse_sample_kind(column_view(row, 5)).value_or(SampleKind::uls_averaging);
   sample.distance_m = column_real(row, 6);
   sample.pulse_width = column_integer<std::uint32_t>(row, 7);
-  if (!is_null(row, 8)) sample.targets = parse_targets(column_text(row, 8));
+  targets.clear();
+  if (!is_null(row, 8)) parse_targets(column_view(row, 8), targets);
+  sample.targets = std::move(targets);
   if (!is_null(row, 9)) sample.presence = sqlite3_column_int64(row, 9) != 0;
   sample.pulses_between_events = column_integer<std::uint32_t>(row, 10);
   if (sample.kind == SampleKind::uls_look_down && sample.pulses_between_events == 0U) {
@@ -79,13 +98,16 @@ Sample read_sample(sqlite3_stmt* row) {
   sample.device_error = column_integer<int>(row, 11);
   sample.code = column_integer<std::uint16_t>(row, 12);
   sample.distance_mm = column_real(row, 13);
-  if (!is_null(row, 14)) sample.signal = parse_signal_state(column_text(row, 14));
+  if (!is_null(row, 14)) sample.signal = parse_signal_state(column_view(row, 14));
   sample.derivative_mm = column_real(row, 15);
   sample.resolution_mm = column_real(row, 16);
   sample.suspect = column_integer<int>(row, 17).value_or(0) != 0;
-  if (sample.suspect) sample.suspect_reason = column_text(row, 18);
-  return sample;
+  if (sample.suspect) assign_text(reason, 18);
+  sample.suspect_reason = std::move(reason);
 }
+
+// The device column of a row, without copying it.
+std::string_view row_device(sqlite3_stmt* row) { return column_view(row, 2); }
 
 StreamEvent read_event(sqlite3_stmt* row) {
   StreamEvent event;
@@ -119,13 +141,47 @@ class Cursor {
   int failed_code_ = 0;
 };
 
+// A capture's two tables, open for reading in seq order.
+struct CaptureCursors {
+  Database database;
+  Cursor samples;
+  Cursor events;
+};
+
+Result<CaptureCursors> open_cursors(const std::string& path) {
+  auto database = open_database(path, false, false);
+  if (!database) return std::move(database).error();
+  // An older capture lacks the columns of later versions: they read as NULL.
+  std::string samples_sql = samples_columns;
+  for (const auto& column : added_columns) {
+    auto present = has_column(path, database->get(), "samples", column.name);
+    if (!present) return std::move(present).error();
+    samples_sql += std::string(", ") + (*present ? column.name : "NULL");
+  }
+  samples_sql += " FROM samples ORDER BY seq";
+  auto samples = prepare(path, database->get(), samples_sql.c_str());
+  if (!samples) return make_error(Errc::io, "capture " + path + ": no samples table, not a rangekit capture");
+  auto events = prepare(path, database->get(), events_sql);
+  if (!events) return make_error(Errc::io, "capture " + path + ": no events table, not a rangekit capture");
+  return CaptureCursors{std::move(*database), Cursor(std::move(*samples)), Cursor(std::move(*events))};
+}
+
+// A capture damaged after it was opened ends its reading with one event saying why.
+StreamEvent read_error_event(const std::string& path, sqlite3* database, int code) {
+  StreamEvent event;
+  event.time = std::chrono::system_clock::now();
+  event.kind = StreamEventKind::bad_frame;
+  event.message = sqlite_error(path, database, code, "reading").message;
+  return event;
+}
+
 class ReplaySource final : public SampleSource {
  public:
-  ReplaySource(std::string path, Database database, Cursor samples, Cursor events, ReplayOptions options)
+  ReplaySource(std::string path, CaptureCursors cursors, ReplayOptions options)
       : path_(std::move(path)),
-        database_(std::move(database)),
-        samples_(std::move(samples)),
-        events_(std::move(events)),
+        database_(std::move(cursors.database)),
+        samples_(std::move(cursors.samples)),
+        events_(std::move(cursors.events)),
         options_(std::move(options)) {
     samples_.advance();
     events_.advance();
@@ -183,9 +239,13 @@ class ReplaySource final : public SampleSource {
     while (samples_.has_row() || events_.has_row()) {
       const bool take_sample = samples_.has_row() && (!events_.has_row() || samples_.seq() < events_.seq());
       if (take_sample) {
-        Sample sample = read_sample(samples_.row());
+        if (!options_.device.empty() && row_device(samples_.row()) != options_.device) {
+          samples_.advance();
+          continue;
+        }
+        Sample sample;
+        read_sample_into(samples_.row(), sample);
         samples_.advance();
-        if (!options_.device.empty() && sample.device != options_.device) continue;
         pending_ = std::move(sample);
       } else {
         pending_ = read_event(events_.row());
@@ -201,11 +261,7 @@ class ReplaySource final : public SampleSource {
     const int code = samples_.failed_code() != 0 ? samples_.failed_code() : events_.failed_code();
     if (code == 0 || reported_error_) return;
     reported_error_ = true;
-    StreamEvent event;
-    event.time = std::chrono::system_clock::now();
-    event.kind = StreamEventKind::bad_frame;
-    event.message = sqlite_error(path_, database_.get(), code, "reading").message;
-    pending_ = std::move(event);
+    pending_ = read_error_event(path_, database_.get(), code);
   }
 
   std::string path_;
@@ -230,22 +286,35 @@ std::chrono::nanoseconds replay_delay(std::chrono::nanoseconds recorded_gap, dou
 }
 
 Result<SampleSourcePtr> open_replay(const std::string& path, const ReplayOptions& options) {
-  auto database = open_database(path, false, false);
-  if (!database) return std::move(database).error();
-  // An older capture lacks the columns of later versions: they read as NULL.
-  std::string samples_sql = samples_columns;
-  for (const auto& column : added_columns) {
-    auto present = has_column(path, database->get(), "samples", column.name);
-    if (!present) return std::move(present).error();
-    samples_sql += std::string(", ") + (*present ? column.name : "NULL");
+  auto cursors = open_cursors(path);
+  if (!cursors) return std::move(cursors).error();
+  return SampleSourcePtr(std::make_unique<ReplaySource>(path, std::move(*cursors), options));
+}
+
+Status for_each_in_capture(const std::string& path, std::string_view device,
+                           const std::function<void(const Sample&)>& on_sample,
+                           const std::function<void(StreamEvent&&)>& on_event) {
+  auto cursors = open_cursors(path);
+  if (!cursors) return std::move(cursors).error();
+  auto& [database, samples, events] = *cursors;
+  samples.advance();
+  events.advance();
+  Sample sample;  // one for every row: its strings keep their storage
+  while (samples.has_row() || events.has_row()) {
+    if (samples.has_row() && (!events.has_row() || samples.seq() < events.seq())) {
+      if (device.empty() || row_device(samples.row()) == device) {
+        read_sample_into(samples.row(), sample);
+        on_sample(sample);
+      }
+      samples.advance();
+    } else {
+      on_event(read_event(events.row()));
+      events.advance();
+    }
   }
-  samples_sql += " FROM samples ORDER BY seq";
-  auto samples = prepare(path, database->get(), samples_sql.c_str());
-  if (!samples) return make_error(Errc::io, "capture " + path + ": no samples table, not a rangekit capture");
-  auto events = prepare(path, database->get(), events_sql);
-  if (!events) return make_error(Errc::io, "capture " + path + ": no events table, not a rangekit capture");
-  return SampleSourcePtr(std::make_unique<ReplaySource>(path, std::move(*database), Cursor(std::move(*samples)),
-                                                        Cursor(std::move(*events)), options));
+  const int code = samples.failed_code() != 0 ? samples.failed_code() : events.failed_code();
+  if (code != 0) on_event(read_error_event(path, database.get(), code));
+  return ok_status();
 }
 
 }  // namespace rangekit::record

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "rangekit/record/capture.hpp"
+#include "rangekit/record/format.hpp"
 #include "rangekit/record/stream_loop.hpp"
 #include "record/fake_source.hpp"
 #include "record/temp_dir.hpp"
@@ -163,6 +164,80 @@ void expect_replay_identical_to_live(OutputFormat format) {
 
 TEST(Replay, JsonlIsByteIdenticalToTheLiveStream) { expect_replay_identical_to_live(OutputFormat::jsonl); }
 TEST(Replay, CsvIsByteIdenticalToTheLiveStream) { expect_replay_identical_to_live(OutputFormat::csv); }
+
+}  // namespace
+}  // namespace rangekit::record
+
+namespace rangekit::record {
+namespace {
+
+// One text per item, as `stream --format jsonl` writes it.
+std::string item_text(const StreamItem& item) {
+  std::string text;
+  std::visit([&text](const auto& value) { append_jsonl(text, value); }, item);
+  return text;
+}
+
+std::vector<std::string> replayed_texts(const std::string& path, const std::string& device) {
+  auto source = open_replay(path, ReplayOptions{0.0, device});
+  EXPECT_TRUE(source.ok());
+  std::vector<std::string> texts;
+  if (!source.ok()) return texts;
+  while (auto item = (*source)->next(0ms)) texts.push_back(item_text(*item));
+  return texts;
+}
+
+std::vector<std::string> bulk_texts(const std::string& path, const std::string& device) {
+  std::vector<std::string> texts;
+  const auto read = for_each_in_capture(
+      path, device, [&](const Sample& sample) { texts.push_back(item_text(StreamItem(sample))); },
+      [&](StreamEvent&& event) { texts.push_back(item_text(StreamItem(std::move(event)))); });
+  EXPECT_TRUE(read.ok()) << read.error().message;
+  return texts;
+}
+
+// The bulk reader reuses one Sample for every row: a row must never keep a field of the row
+// before it (targets after a binning row, a reason after a suspect one, an overflow flag).
+TEST(CaptureBulkRead, GivesWhatTheReplayGivesInTheSameOrder) {
+  TempDir dir;
+  const auto path = dir.file("bulk.sqlite");
+  {
+    auto capture = open_capture(path);
+    ASSERT_TRUE(capture.ok());
+    auto suspect = ls5_result(34845, 69.69, SignalState::ok);
+    suspect.suspect = true;
+    suspect.suspect_reason = "jump: 20 mm in 1 ms";
+    const std::vector<StreamItem> items{uls_binning(),
+                                        uls_averaging(1ms),
+                                        event(StreamEventKind::disconnected, "gone"),
+                                        uls_look_down_overflow(),
+                                        uls_look_down(),
+                                        suspect,
+                                        ls5_result(24845, 49.69, SignalState::ok),
+                                        ls5_result(65535, std::nullopt, SignalState::lost),
+                                        uls_error()};
+    for (const auto& item : items) {
+      if (const auto* sample = std::get_if<Sample>(&item)) {
+        ASSERT_TRUE((*capture)->write(*sample).ok());
+      } else {
+        ASSERT_TRUE((*capture)->write_event(std::get<StreamEvent>(item)).ok());
+      }
+    }
+  }
+  for (const std::string device : {"", "uls", "ls5"}) {
+    const auto replayed = replayed_texts(path, device);
+    EXPECT_EQ(bulk_texts(path, device), replayed) << "device '" << device << "'";
+    EXPECT_EQ(replayed.size(), device.empty() ? 9U : device == "uls" ? 6U : 4U);
+  }
+}
+
+TEST(CaptureBulkRead, AMissingFileIsAnIoErrorNamingIt) {
+  const auto read = for_each_in_capture(
+      "/nonexistent-dir/capture.sqlite", "", [](const Sample&) {}, [](StreamEvent&&) {});
+  ASSERT_FALSE(read.ok());
+  EXPECT_EQ(read.error().code, Errc::io);
+  EXPECT_NE(read.error().message.find("/nonexistent-dir/capture.sqlite"), std::string::npos);
+}
 
 }  // namespace
 }  // namespace rangekit::record

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <string>
+#include <string_view>
 
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/sample.hpp"
@@ -27,5 +29,14 @@ Result<SampleSourcePtr> open_replay(const std::string& path, const ReplayOptions
 inline Result<SampleSourcePtr> open_replay(const std::string& path, double speed) {
   return open_replay(path, ReplayOptions{speed, {}});
 }
+
+// Every sample (of `device` only, unless empty) and every event of a capture, in the
+// order they were written, handed over as the file is read: no queue, no thread, and
+// one Sample reused for every row (copy what you keep). For bulk reads (the Python
+// package's rangekit.capture). A capture damaged after opening ends with one bad_frame
+// event saying why, as in open_replay; opening fails as open_replay does.
+Status for_each_in_capture(const std::string& path, std::string_view device,
+                           const std::function<void(const Sample&)>& on_sample,
+                           const std::function<void(StreamEvent&&)>& on_event);
 
 }  // namespace rangekit::record
