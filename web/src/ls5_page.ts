@@ -188,6 +188,8 @@ export class Ls5Page {
       this.idList.replaceChildren();
       definition(this.idList, 'Heard over UDP at', 'udp').textContent = String(identity.udp ?? sensor.udp);
       this.buttons.hidden = true;
+      this.streamNote.textContent += ' A packet brings 168 results (§10) with the time it arrived, so they are ' +
+        'drawn at one instant: the plot moves in steps.';
       this.outputs.hidden = true;
       this.panels.message.textContent = 'An LS5 heard over UDP only (§10: "The Ethernet interface is only used for ' +
         'the one-way transmission of the measurement stream"): its parameters need its serial port in the site file.';
