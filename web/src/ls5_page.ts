@@ -345,6 +345,9 @@ export class Ls5Page {
       const settings = await fetch(`/api/sensors/${encodeURIComponent(this.name)}/settings`, { cache: 'no-store' });
       if (settings.ok) this.panels.update((await settings.json()) as Record<string, unknown>, true);
       this.message.textContent = 'Parameters read.';
+      // The fields show the sensor's values again: a refusal of edits now gone no longer applies.
+      this.panels.message.textContent = '';
+      this.panels.message.dataset.state = '';
     } catch (error) {
       this.message.textContent = `Read failed: ${(error as Error).message}`;
     }

@@ -221,6 +221,7 @@ test('an out-of-range value shows the error and sends nothing', async () => {
     document.querySelector('#ls5-median-points').value === '5', null, WAIT);
   assert.equal(await page.inputValue('#ls5-period-ms'), '10');
   assert.equal(await page.inputValue('#ls5-output1-first-swing'), '0');
+  assert.equal(await panelMessage(), '');  // the refusal went with the edits it was about
 });
 
 test('Latch (FX) and Read latched (FR) latch in the emulator (table 9.1, L75)', async () => {
