@@ -24,6 +24,16 @@ std::vector<Field> fields_of(const std::vector<ls5::Driver::NamedValue>& values)
   return fields;
 }
 
+// An LR or FR answer as the page and the API show it: "25.3 mm (code 31629)".
+std::string describe(const ls5::Measurement& result) {
+  const std::string code = " (code " + std::to_string(result.code.value) + ")";
+  if (result.distance_mm) return number_text(*result.distance_mm) + " mm" + code;
+  if (result.derivative_mm) return number_text(*result.derivative_mm) + " mm (derivative)" + code;
+  if (result.code.kind == ls5::CodeKind::no_signal) return "no signal" + code;                    // §8.9: 65535
+  if (result.code.kind == ls5::CodeKind::no_measurement_yet) return "no measurement yet" + code;  // 65534
+  return "code " + std::to_string(result.code.value);
+}
+
 class Ls5Backend final : public Backend {
  public:
   Ls5Backend(Session& session, Publisher& publisher, PortOpener open)
@@ -129,7 +139,7 @@ class Ls5Backend final : public Backend {
     });
   }
 
-  Result<std::string> act(Session& session, Action action, std::string_view /*argument*/) override {
+  Result<std::string> act(Session& session, Action action, std::string_view argument) override {
     switch (action) {
       case Action::start:
         if (auto started = set_streaming(session, true); !started) return std::move(started).error();
@@ -146,18 +156,22 @@ class Ls5Backend final : public Backend {
         return paused([&]() -> Result<std::string> {
           auto last = driver_->read_last();  // LR
           if (!last) return std::move(last).error();
-          if (last->distance_mm) return number_text(*last->distance_mm) + " mm";
-          if (last->derivative_mm) return number_text(*last->derivative_mm) + " mm (derivative)";
-          if (last->code.kind == ls5::CodeKind::no_signal) return std::string("no signal");  // §8.9: 65535
-          if (last->code.kind == ls5::CodeKind::no_measurement_yet) return std::string("no measurement yet");  // 65534
-          return "code " + std::to_string(last->code.value);
+          return describe(*last);
         });
       case Action::save:
         return simple([&] { return driver_->store_to_flash(); });
       case Action::reset:
         return simple([&] { return driver_->restore_defaults(); });
       case Action::latch:
-        return simple([&] { return driver_->latch(); });
+        // FX then FR (table 9.1), as `rangekit ls5 latch` does; argument "read": FR alone.
+        return paused([&]() -> Result<std::string> {
+          if (argument != "read") {
+            if (auto latched = driver_->latch(); !latched) return std::move(latched).error();
+          }
+          auto result = driver_->read_latched();
+          if (!result) return std::move(result).error();
+          return describe(*result);
+        });
       case Action::pointer:
         break;
     }

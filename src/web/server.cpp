@@ -300,9 +300,8 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     }
     if (what == "settings" && path.size() == 5 && path[4] == "schema") {
       if (method != http::verb::get) return wrong_method("GET");
-      if (sensor->config.family != hub::Family::uls) {
-        return fail(make_error(Errc::unsupported, "the settings schema is served for ULS sensors only, so far"));
-      }
+      if (sensor->config.family == hub::Family::ls5)
+        return respond(http::status::ok, hub::ls5_settings_schema().dump());
       return respond(http::status::ok, uls_settings_schema().dump());
     }
     if (what == "actions" && path.size() == 5) {

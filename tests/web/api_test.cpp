@@ -160,8 +160,42 @@ TEST(WebApi, SettingsSchemaGivesEachSettingsRangeUnitAndError) {
     EXPECT_EQ(error["display"], "PPO Must Be Greater Than Average Weight");
   }
   EXPECT_TRUE(error_49);
-  EXPECT_EQ(http(service.port, "GET", "/api/sensors/belt/settings/schema").status, 409);  // LS5: not yet
   EXPECT_EQ(http(service.port, "POST", "/api/sensors/bay-C/settings/schema").status, 405);
+}
+
+// The LS5 page's fields (issue 14 point 4) come from table 9.2 as the host catalog names them:
+// "Measurement period (discrete - 0.1 ms, minimum value - 0.1 ms) ... 0001-FFFF"; "Number of
+// points of the median filter, m (must be odd ...) 01, 03, 05, ..., 31"; "Latching ... 09 - the
+// same for the value 08" (L6: from LS5.9.0); "Network address 01-FF" changes the link (L28).
+// L73: the page's fields and checks come from this schema.
+TEST(WebApi, Ls5SettingsSchemaFollowsTable92) {
+  Service service;
+  const Reply reply = http(service.port, "GET", "/api/sensors/belt/settings/schema");
+  ASSERT_EQ(reply.status, 200) << reply.body;
+  const auto schema = json_of(reply);
+  EXPECT_EQ(schema["family"], "ls5");
+  std::map<std::string, nlohmann::json> by_key;
+  for (const auto& row : schema["settings"]) by_key[row["key"].get<std::string>()] = row;
+  const auto& period = by_key.at("period-ms");
+  EXPECT_DOUBLE_EQ(period["min"].get<double>(), 0.1);
+  EXPECT_DOUBLE_EQ(period["max"].get<double>(), 6553.5);  // 0xFFFF x 0.1 ms
+  EXPECT_DOUBLE_EQ(period["step"].get<double>(), 0.1);
+  EXPECT_EQ(period["unit"], "ms");
+  EXPECT_EQ(period["addresses"], nlohmann::json::array({"06", "07"}));
+  const auto& median = by_key.at("median-points");
+  EXPECT_EQ(median["min"], 1);
+  EXPECT_EQ(median["max"], 49);  // L4: "31" is hex, h = 0...24 gives m up to 49
+  EXPECT_EQ(median["step"], 2);
+  EXPECT_EQ(by_key.at("analog-upper")["max"], 50000);  // §8.10 "only be in the range 0÷50000"
+  const auto& latching = by_key.at("latching");
+  EXPECT_EQ(latching["addresses"], nlohmann::json::array({"1F"}));
+  ASSERT_EQ(latching["values"].size(), 10U);  // 00-09
+  EXPECT_EQ(latching["values"][9]["byte"], "09");
+  EXPECT_EQ(latching["values"][9]["since"], "LS5.9.0");
+  EXPECT_TRUE(latching["values"][0]["since"].is_null());
+  EXPECT_TRUE(by_key.at("udp-auto-stream")["ethernet_only"].get<bool>());  // table 9.2 note 5
+  EXPECT_FALSE(by_key.at("network-address")["writable"].get<bool>());
+  EXPECT_EQ(by_key.count("analog-lower-mm"), 0U);  // the page converts codes with the ID's range
 }
 
 TEST(WebApi, ActionsRunOnTheSensor) {
@@ -180,6 +214,13 @@ TEST(WebApi, ActionsRunOnTheSensor) {
   const auto& device = outputs->contains("devices") ? (*outputs)["devices"][0] : *outputs;
   EXPECT_EQ(device["streaming"], false);  // table 9.1 SB reached the sensor
   EXPECT_EQ(http(service.port, "POST", "/api/sensors/belt/actions/start").status, 200);
+  // L75: table 9.1 "Latch the result" FX, then "Read the latched result" FR: the latched code is returned.
+  const Reply latch = http(service.port, "POST", "/api/sensors/belt/actions/latch");
+  ASSERT_EQ(latch.status, 200) << latch.body;
+  EXPECT_NE(json_of(latch)["result"].get<std::string>().find("(code "), std::string::npos) << latch.body;
+  const Reply latched = http(service.port, "POST", "/api/sensors/belt/actions/latch?argument=read");
+  ASSERT_EQ(latched.status, 200) << latched.body;
+  EXPECT_EQ(json_of(latched)["result"], json_of(latch)["result"]);  // FR alone reads the same latch
   const Reply pointer = http(service.port, "POST", "/api/sensors/belt/actions/pointer", R"({"argument":"on"})");
   EXPECT_EQ(pointer.status, 409) << pointer.body;  // the ULS has a pointer (PT), the LS5 none
 }

@@ -7,6 +7,7 @@ import './style.css';
 import { eventsUrl, listSensors, setToken, streamRefusal, token } from './api';
 import type { Aggregate, Item, LinkEvent, Sensor } from './api';
 import { Card } from './card';
+import { Ls5Page } from './ls5_page';
 import { UlsPage } from './uls_page';
 
 const MAX_RATE = 4;
@@ -24,7 +25,7 @@ const sensorView = document.getElementById('sensor-view') as HTMLElement;
 const controls = document.querySelector('.controls') as HTMLElement;
 const cards = new Map<string, Card>();
 let families = new Map<string, string>();
-let sensorPage: UlsPage | null = null;
+let sensorPage: UlsPage | Ls5Page | null = null;
 let streamState: 'connecting' | 'live' | 'interrupted' = 'connecting';
 // The service's clock, advanced by ours between items, so the sparklines slide smoothly.
 let serverTime = Date.now() / 1000;
@@ -185,8 +186,9 @@ function route(): void {
   controls.hidden = true;
   sensorView.hidden = false;
   document.title = `rangekit · ${name}`;
-  if (families.get(name) === 'uls') {
-    sensorPage ??= new UlsPage(name);
+  const family = families.get(name);
+  if (family === 'uls' || family === 'ls5') {
+    sensorPage ??= family === 'uls' ? new UlsPage(name) : new Ls5Page(name);
     sensorView.append(sensorPage.root);
     sensorPage.open();
     void poll();
@@ -200,9 +202,7 @@ function route(): void {
     title.textContent = name;
     title.tabIndex = -1;
     const text = document.createElement('p');
-    text.textContent = families.has(name)
-      ? 'The LS5 page is not built yet: its live value is on the overview.'
-      : 'No sensor of this site has that name.';
+    text.textContent = 'No sensor of this site has that name.';
     sensorView.append(back, title, text);
   }
   (sensorView.querySelector('h1') as HTMLElement | null)?.focus();

@@ -4,6 +4,7 @@
 // Upload Settings sends only the fields that changed, as one PATCH; a refusal of the unit
 // shows the API's message, which carries the §10 number and its Interface text.
 import { authorisedFetch } from './api';
+import { buildField, element, numberProblem } from './settings_fields';
 
 export interface SchemaRow {
   key: string;
@@ -39,13 +40,6 @@ const PANELS: [string, [string, string][]][] = [
 // "off (polled)" -> "off", "1 inch" -> "1-inch": how the API names a value (named_settings.cpp).
 function keyName(name: string): string {
   return name.split('(')[0].trim().toLowerCase().replace(/[ _]+/g, '-').replace(/-+$/, '');
-}
-
-function element<K extends keyof HTMLElementTagNameMap>(tag: K, className?: string, text?: string) {
-  const made = document.createElement(tag);
-  if (className) made.className = className;
-  if (text !== undefined) made.textContent = text;
-  return made;
 }
 
 function rangeText(row: SchemaRow): string {
@@ -92,39 +86,16 @@ export class UlsPanels {
   }
 
   private field(row: SchemaRow, label: string): HTMLElement {
-    const id = `setting-${row.key}`;
-    const wrapper = element('div', 'field');
-    const labelElement = element('label', undefined, label);
-    labelElement.htmlFor = id;
-    let input: HTMLInputElement | HTMLSelectElement;
-    if (row.values) {
-      const select = element('select');
-      for (const value of row.values) {
-        const option = element('option', undefined, value.label ?? value.name);
-        option.value = String(value.value);
-        select.append(option);
-      }
-      input = select;
-    } else {
-      const text = element('input');
-      text.type = 'text';
-      text.inputMode = 'decimal';
-      text.autocomplete = 'off';
-      input = text;
-    }
-    input.id = id;
-    input.dataset.setting = row.key;
-    input.disabled = true;  // until the settings have been read
-    const hint = element('span', 'range', rangeText(row));
-    hint.id = `${id}-range`;
-    const problem = element('span', 'problem');
-    problem.id = `${id}-problem`;
-    problem.setAttribute('role', 'alert');
-    input.setAttribute('aria-describedby', `${hint.id} ${problem.id}`);
-    input.title = `${row.title} (${row.mnemonic}, ${row.reference})`;
+    const { wrapper, input, problem } = buildField({
+      id: `setting-${row.key}`,
+      label,
+      key: row.key,
+      range: rangeText(row),
+      title: `${row.title} (${row.mnemonic}, ${row.reference})`,
+      choices: row.values?.map((value) => ({ value: String(value.value), label: value.label ?? value.name })),
+    });
     input.addEventListener('input', () => this.check(this.fields.get(row.key)!));
     input.addEventListener('change', () => this.check(this.fields.get(row.key)!));
-    wrapper.append(labelElement, input, hint, problem);
     this.fields.set(row.key, { row, input, problem, sent: '' });
     return wrapper;
   }
@@ -164,14 +135,9 @@ export class UlsPanels {
       return `${row.min_fields === row.max_fields ? row.min_fields : `${row.min_fields} or ${row.max_fields}`} value${row.max_fields > 1 ? 's' : ''} separated by commas`;
     }
     for (const part of parts) {
-      const number = Number(part);
-      if (part === '' || !Number.isFinite(number)) return `'${part}' is not a number`;
-      if ((row.unit === 'Hz' || row.unit === 'pulses' || row.unit === 'hits') && !Number.isInteger(number)) {
-        return `${part} is not a whole number`;
-      }
-      if (row.min !== undefined && row.max !== undefined && (number < row.min || number > row.max)) {
-        return `${part} is out of range: ${row.min} – ${row.max}${row.unit ? ` ${row.unit}` : ''} (the ULS answers error ${row.error})`;
-      }
+      const whole = row.unit === 'Hz' || row.unit === 'pulses' || row.unit === 'hits';
+      const problem = numberProblem(part, { min: row.min, max: row.max, unit: row.unit, whole });
+      if (problem) return problem.includes('out of range') ? `${problem} (the ULS answers error ${row.error})` : problem;
     }
     return '';
   }

@@ -1,0 +1,87 @@
+// What the settings panels of every sensor page share (ULS §2 panels, LS5 table 9.2 groups):
+// an element helper, one labelled field (its range, its problem, wired for screen readers),
+// and the check of one number against the document's range, made before anything is sent.
+
+export function element<K extends keyof HTMLElementTagNameMap>(tag: K, className?: string, text?: string) {
+  const made = document.createElement(tag);
+  if (className) made.className = className;
+  if (text !== undefined) made.textContent = text;
+  return made;
+}
+
+export interface FieldView {
+  wrapper: HTMLElement;
+  input: HTMLInputElement | HTMLSelectElement;
+  hint: HTMLElement;
+  problem: HTMLElement;
+}
+
+// A label, an input (a select when `choices` are given), the range text and a problem line.
+export function buildField(options: {
+  id: string;
+  label: string;
+  key: string;
+  range: string;
+  title: string;
+  choices?: { value: string; label: string; disabled?: boolean }[];
+}): FieldView {
+  const wrapper = element('div', 'field');
+  const labelElement = element('label', undefined, options.label);
+  labelElement.htmlFor = options.id;
+  let input: HTMLInputElement | HTMLSelectElement;
+  if (options.choices) {
+    const select = element('select');
+    for (const choice of options.choices) {
+      const option = element('option', undefined, choice.label);
+      option.value = choice.value;
+      option.disabled = choice.disabled ?? false;
+      select.append(option);
+    }
+    input = select;
+  } else {
+    const text = element('input');
+    text.type = 'text';
+    text.inputMode = 'decimal';
+    text.autocomplete = 'off';
+    input = text;
+  }
+  input.id = options.id;
+  input.dataset.setting = options.key;
+  input.disabled = true;  // until the settings have been read
+  const hint = element('span', 'range', options.range);
+  hint.id = `${options.id}-range`;
+  const problem = element('span', 'problem');
+  problem.id = `${options.id}-problem`;
+  problem.setAttribute('role', 'alert');
+  input.setAttribute('aria-describedby', `${hint.id} ${problem.id}`);
+  input.title = options.title;
+  wrapper.append(labelElement, input, hint, problem);
+  return { wrapper, input, hint, problem };
+}
+
+export interface NumberRule {
+  min?: number;
+  max?: number;
+  unit?: string;
+  whole?: boolean;  // integers only
+  step?: number;    // a multiple of step above min (LS5 period 0.1 ms, median points odd)
+}
+
+// '' when `text` is a number the rule allows; otherwise what is wrong, naming the range.
+export function numberProblem(text: string, rule: NumberRule): string {
+  const part = text.trim();
+  const number = Number(part);
+  if (part === '' || !Number.isFinite(number)) return `'${part}' is not a number`;
+  if (rule.whole && !Number.isInteger(number)) return `${part} is not a whole number`;
+  const unit = rule.unit ? ` ${rule.unit}` : '';
+  if (rule.min !== undefined && rule.max !== undefined && (number < rule.min || number > rule.max)) {
+    return `${part} is out of range: ${rule.min} – ${rule.max}${unit}`;
+  }
+  if (rule.step !== undefined && rule.step > 0) {
+    const steps = (number - (rule.min ?? 0)) / rule.step;
+    if (Math.abs(steps - Math.round(steps)) > 1e-6) {
+      return rule.step === 2 ? `${part} is not odd` : `${part} is not a multiple of ${rule.step}${unit}`;
+    }
+  }
+  return '';
+}
