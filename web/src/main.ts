@@ -7,6 +7,7 @@ import './style.css';
 import { eventsUrl, listSensors, setToken, streamRefusal, token } from './api';
 import type { Aggregate, Item, LinkEvent, Sensor } from './api';
 import { Card } from './card';
+import { Ls5LiveView } from './ls5_live';
 import { UlsPage } from './uls_page';
 
 const MAX_RATE = 4;
@@ -25,6 +26,7 @@ const controls = document.querySelector('.controls') as HTMLElement;
 const cards = new Map<string, Card>();
 let families = new Map<string, string>();
 let sensorPage: UlsPage | null = null;
+let ls5View: Ls5LiveView | null = null;
 let streamState: 'connecting' | 'live' | 'interrupted' = 'connecting';
 // The service's clock, advanced by ours between items, so the sparklines slide smoothly.
 let serverTime = Date.now() / 1000;
@@ -173,6 +175,10 @@ function route(): void {
     sensorPage.close();
     sensorPage = null;
   }
+  if (ls5View && ls5View.name !== name) {
+    ls5View.close();
+    ls5View = null;
+  }
   sensorView.replaceChildren();
   if (name === null) {
     overview.hidden = false;
@@ -201,9 +207,14 @@ function route(): void {
     title.tabIndex = -1;
     const text = document.createElement('p');
     text.textContent = families.has(name)
-      ? 'The LS5 page is not built yet: its live value is on the overview.'
+      ? 'The rest of the LS5 page is not built yet: its live plot is below.'
       : 'No sensor of this site has that name.';
     sensorView.append(back, title, text);
+    if (families.get(name) === 'ls5') {
+      ls5View ??= new Ls5LiveView(name);
+      sensorView.append(ls5View.root);
+      ls5View.open();
+    }
   }
   (sensorView.querySelector('h1') as HTMLElement | null)?.focus();
 }
