@@ -87,7 +87,7 @@ export class LivePlot {
   // every DRAW_MS at the start of an animation frame, and only when something came since.
   start(): void {
     this.timer = window.setInterval(() => {
-      this.root.dataset.points = String(this.times.length);
+      this.publishCounts();
       if (this.frame || document.hidden || this.paused || this.pushed === this.drawnPushed) return;
       this.frame = window.requestAnimationFrame(() => {
         this.frame = 0;
@@ -205,6 +205,7 @@ export class LivePlot {
     }
     this.root.dataset.axes = axes.slice(1).map((axis) => axis.label ?? '').join('|');
     this.root.dataset.series = series.map((one) => one.label).join('|');
+    this.publishCounts();  // the counts that go with these axes
     const width = Math.max(300, this.area.clientWidth || 760);
     this.plot = new uPlot({
       width,
@@ -233,6 +234,11 @@ export class LivePlot {
     const end = this.times.length ? this.times[this.times.length - 1] : Date.now() / 1000;
     this.plot.setScale('x', { min: end - this.windowS, max: end });
     this.root.dataset.drawnEnd = String(end);
+  }
+
+  // For the page's tests: rows kept, and values (not gaps) per series.
+  private publishCounts(): void {
+    this.root.dataset.points = String(this.times.length);
     this.root.dataset.values = this.valueCounts.join('|');
   }
 }

@@ -79,7 +79,8 @@ test('binning targets are a scatter; look down an ON/OFF trace', async () => {
 test('L80: an LS5 in derivative mode plots its derivative on a second axis, not the distance axis', async () => {
   await page.evaluate(() => { location.hash = '#/sensor/belt'; });
   await page.waitForFunction(() => document.querySelector('.live-plot')?.dataset.mode === 'ls5', null, WAIT);
-  await pointsAtLeast(5);
+  await page.selectOption('#plot-window', '10');
+  await pointsAtLeast(300);  // 3 s of the demo's 100 results a second: a line to see on the screenshots
   assert.equal(await page.evaluate(() => document.querySelector('.live-plot').dataset.axes), 'distance (mm)');
   await page.screenshot({ path: path.join(screenshots, 'live-plot-ls5.png') });
   // Table 9.2 parameter 0E = 01 written to the demo's emulated LS5 through the service (the
@@ -97,10 +98,9 @@ test('L80: an LS5 in derivative mode plots its derivative on a second axis, not 
   const counts = () => page.evaluate(() => (document.querySelector('.live-plot').dataset.values ?? '0|0').split('|').map(Number));
   const [distances, derivatives] = await counts();
   // New derivatives keep coming on their own series; the distance series gets none of them.
-  await page.waitForFunction((had) => Number(document.querySelector('.live-plot').dataset.values.split('|')[1]) >= had + 20,
+  await page.waitForFunction((had) => Number(document.querySelector('.live-plot').dataset.values.split('|')[1]) >= had + 300,
     derivatives, WAIT);
   assert.equal((await counts())[0], distances);
-  await page.selectOption('#plot-window', '10');
   await page.screenshot({ path: path.join(screenshots, 'live-plot-ls5-derivative.png') });
   const back = await fetch(new URL('/api/sensors/belt/settings', serviceUrl), {
     method: 'PATCH', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ 'result-type': 'pure' }),
