@@ -52,6 +52,7 @@ export class LivePlot {
   private times: number[] = [];
   private values: (number | null)[][] = [];  // one row per series
   private valueCounts: number[] = [];  // values (not gaps) per series, for the page's tests
+  private gapRows = 0;  // rows without any value: no signal, a disconnection, lost records, a silence
   private paused = false;
   private windowS = 60;
   private timer = 0;
@@ -137,10 +138,15 @@ export class LivePlot {
     if (this.times.length && time < this.times[this.times.length - 1]) return;  // keep x ascending
     this.times.push(time);
     this.pushed++;
+    let empty = true;
     row.forEach((value, index) => {
       this.values[index].push(value);
-      if (value !== null) this.valueCounts[index]++;
+      if (value !== null) {
+        this.valueCounts[index]++;
+        empty = false;
+      }
     });
+    if (empty) this.gapRows++;
     if (this.times[0] >= time - KEEP_S - TRIM_S) return;
     const oldest = time - KEEP_S;
     let drop = 0;
@@ -164,6 +170,7 @@ export class LivePlot {
     this.values = (mode === 'binning' ? Array.from({ length: MAX_TARGETS }) : mode === 'ls5' ? [0, 1] : [0])
       .map(() => []);
     this.valueCounts = this.values.map(() => 0);
+    this.gapRows = 0;
     this.create();
   }
 
@@ -236,9 +243,10 @@ export class LivePlot {
     this.root.dataset.drawnEnd = String(end);
   }
 
-  // For the page's tests: rows kept, and values (not gaps) per series.
+  // For the page's tests: rows kept, values (not gaps) per series, and rows that are gaps.
   private publishCounts(): void {
     this.root.dataset.points = String(this.times.length);
     this.root.dataset.values = this.valueCounts.join('|');
+    this.root.dataset.gaps = String(this.gapRows);
   }
 }
