@@ -9,12 +9,12 @@ CMAKE_FLAGS ?=
 # `make build` and `make demo` need only the build dependencies and build no
 # tests; the targets below also install the test tools and build the tests.
 WITH_TESTS ?= OFF
-test bench hardware tidy lint consumer package format-check: WITH_TESTS = ON
+test bench bench-web hardware tidy lint consumer package format-check: WITH_TESTS = ON
 DEPS_KIND = $(if $(filter ON,$(WITH_TESTS)),test,build)
 
 SOURCES := $(shell git ls-files '*.cpp' '*.hpp' 2>/dev/null)
 
-.PHONY: all deps configure build test demo asan tsan hardware fuzz fuzz-long fuzz-build bench lint format format-check tidy \
+.PHONY: all deps configure build test demo asan tsan hardware fuzz fuzz-long fuzz-build bench bench-web lint format format-check tidy \
   consumer package clean
 
 all: build
@@ -73,6 +73,13 @@ fuzz-long: fuzz-build
 
 bench: build
 	@./$(BUILD)/rangekit_bench
+
+# The dashboard's frame-rate and heap figures: an LS5 at 1 kHz on its live plot for 60 s in
+# headless chromium (web/tests/fps.bench.mjs; docs/dashboard.md, "Benchmark"). Needs only the CLI.
+bench-web: configure
+	@cmake --build $(BUILD) --target rangekit -j$(JOBS)
+	@cd $(BUILD)/web && RANGEKIT_CLI=$(abspath $(BUILD))/rangekit RANGEKIT_SCREENSHOTS=$(abspath $(BUILD))/screenshots \
+	  node tests/fps.bench.mjs
 
 # tests/consumer built against `cmake --install` of this build (find_package and
 # pkg-config) and against the source tree (add_subdirectory), then run.

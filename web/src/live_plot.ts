@@ -1,12 +1,18 @@
-// The live plot of a ULS page (issue 14 point 5), uPlot: a time window of 10 s to 1 h, Pause,
-// and zoom (drag across the plot; it pauses, Resume follows the live end again). Averaging is a
-// line of distances; binning every target of a measurement as a scatter; look down an ON/OFF
-// step trace. No signal, an error, a disconnection or a silence over 2 s leaves a gap: nothing
-// is drawn across it.
+// The live plot of a sensor page (issue 14 point 5), uPlot: a time window of 10 s to 1 h, Pause,
+// and zoom (drag across the plot; it pauses, Resume follows the live end again). ULS averaging is
+// a line of distances; binning every target of a measurement as a scatter; look down an ON/OFF
+// step trace. An LS5's results are a line of distances in mm, and its derivative (§8.8, kind
+// `derivative`, formula 8.2) a second line on an axis of its own at the right (L80): a
+// difference of two results is not a distance, so it never shares the distance axis. No signal,
+// an error, a disconnection or a silence over 2 s leaves a gap: nothing is drawn across it.
 import uPlot from 'uplot';
 
 const WINDOWS: [number, string][] = [[10, '10 s'], [60, '1 min'], [600, '10 min'], [3600, '1 h']];
 const KEEP_S = 3600;
+// What is older than the hour kept goes in batches of this much: an item at a time would move
+// the whole array (3.6 million rows at 1 kHz) for every sample.
+const TRIM_S = 60;
+const DRAW_MS = 250;
 const SILENCE_S = 2;
 const MAX_TARGETS = 15;  // §3: "The maximum number of targets allowed in Binning Mode is 15"
 
@@ -16,7 +22,17 @@ export interface PlotSample {
   distance_m?: number;
   targets?: { distance_m: number }[];
   presence?: boolean;
+  distance_mm?: number;  // LS5 result, formula 8.1
+  derivative_mm?: number;  // LS5 derivative, formula 8.2 (signed)
 }
+
+// The plot a sample's kind is drawn on: an LS5's results and derivatives share one plot with two axes.
+function plotMode(kind: string): string {
+  return kind === 'result' || kind === 'derivative' ? 'ls5' : kind;
+}
+
+const DISTANCE_MM = 'distance (mm)';
+const DERIVATIVE_MM = 'derivative (mm)';
 
 function element<K extends keyof HTMLElementTagNameMap>(tag: K, className?: string, text?: string) {
   const made = document.createElement(tag);
@@ -32,11 +48,17 @@ export class LivePlot {
   private readonly windowSelect = element('select');
   private plot: uPlot | null = null;
   private mode = '';
+  private withDerivative = false;  // an LS5 plot shows its derivative axis once a derivative came
   private times: number[] = [];
   private values: (number | null)[][] = [];  // one row per series
+  private valueCounts: number[] = [];  // values (not gaps) per series, for the page's tests
+  private gapRows = 0;  // rows without any value: no signal, a disconnection, lost records, a silence
   private paused = false;
   private windowS = 60;
   private timer = 0;
+  private frame = 0;
+  private pushed = 0;  // rows ever pushed: a redraw is due when it moved
+  private drawnPushed = -1;
 
   constructor() {
     this.root.setAttribute('aria-label', 'Live plot');
@@ -62,12 +84,23 @@ export class LivePlot {
     this.root.dataset.paused = 'false';
   }
 
+  // Samples only land in the arrays (a 1 kHz LS5 sends 1000 a second); the plot is redrawn
+  // every DRAW_MS at the start of an animation frame, and only when something came since.
   start(): void {
-    this.timer = window.setInterval(() => this.draw(false), 250);
+    this.timer = window.setInterval(() => {
+      this.publishCounts();
+      if (this.frame || document.hidden || this.paused || this.pushed === this.drawnPushed) return;
+      this.frame = window.requestAnimationFrame(() => {
+        this.frame = 0;
+        this.draw(false);
+      });
+    }, DRAW_MS);
   }
 
   stop(): void {
     window.clearInterval(this.timer);
+    window.cancelAnimationFrame(this.frame);
+    this.frame = 0;
     this.plot?.destroy();
     this.plot = null;
   }
@@ -81,7 +114,9 @@ export class LivePlot {
   add(sample: PlotSample): void {
     const kind = sample.kind && sample.kind !== 'error' ? sample.kind : this.mode;
     if (!kind) return;
-    if (kind !== this.mode) this.build(kind);
+    const mode = plotMode(kind);
+    if (mode !== this.mode) this.build(mode);
+    if (kind === 'derivative' && !this.withDerivative) this.showDerivative();
     const time = Date.parse(sample.time) / 1000;
     if (!Number.isFinite(time)) return;
     const last = this.times[this.times.length - 1];
@@ -91,6 +126,9 @@ export class LivePlot {
       this.push(time, row);
     } else if (kind === 'look_down') {
       this.push(time, [sample.presence === undefined ? null : sample.presence ? 1 : 0]);
+    } else if (mode === 'ls5') {
+      // One of the two is a gap in every row: the distance line ends where the derivative begins.
+      this.push(time, kind === 'derivative' ? [null, sample.derivative_mm ?? null] : [sample.distance_mm ?? null, null]);
     } else {
       this.push(time, [sample.distance_m ?? null]);
     }
@@ -99,15 +137,22 @@ export class LivePlot {
   private push(time: number, row: (number | null)[]): void {
     if (this.times.length && time < this.times[this.times.length - 1]) return;  // keep x ascending
     this.times.push(time);
-    row.forEach((value, index) => this.values[index].push(value));
+    this.pushed++;
+    let empty = true;
+    row.forEach((value, index) => {
+      this.values[index].push(value);
+      if (value !== null) {
+        this.valueCounts[index]++;
+        empty = false;
+      }
+    });
+    if (empty) this.gapRows++;
+    if (this.times[0] >= time - KEEP_S - TRIM_S) return;
     const oldest = time - KEEP_S;
     let drop = 0;
     while (drop < this.times.length && this.times[drop] < oldest) ++drop;
-    if (drop > 0) {
-      this.times.splice(0, drop);
-      for (const series of this.values) series.splice(0, drop);
-    }
-    this.root.dataset.points = String(this.times.length);
+    this.times.splice(0, drop);
+    for (const series of this.values) series.splice(0, drop);
   }
 
   private setPaused(paused: boolean): void {
@@ -117,47 +162,91 @@ export class LivePlot {
     if (!paused) this.draw(true);
   }
 
-  private build(kind: string): void {
-    this.plot?.destroy();
-    this.mode = kind;
-    this.root.dataset.mode = kind;
+  private build(mode: string): void {
+    this.mode = mode;
+    this.withDerivative = false;
+    this.root.dataset.mode = mode;
     this.times = [];
+    this.values = (mode === 'binning' ? Array.from({ length: MAX_TARGETS }) : mode === 'ls5' ? [0, 1] : [0])
+      .map(() => []);
+    this.valueCounts = this.values.map(() => 0);
+    this.gapRows = 0;
+    this.create();
+  }
+
+  // The LS5 plot again, now with the derivative's own axis; the data drawn so far stays.
+  private showDerivative(): void {
+    this.withDerivative = true;
+    this.create();
+  }
+
+  private create(): void {
+    this.plot?.destroy();
+    const mode = this.mode;
     const stroke = '#1d4ed8';
+    const derivativeStroke = '#b45309';
     let series: uPlot.Series[];
-    let yScale: uPlot.Scale = {};
-    if (kind === 'binning') {
+    let axes: uPlot.Axis[];
+    const scales: uPlot.Scales = { x: { time: true } };
+    if (mode === 'binning') {
       series = Array.from({ length: MAX_TARGETS }, (_, index) => ({
         label: `target ${index + 1}`, stroke, paths: () => null, points: { show: true, size: 4, fill: stroke },
       }));
-    } else if (kind === 'look_down') {
+      axes = [{}, { label: 'm' }];
+    } else if (mode === 'look_down') {
       series = [{ label: 'ON/OFF', stroke, width: 2, spanGaps: false, paths: uPlot.paths.stepped!({ align: 1 }) }];
-      yScale = { range: [-0.2, 1.2] };
+      scales.y = { range: [-0.2, 1.2] };
+      axes = [{}, { values: (_plot, ticks) => ticks.map((tick) => (tick === 1 ? 'ON' : tick === 0 ? 'OFF' : '')), splits: () => [0, 1] }];
+    } else if (mode === 'ls5') {
+      series = [{ label: DISTANCE_MM, scale: 'mm', stroke, width: 1.5, spanGaps: false, points: { show: false } }];
+      axes = [{}, { scale: 'mm', label: DISTANCE_MM, stroke }];
+      if (this.withDerivative) {
+        series.push({ label: DERIVATIVE_MM, scale: 'derivative', stroke: derivativeStroke, width: 1.5, spanGaps: false,
+          points: { show: false } });
+        axes.push({ scale: 'derivative', side: 1, label: DERIVATIVE_MM, stroke: derivativeStroke, grid: { show: false },
+          size: 64 });  // room for signed ticks such as -0.025 beside the label
+      }
     } else {
       series = [{ label: 'distance (m)', stroke, width: 1.5, spanGaps: false, points: { show: false } }];
+      axes = [{}, { label: 'm' }];
     }
-    this.values = series.map(() => []);
+    this.root.dataset.axes = axes.slice(1).map((axis) => axis.label ?? '').join('|');
+    this.root.dataset.series = series.map((one) => one.label).join('|');
+    this.publishCounts();  // the counts that go with these axes
     const width = Math.max(300, this.area.clientWidth || 760);
     this.plot = new uPlot({
       width,
       height: 240,
-      scales: { x: { time: true }, y: yScale },
-      legend: { show: kind !== 'binning' },
-      axes: [{}, kind === 'look_down'
-        ? { values: (_plot, ticks) => ticks.map((tick) => (tick === 1 ? 'ON' : tick === 0 ? 'OFF' : '')), splits: () => [0, 1] }
-        : { label: 'm' }],
+      scales,
+      legend: { show: mode !== 'binning' },
+      axes,
       series: [{}, ...series],
       hooks: {
         // A drag across the plot zooms (uPlot's own select): the live end stops moving under it.
         setSelect: [(plot) => { if (plot.select.width > 0) this.setPaused(true); }],
       },
-    }, [[], ...series.map(() => [])], this.area);
+    }, this.data(), this.area);
+  }
+
+  // What uPlot draws: the LS5's derivative row only once its axis is there.
+  private data(): uPlot.AlignedData {
+    const shown = this.mode === 'ls5' && !this.withDerivative ? this.values.slice(0, 1) : this.values;
+    return [this.times, ...shown] as uPlot.AlignedData;
   }
 
   private draw(force: boolean): void {
     if (!this.plot || (this.paused && !force)) return;
-    this.plot.setData([this.times, ...this.values] as uPlot.AlignedData, false);
+    this.drawnPushed = this.pushed;
+    this.plot.setData(this.data(), false);
     const end = this.times.length ? this.times[this.times.length - 1] : Date.now() / 1000;
     this.plot.setScale('x', { min: end - this.windowS, max: end });
     this.root.dataset.drawnEnd = String(end);
+  }
+
+  // For the page's tests: rows kept, values (not gaps) per series, and rows that are gaps.
+  private publishCounts(): void {
+    this.root.dataset.points = String(this.times.length);
+    this.root.dataset.values = this.valueCounts.join('|');
+    this.root.dataset.gaps = String(this.gapRows);
   }
 }

@@ -81,7 +81,7 @@ export class Ls5Page {
     this.buildButtons();
     this.buildOutputs();
     const stream = element('h2', 'section-title', 'Stream');
-    this.streamNote.textContent = 'The plot is in metres, as on the ULS page: 0.015 m = 15 mm.';
+    this.streamNote.textContent = 'Results in mm; derivatives (result type 01, §8.8) on an axis of their own.';
     this.root.append(back, title, this.idList, this.box, this.codeLine, this.buttons, this.message, this.outputs,
       stream, this.streamNote, this.plot.root, element('h2', 'section-title', 'Parameters (table 9.2)'), this.panels.message,
       this.panels.root);
@@ -236,8 +236,9 @@ export class Ls5Page {
 
   private sample(sample: Ls5Sample): void {
     const distance = sample.distance_mm;
-    // The plot is in metres, as for the ULS; the box keeps the LS5's millimetres.
-    this.plot.add({ time: sample.time, kind: 'averaging', distance_m: distance === undefined ? undefined : distance / 1000 });
+    // Results in mm on the left axis; with «Type of preliminary result» 01 the derivatives on
+    // their own right axis (L80); no-signal records (no distance) are gaps.
+    this.plot.add({ time: sample.time, kind: sample.kind ?? 'result', distance_mm: distance, derivative_mm: sample.derivative_mm });
     if (this.udpOnly) {
       this.box.textContent = distance !== undefined ? `${distance} mm` : sample.signal === 'lost' ? 'no signal' : '–';
       return;

@@ -1,13 +1,17 @@
-// Browser test of the ULS page's live plot (issue 14 point 5): uPlot, a time window of 10 s
+// Browser test of the sensor pages' live plot (issue 14 point 5): uPlot, a time window of 10 s
 // to 1 h, Pause, averaging as a line, binning targets as a scatter, look down as an ON/OFF
-// trace; against `rangekit serve --demo` (bay-C averaging, bay-A binning, bay-B look down).
+// trace, the LS5's derivative on an axis of its own (L80); against `rangekit serve --demo`
+// (bay-C averaging, bay-A binning, bay-B look down, belt the LS5).
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
+import net from 'node:net';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
 import { cli, launch, screenshots, stopped, WAIT, waitForLine, watchErrors } from './support.mjs';
 
 let serve;
+let serviceUrl;
+let demoDir;
 let browser;
 let page;
 let pageErrors;
@@ -15,7 +19,10 @@ let pageErrors;
 before(async () => {
   serve = spawn(cli, ['serve', '--demo', '--listen', '127.0.0.1:0'], { stdio: ['ignore', 'pipe', 'inherit'] });
   serve.stdout.setEncoding('utf8');
+  const dirPromise = waitForLine(serve, /pseudo-terminals in (\S+)/, 'emulator folder');
   const url = await waitForLine(serve, /dashboard: (http:\/\/\S+)/, 'dashboard address');
+  demoDir = await dirPromise;
+  serviceUrl = url;
   serve.stdout.resume();
   browser = await launch();
   page = await browser.newPage({ viewport: { width: 1400, height: 900 } });
@@ -27,6 +34,24 @@ after(async () => {
   await browser?.close();
   await stopped(serve);
 });
+
+// One request to the demo LS5 emulator's control socket (docs/emulator-ls5.md, "Control").
+function ls5Control(request) {
+  return new Promise((resolve, reject) => {
+    const socket = net.createConnection(path.join(demoDir, 'ls5.control'));
+    let text = '';
+    socket.setEncoding('utf8');
+    socket.on('connect', () => socket.write(`${JSON.stringify(request)}\n`));
+    socket.on('data', (chunk) => {
+      text += chunk;
+      if (text.includes('\n')) {
+        socket.end();
+        resolve(JSON.parse(text.slice(0, text.indexOf('\n'))));
+      }
+    });
+    socket.on('error', reject);
+  });
+}
 
 const points = () => page.evaluate(() => Number(document.querySelector('.live-plot')?.dataset.points ?? 0));
 
@@ -67,6 +92,56 @@ test('binning targets are a scatter; look down an ON/OFF trace', async () => {
   await page.waitForFunction(() => document.querySelector('.live-plot')?.dataset.mode === 'look_down', null, WAIT);
   await pointsAtLeast(5);
   await page.screenshot({ path: path.join(screenshots, 'live-plot-look-down.png') });
+});
+
+// L80: LS5 manual §8.8: "The "Type of preliminary result" parameter switches the possibility of
+// the result output either in a net form (distance from the beginning of the range), or as a
+// derivative of the distance"; §8.9 (8.2) "distance derivate = range · (code − 25000) / 50000".
+// A derivative is a difference of two results, so the plot gives it a second y axis of its own.
+test('L80: an LS5 in derivative mode plots its derivative on a second axis, not the distance axis, gaps as gaps', async () => {
+  await page.evaluate(() => { location.hash = '#/sensor/belt'; });
+  await page.waitForFunction(() => document.querySelector('.live-plot')?.dataset.mode === 'ls5', null, WAIT);
+  await page.selectOption('#plot-window', '10');
+  await pointsAtLeast(300);  // 3 s of the demo's 100 results a second: a line to see on the screenshots
+  assert.equal(await page.evaluate(() => document.querySelector('.live-plot').dataset.axes), 'distance (mm)');
+  await page.screenshot({ path: path.join(screenshots, 'live-plot-ls5.png') });
+  // Table 9.2 parameter 0E = 01 written to the demo's emulated LS5 through the service (the
+  // page is not involved), as `rangekit ls5 set result-type=derivative` writes it.
+  const response = await fetch(new URL('/api/sensors/belt/settings', serviceUrl), {
+    method: 'PATCH', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ 'result-type': 'derivative' }),
+  });
+  const written = await response.text();
+  assert.equal(response.status, 200, written);
+  assert.equal(JSON.parse(written)['result-type'], 'derivative');
+  await page.waitForFunction(() => document.querySelector('.live-plot').dataset.axes === 'distance (mm)|derivative (mm)',
+    null, WAIT);
+  assert.equal(await page.evaluate(() => document.querySelector('.live-plot').dataset.series),
+    'distance (mm)|derivative (mm)');
+  const counts = () => page.evaluate(() => (document.querySelector('.live-plot').dataset.values ?? '0|0').split('|').map(Number));
+  const [distances, derivatives] = await counts();
+  // New derivatives keep coming on their own series; the distance series gets none of them.
+  await page.waitForFunction((had) => Number(document.querySelector('.live-plot').dataset.values.split('|')[1]) >= had + 300,
+    derivatives, WAIT);
+  assert.equal((await counts())[0], distances);
+  await page.screenshot({ path: path.join(screenshots, 'live-plot-ls5-derivative.png') });
+
+  // §8.9 "65535 – to indicate that there is no signal" (docs/emulator-ls5.md: a target beyond lower
+  // boundary + range, 8.1234 + 40.001 mm here): samples without a derivative are rows of gaps, and
+  // the derivative resumes after them without being joined across (spanGaps off).
+  const gaps = () => page.evaluate(() => Number(document.querySelector('.live-plot').dataset.gaps));
+  const gapsBefore = await gaps();
+  await ls5Control({ cmd: 'move_target', position_mm: 100, speed_mm_per_s: 0, reflectivity: 1 });
+  await page.waitForFunction((had) => Number(document.querySelector('.live-plot').dataset.gaps) >= had + 50, gapsBefore, WAIT);
+  const [, derivativesInGap] = await counts();
+  await ls5Control({ cmd: 'move_target', position_mm: 30, speed_mm_per_s: 2, reflectivity: 1 });
+  await page.waitForFunction((had) => Number(document.querySelector('.live-plot').dataset.values.split('|')[1]) >= had + 100,
+    derivativesInGap, WAIT);
+  assert.ok(await gaps() >= gapsBefore + 50);
+  await page.screenshot({ path: path.join(screenshots, 'live-plot-ls5-derivative-gap.png') });
+  const back = await fetch(new URL('/api/sensors/belt/settings', serviceUrl), {
+    method: 'PATCH', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ 'result-type': 'pure' }),
+  });
+  assert.equal(back.status, 200, await back.text());  // the text only once the status is read
 });
 
 test('the page raised no script error or policy violation', () => {

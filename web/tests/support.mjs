@@ -18,11 +18,11 @@ export const START_TIMEOUT = 120_000;
 // Every wait is on a condition of the page; the timeout only ends a test that went wrong.
 export const WAIT = { timeout: 60_000, polling: 100 };
 
-export function launch() {
+export function launch(extraArgs = []) {
   return chromium.launch({
     executablePath: browserPath,
     headless: true,
-    args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'],
+    args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage', ...extraArgs],
   });
 }
 
