@@ -6,7 +6,18 @@
 #include <string>
 #include <string_view>
 
+namespace rangekit::uls {
+struct FrameView;
+}
+
 namespace rangekit::uls::detail {
+
+// The frames units send most ("$BM,f1,...", "#aER,n"): start byte, unit address,
+// a 2-4 letter mnemonic and 1-8 non-empty fields of plain bytes, read in one pass
+// into `view` (default-constructed). False for anything else, which parse_frame's
+// full checks then read or reject with a message: true only for frames they accept
+// as the same view (issue 17: no per-frame copies, no second pass).
+bool parse_common_frame(std::string_view frame, FrameView& view) noexcept;
 
 bool equal_ignoring_case(std::string_view a, std::string_view b) noexcept;
 

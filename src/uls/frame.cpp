@@ -93,7 +93,43 @@ bool FrameView::is(std::string_view upper_mnemonic) const noexcept {
   return kind == FrameKind::message && detail::equal_ignoring_case(mnemonic, upper_mnemonic);
 }
 
+bool detail::parse_common_frame(std::string_view frame, FrameView& view) noexcept {
+  if (frame.size() < 5 || frame.size() > max_frame_length) return false;  // "$BM,1" is the shortest
+  std::size_t at = 1;
+  if (frame[0] == '#') {
+    const auto address = static_cast<std::uint8_t>(frame[1]);
+    if (address < first_unit_address) return false;
+    view.address = Address::unit(address);
+    at = 2;
+  } else if (frame[0] != '$') {
+    return false;
+  }
+  const std::size_t mnemonic_at = at;
+  while (at < frame.size() && is_letter(frame[at])) ++at;
+  const std::size_t letters = at - mnemonic_at;
+  if (letters < min_mnemonic_length || letters > max_mnemonic_length || at == frame.size() || frame[at] != ',') {
+    return false;  // no fields, or not a mnemonic: the full checks decide
+  }
+  view.mnemonic = frame.substr(mnemonic_at, letters);
+  std::size_t count = 0;
+  std::size_t field_at = ++at;
+  for (;; ++at) {
+    if (at == frame.size() || frame[at] == ',') {
+      if (at == field_at || count == max_fields) return false;  // empty field, too many fields
+      view.field_slots[count++] = frame.substr(field_at, at - field_at);
+      if (at == frame.size()) break;
+      field_at = at + 1;
+      continue;
+    }
+    const auto byte = static_cast<std::uint8_t>(frame[at]);
+    if (byte <= '$' || byte >= 0x7F) return false;  // space, '!', '"', start bytes, control, non-ASCII
+  }
+  view.field_count = count;
+  return true;
+}
+
 Result<FrameView> parse_frame(Bytes frame) {
+  if (FrameView common; detail::parse_common_frame(as_text(frame), common)) return common;
   if (frame.empty()) return frame_error(Errc::truncated, "empty");
   if (frame.size() > max_frame_length) {
     return frame_error(Errc::overlong,
