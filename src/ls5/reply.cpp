@@ -126,6 +126,8 @@ Result<Reply> parse_addressed_reply(std::string_view frame) {
   return frame_error(Errc::wrong_form, "unexpected reply form in " + quote(frame));
 }
 
+const Reply blank_reply{};
+
 // A good stream record "!ddddd" (L1, L7), the frame an LS5 streams up to a
 // thousand times a second: true with its code, false for anything else.
 bool read_good_stream_record(Bytes frame, std::uint16_t& code) noexcept {
@@ -207,10 +209,18 @@ Reply Reply::stream_record(ResultCode code) noexcept {
 Result<Reply> parse_reply(Bytes frame_bytes) {
   // Stream records straight into their Reply: no Result<ResultCode> or second
   // Reply (it holds an Identification) for every 6-byte record (issue 17).
+  // Returned by name on every path, so it is built in the caller's slot.
+  // Copied from a finished blank: built field by field on the stack and then
+  // copied, a Reply stalled on store forwarding (perf, issue 17).
+  Result<Reply> reply = blank_reply;
   if (std::uint16_t code = 0; read_good_stream_record(frame_bytes, code)) {
-    return Reply::stream_record(classify_result_code(code));
+    reply->kind = ReplyKind::stream_record;
+    reply->command = CommandId::start_stream;
+    reply->result = classify_result_code(code);
+  } else {
+    reply = parse_any_reply(frame_bytes);
   }
-  return parse_any_reply(frame_bytes);
+  return reply;
 }
 
 Result<Reply> parse_reply_line(Bytes line) {

@@ -128,8 +128,10 @@ bool detail::parse_common_frame(std::string_view frame, FrameView& view) noexcep
   return true;
 }
 
-Result<FrameView> parse_frame(Bytes frame) {
-  if (FrameView common; detail::parse_common_frame(as_text(frame), common)) return common;
+namespace {
+
+// Any frame, with a message that names what is wrong with a bad one.
+Result<FrameView> parse_any_frame(Bytes frame) {
   if (frame.empty()) return frame_error(Errc::truncated, "empty");
   if (frame.size() > max_frame_length) {
     return frame_error(Errc::overlong,
@@ -153,6 +155,15 @@ Result<FrameView> parse_frame(Bytes frame) {
     return std::move(parsed).error();
   }
   return view;
+}
+
+}  // namespace
+
+Result<FrameView> parse_frame(Bytes frame) {
+  // Returned by name on every path, so it is built in the caller's slot (issue 17).
+  Result<FrameView> parsed = FrameView{};
+  if (!detail::parse_common_frame(as_text(frame), *parsed)) parsed = parse_any_frame(frame);
+  return parsed;
 }
 
 Result<FrameView> parse_frame(std::string_view frame) { return parse_frame(as_bytes(frame)); }

@@ -312,19 +312,30 @@ Result<Measurement> decode_checked(const FrameView& frame, const MeasurementCont
 
 }  // namespace
 
+// Both overloads read a line straight into the Result they return (one object,
+// returned by name on every path, so it is built in the caller's slot): no
+// Reading -> Measurement -> Result copies per line (issue 17).
 Result<Measurement> decode_measurement(const FrameView& frame, const MeasurementContext& context) {
-  // Read straight into the Measurement: no Reading -> Measurement -> Result copies per line (issue 17).
-  Measurement common{frame.address, Reading{}};
-  if (!frame.address.is_broadcast() && decode_common_reading(frame, context, common.reading)) return common;
-  return decode_checked(frame, context);
+  Result<Measurement> decoded = Measurement{frame.address, Reading{}};
+  if (frame.address.is_broadcast() || !decode_common_reading(frame, context, decoded->reading)) {
+    decoded = decode_checked(frame, context);
+  }
+  return decoded;
 }
 
 Result<Measurement> decode_measurement(Bytes frame, const MeasurementContext& context) {
+  static const Measurement blank{};  // copied whole: see parse_reply in src/ls5/reply.cpp
+  Result<Measurement> decoded = blank;
   FrameView common;
-  if (detail::parse_common_frame(as_text(frame), common)) return decode_measurement(common, context);
-  Result<FrameView> view = parse_frame(frame);
-  if (!view) return std::move(view).error();
-  return decode_measurement(*view, context);
+  if (detail::parse_common_frame(as_text(frame), common) && !common.address.is_broadcast() &&
+      decode_common_reading(common, context, decoded->reading)) {
+    decoded->source = common.address;
+  } else if (Result<FrameView> view = parse_frame(frame); view) {
+    decoded = decode_checked(*view, context);
+  } else {
+    decoded = std::move(view).error();
+  }
+  return decoded;
 }
 
 Result<FrameText> encode_averaging(Address address, const AveragingReading& reading) {
