@@ -93,38 +93,40 @@ bool FrameView::is(std::string_view upper_mnemonic) const noexcept {
   return kind == FrameKind::message && detail::equal_ignoring_case(mnemonic, upper_mnemonic);
 }
 
-bool detail::parse_common_frame(std::string_view frame, FrameView& view) noexcept {
+bool detail::parse_common_frame(std::string_view frame, CommonFrame& out) noexcept {
   if (frame.size() < 5 || frame.size() > max_frame_length) return false;  // "$BM,1" is the shortest
   std::size_t at = 1;
   if (frame[0] == '#') {
     const auto address = static_cast<std::uint8_t>(frame[1]);
     if (address < first_unit_address) return false;
-    view.address = Address::unit(address);
+    out.address = Address::unit(address);
     at = 2;
   } else if (frame[0] != '$') {
     return false;
   }
-  const std::size_t mnemonic_at = at;
+  out.text = frame;
+  out.mnemonic_at = at;
   while (at < frame.size() && is_letter(frame[at])) ++at;
-  const std::size_t letters = at - mnemonic_at;
-  if (letters < min_mnemonic_length || letters > max_mnemonic_length || at == frame.size() || frame[at] != ',') {
+  out.mnemonic_size = at - out.mnemonic_at;
+  if (out.mnemonic_size < min_mnemonic_length || out.mnemonic_size > max_mnemonic_length || at == frame.size() ||
+      frame[at] != ',') {
     return false;  // no fields, or not a mnemonic: the full checks decide
   }
-  view.mnemonic = frame.substr(mnemonic_at, letters);
   std::size_t count = 0;
   std::size_t field_at = ++at;
   for (;; ++at) {
     if (at == frame.size() || frame[at] == ',') {
       if (at == field_at || count == max_fields) return false;  // empty field, too many fields
-      view.field_slots[count++] = frame.substr(field_at, at - field_at);
-      if (at == frame.size()) break;
+      out.starts[count++] = static_cast<std::uint8_t>(field_at);
       field_at = at + 1;
+      if (at == frame.size()) break;
       continue;
     }
     const auto byte = static_cast<std::uint8_t>(frame[at]);
     if (byte <= '$' || byte >= 0x7F) return false;  // space, '!', '"', start bytes, control, non-ASCII
   }
-  view.field_count = count;
+  out.starts[count] = static_cast<std::uint8_t>(field_at);
+  out.count = count;
   return true;
 }
 
@@ -162,7 +164,15 @@ Result<FrameView> parse_any_frame(Bytes frame) {
 Result<FrameView> parse_frame(Bytes frame) {
   // Returned by name on every path, so it is built in the caller's slot (issue 17).
   Result<FrameView> parsed = FrameView{};
-  if (!detail::parse_common_frame(as_text(frame), *parsed)) parsed = parse_any_frame(frame);
+  if (detail::CommonFrame common; detail::parse_common_frame(as_text(frame), common)) {
+    FrameView& view = *parsed;
+    view.address = common.address;
+    view.mnemonic = common.mnemonic();
+    for (std::size_t i = 0; i < common.count; ++i) view.field_slots[i] = common[i];
+    view.field_count = common.count;
+  } else {
+    parsed = parse_any_frame(frame);
+  }
   return parsed;
 }
 

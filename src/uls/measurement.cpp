@@ -38,7 +38,11 @@ bool read_good_range(std::string_view field, Units units, Range& out) noexcept {
   }
   if (!point || integer_digits == 0 || static_cast<int>(fraction_digits) != decimals_for(units)) return false;
   const double magnitude = static_cast<double>(mantissa) / (fraction_digits == 3 ? 1000.0 : 100.0);
-  out = make_range(negative ? -magnitude : magnitude, units);
+  // Field by field, as make_range would: a Range returned through memory and
+  // copied stalled on store forwarding (perf, issue 17).
+  out.user = negative ? -magnitude : magnitude;
+  out.metres = to_metres(out.user, units);
+  out.units = units;
   return true;
 }
 
@@ -251,11 +255,13 @@ namespace {
 // The lines a measuring unit streams (averaging and binning BM lines, ER lines),
 // read straight into `reading`. True only when decode_reading would give the same
 // reading; everything else goes through decode_reading, which names the problem.
-bool decode_common_reading(const FrameView& frame, const MeasurementContext& context, Reading& reading) noexcept {
-  if (frame.kind != FrameKind::message || frame.mnemonic.size() != 2) return false;
-  const char first = text::to_upper(frame.mnemonic[0]);
-  const char second = text::to_upper(frame.mnemonic[1]);
-  const std::span<const std::string_view> fields = frame.fields();
+// Fields: a FrameView's fields() or a detail::CommonFrame.
+template <class Fields>
+bool decode_common_reading(std::string_view mnemonic, const Fields& fields, const MeasurementContext& context,
+                           Reading& reading) noexcept {
+  if (mnemonic.size() != 2) return false;
+  const char first = text::to_upper(mnemonic[0]);
+  const char second = text::to_upper(mnemonic[1]);
   std::uint32_t number = 0;
   if (first == 'E' && second == 'R') {  // U13, U31
     if (fields.size() != 1 || !read_good_unsigned(fields[0], 3, 999, number) || number == 0) return false;
@@ -274,7 +280,8 @@ bool decode_common_reading(const FrameView& frame, const MeasurementContext& con
         return false;
       }
       if (with_range && !read_good_range(fields[0], context.units, range)) return false;
-      if (with_width && !read_good_unsigned(fields.back(), max_pulse_width_digits, 9'999'999, number)) return false;
+      if (with_width && !read_good_unsigned(fields[fields.size() - 1], max_pulse_width_digits, 9'999'999, number))
+        return false;
       AveragingReading& averaging = reading.emplace<AveragingReading>();
       if (with_range) averaging.range = range;
       if (with_width) averaging.pulse_width_ps = number;
@@ -317,7 +324,8 @@ Result<Measurement> decode_checked(const FrameView& frame, const MeasurementCont
 // Reading -> Measurement -> Result copies per line (issue 17).
 Result<Measurement> decode_measurement(const FrameView& frame, const MeasurementContext& context) {
   Result<Measurement> decoded = Measurement{frame.address, Reading{}};
-  if (frame.address.is_broadcast() || !decode_common_reading(frame, context, decoded->reading)) {
+  if (frame.address.is_broadcast() || frame.kind != FrameKind::message ||
+      !decode_common_reading(frame.mnemonic, frame.fields(), context, decoded->reading)) {
     decoded = decode_checked(frame, context);
   }
   return decoded;
@@ -326,9 +334,9 @@ Result<Measurement> decode_measurement(const FrameView& frame, const Measurement
 Result<Measurement> decode_measurement(Bytes frame, const MeasurementContext& context) {
   static const Measurement blank{};  // copied whole: see parse_reply in src/ls5/reply.cpp
   Result<Measurement> decoded = blank;
-  FrameView common;
+  detail::CommonFrame common;
   if (detail::parse_common_frame(as_text(frame), common) && !common.address.is_broadcast() &&
-      decode_common_reading(common, context, decoded->reading)) {
+      decode_common_reading(common.mnemonic(), common, context, decoded->reading)) {
     decoded->source = common.address;
   } else if (Result<FrameView> view = parse_frame(frame); view) {
     decoded = decode_checked(*view, context);
