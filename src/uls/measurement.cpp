@@ -307,7 +307,8 @@ bool decode_common_reading(std::string_view mnemonic, const Fields& fields, cons
 }
 
 // Every line, with the message that names what is wrong with a bad one.
-Result<Measurement> decode_checked(const FrameView& frame, const MeasurementContext& context) {
+// Kept out of line: inlined, its stack frame made every good line pay for it.
+[[gnu::noinline]] Result<Measurement> decode_checked(const FrameView& frame, const MeasurementContext& context) {
   if (frame.address.is_broadcast()) {
     return line_error(Errc::wrong_form, "line from broadcast address " + detail::hex_byte(frame.address.byte) +
                                             " (units never send from one, U4)");
