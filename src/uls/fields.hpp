@@ -20,13 +20,14 @@ struct CommonFrame {
   std::size_t mnemonic_at = 0;
   std::size_t mnemonic_size = 0;
   std::size_t count = 0;
-  std::array<std::uint8_t, max_fields + 1>
-      starts;  // NOLINT(cppcoreguidelines-pro-type-member-init): written before read
+  // Left uninitialised on purpose (that is the point); written before read.
+  // NOLINTNEXTLINE(cppcoreguidelines-pro-type-member-init)
+  std::array<std::uint8_t, max_fields + 1> starts;
 
-  [[nodiscard]] std::string_view mnemonic() const noexcept { return text.substr(mnemonic_at, mnemonic_size); }
+  [[nodiscard]] std::string_view mnemonic() const noexcept { return {text.data() + mnemonic_at, mnemonic_size}; }
   [[nodiscard]] std::size_t size() const noexcept { return count; }
   [[nodiscard]] std::string_view operator[](std::size_t i) const noexcept {
-    return text.substr(starts[i], static_cast<std::size_t>(starts[i + 1] - 1 - starts[i]));
+    return {text.data() + starts[i], static_cast<std::size_t>(starts[i + 1] - 1 - starts[i])};
   }
 };
 

@@ -258,7 +258,7 @@ namespace {
 // Fields: a FrameView's fields() or a detail::CommonFrame.
 template <class Fields>
 bool decode_common_reading(std::string_view mnemonic, const Fields& fields, const MeasurementContext& context,
-                           Reading& reading) noexcept {
+                           Reading& reading) {
   if (mnemonic.size() != 2) return false;
   const char first = text::to_upper(mnemonic[0]);
   const char second = text::to_upper(mnemonic[1]);
