@@ -1,5 +1,6 @@
-// Parser throughput against a memchr-over-the-buffer baseline measured in the
-// same run (issue 3 goal: >= 100 MB/s per core, no heap allocation per frame).
+// Parser throughput against baselines measured in the same run: memchr over the
+// buffer (issue 3 goal: >= 100 MB/s per core, no heap allocation per frame) and a
+// plain from_chars parser doing the same work (issue 17 goal: at least as fast).
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -8,6 +9,7 @@
 #include <string>
 
 #include "allocation_counter.hpp"
+#include "plain_parsers.hpp"
 #include "rangekit/core/framer.hpp"
 #include "rangekit/ls5/reply.hpp"
 #include "rangekit/ls5/udp_packet.hpp"
@@ -19,6 +21,7 @@ namespace {
 
 using rangekit::Bytes;
 using rangekit::FrameAssembler;
+namespace plain = rangekit::bench::plain;
 
 constexpr std::size_t stream_bytes = 4 << 20;  // 4 MiB per pass
 constexpr std::size_t read_chunk = 4096;       // what one serial read might return
@@ -27,8 +30,20 @@ const std::string& uls_stream() {
   static const std::string stream = rangekit::bench::uls_binning_stream(stream_bytes, 42);
   return stream;
 }
+const std::string& uls_averaging_stream() {
+  static const std::string stream = rangekit::bench::uls_averaging_stream(stream_bytes, 42, false);
+  return stream;
+}
+const std::string& uls_intensity_stream() {
+  static const std::string stream = rangekit::bench::uls_averaging_stream(stream_bytes, 42, true);
+  return stream;
+}
 const std::string& ls5_stream() {
   static const std::string stream = rangekit::bench::ls5_stream(stream_bytes, 42);
+  return stream;
+}
+const std::string& udp_stream() {
+  static const std::string stream = rangekit::bench::ls5_udp_stream(stream_bytes, 42);
   return stream;
 }
 
@@ -74,24 +89,59 @@ void uls_memchr_baseline(benchmark::State& state) {
   report(state, uls_stream().size(), lines, rangekit::bench::allocation_count() - before);
 }
 
-void uls_binning_decode(benchmark::State& state) {
-  const rangekit::uls::MeasurementContext context{rangekit::uls::Mode::binning, rangekit::uls::DisplayMode::range,
-                                                  rangekit::uls::Units::metres, false};
+// rangekit's ULS path as the driver runs it: the framer over 4 KiB reads, then
+// decode_measurement with the unit's settings (U11).
+void run_uls_decode(benchmark::State& state, const std::string& stream, rangekit::uls::Mode mode,
+                    rangekit::uls::DisplayMode display) {
+  const rangekit::uls::MeasurementContext context{mode, display, rangekit::uls::Units::metres, false};
   double checksum = 0;
   auto decode = [&](Bytes frame) {
     auto measurement = rangekit::uls::decode_measurement(frame, context);
     if (!measurement) return false;
-    if (const auto* target = std::get_if<rangekit::uls::BinningTarget>(&measurement->reading))
-      checksum += target->range.metres;
+    if (const auto* target = std::get_if<rangekit::uls::BinningTarget>(&measurement->reading)) {
+      checksum += target->range.metres + target->strength;
+    } else if (const auto* averaging = std::get_if<rangekit::uls::AveragingReading>(&measurement->reading)) {
+      checksum += averaging->range->metres + averaging->pulse_width_ps.value_or(0);
+    }
     return true;
   };
   std::size_t frames = 0;
-  (void)parse_stream(uls_stream(), &rangekit::uls::scan_frame, decode);  // warm-up: static buffers
+  (void)parse_stream(stream, &rangekit::uls::scan_frame, decode);  // warm-up: static buffers
   const auto before = rangekit::bench::allocation_count();
-  for (auto _ : state)
-    benchmark::DoNotOptimize(frames = parse_stream(uls_stream(), &rangekit::uls::scan_frame, decode));
+  for (auto _ : state) benchmark::DoNotOptimize(frames = parse_stream(stream, &rangekit::uls::scan_frame, decode));
   benchmark::DoNotOptimize(checksum);
-  report(state, uls_stream().size(), frames, rangekit::bench::allocation_count() - before);
+  report(state, stream.size(), frames, rangekit::bench::allocation_count() - before);
+}
+
+// The plain from_chars parser (bench/plain_parsers.hpp) over the same bytes, same run.
+void run_uls_plain(benchmark::State& state, const std::string& stream, plain::UlsShape shape) {
+  double checksum = 0;
+  std::size_t frames = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(frames = plain::parse_uls_stream(stream, shape, [&](const plain::UlsLine& line) {
+                               checksum += line.range_m + line.strength + line.pulse_width_ps;
+                             }));
+  }
+  benchmark::DoNotOptimize(checksum);
+  report(state, stream.size(), frames, 0);
+}
+
+void uls_binning_decode(benchmark::State& state) {
+  run_uls_decode(state, uls_stream(), rangekit::uls::Mode::binning, rangekit::uls::DisplayMode::range);
+}
+void uls_binning_plain(benchmark::State& state) { run_uls_plain(state, uls_stream(), plain::UlsShape::binning); }
+void uls_averaging_decode(benchmark::State& state) {
+  run_uls_decode(state, uls_averaging_stream(), rangekit::uls::Mode::averaging, rangekit::uls::DisplayMode::range);
+}
+void uls_averaging_plain(benchmark::State& state) {
+  run_uls_plain(state, uls_averaging_stream(), plain::UlsShape::range);
+}
+void uls_intensity_decode(benchmark::State& state) {
+  run_uls_decode(state, uls_intensity_stream(), rangekit::uls::Mode::averaging,
+                 rangekit::uls::DisplayMode::range_and_intensity);
+}
+void uls_intensity_plain(benchmark::State& state) {
+  run_uls_plain(state, uls_intensity_stream(), plain::UlsShape::range_and_intensity);
 }
 
 void ls5_memchr_baseline(benchmark::State& state) {
@@ -118,52 +168,102 @@ void ls5_stream_decode(benchmark::State& state) {
   report(state, ls5_stream().size(), frames, rangekit::bench::allocation_count() - before);
 }
 
-// UDP packets of section 10: decode with checksum and state checks, against a
-// plain memchr pass over the same 512 bytes.
-std::array<std::uint8_t, rangekit::ls5::udp_packet_size> sample_packet() {
-  rangekit::ls5::UdpPacket packet;
-  for (std::size_t i = 0; i < packet.records.size(); ++i) {
-    packet.records[i] = rangekit::ls5::UdpRecord{static_cast<std::uint16_t>(i * 97 % 0x4000), 0x07};
+void ls5_stream_plain(benchmark::State& state) {
+  std::uint64_t checksum = 0;
+  std::size_t frames = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(frames =
+                                 plain::parse_ls5_stream(ls5_stream(), [&](std::uint16_t code) { checksum += code; }));
   }
-  packet.serial_number = 157;
-  packet.lower_boundary_mm = 8;
-  packet.range_mm = 40;
-  std::array<std::uint8_t, rangekit::ls5::udp_packet_size> bytes{};
-  (void)rangekit::ls5::encode_udp_packet(packet, bytes);
-  return bytes;
+  benchmark::DoNotOptimize(checksum);
+  report(state, ls5_stream().size(), frames, 0);
 }
 
-// The floor for a packet: one XOR pass over its bytes, the least a receiver
-// that checks the checksum must do.
+// UDP datagrams of section 10: 8192 different ones, one after another.
+Bytes udp_datagram(std::size_t index) {
+  return {reinterpret_cast<const std::uint8_t*>(udp_stream().data()) + index * rangekit::ls5::udp_packet_size,
+          rangekit::ls5::udp_packet_size};
+}
+std::size_t udp_datagrams() { return udp_stream().size() / rangekit::ls5::udp_packet_size; }
+
+// The floor for a datagram: one plain XOR pass over its bytes, the least a
+// receiver that checks the checksum must do, eight bytes at a time.
 void ls5_udp_xor_baseline(benchmark::State& state) {
-  const auto packet = sample_packet();
   for (auto _ : state) {
-    benchmark::DoNotOptimize(packet.data());
-    std::uint8_t folded = 0;
-    for (const std::uint8_t byte : packet) folded ^= byte;
-    benchmark::DoNotOptimize(folded);
+    for (std::size_t i = 0; i < udp_datagrams(); ++i) {
+      const Bytes datagram = udp_datagram(i);
+      benchmark::DoNotOptimize(datagram.data());
+      std::uint64_t folded = 0;
+      for (std::size_t at = 0; at < datagram.size(); at += sizeof folded) {
+        std::uint64_t word = 0;
+        std::memcpy(&word, datagram.data() + at, sizeof word);
+        folded ^= word;
+      }
+      benchmark::DoNotOptimize(folded);
+    }
   }
-  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * packet.size()));
+  report(state, udp_stream().size(), udp_datagrams(), 0);
+}
+
+// rangekit's checksum (the XOR of bytes 0-509, L12) over the same datagrams.
+void ls5_udp_checksum(benchmark::State& state) {
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < udp_datagrams(); ++i) {
+      const Bytes datagram = udp_datagram(i);
+      benchmark::DoNotOptimize(datagram.data());
+      benchmark::DoNotOptimize(rangekit::ls5::udp_checksum(datagram.first<rangekit::ls5::udp_packet_size>()));
+    }
+  }
+  report(state, udp_stream().size(), udp_datagrams(), 0);
 }
 
 void ls5_udp_decode(benchmark::State& state) {
-  const auto packet = sample_packet();
+  std::uint64_t checksum = 0;
+  std::size_t decoded = 0;
   const auto before = rangekit::bench::allocation_count();
   for (auto _ : state) {
-    auto decoded = rangekit::ls5::decode_udp_packet(packet);
-    benchmark::DoNotOptimize(decoded);
+    decoded = 0;
+    for (std::size_t i = 0; i < udp_datagrams(); ++i) {
+      auto packet = rangekit::ls5::decode_udp_packet(udp_datagram(i));
+      if (!packet) continue;
+      checksum += packet->records[i % rangekit::ls5::udp_record_count].code + packet->counter;
+      ++decoded;
+    }
   }
-  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * packet.size()));
-  state.counters["allocs_per_frame"] = benchmark::Counter(
-      static_cast<double>(rangekit::bench::allocation_count() - before) / static_cast<double>(state.iterations()));
+  benchmark::DoNotOptimize(checksum);
+  report(state, udp_stream().size(), decoded, rangekit::bench::allocation_count() - before);
+}
+
+void ls5_udp_plain(benchmark::State& state) {
+  std::uint64_t checksum = 0;
+  std::size_t decoded = 0;
+  plain::UdpDatagram datagram;
+  for (auto _ : state) {
+    decoded = 0;
+    for (std::size_t i = 0; i < udp_datagrams(); ++i) {
+      if (!plain::parse_udp_datagram(udp_datagram(i), datagram)) continue;
+      checksum += datagram.records[i % 168].code + datagram.counter;
+      ++decoded;
+    }
+  }
+  benchmark::DoNotOptimize(checksum);
+  report(state, udp_stream().size(), decoded, 0);
 }
 
 BENCHMARK(uls_memchr_baseline)->Unit(benchmark::kMillisecond);
 BENCHMARK(uls_binning_decode)->Unit(benchmark::kMillisecond);
+BENCHMARK(uls_binning_plain)->Unit(benchmark::kMillisecond);
+BENCHMARK(uls_averaging_decode)->Unit(benchmark::kMillisecond);
+BENCHMARK(uls_averaging_plain)->Unit(benchmark::kMillisecond);
+BENCHMARK(uls_intensity_decode)->Unit(benchmark::kMillisecond);
+BENCHMARK(uls_intensity_plain)->Unit(benchmark::kMillisecond);
 BENCHMARK(ls5_memchr_baseline)->Unit(benchmark::kMillisecond);
 BENCHMARK(ls5_stream_decode)->Unit(benchmark::kMillisecond);
-BENCHMARK(ls5_udp_xor_baseline);
-BENCHMARK(ls5_udp_decode);
+BENCHMARK(ls5_stream_plain)->Unit(benchmark::kMillisecond);
+BENCHMARK(ls5_udp_xor_baseline)->Unit(benchmark::kMillisecond);
+BENCHMARK(ls5_udp_checksum)->Unit(benchmark::kMillisecond);
+BENCHMARK(ls5_udp_decode)->Unit(benchmark::kMillisecond);
+BENCHMARK(ls5_udp_plain)->Unit(benchmark::kMillisecond);
 
 // Keeps every run's throughput and allocation counter for the summary.
 class SummaryReporter : public benchmark::ConsoleReporter {
@@ -199,6 +299,20 @@ void print_comparison(const SummaryReporter& reporter, const char* parser, const
       "%-22s %9.1f MB/s  = %5.1f%% of %-22s (%9.1f MB/s)  goal >= 100 MB/s: %-7s allocations/frame: %.4f (%s)\n",
       parser, mb, 100.0 * mb / base_mb, baseline, base_mb, mb >= 100.0 ? "met" : "MISSED", p->second.allocs_per_frame,
       p->second.allocs_per_frame < 0.001 ? "none on the hot path" : "ALLOCATES");
+}
+
+// Issue 17 item 1: each decoder against the plain from_chars parser of the same
+// stream in the same run (goal >= 1.0x), and the UDP checksum against a plain XOR pass (>= 0.5x).
+void print_decoder_row(const SummaryReporter& reporter, const char* label, const char* decoder, const char* baseline,
+                       double goal) {
+  const auto d = reporter.figures.find(decoder);
+  const auto b = reporter.figures.find(baseline);
+  if (d == reporter.figures.end() || b == reporter.figures.end()) return;
+  const double mb = d->second.bytes_per_second / 1e6;
+  const double base_mb = b->second.bytes_per_second / 1e6;
+  const double ratio = base_mb > 0 ? mb / base_mb : 0.0;
+  std::printf("%-24s %9.1f MB/s  %-22s %9.1f MB/s  ratio %5.2fx  goal >= %.1fx: %s\n", label, mb, baseline, base_mb,
+              ratio, goal, ratio >= goal ? "met" : "MISSED");
 }
 
 // Host streaming (issue 6): the driver against cat of the same pty, same run.
@@ -273,6 +387,13 @@ int main(int argc, char** argv) {
   print_comparison(reporter, "uls_binning_decode", "uls_memchr_baseline");
   print_comparison(reporter, "ls5_stream_decode", "ls5_memchr_baseline");
   print_comparison(reporter, "ls5_udp_decode", "ls5_udp_xor_baseline");
+  std::printf("\nDecoders against a plain from_chars parser of the same stream, same run (issue 17):\n");
+  print_decoder_row(reporter, "ULS averaging", "uls_averaging_decode", "uls_averaging_plain", 1.0);
+  print_decoder_row(reporter, "ULS averaging+intensity", "uls_intensity_decode", "uls_intensity_plain", 1.0);
+  print_decoder_row(reporter, "ULS binning", "uls_binning_decode", "uls_binning_plain", 1.0);
+  print_decoder_row(reporter, "LS5 !ddddd stream", "ls5_stream_decode", "ls5_stream_plain", 1.0);
+  print_decoder_row(reporter, "LS5 UDP datagrams", "ls5_udp_decode", "ls5_udp_plain", 1.0);
+  print_decoder_row(reporter, "LS5 UDP checksum", "ls5_udp_checksum", "ls5_udp_xor_baseline", 0.5);
   print_host_comparison(reporter, "host LS5 1 kHz @ 921600", "BM_HostLs5Driver1kHz921600/iterations:1/real_time",
                         "BM_CatLs5Floor1kHz921600/iterations:1/real_time");
   print_host_comparison(reporter, "host ULS binning @ 230400", "BM_HostUlsDriverBinning230400/iterations:1/real_time",

@@ -1,7 +1,11 @@
 #include "streams.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cstdio>
 #include <random>
+
+#include "rangekit/ls5/udp_packet.hpp"
 
 namespace rangekit::bench {
 
@@ -25,6 +29,50 @@ std::string uls_binning_stream(std::size_t bytes, std::uint32_t seed) {
           std::snprintf(line, sizeof line, "$BM,%d,%d,%.3f,%d\r", i, count, distance(random), strength(random));
       stream.append(line, static_cast<std::size_t>(length));
     }
+  }
+  return stream;
+}
+
+std::string uls_averaging_stream(std::size_t bytes, std::uint32_t seed, bool with_intensity) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> distance(0.15, 1664.0);
+  std::uniform_int_distribution<int> width(1000, 9999999);
+  std::uniform_int_distribution<int> error_roll(0, 99);
+  std::string stream;
+  stream.reserve(bytes + 64);
+  char line[64];
+  while (stream.size() < bytes) {
+    if (error_roll(random) == 0) {
+      stream += "$ER,4\r";
+      continue;
+    }
+    const int length = with_intensity
+                           ? std::snprintf(line, sizeof line, "$BM,%.3f,%d\r", distance(random), width(random))
+                           : std::snprintf(line, sizeof line, "$BM,%.3f\r", distance(random));
+    stream.append(line, static_cast<std::size_t>(length));
+  }
+  return stream;
+}
+
+std::string ls5_udp_stream(std::size_t bytes, std::uint32_t seed) {
+  std::mt19937 random(seed);
+  std::normal_distribution<double> step(0.0, 40.0);
+  std::string stream;
+  stream.reserve(bytes + ls5::udp_packet_size);
+  double code = 8000.0;
+  ls5::UdpPacket packet;
+  packet.serial_number = 157;
+  packet.lower_boundary_mm = 8;
+  packet.range_mm = 40;
+  std::array<std::uint8_t, ls5::udp_packet_size> datagram{};
+  while (stream.size() < bytes) {
+    for (auto& record : packet.records) {
+      code = std::clamp(code + step(random), 0.0, 16384.0);
+      record = ls5::UdpRecord{static_cast<std::uint16_t>(code), 0x07};
+    }
+    ++packet.counter;
+    (void)ls5::encode_udp_packet(packet, datagram);
+    stream.append(reinterpret_cast<const char*>(datagram.data()), datagram.size());
   }
   return stream;
 }

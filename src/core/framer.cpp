@@ -1,7 +1,6 @@
 #include "rangekit/core/framer.hpp"
 
 #include <algorithm>
-#include <cstring>
 
 namespace rangekit {
 namespace {
@@ -28,26 +27,32 @@ FrameScan scan_line_frame(Bytes buffer, const LineFramerRules& rules) noexcept {
     return FrameScan::invalid(skip, "bytes before the start of a frame");
   }
 
-  // Find the terminator first (memchr is fast), then check the bytes before it
-  // in order, so the first problem in the frame is the one reported.
+  // One pass finds the terminator and checks the bytes before it, in order, so the
+  // first problem in the frame is the one reported. Frames are a few dozen bytes:
+  // a plain loop beats a memchr call plus a second pass (issue 17).
   const std::size_t window = std::min(buffer.size(), rules.max_length + 1);
-  const auto* terminator = static_cast<const std::uint8_t*>(std::memchr(buffer.data(), rules.terminator, window));
-  const std::size_t end = terminator != nullptr ? static_cast<std::size_t>(terminator - buffer.data()) : window;
   // Bytes above every start character and below DEL need no further look: the
   // common case (digits, letters, ',' and '.' all sit above '$', '#', '!', '%').
   std::uint8_t highest_start = 0;
   for (const char start : rules.starts) highest_start = std::max(highest_start, static_cast<std::uint8_t>(start));
   const std::uint8_t plain_from = std::max<std::uint8_t>(0x20, static_cast<std::uint8_t>(highest_start + 1));
-  for (std::size_t i = 1; i < end; ++i) {
-    const std::uint8_t byte = buffer[i];
+  std::size_t end = 1;
+  bool terminated = false;
+  for (; end < window; ++end) {
+    const std::uint8_t byte = buffer[end];
+    if (byte == rules.terminator) {
+      terminated = true;
+      break;
+    }
     if (byte >= plain_from && byte < 0x7f) continue;
     if (byte >= 0x20 && byte < 0x7f && !is_start(byte, rules.starts)) continue;
-    if (rules.allow_high_bytes_at && i == rules.high_byte_position) continue;  // any address byte; the codec checks it
-    if (is_start(byte, rules.starts)) return FrameScan::invalid(i, "frame cut short by a new start byte");
-    if (byte == '\n') return FrameScan::invalid(i + 1, "line feed inside a frame (frames end with CR)");
-    return FrameScan::invalid(i + 1, "control or non-ASCII byte inside a frame");
+    if (rules.allow_high_bytes_at && end == rules.high_byte_position)
+      continue;  // any address byte; the codec checks it
+    if (is_start(byte, rules.starts)) return FrameScan::invalid(end, "frame cut short by a new start byte");
+    if (byte == '\n') return FrameScan::invalid(end + 1, "line feed inside a frame (frames end with CR)");
+    return FrameScan::invalid(end + 1, "control or non-ASCII byte inside a frame");
   }
-  if (terminator != nullptr) {
+  if (terminated) {
     if (end > rules.max_length) return FrameScan::invalid(end + 1, "frame longer than the protocol allows");
     return FrameScan::complete(buffer.first(end), end + 1);
   }

@@ -126,6 +126,39 @@ Result<Reply> parse_addressed_reply(std::string_view frame) {
   return frame_error(Errc::wrong_form, "unexpected reply form in " + quote(frame));
 }
 
+const Reply blank_reply{};
+
+// A good stream record "!ddddd" (L1, L7), the frame an LS5 streams up to a
+// thousand times a second: true with its code, false for anything else.
+bool read_good_stream_record(Bytes frame, std::uint16_t& code) noexcept {
+  if (frame.size() != 1 + result_digits || frame[0] != reply_start) return false;
+  std::uint32_t value = 0;
+  bool digits = true;
+  for (std::size_t i = 1; i < frame.size(); ++i) {
+    const auto digit = static_cast<std::uint32_t>(frame[i] - '0');
+    digits = digits && digit <= 9;
+    value = value * 10 + digit;
+  }
+  if (!digits || value > 0xFFFF || !valid_code(static_cast<std::uint16_t>(value))) return false;
+  code = static_cast<std::uint16_t>(value);
+  return true;
+}
+
+// Any reply, with a message that names what is wrong with a bad one.
+// Kept out of line: inlined, its stack frame made every stream record pay for it.
+[[gnu::noinline]] Result<Reply> parse_any_reply(Bytes frame_bytes) {
+  const std::string_view frame = as_text(frame_bytes);
+  if (frame.empty()) return frame_error(Errc::truncated, "empty reply");
+  if (frame.front() != reply_start && frame.front() != identification_start) {
+    return frame_error(Errc::invalid_frame, "a reply starts with '!' or '%', got " + quote(frame));
+  }
+  if (Status printable = detail::check_printable(frame); !printable) return std::move(printable).error();
+  if (frame.front() == identification_start) return parse_identification_reply(frame);
+  // Only stream records are all digits: every reply has a command of letters (L1).
+  if (digits_only(frame.substr(1))) return parse_stream_record(frame);
+  return parse_addressed_reply(frame);
+}
+
 }  // namespace
 
 Reply Reply::echo(const Request& request) noexcept {
@@ -175,16 +208,20 @@ Reply Reply::stream_record(ResultCode code) noexcept {
 }
 
 Result<Reply> parse_reply(Bytes frame_bytes) {
-  const std::string_view frame = as_text(frame_bytes);
-  if (frame.empty()) return frame_error(Errc::truncated, "empty reply");
-  if (frame.front() != reply_start && frame.front() != identification_start) {
-    return frame_error(Errc::invalid_frame, "a reply starts with '!' or '%', got " + quote(frame));
+  // Stream records straight into their Reply: no Result<ResultCode> or second
+  // Reply (it holds an Identification) for every 6-byte record (issue 17).
+  // Returned by name on every path, so it is built in the caller's slot.
+  // Copied from a finished blank: built field by field on the stack and then
+  // copied, a Reply stalled on store forwarding (perf, issue 17).
+  Result<Reply> reply = blank_reply;
+  if (std::uint16_t code = 0; read_good_stream_record(frame_bytes, code)) {
+    reply->kind = ReplyKind::stream_record;
+    reply->command = CommandId::start_stream;
+    reply->result = classify_result_code(code);
+  } else {
+    reply = parse_any_reply(frame_bytes);
   }
-  if (Status printable = detail::check_printable(frame); !printable) return std::move(printable).error();
-  if (frame.front() == identification_start) return parse_identification_reply(frame);
-  // Only stream records are all digits: every reply has a command of letters (L1).
-  if (digits_only(frame.substr(1))) return parse_stream_record(frame);
-  return parse_addressed_reply(frame);
+  return reply;
 }
 
 Result<Reply> parse_reply_line(Bytes line) {

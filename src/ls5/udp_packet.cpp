@@ -1,5 +1,6 @@
 #include "rangekit/ls5/udp_packet.hpp"
 
+#include <cstring>
 #include <string>
 
 #include "ls5/messages.hpp"
@@ -30,9 +31,21 @@ Error state_error(std::size_t record, std::uint8_t state) {
                                              std::to_string(record + 1) + ": " + why + " (§10.1)");
 }
 
+// Eight bytes at a time, folded to one at the end: a byte at a time ran at a
+// twentieth of a plain XOR pass (issue 17).
 std::uint8_t xor_of(Bytes bytes) noexcept {
-  std::uint8_t sum = 0;
-  for (const std::uint8_t byte : bytes) sum = static_cast<std::uint8_t>(sum ^ byte);
+  std::uint64_t folded = 0;
+  std::size_t at = 0;
+  for (; at + sizeof folded <= bytes.size(); at += sizeof folded) {
+    std::uint64_t word = 0;
+    std::memcpy(&word, bytes.data() + at, sizeof word);
+    folded ^= word;
+  }
+  folded ^= folded >> 32U;
+  folded ^= folded >> 16U;
+  folded ^= folded >> 8U;
+  auto sum = static_cast<std::uint8_t>(folded);
+  for (; at < bytes.size(); ++at) sum = static_cast<std::uint8_t>(sum ^ bytes[at]);
   return sum;
 }
 
@@ -53,12 +66,23 @@ Result<UdpPacket> decode_udp_packet(Bytes datagram) {
                                               text::hex_byte(datagram[udp_offset::checksum]) +
                                               ", the XOR of bytes 0-509 is 0x" + text::hex_byte(computed));
   }
+  // Every state word at once; the first bad one is looked for only when there is one.
+  std::uint8_t wrong_bits = 0;
+  for (std::size_t i = 0; i < udp_record_count; ++i) {
+    const std::uint8_t state = datagram[i * record_size + 2];
+    wrong_bits =
+        static_cast<std::uint8_t>(wrong_bits | (~state & udp_state::always_one) | (state & udp_state::reserved));
+  }
+  if (wrong_bits != 0) {
+    for (std::size_t i = 0; i < udp_record_count; ++i) {
+      const std::uint8_t state = datagram[i * record_size + 2];
+      if (!valid_state(state)) return state_error(i, state);
+    }
+  }
   UdpPacket packet;
   for (std::size_t i = 0; i < udp_record_count; ++i) {
     const std::size_t at = i * record_size;
-    const std::uint8_t state = datagram[at + 2];
-    if (!valid_state(state)) return state_error(i, state);
-    packet.records[i] = UdpRecord{read_le16(datagram, at), state};
+    packet.records[i] = UdpRecord{read_le16(datagram, at), datagram[at + 2]};
   }
   packet.serial_number = read_le16(datagram, udp_offset::serial);
   packet.lower_boundary_mm = read_le16(datagram, udp_offset::lower_boundary);

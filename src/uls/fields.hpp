@@ -2,11 +2,40 @@
 // the wording of error messages. Internal (src/), not part of the public API.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
 
+#include "rangekit/uls/frame.hpp"
+
 namespace rangekit::uls::detail {
+
+// What parse_common_frame reads: offsets into the frame, not views, so that no
+// 128 bytes of string_views are zeroed per line (issue 17). Field i runs from
+// starts[i] to the comma (or end) before starts[i + 1].
+struct CommonFrame {
+  Address address;
+  std::string_view text;
+  std::size_t mnemonic_at = 0;
+  std::size_t mnemonic_size = 0;
+  std::size_t count = 0;
+  // Left uninitialised on purpose (that is the point); written before read.
+  // NOLINTNEXTLINE(cppcoreguidelines-pro-type-member-init)
+  std::array<std::uint8_t, max_fields + 1> starts;
+
+  [[nodiscard]] std::string_view mnemonic() const noexcept { return {text.data() + mnemonic_at, mnemonic_size}; }
+  [[nodiscard]] std::size_t size() const noexcept { return count; }
+  [[nodiscard]] std::string_view operator[](std::size_t i) const noexcept {
+    return {text.data() + starts[i], static_cast<std::size_t>(starts[i + 1] - 1 - starts[i])};
+  }
+};
+
+// The frames units send most ("$BM,f1,...", "#aER,n"): start byte, unit address,
+// a 2-4 letter mnemonic and 1-8 non-empty fields of plain bytes, read in one pass.
+// False for anything else, which parse_frame's full checks then read or reject
+// with a message: true only for frames they accept as the same view.
+bool parse_common_frame(std::string_view frame, CommonFrame& out) noexcept;
 
 bool equal_ignoring_case(std::string_view a, std::string_view b) noexcept;
 

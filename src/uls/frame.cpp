@@ -93,7 +93,47 @@ bool FrameView::is(std::string_view upper_mnemonic) const noexcept {
   return kind == FrameKind::message && detail::equal_ignoring_case(mnemonic, upper_mnemonic);
 }
 
-Result<FrameView> parse_frame(Bytes frame) {
+bool detail::parse_common_frame(std::string_view frame, CommonFrame& out) noexcept {
+  if (frame.size() < 5 || frame.size() > max_frame_length) return false;  // "$BM,1" is the shortest
+  std::size_t at = 1;
+  if (frame[0] == '#') {
+    const auto address = static_cast<std::uint8_t>(frame[1]);
+    if (address < first_unit_address) return false;
+    out.address = Address::unit(address);
+    at = 2;
+  } else if (frame[0] != '$') {
+    return false;
+  }
+  out.text = frame;
+  out.mnemonic_at = at;
+  while (at < frame.size() && is_letter(frame[at])) ++at;
+  out.mnemonic_size = at - out.mnemonic_at;
+  if (out.mnemonic_size < min_mnemonic_length || out.mnemonic_size > max_mnemonic_length || at == frame.size() ||
+      frame[at] != ',') {
+    return false;  // no fields, or not a mnemonic: the full checks decide
+  }
+  std::size_t count = 0;
+  std::size_t field_at = ++at;
+  for (;; ++at) {
+    if (at == frame.size() || frame[at] == ',') {
+      if (at == field_at || count == max_fields) return false;  // empty field, too many fields
+      out.starts[count++] = static_cast<std::uint8_t>(field_at);
+      field_at = at + 1;
+      if (at == frame.size()) break;
+      continue;
+    }
+    const auto byte = static_cast<std::uint8_t>(frame[at]);
+    if (byte <= '$' || byte >= 0x7F) return false;  // space, '!', '"', start bytes, control, non-ASCII
+  }
+  out.starts[count] = static_cast<std::uint8_t>(field_at);
+  out.count = count;
+  return true;
+}
+
+namespace {
+
+// Any frame, with a message that names what is wrong with a bad one.
+Result<FrameView> parse_any_frame(Bytes frame) {
   if (frame.empty()) return frame_error(Errc::truncated, "empty");
   if (frame.size() > max_frame_length) {
     return frame_error(Errc::overlong,
@@ -117,6 +157,23 @@ Result<FrameView> parse_frame(Bytes frame) {
     return std::move(parsed).error();
   }
   return view;
+}
+
+}  // namespace
+
+Result<FrameView> parse_frame(Bytes frame) {
+  // Returned by name on every path, so it is built in the caller's slot (issue 17).
+  Result<FrameView> parsed = FrameView{};
+  if (detail::CommonFrame common; detail::parse_common_frame(as_text(frame), common)) {
+    FrameView& view = *parsed;
+    view.address = common.address;
+    view.mnemonic = common.mnemonic();
+    for (std::size_t i = 0; i < common.count; ++i) view.field_slots[i] = common[i];
+    view.field_count = common.count;
+  } else {
+    parsed = parse_any_frame(frame);
+  }
+  return parsed;
 }
 
 Result<FrameView> parse_frame(std::string_view frame) { return parse_frame(as_bytes(frame)); }

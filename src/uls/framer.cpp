@@ -1,4 +1,6 @@
 // scan_frame: the shared line framer with ULS rules (F1-F5, U4, U25).
+#include <algorithm>
+
 #include "rangekit/core/text.hpp"
 #include "rangekit/uls/frame.hpp"
 
@@ -25,6 +27,15 @@ bool starts_unit_address_set(Bytes buffer, std::size_t value_at) noexcept {
 }  // namespace
 
 FrameScan scan_frame(Bytes buffer) noexcept {
+  // The common frame: a start byte, then only bytes above '$' and below DEL up to
+  // the CR. scan_line_frame gives the same answer for it (such a frame cannot be
+  // the U25 UA shape, whose value byte is 0x7F or above), more slowly (issue 17).
+  if (!buffer.empty() && (buffer[0] == '$' || buffer[0] == '#')) {
+    const std::size_t window = std::min(buffer.size(), max_frame_length + 1);
+    std::size_t end = 1;
+    while (end < window && buffer[end] > '$' && buffer[end] < 0x7F) ++end;
+    if (end < window && buffer[end] == '\r') return FrameScan::complete(buffer.first(end), end + 1);
+  }
   const bool addressed = !buffer.empty() && buffer[0] == '#';
   const std::size_t value_at = addressed ? 5 : 4;
   if (!buffer.empty() && (buffer[0] == '$' || addressed) && starts_unit_address_set(buffer, value_at)) {

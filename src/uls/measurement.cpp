@@ -15,8 +15,52 @@ Error line_error(Errc code, const std::string& what) { return make_error(code, "
 int decimals_for(Units units) noexcept { return units == Units::metres ? 3 : 2; }
 const char* units_word(Units units) noexcept { return units == Units::metres ? "metres" : "feet"; }
 
+// The common case of read_range below, without a Result: true only for a range it
+// accepts, with the same value. One pass that checks and converts.
+bool read_good_range(std::string_view field, Units units, Range& out) noexcept {
+  if (field.size() > max_range_chars) return false;
+  std::size_t i = 0;
+  const bool negative = !field.empty() && field.front() == '-';
+  if (negative) ++i;
+  std::uint64_t mantissa = 0;
+  std::size_t integer_digits = 0;
+  std::size_t fraction_digits = 0;
+  bool point = false;
+  for (; i < field.size(); ++i) {
+    const char c = field[i];
+    if (c == '.' && !point) {
+      point = true;
+      continue;
+    }
+    if (!text::is_digit(c)) return false;
+    mantissa = mantissa * 10 + static_cast<std::uint64_t>(c - '0');
+    ++(point ? fraction_digits : integer_digits);
+  }
+  if (!point || integer_digits == 0 || static_cast<int>(fraction_digits) != decimals_for(units)) return false;
+  const double magnitude = static_cast<double>(mantissa) / (fraction_digits == 3 ? 1000.0 : 100.0);
+  // Field by field, as make_range would: a Range returned through memory and
+  // copied stalled on store forwarding (perf, issue 17).
+  out.user = negative ? -magnitude : magnitude;
+  out.metres = to_metres(out.user, units);
+  out.units = units;
+  return true;
+}
+
+// The common case of read_unsigned below: 1 to max_digits (at most 9) digits, at most max_value.
+bool read_good_unsigned(std::string_view field, std::size_t max_digits, std::uint32_t max_value,
+                        std::uint32_t& out) noexcept {
+  if (field.empty() || field.size() > max_digits) return false;
+  std::uint32_t value = 0;
+  for (const char c : field) {
+    if (!text::is_digit(c)) return false;
+    value = value * 10 + static_cast<std::uint32_t>(c - '0');
+  }
+  if (value > max_value) return false;
+  out = value;
+  return true;
+}
+
 // "[-]digits.ddd" (metres) or "[-]digits.dd" (feet), at most 8 characters (U9, U27).
-// One pass that checks and converts: this sits on the measurement hot path.
 Result<Range> read_range(std::string_view field, Units units) {
   if (field.size() > max_range_chars) {
     return line_error(Errc::overlong, "range " + detail::quoted(field) + " longer than 8 characters");
@@ -206,7 +250,65 @@ Result<FieldText> pulse_width_field(std::uint32_t picoseconds) {
 
 Range make_range(double user_value, Units units) noexcept { return {user_value, to_metres(user_value, units), units}; }
 
-Result<Measurement> decode_measurement(const FrameView& frame, const MeasurementContext& context) {
+namespace {
+
+// The lines a measuring unit streams (averaging and binning BM lines, ER lines),
+// read straight into `reading`. True only when decode_reading would give the same
+// reading; everything else goes through decode_reading, which names the problem.
+// Fields: a FrameView's fields() or a detail::CommonFrame.
+template <class Fields>
+bool decode_common_reading(std::string_view mnemonic, const Fields& fields, const MeasurementContext& context,
+                           Reading& reading) {
+  if (mnemonic.size() != 2) return false;
+  const char first = text::to_upper(mnemonic[0]);
+  const char second = text::to_upper(mnemonic[1]);
+  std::uint32_t number = 0;
+  if (first == 'E' && second == 'R') {  // U13, U31
+    if (fields.size() != 1 || !read_good_unsigned(fields[0], 3, 999, number) || number == 0) return false;
+    reading.emplace<MeasurementError>(MeasurementError{static_cast<int>(number)});
+    return true;
+  }
+  if (first != 'B' || second != 'M') return false;
+  Range range;
+  switch (context.mode) {
+    case Mode::averaging: {
+      const bool with_range = context.display != DisplayMode::intensity;
+      const bool with_width = context.display != DisplayMode::range;
+      if ((context.display != DisplayMode::range && context.display != DisplayMode::range_and_intensity &&
+           context.display != DisplayMode::intensity) ||
+          fields.size() != (with_range && with_width ? 2U : 1U)) {
+        return false;
+      }
+      if (with_range && !read_good_range(fields[0], context.units, range)) return false;
+      if (with_width && !read_good_unsigned(fields[fields.size() - 1], max_pulse_width_digits, 9'999'999, number))
+        return false;
+      AveragingReading& averaging = reading.emplace<AveragingReading>();
+      if (with_range) averaging.range = range;
+      if (with_width) averaging.pulse_width_ps = number;
+      return true;
+    }
+    case Mode::binning: {
+      std::uint32_t index = 0;
+      std::uint32_t strength = 0;
+      if (fields.size() != 4 || !read_good_unsigned(fields[0], 2, max_binning_targets - 1, index) ||
+          !read_good_unsigned(fields[1], 2, max_binning_targets, number) || number == 0 || index >= number ||
+          !read_good_range(fields[2], context.units, range) ||
+          !read_good_unsigned(fields[3], max_strength_digits, 65535, strength)) {
+        return false;
+      }
+      reading.emplace<BinningTarget>(
+          BinningTarget{static_cast<std::uint8_t>(index), static_cast<std::uint8_t>(number), range, strength});
+      return true;
+    }
+    case Mode::look_down:
+      break;
+  }
+  return false;
+}
+
+// Every line, with the message that names what is wrong with a bad one.
+// Kept out of line: inlined, its stack frame made every good line pay for it.
+[[gnu::noinline]] Result<Measurement> decode_checked(const FrameView& frame, const MeasurementContext& context) {
   if (frame.address.is_broadcast()) {
     return line_error(Errc::wrong_form, "line from broadcast address " + detail::hex_byte(frame.address.byte) +
                                             " (units never send from one, U4)");
@@ -216,10 +318,33 @@ Result<Measurement> decode_measurement(const FrameView& frame, const Measurement
   return Measurement{frame.address, *reading};
 }
 
+}  // namespace
+
+// Both overloads read a line straight into the Result they return (one object,
+// returned by name on every path, so it is built in the caller's slot): no
+// Reading -> Measurement -> Result copies per line (issue 17).
+Result<Measurement> decode_measurement(const FrameView& frame, const MeasurementContext& context) {
+  Result<Measurement> decoded = Measurement{frame.address, Reading{}};
+  if (frame.address.is_broadcast() || frame.kind != FrameKind::message ||
+      !decode_common_reading(frame.mnemonic, frame.fields(), context, decoded->reading)) {
+    decoded = decode_checked(frame, context);
+  }
+  return decoded;
+}
+
 Result<Measurement> decode_measurement(Bytes frame, const MeasurementContext& context) {
-  Result<FrameView> view = parse_frame(frame);
-  if (!view) return std::move(view).error();
-  return decode_measurement(*view, context);
+  static const Measurement blank{};  // copied whole: see parse_reply in src/ls5/reply.cpp
+  Result<Measurement> decoded = blank;
+  detail::CommonFrame common;
+  if (detail::parse_common_frame(as_text(frame), common) && !common.address.is_broadcast() &&
+      decode_common_reading(common.mnemonic(), common, context, decoded->reading)) {
+    decoded->source = common.address;
+  } else if (Result<FrameView> view = parse_frame(frame); view) {
+    decoded = decode_checked(*view, context);
+  } else {
+    decoded = std::move(view).error();
+  }
+  return decoded;
 }
 
 Result<FrameText> encode_averaging(Address address, const AveragingReading& reading) {

@@ -1,0 +1,131 @@
+// Shared pieces of the decoder corpus tests (issue 17 item 1): a portable random
+// source for generating the corpus, byte mutations that turn good lines into
+// malformed ones, and a digest of everything the decoders output for it.
+//
+// The digests the tests compare with were recorded with the decoders as they were
+// before issue 17 (commit 3310b0b); a faster decoder must reproduce them exactly,
+// values and error messages alike. Set RANGEKIT_DECODER_CORPUS_DUMP=<dir> to write
+// the full outputs as text, to diff a run of the old decoders with the new.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <string_view>
+
+namespace rangekit::testing::corpus {
+
+// splitmix64: the same sequence on every platform and standard library (the
+// std:: distributions are implementation-defined, so they would not be).
+class Random {
+ public:
+  explicit Random(std::uint64_t seed) : state_(seed) {}
+  std::uint64_t next() {
+    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30U)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27U)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31U);
+  }
+  // 0 .. bound-1
+  std::uint32_t below(std::uint32_t bound) { return static_cast<std::uint32_t>(next() % bound); }
+  bool one_in(std::uint32_t n) { return below(n) == 0; }
+
+ private:
+  std::uint64_t state_;
+};
+
+// Bytes that matter to the framers and field parsers, and a few that do not.
+inline constexpr char interesting_chars[] = "$#!%,.-+0123456789ABEFMRabz \r\n\t\x00\x7f\x80\xff";
+inline constexpr std::string_view interesting_bytes{interesting_chars, sizeof interesting_chars - 1};
+
+// One damaging edit of a line: a byte replaced, deleted, inserted or repeated,
+// the line cut short, or a field doubled.
+inline std::string mutate(std::string line, Random& random) {
+  if (line.empty()) return line;
+  const auto at = static_cast<std::size_t>(random.below(static_cast<std::uint32_t>(line.size())));
+  const char byte = random.one_in(4)
+                        ? static_cast<char>(random.below(256))
+                        : interesting_bytes[random.below(static_cast<std::uint32_t>(interesting_bytes.size()))];
+  switch (random.below(6)) {
+    case 0:
+      line[at] = byte;
+      break;
+    case 1:
+      line.erase(at, 1);
+      break;
+    case 2:
+      line.insert(at, 1, byte);
+      break;
+    case 3:
+      line.insert(at, line.substr(at, 1 + random.below(4)));
+      break;
+    case 4:
+      line.resize(at);
+      break;
+    default: {
+      const std::size_t comma = line.rfind(',');
+      if (comma != std::string::npos) line.insert(comma, line.substr(comma, line.size() - comma - 1));
+      break;
+    }
+  }
+  return line;
+}
+
+// FNV-1a over every output line, and the line count.
+class Digest {
+ public:
+  explicit Digest(std::string name) : name_(std::move(name)) {
+    if (const char* dir = std::getenv("RANGEKIT_DECODER_CORPUS_DUMP"))
+      dump_.open(std::string(dir) + "/" + name_ + ".txt");
+  }
+  void add(std::string_view line) {
+    for (const char c : line) mix(static_cast<std::uint8_t>(c));
+    mix('\n');
+    ++lines_;
+    if (dump_.is_open()) dump_ << line << '\n';
+  }
+  [[nodiscard]] std::uint64_t value() const { return hash_; }
+  [[nodiscard]] std::size_t lines() const { return lines_; }
+  [[nodiscard]] std::string hex() const {
+    char text[24];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash_));
+    return text;
+  }
+
+ private:
+  void mix(std::uint8_t byte) {
+    hash_ ^= byte;
+    hash_ *= 0x100000001B3ULL;
+  }
+  std::string name_;
+  std::uint64_t hash_ = 0xCBF29CE484222325ULL;
+  std::size_t lines_ = 0;
+  std::ofstream dump_;
+};
+
+// A double exactly (17 significant digits round-trip).
+inline std::string exact(double value) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
+// Bytes as printable text for the dump: \xNN for the rest.
+inline std::string escaped(std::string_view bytes) {
+  std::string text;
+  for (const char c : bytes) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte < 0x7F && byte != '\\') {
+      text += c;
+    } else {
+      char code[8];
+      std::snprintf(code, sizeof code, "\\x%02X", byte);
+      text += code;
+    }
+  }
+  return text;
+}
+
+}  // namespace rangekit::testing::corpus

@@ -1,0 +1,196 @@
+// The ULS decoders against their recorded outputs on a large corpus (issue 17 item 1:
+// "Outputs are unchanged ... a test compares the new decoders with the old results on a
+// large recorded corpus, including malformed lines").
+//
+// The corpus is the measurement lines the emulator writes (encode_measurement, as
+// src/uls/emulator/firmware.cpp sends them) for every mode, each also mutated into a
+// malformed one, plus replies and junk. It is cut into reads and fed to the framer;
+// every framer event, every parse_frame result and every decode_measurement result
+// under each of the 10 measurement contexts is written as one text line and digested.
+// The expected digests were recorded before the decoders were optimised.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <variant>
+
+#include "decoder_corpus.hpp"
+#include "rangekit/uls/uls.hpp"
+
+namespace rangekit::uls {
+namespace {
+
+using testing::corpus::Digest;
+using testing::corpus::escaped;
+using testing::corpus::exact;
+using testing::corpus::Random;
+
+constexpr std::size_t corpus_lines = 60000;
+
+Address random_address(Random& random) {
+  switch (random.below(8)) {
+    case 0:
+      return Address::unit(static_cast<std::uint8_t>('0' + random.below(0x50)));
+    case 1:
+      return Address::unit(static_cast<std::uint8_t>(0x30 + random.below(0xD0)));  // units and broadcasts
+    default:
+      return Address::none();
+  }
+}
+
+Range random_range(Random& random, Units units) {
+  const double scale = units == Units::metres ? 1000.0 : 100.0;
+  const auto steps = static_cast<double>(random.below(random.one_in(10) ? 100000000U : 2000000U));
+  const double user = (random.one_in(20) ? -1.0 : 1.0) * steps / scale;
+  return make_range(user, units);
+}
+
+Reading random_reading(Random& random, Units units) {
+  switch (random.below(10)) {
+    case 0:
+    case 1: {
+      const auto count = static_cast<std::uint8_t>(1 + random.below(max_binning_targets));
+      return BinningTarget{static_cast<std::uint8_t>(random.below(count)), count, random_range(random, units),
+                           random.below(70000)};
+    }
+    case 2:
+      return AveragingReading{std::nullopt, random.below(12000000)};
+    case 3:
+    case 4:
+      return AveragingReading{random_range(random, units), random.below(12000000)};
+    case 5:
+      return LookDownReading{random.one_in(2)};
+    case 6:
+      return random.one_in(3)
+                 ? TimeBetweenEvents{}
+                 : TimeBetweenEvents{TimeBetweenEvents::Kind::pulses, static_cast<std::uint16_t>(random.below(65536))};
+    case 7:
+      return MeasurementError{static_cast<int>(random.below(1000))};
+    default:
+      return AveragingReading{random_range(random, units), std::nullopt};
+  }
+}
+
+// One line as the emulator writes it, or a reply, junk or a hand-made odd line.
+std::string random_line(Random& random) {
+  const Units units = random.one_in(3) ? Units::feet : Units::metres;
+  if (random.below(10) < 8) {
+    if (auto line = encode_measurement(random_address(random), random_reading(random, units))) {
+      return std::string(line->wire());
+    }
+  }
+  switch (random.below(6)) {
+    case 0:
+      return "$OK\r";
+    case 1:
+      return "#ZMM,1\r";
+    case 2:
+      return "$bm,12.345\r";
+    case 3:
+      return "$BM,,1\r";
+    case 4: {  // random field text
+      std::string line = random.one_in(2) ? "$BM" : "$ER";
+      const std::uint32_t fields = random.below(10);
+      for (std::uint32_t i = 0; i < fields; ++i) {
+        line += ',';
+        const std::uint32_t length = random.below(10);
+        for (std::uint32_t k = 0; k < length; ++k) line += "0123456789.-"[random.below(12)];
+      }
+      return line + "\r";
+    }
+    default:
+      return "\r\n";
+  }
+}
+
+std::string describe(const Error& error) { return std::string(errc_name(error.code)) + " " + error.message; }
+
+std::string describe(const Address& address) {
+  return address.addressed ? "#" + std::to_string(address.byte) : std::string("$");
+}
+
+std::string describe(const Range& range) {
+  return exact(range.user) + "/" + exact(range.metres) + (range.units == Units::metres ? "m" : "ft");
+}
+
+std::string describe(const Reading& reading) {
+  if (const auto* averaging = std::get_if<AveragingReading>(&reading)) {
+    return "avg " + (averaging->range ? describe(*averaging->range) : std::string("-")) + " " +
+           (averaging->pulse_width_ps ? std::to_string(*averaging->pulse_width_ps) : std::string("-"));
+  }
+  if (const auto* target = std::get_if<BinningTarget>(&reading)) {
+    return "bin " + std::to_string(target->index) + "/" + std::to_string(target->count) + " " +
+           describe(target->range) + " " + std::to_string(target->strength);
+  }
+  if (const auto* look_down = std::get_if<LookDownReading>(&reading)) return look_down->present ? "ld 1" : "ld 0";
+  if (const auto* event = std::get_if<TimeBetweenEvents>(&reading)) {
+    return "tbe " + std::to_string(static_cast<int>(event->kind)) + " " + std::to_string(event->pulses);
+  }
+  return "er " + std::to_string(std::get<MeasurementError>(reading).number);
+}
+
+std::string describe(const FrameView& view) {
+  std::string text = view.kind == FrameKind::message ? "msg " : "tbe ";
+  text += describe(view.address) + " " + std::string(view.mnemonic) + " [" + std::string(view.event_text) + "]";
+  for (const auto field : view.fields()) text += " <" + escaped(field) + ">";
+  return text;
+}
+
+constexpr std::array<MeasurementContext, 10> contexts{{
+    {Mode::averaging, DisplayMode::range, Units::metres, false},
+    {Mode::averaging, DisplayMode::range, Units::feet, false},
+    {Mode::averaging, DisplayMode::range_and_intensity, Units::metres, false},
+    {Mode::averaging, DisplayMode::range_and_intensity, Units::feet, false},
+    {Mode::averaging, DisplayMode::intensity, Units::metres, false},
+    {Mode::binning, DisplayMode::range, Units::metres, false},
+    {Mode::binning, DisplayMode::range, Units::feet, false},
+    {Mode::look_down, DisplayMode::range, Units::metres, false},
+    {Mode::look_down, DisplayMode::range, Units::metres, true},
+    {Mode::averaging, static_cast<DisplayMode>(7), Units::metres, false},
+}};
+
+// U11, U27, U32 and the framer rules F1-F5, all at once: the whole output for the corpus.
+TEST(UlsDecoderCorpus, OutputsMatchTheRecordedOnes) {
+  Random random(17);
+  std::string stream;
+  for (std::size_t i = 0; i < corpus_lines; ++i) {
+    std::string line = random_line(random);
+    if (random.one_in(4)) line = testing::corpus::mutate(std::move(line), random);
+    stream += line;
+  }
+
+  Digest framing("uls_framing");
+  Digest parsing("uls_parse_frame");
+  Digest decoding("uls_decode_measurement");
+  FrameAssembler assembler(&scan_frame, 256);
+  FrameAssembler::Event event;
+  std::size_t offset = 0;
+  while (offset < stream.size()) {
+    const std::size_t chunk = std::min<std::size_t>(1 + random.below(200), stream.size() - offset);
+    offset += assembler.push(as_bytes(std::string_view(stream).substr(offset, chunk)));
+    while (assembler.next(event)) {
+      if (event.kind == FrameAssembler::Event::Kind::rejected) {
+        framing.add("rejected " + std::to_string(event.rejected_bytes) + " " + event.reason);
+        continue;
+      }
+      framing.add("frame " + escaped(as_text(event.frame)));
+      const Result<FrameView> view = parse_frame(event.frame);
+      parsing.add(view ? describe(*view) : describe(view.error()));
+      for (const auto& context : contexts) {
+        const Result<Measurement> measurement = decode_measurement(event.frame, context);
+        decoding.add(measurement ? describe(measurement->source) + " " + describe(measurement->reading)
+                                 : describe(measurement.error()));
+      }
+    }
+  }
+
+  // Recorded with the decoders of commit 3310b0b (before issue 17).
+  EXPECT_EQ(framing.lines(), 59106U);
+  EXPECT_EQ(framing.hex(), "5490866f205fcd97");
+  EXPECT_EQ(parsing.lines(), 52552U);
+  EXPECT_EQ(parsing.hex(), "f1856e56d76ab289");
+  EXPECT_EQ(decoding.lines(), 525520U);
+  EXPECT_EQ(decoding.hex(), "47aa2749abd91289");
+}
+
+}  // namespace
+}  // namespace rangekit::uls
