@@ -389,6 +389,32 @@ class UlsBusBackend final : public Backend {
     Session& session = *sessions_[index];
     const auto address = static_cast<std::uint8_t>(*session.config.address);
     const auto results = bus_->poll({address}, true);
+  Result<std::vector<BusUnitFound>> scan_bus(const std::vector<std::uint8_t>& addresses) override {
+    std::vector<BusUnitFound> found;
+    for (const uls::BusUnit& unit : bus_->scan(addresses, scan_wait)) {
+      found.push_back({unit.address, unit.version, unit.duplicate, unit.problem});
+    }
+    return found;
+  }
+
+  // `rangekit uls bus assign --from FROM --to TO`: refused when a unit answers at `to` (§7).
+  // A measuring unit refuses settings with 31 (U24): stopped for UA, started again at its new address.
+  Status assign_address(std::uint8_t from, std::uint8_t to) override {
+    uls::Driver& driver = bus_->driver();
+    (void)driver.set_address(from);
+    auto status = driver.status();
+    const bool measuring = status && status->measuring();
+    if (measuring) {
+      if (auto stopped = driver.stop_measuring(); !stopped) return stopped;
+    }
+    Status assigned = bus_->assign(from, to);
+    (void)driver.set_address(assigned ? to : from);
+    if (measuring) {
+      if (auto restarted = driver.start_measuring(); !restarted && assigned) assigned = std::move(restarted).error();
+    }
+    return assigned;
+  }
+
     const uls::PollResult& result = results.front();
     if (!result.answered) {
       if (result.error && (result.error->code == Errc::io || result.error->code == Errc::closed)) {
@@ -441,3 +467,5 @@ std::unique_ptr<Backend> make_uls_bus_backend(std::vector<Session*> sessions, Pu
 }
 
 }  // namespace rangekit::hub
+  // A scan's wait at each address: a silent one costs this much (a unit answers in a few ms).
+  static constexpr std::chrono::milliseconds scan_wait{200};
