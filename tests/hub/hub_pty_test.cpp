@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <regex>
 
 #include "hub/site_fixture.hpp"
 #include "ls5_driver/cli_process.hpp"
@@ -111,7 +112,9 @@ TEST(HubPty, SettingsAreCheckedBeforeSendingAndReadBack) {
   EXPECT_EQ(value_of(*while_measuring, "long-gate-m"), "900");
 
   auto single = hub->act("silo", Action::single);
-  EXPECT_TRUE(single.ok()) << single.error().message;
+  ASSERT_TRUE(single.ok()) << single.error().message;
+  // §9: "Resolution 1 mm or 0.01 ft": "27.881 m", not "27.881000 m".
+  EXPECT_TRUE(std::regex_match(*single, std::regex(R"(\d+\.\d{3} m)"))) << *single;
   EXPECT_EQ(hub->act("silo", Action::latch).error().message, "'latch' is not an action of uls sensor 'silo'");
   EXPECT_EQ(hub->act("belt", Action::pointer, "on").error().code, Errc::unsupported);
 }
