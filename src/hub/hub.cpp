@@ -8,6 +8,7 @@
 #include "hub/port_worker.hpp"
 #include "hub/session.hpp"
 #include "rangekit/core/serial_port.hpp"
+#include "rangekit/uls/bus.hpp"
 
 namespace rangekit::hub {
 namespace {
@@ -245,6 +246,55 @@ Result<std::string> Hub::act(std::string_view sensor, Action action, std::string
       ->run<std::string>([session, action, argument = std::string(argument)](
                              Backend& backend) { return backend.act(*session, action, argument); },
                          impl_->options.command_timeout);
+}
+
+namespace {
+
+// A bus scan asks this many addresses per job, so the poll of the bus's units goes on in between.
+constexpr std::size_t scan_chunk = 8;
+
+Error not_on_a_bus(const Session& session) {
+  return make_error(Errc::unsupported, "'" + session.config.name +
+                                           "' is not a ULS on an RS-485 bus (no `address` in the site file): " +
+                                           "the RS-485 network (§7) is for units addressed on a bus");
+}
+
+}  // namespace
+
+Result<BusScan> Hub::scan_bus(std::string_view sensor) {
+  Session* session = impl_->find(sensor);
+  if (session == nullptr) return impl_->unknown(sensor);
+  if (session->config.family != Family::uls || !session->config.address) return not_on_a_bus(*session);
+  BusScan scan;
+  scan.port = session->config.port;
+  for (const auto& other : impl_->sessions) {
+    if (other->config.port == scan.port && other->config.address) {
+      scan.site.emplace_back(static_cast<std::uint8_t>(*other->config.address), other->config.name);
+    }
+  }
+  const std::vector<std::uint8_t> addresses = uls::typable_addresses();  // §8 UA: a-z, A-Z, 0-9
+  scan.asked = addresses.size();
+  PortWorker& worker = *impl_->worker_of.at(session->config.name);
+  for (std::size_t first = 0; first < addresses.size(); first += scan_chunk) {
+    const std::vector<std::uint8_t> chunk(
+        addresses.begin() + static_cast<std::ptrdiff_t>(first),
+        addresses.begin() + static_cast<std::ptrdiff_t>(std::min(first + scan_chunk, addresses.size())));
+    auto found = worker.run<std::vector<BusUnitFound>>([chunk](Backend& backend) { return backend.scan_bus(chunk); },
+                                                       impl_->options.command_timeout);
+    if (!found) return std::move(found).error();
+    scan.found.insert(scan.found.end(), found->begin(), found->end());
+  }
+  return scan;
+}
+
+Status Hub::assign_address(std::string_view sensor, std::optional<std::uint8_t> from, std::uint8_t to) {
+  Session* session = impl_->find(sensor);
+  if (session == nullptr) return impl_->unknown(sensor);
+  if (session->config.family != Family::uls || !session->config.address) return not_on_a_bus(*session);
+  const auto unit = from.value_or(static_cast<std::uint8_t>(*session->config.address));
+  return impl_->worker_of.at(session->config.name)
+      ->run<Ok>([unit, to](Backend& backend) { return backend.assign_address(unit, to); },
+                impl_->options.command_timeout);
 }
 
 // ---- helpers the backends share ----

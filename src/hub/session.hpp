@@ -57,6 +57,13 @@ class Backend {
   virtual Result<std::string> act(Session& session, Action action, std::string_view argument) = 0;
   virtual Result<std::string> export_config(Session& session) = 0;
   virtual Result<std::vector<Field>> import_config(Session& session, std::string_view toml) = 0;
+  // An RS-485 bus of ULS units only (§7); the other backends refuse.
+  virtual Result<std::vector<BusUnitFound>> scan_bus(const std::vector<std::uint8_t>& /*addresses*/) {
+    return make_error(Errc::unsupported, "not an RS-485 bus");
+  }
+  virtual Status assign_address(std::uint8_t /*from*/, std::uint8_t /*to*/) {
+    return make_error(Errc::unsupported, "not an RS-485 bus");
+  }
   // Streams ended (the unit left as found), the port closed.
   virtual void shutdown() = 0;
 };

@@ -2,11 +2,14 @@
 // Output), or several on an RS-485 bus (§7: the network poll, one unit after
 // another). Settings go through the config-file table and load_config, which
 // stops a measuring unit, uploads, reads back and restarts it (U24).
+#include <array>
+#include <cstdio>
 #include <memory>
 
 #include "hub/session.hpp"
 #include "rangekit/uls/bus.hpp"
 #include "rangekit/uls/driver.hpp"
+#include "rangekit/uls/formulas.hpp"
 #include "rangekit/uls/host_config.hpp"
 #include "rangekit/uls/named_settings.hpp"
 
@@ -105,10 +108,27 @@ Result<std::vector<Field>> import_fields(uls::Driver& driver, Session& session, 
   return read_fields(driver, session);
 }
 
-std::string sample_text(const Sample& sample) {
+// A distance at the unit's resolution (§9: "Resolution 1 mm or 0.01 ft"), in its units (§8 MU).
+std::string distance_text(double metres, uls::Units units) {
+  std::array<char, 48> text{};
+  if (units == uls::Units::feet) {
+    std::snprintf(text.data(), text.size(), "%.2f ft", uls::from_metres(metres, units));
+  } else {
+    std::snprintf(text.data(), text.size(), "%.3f m", metres);
+  }
+  return text.data();
+}
+
+std::string sample_text(const Sample& sample, uls::Units units) {
   if (sample.device_error) return "error " + std::to_string(*sample.device_error);
-  if (sample.distance_m) return std::to_string(*sample.distance_m) + " m";
-  if (!sample.targets.empty()) return std::to_string(sample.targets.size()) + " targets";
+  if (sample.distance_m) return distance_text(*sample.distance_m, units);
+  if (!sample.targets.empty()) {
+    std::string text = std::to_string(sample.targets.size()) + (sample.targets.size() == 1 ? " target:" : " targets:");
+    for (std::size_t i = 0; i < sample.targets.size(); ++i) {
+      text += (i == 0 ? " " : ", ") + distance_text(sample.targets[i].distance_m, units);
+    }
+    return text;
+  }
   if (sample.presence) return *sample.presence ? "ON" : "OFF";
   return "";
 }
@@ -123,7 +143,9 @@ Result<std::string> unit_action(uls::Driver& driver, Session& session, Action ac
     case Action::single: {
       auto sample = driver.measure();
       if (!sample) return std::move(sample).error();
-      return sample_text(*sample);
+      auto units = driver.units();  // the reply's resolution: 1 mm, or 0.01 ft (§9)
+      if (!units) return std::move(units).error();
+      return sample_text(*sample, *units);
     }
     case Action::pointer:
       if (argument != "on" && argument != "off") {
@@ -367,6 +389,32 @@ class UlsBusBackend final : public Backend {
     return addressed(session, [&](uls::Driver& driver) { return import_fields(driver, session, toml); });
   }
 
+  Result<std::vector<BusUnitFound>> scan_bus(const std::vector<std::uint8_t>& addresses) override {
+    std::vector<BusUnitFound> found;
+    for (const uls::BusUnit& unit : bus_->scan(addresses, scan_wait)) {
+      found.push_back({unit.address, unit.version, unit.duplicate, unit.problem});
+    }
+    return found;
+  }
+
+  // `rangekit uls bus assign --from FROM --to TO`: refused when a unit answers at `to` (§7).
+  // A measuring unit refuses settings with 31 (U24): stopped for UA, started again at its new address.
+  Status assign_address(std::uint8_t from, std::uint8_t to) override {
+    uls::Driver& driver = bus_->driver();
+    (void)driver.set_address(from);
+    auto status = driver.status();
+    const bool measuring = status && status->measuring();
+    if (measuring) {
+      if (auto stopped = driver.stop_measuring(); !stopped) return stopped;
+    }
+    Status assigned = bus_->assign(from, to);
+    (void)driver.set_address(assigned ? to : from);
+    if (measuring) {
+      if (auto restarted = driver.start_measuring(); !restarted && assigned) assigned = std::move(restarted).error();
+    }
+    return assigned;
+  }
+
   void shutdown() override {
     for (Session* session : sessions_) {
       std::lock_guard lock(session->mutex);
@@ -425,6 +473,8 @@ class UlsBusBackend final : public Backend {
   std::vector<bool> answering_;
   std::vector<std::chrono::steady_clock::time_point> retry_at_;  // when a silent unit is asked again
   static constexpr std::chrono::seconds silent_retry_interval{2};
+  // A scan's wait at each address: a silent one costs this much (a unit answers in a few ms).
+  static constexpr std::chrono::milliseconds scan_wait{200};
   std::unique_ptr<uls::Bus> bus_;
   std::size_t next_ = 0;
 };

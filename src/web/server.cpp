@@ -12,6 +12,7 @@
 #include <charconv>
 #include <thread>
 
+#include "rangekit/uls/bus.hpp"
 #include "web/event_stream.hpp"
 #include "web/flush_ticker.hpp"
 #include "web/http.hpp"
@@ -327,6 +328,14 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
                         self->respond(http::status::ok, uploaded ? sensor_json(*uploaded)["settings"].dump() : "{}");
                       });
     }
+    if (what == "bus" && path.size() == 5) {
+      // Both talk to the bus (a scan holds the poll while it asks), so both are POSTs.
+      if (method != http::verb::post) return wrong_method("POST");
+      if (!same_origin() || !authorised(target)) return;
+      if (path[4] == "scan") return scan_bus(name);
+      if (path[4] == "assign") return assign_address(name);
+      return not_found("no such path: /bus/scan or /bus/assign (see docs/api.md)");
+    }
     if (what == "samples" && path.size() == 4) {
       if (method != http::verb::get) return wrong_method("GET");
       return samples(name, target);
@@ -482,6 +491,80 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
                if (!result) return self->fail(result.error());
                self->respond(http::status::ok, nlohmann::json{{"result", *result}}.dump(
                                                    -1, ' ', false, nlohmann::json::error_handler_t::replace));
+             });
+  }
+
+  // The RS-485 network (§7): who answers on the sensor's bus, and the site file's units there.
+  void scan_bus(const std::string& name) {
+    off_loop(
+        [&hub = server_.hub, name] { return hub.scan_bus(name); },
+        [self = this->shared_from_this()](const Result<hub::BusScan>& result) {
+          if (!result) return self->fail(result.error());
+          nlohmann::json units = nlohmann::json::array();
+          for (const hub::BusUnitFound& unit : result->found) {
+            nlohmann::json entry{{"address", uls::address_text(unit.address)},
+                                 {"code", unit.address},
+                                 {"version", unit.version},
+                                 {"duplicate", unit.duplicate},
+                                 {"problem", unit.problem},
+                                 {"sensor", nullptr}};
+            for (const auto& [address, sensor] : result->site) {
+              if (address == unit.address) entry["sensor"] = sensor;
+            }
+            units.push_back(std::move(entry));
+          }
+          nlohmann::json site = nlohmann::json::array();
+          for (const auto& [address, sensor] : result->site) {
+            site.push_back({{"address", uls::address_text(address)}, {"code", address}, {"sensor", sensor}});
+          }
+          self->respond(
+              http::status::ok,
+              nlohmann::json{{"port", result->port}, {"asked", result->asked}, {"units", units}, {"site", site}}.dump(
+                  -1, ' ', false, nlohmann::json::error_handler_t::replace));
+        });
+  }
+
+  // Body {"to": "E"} or {"from": "C", "to": "E"} (a character, "0x45" or 69; `from` defaults to
+  // the sensor's address): UA, as `rangekit uls bus assign --from C --to E`.
+  void assign_address(const std::string& name) {
+    const auto json = nlohmann::json::parse(request_.body(), nullptr, false);
+    const auto address_field = [&json](const char* key) {
+      return json[key].is_string() || json[key].is_number_unsigned();
+    };
+    if (json.is_discarded() || !json.is_object() || !json.contains("to") || !address_field("to") ||
+        (json.contains("from") && !address_field("from"))) {
+      return respond(http::status::bad_request,
+                     error_json("bad_body",
+                                "the body is {\"from\": \"C\", \"to\": \"E\"}: the unit's address now "
+                                "(default: the sensor's) and the new one",
+                                "to"));
+    }
+    std::optional<std::uint8_t> from;
+    std::uint8_t to = 0;
+    for (const char* key : {"from", "to"}) {
+      if (!json.contains(key)) continue;
+      const std::string text =
+          json[key].is_string() ? json[key].get<std::string>() : std::to_string(json[key].get<std::uint64_t>());
+      const auto address = uls::parse_unit_address(text);
+      if (!address) {
+        return respond(http::status::bad_request,
+                       error_json("out_of_range",
+                                  std::string(key) + ": '" + text +
+                                      "' is not a unit address: 0x30..0xEF (§8 RS485 Protocol), e.g. 'E'",
+                                  key));
+      }
+      if (std::string_view(key) == "to") {
+        to = *address;
+      } else {
+        from = *address;
+      }
+    }
+    off_loop([&hub = server_.hub, name, from, to] { return hub.assign_address(name, from, to); },
+             [self = this->shared_from_this(), to](const Status& result) {
+               if (!result) return self->fail(result.error());
+               self->respond(http::status::ok, nlohmann::json{{"result", "assigned " + uls::address_text(to)},
+                                                              {"address", uls::address_text(to)}}
+                                                   .dump());
              });
   }
 

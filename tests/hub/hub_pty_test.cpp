@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <regex>
 
 #include "hub/site_fixture.hpp"
 #include "ls5_driver/cli_process.hpp"
@@ -111,7 +112,9 @@ TEST(HubPty, SettingsAreCheckedBeforeSendingAndReadBack) {
   EXPECT_EQ(value_of(*while_measuring, "long-gate-m"), "900");
 
   auto single = hub->act("silo", Action::single);
-  EXPECT_TRUE(single.ok()) << single.error().message;
+  ASSERT_TRUE(single.ok()) << single.error().message;
+  // §9: "Resolution 1 mm or 0.01 ft": "27.881 m", not "27.881000 m".
+  EXPECT_TRUE(std::regex_match(*single, std::regex(R"(\d+\.\d{3} m)"))) << *single;
   EXPECT_EQ(hub->act("silo", Action::latch).error().message, "'latch' is not an action of uls sensor 'silo'");
   EXPECT_EQ(hub->act("belt", Action::pointer, "on").error().code, Errc::unsupported);
 }
@@ -140,3 +143,38 @@ TEST(HubPty, AKilledEmulatorIsDisconnectedThenReconnected) {
 }
 
 }  // namespace
+
+// §7: "The RS485 system will not function correctly with same address assigned to 2 or more
+// units." U105: a scan lists who answers; an assign to an address a unit answers at is refused.
+// U106: the site file is not followed: the unit moved to E answers there, bay-C's C is silent.
+TEST(HubPty, U105_U106_ScanAndAssignOnTheBus) {
+  Site site;
+  auto hub = Hub::start(site.config);
+  const auto addresses = [](const BusScan& scan) {
+    std::string found;
+    for (const BusUnitFound& unit : scan.found) found += static_cast<char>(unit.address);
+    return found;
+  };
+  auto scan = hub->scan_bus("bay-C");
+  ASSERT_TRUE(scan.ok()) << scan.error().message;
+  EXPECT_EQ(addresses(*scan), "ABCD");
+  EXPECT_EQ(scan->asked, 62u);  // §8 UA: a-z, A-Z, 0-9
+  ASSERT_EQ(scan->site.size(), 4u);
+  EXPECT_EQ(scan->site[2], (std::pair<std::uint8_t, std::string>{'C', "bay-C"}));
+
+  auto refused = hub->assign_address("bay-C", std::nullopt, 'A');
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().code, Errc::out_of_range);
+  EXPECT_NE(refused.error().message.find("'A' is already in use"), std::string::npos) << refused.error().message;
+
+  auto moved = hub->assign_address("bay-C", std::nullopt, 'E');
+  ASSERT_TRUE(moved.ok()) << moved.error().message;
+  scan = hub->scan_bus("bay-A");
+  ASSERT_TRUE(scan.ok()) << scan.error().message;
+  EXPECT_EQ(addresses(*scan), "ABDE");
+  auto back = hub->assign_address("bay-C", std::uint8_t{'E'}, 'C');
+  ASSERT_TRUE(back.ok()) << back.error().message;  // assign checks the unit answers at C again
+
+  EXPECT_EQ(hub->scan_bus("silo").error().code, Errc::unsupported);
+  EXPECT_EQ(hub->assign_address("belt", std::nullopt, 'E').error().code, Errc::unsupported);
+}

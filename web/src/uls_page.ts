@@ -1,10 +1,13 @@
 // The ULS page, mirroring the §2 main screen (issue 14 point 3), first part: the
 // indicators with their §2 meanings as tooltips, the live reading in the black
 // measurement box, the display choice of the mode, the §2 buttons and the parameter
-// panels (uls_panels.ts), capture (capture_panel.ts) and the live plot (live_plot.ts).
+// panels (uls_panels.ts), configuration files (config_file.ts), capture (capture_panel.ts),
+// the RS-485 network (rs485_network.ts) and the live plot (live_plot.ts).
 import type { Sensor } from './api';
 import { authorisedFetch } from './api';
 import { CapturePanel } from './capture_panel';
+import { ConfigFilePanel } from './config_file';
+import { Rs485Network } from './rs485_network';
 import { LivePlot } from './live_plot';
 import { UlsPanels } from './uls_panels';
 
@@ -53,6 +56,8 @@ export class UlsPage {
   private readonly readButton = element('button', 'action', 'Read');
   private readonly panels: UlsPanels;
   private readonly capture: CapturePanel;
+  private readonly configFile: ConfigFilePanel;
+  private readonly network: Rs485Network;
   private readonly plot = new LivePlot();
   private readonly singleButton = element('button', 'action', 'Single Measurement');
   private mode = '';
@@ -109,8 +114,10 @@ export class UlsPage {
     this.message.textContent = 'G, CT, O and the panels below show the settings once they have been read: press Read.';
     this.caption.className = 'caption';
     this.capture = new CapturePanel(name);
+    this.configFile = new ConfigFilePanel(name, (settings) => this.panels.update(settings, true));
+    this.network = new Rs485Network(name);
     this.root.append(back, title, row, this.box, this.caption, this.choices, buttons, this.message, this.plot.root,
-      this.capture.root,
+      this.configFile.root, this.capture.root, this.network.root,
       this.panels.message, this.panels.root);
     this.panels.load().catch((error: Error) => {
       this.panels.message.textContent = `The panels could not be built: ${error.message}`;
@@ -121,6 +128,7 @@ export class UlsPage {
   // From GET /api/sensors: link state, US status (§8), settings as last read.
   update(sensor: Sensor): void {
     this.set('connected', sensor.health.connected);
+    this.network.update(sensor);
     const status = sensor.status as Record<string, unknown>;
     this.set('laser', status['laser-firing'] === undefined ? undefined : status['laser-firing'] === 'yes');
     const settings = (sensor as Sensor & { settings: Record<string, unknown> }).settings ?? {};

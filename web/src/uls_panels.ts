@@ -75,6 +75,8 @@ export class UlsPanels {
     const rows = new Map(schema.settings.map((row) => [row.key, row]));
     for (const [title, entries] of PANELS) {
       const panel = element('fieldset', 'panel');
+      // Output Setup's choices are long ("RS232 configuration port"): the whole row, so no select is cut short.
+      if (title === 'Output Setup') panel.classList.add('wide');
       panel.append(element('legend', undefined, title));
       for (const [key, label] of entries) {
         const row = rows.get(key);

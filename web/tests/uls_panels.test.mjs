@@ -77,10 +77,12 @@ test('each §2 panel shows its fields with the range and unit of the document', 
   const binSizes = await page.$$eval('#setting-bin-size option', (options) => options.map((option) => option.textContent));
   assert.equal(binSizes[0], '2.5 (13)');
   assert.equal(await page.inputValue('#setting-prf-hz'), '2000,2000,2000');  // §2's screen: "PRF 2000 Hz"
-  // The bus runs with Continuous Output off (§7), so Single Measurement is offered (§2).
+  // The bus runs with Continuous Output off (§7), so Single Measurement is offered (§2),
+  // printed at the unit's resolution: §9 "Resolution 1 mm or 0.01 ft" (not "27.881000 m").
   await page.getByRole('button', { name: 'Single Measurement' }).click();
-  await page.waitForFunction(() => /Single Measurement: done \(\d+\.\d+ m\)/.test(document.querySelector('.page-message').textContent),
+  await page.waitForFunction(() => /Single Measurement: done \(/.test(document.querySelector('.page-message').textContent),
     null, WAIT);
+  assert.match(await page.textContent('.page-message'), /^Single Measurement: done \(\d+\.\d{3} m\)\.$/);
   await page.screenshot({ path: path.join(screenshots, 'uls-panels.png'), fullPage: true });
 });
 
@@ -129,6 +131,22 @@ test("a unit's refusal shows its §10 number and Interface display text", async 
   await page.screenshot({ path: path.join(screenshots, 'uls-panels-device-error.png'), fullPage: true });
   await page.getByRole('button', { name: 'Read', exact: true }).click();  // the field shows the unit's value again
   await page.waitForFunction(() => document.querySelector('#setting-averaging-weight').value === '992', null, WAIT);
+});
+
+test('no select of the panels is too narrow for its choices', async () => {
+  // Each select is at least as wide as the browser makes one with the same choices left to
+  // its natural width (a hidden copy, same font): its longest choice then shows whole.
+  const cut = await page.$$eval('.panels select', (selects) => selects.flatMap((select) => {
+    const copy = select.cloneNode(true);
+    copy.removeAttribute('id');
+    copy.style.cssText = 'position: absolute; visibility: hidden; width: auto; min-width: 0; max-width: none;';
+    select.parentElement.append(copy);
+    const natural = copy.getBoundingClientRect().width;
+    copy.remove();
+    const width = select.getBoundingClientRect().width;
+    return width + 0.5 < natural ? [`${select.id}: ${width.toFixed(0)} px < ${natural.toFixed(0)} px`] : [];
+  }));
+  assert.deepEqual(cut, []);
 });
 
 test('every new control has a label and Tab reaches every field of the panels', async () => {

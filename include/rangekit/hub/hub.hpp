@@ -54,6 +54,22 @@ struct HubOptions {
 // Settings by name, values as typed ("prf-hz" -> "2000"), in the order to write them.
 using SettingValues = std::vector<std::pair<std::string, std::string>>;
 
+// A unit an RS-485 bus scan heard (§7, `rangekit uls bus scan`).
+struct BusUnitFound {
+  std::uint8_t address = 0;  // 0x30..0xEF (§8 RS485 Protocol)
+  std::string version;       // its ID
+  bool duplicate = false;    // replies collided: two or more units hold this address (U66)
+  std::string problem;
+};
+
+// A scan of the bus a ULS sensor is on, and the site file's sensors on that port.
+struct BusScan {
+  std::string port;
+  std::size_t asked = 0;                                   // addresses asked
+  std::vector<BusUnitFound> found;                         // those that answered, in the order asked
+  std::vector<std::pair<std::uint8_t, std::string>> site;  // address, sensor: the site file's units on the port
+};
+
 // A sensor action (POST …/actions/{action}); the family decides what each means.
 enum class Action : std::uint8_t {
   start,    // measure and stream
@@ -102,6 +118,14 @@ class Hub {
   // Such a file uploaded: every value checked first, written, read back and verified
   // (`config load`). Returns the settings as read back.
   Result<std::vector<Field>> import_config(std::string_view sensor, std::string_view toml);
+  // The RS-485 network (§7) of a ULS on a bus: the addresses of §8's UA table (0-9, A-Z,
+  // a-z) asked a few at a time between two polls. Errc::unsupported for a sensor alone on its port.
+  Result<BusScan> scan_bus(std::string_view sensor);
+  // UA on `sensor`'s bus: the unit at `from` (none: `sensor`'s address) takes `to`, refused when
+  // a unit answers at `to` or none at `from` (`rangekit uls bus assign`). The site file is not
+  // changed: `sensor` keeps its address, so it answers no more until the site file follows or
+  // the unit is assigned back (U106).
+  Status assign_address(std::string_view sensor, std::optional<std::uint8_t> from, std::uint8_t to);
   // The action's result text ("10.123 m" for single, "" otherwise).
   Result<std::string> act(std::string_view sensor, Action action, std::string_view argument = {});
 

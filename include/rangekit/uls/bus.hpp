@@ -57,6 +57,9 @@ class Bus {
 
   // Asks ID and US at each address; reports who answered and collisions.
   std::vector<BusUnit> scan(const std::vector<std::uint8_t>& addresses);
+  // The same, waiting `per_address` for each reply (a silent address costs that much); the
+  // bus's own timeout applies again afterwards.
+  std::vector<BusUnit> scan(const std::vector<std::uint8_t>& addresses, std::chrono::milliseconds per_address);
   // UA from `from` to `to`. Refuses (Errc::out_of_range) when `to` already
   // answers, or when nothing answers at `from`. With `from` none, the `$`
   // protocol (a factory unit, address 0, alone on the line, U3).

@@ -222,6 +222,8 @@ class Driver final {
 
   [[nodiscard]] DriverCounters counters() const;
   [[nodiscard]] const DriverOptions& options() const noexcept { return options_; }
+  // The reply timeout of the calls from now on (a bus scan asks silent addresses quicker).
+  void set_timeout(std::chrono::milliseconds timeout) noexcept { options_.timeout = timeout; }
   [[nodiscard]] Address request_address() const noexcept;
   // Talks to another unit from now on (a bus); refused while streaming.
   Status set_address(std::optional<std::uint8_t> address);

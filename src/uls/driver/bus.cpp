@@ -78,6 +78,13 @@ std::vector<BusUnit> Bus::scan(const std::vector<std::uint8_t>& addresses) {
   return found;
 }
 
+std::vector<BusUnit> Bus::scan(const std::vector<std::uint8_t>& addresses, std::chrono::milliseconds per_address) {
+  driver_.set_timeout(per_address);
+  auto found = scan(addresses);
+  driver_.set_timeout(options_.timeout);
+  return found;
+}
+
 Status Bus::assign(std::optional<std::uint8_t> from, std::uint8_t to) {
   if (!Address::unit(to).is_unit())
     return make_error(Errc::out_of_range, "unit addresses are 0x30..0xEF (§8 RS485 Protocol)");
