@@ -79,7 +79,10 @@ std::uint8_t EmulatorRuntime::garble(std::uint8_t value) {
 }
 
 Status EmulatorRuntime::read_input(Nanos now) {
-  for (auto& line : lines_) {
+  for (std::size_t index = 0; index < lines_.size(); ++index) {
+    // poll_fds_ starts with the lines in order: a line poll() saw nothing on costs no read().
+    if (index < poll_fds_.size() && poll_fds_[index].revents == 0) continue;
+    auto& line = lines_[index];
     std::uint8_t buffer[512];
     while (true) {
       const ssize_t n = ::read(line.pty->native_handle(), buffer, sizeof buffer);
