@@ -216,7 +216,7 @@ bool raw_sqlite_binning_pass(const std::string& path) {
     for (int column = 11; column <= 18; ++column) sqlite3_bind_null(insert, column);
     sqlite3_bind_int64(insert, 19, 0);
     sqlite3_bind_null(insert, 20);
-    ok = sqlite3_step(insert) == SQLITE_DONE;
+    ok = sqlite3_step(insert) == SQLITE_DONE && ok;
     sqlite3_reset(insert);
     if (++in_batch == 1000) {
       ok = ok && sqlite3_exec(db, "COMMIT", nullptr, nullptr, nullptr) == SQLITE_OK;
