@@ -2,6 +2,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
+#include <charconv>
+#include <cmath>
 #include <set>
 #include <utility>
 
@@ -73,6 +76,12 @@ void bind_text(sqlite3_stmt* statement, int index, const std::string& text) {
   sqlite3_bind_text(statement, index, text.data(), static_cast<int>(text.size()), SQLITE_TRANSIENT);
 }
 
+// Text that outlives the statement's next step (write() binds every parameter afresh
+// before each step), so SQLite need not copy it.
+void bind_text_in_place(sqlite3_stmt* statement, int index, const std::string& text) {
+  sqlite3_bind_text(statement, index, text.data(), static_cast<int>(text.size()), SQLITE_STATIC);
+}
+
 template <class T>
 void bind_optional_integer(sqlite3_stmt* statement, int index, const std::optional<T>& value) {
   if (value) {
@@ -90,12 +99,29 @@ void bind_optional_real(sqlite3_stmt* statement, int index, const std::optional<
   }
 }
 
-// Targets as JSON text; nlohmann writes doubles so that they read back exactly.
-std::string targets_json(const std::vector<TargetHit>& targets) {
-  auto array = nlohmann::json::array();
-  for (const auto& target : targets)
-    array.push_back({{"distance_m", target.distance_m}, {"strength", target.strength}});
-  return array.dump();
+// Targets as JSON text, exactly as nlohmann::json's dump() of
+// [{"distance_m": d, "strength": s}, ...] writes it (keys in order, no spaces, doubles
+// by nlohmann's own shortest round-trip printer, NaN and infinities as null), but
+// straight into a reused buffer: building the json objects was most of a binning
+// sample's capture cost (issue 17 item 3).
+void append_targets_json(std::string& out, const std::vector<TargetHit>& targets) {
+  out += '[';
+  std::array<char, 64> number{};  // nlohmann's own number buffer size
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    out += i == 0 ? "{\"distance_m\":" : ",{\"distance_m\":";
+    const double distance = targets[i].distance_m;
+    if (std::isfinite(distance)) {
+      const char* end = nlohmann::detail::to_chars(number.data(), number.data() + number.size(), distance);
+      out.append(number.data(), static_cast<std::size_t>(end - number.data()));
+    } else {
+      out += "null";
+    }
+    out += ",\"strength\":";
+    const auto printed = std::to_chars(number.data(), number.data() + number.size(), targets[i].strength);
+    out.append(number.data(), printed.ptr);
+    out += '}';
+  }
+  out += ']';
 }
 
 class SqliteCapture final : public CaptureSink {
@@ -136,14 +162,16 @@ class SqliteCapture final : public CaptureSink {
     sqlite3_bind_int64(statement, 1, next_seq_);
     sqlite3_bind_int64(statement, 2, session_);
     sqlite3_bind_int64(statement, 3, to_nanos(sample.time));
-    bind_text(statement, 4, sample.device);
-    bind_text(statement, 5, sample.source);
+    bind_text_in_place(statement, 4, sample.device);
+    bind_text_in_place(statement, 5, sample.source);
     bind_optional_integer(statement, 6, sample.address >= 0 ? std::optional<int>(sample.address) : std::nullopt);
     sqlite3_bind_text(statement, 7, sample_kind_name(sample.kind), -1, SQLITE_STATIC);
     bind_optional_real(statement, 8, sample.distance_m);
     bind_optional_integer(statement, 9, sample.pulse_width);
     if (sample.kind == SampleKind::uls_binning || !sample.targets.empty()) {
-      bind_text(statement, 10, targets_json(sample.targets));
+      targets_text_.clear();
+      append_targets_json(targets_text_, sample.targets);
+      bind_text_in_place(statement, 10, targets_text_);
     } else {
       sqlite3_bind_null(statement, 10);
     }
@@ -164,13 +192,19 @@ class SqliteCapture final : public CaptureSink {
     bind_optional_real(statement, 18, sample.resolution_mm);
     sqlite3_bind_int64(statement, 19, sample.suspect ? 1 : 0);
     if (sample.suspect) {
-      bind_text(statement, 20, sample.suspect_reason);
+      bind_text_in_place(statement, 20, sample.suspect_reason);
     } else {
       sqlite3_bind_null(statement, 20);
     }
     if (auto status = step(statement, "writing a sample"); !status) return status;
     ++batch_samples_;
-    if (sources_.insert(sample.device + " " + sample.source).second) sources_changed_ = true;
+    // Samples come from one source after another: only a change needs the set (and a string).
+    if (!seen_source_ || sample.device != last_device_ || sample.source != last_source_) {
+      seen_source_ = true;
+      last_device_ = sample.device;
+      last_source_ = sample.source;
+      if (sources_.insert(sample.device + " " + sample.source).second) sources_changed_ = true;
+    }
     return commit_if_due();
   }
 
@@ -321,7 +355,11 @@ class SqliteCapture final : public CaptureSink {
   std::uint64_t batch_samples_ = 0;
   std::uint64_t committed_samples_ = 0;
   std::set<std::string> sources_;
+  bool seen_source_ = false;
+  std::string last_device_;
+  std::string last_source_;
   bool sources_changed_ = false;
+  std::string targets_text_;  // reused for every binning sample
   std::optional<Error> failure_;
 };
 

@@ -4,7 +4,6 @@
 #include <unistd.h>
 #include <algorithm>
 #include <cerrno>
-#include <set>
 
 namespace rangekit {
 namespace {
@@ -14,11 +13,6 @@ double seconds(Nanos time) { return static_cast<double>(time.count()) / 1e9; }
 Nanos character_time(const SerialSettings& settings) {
   return Nanos(static_cast<std::int64_t>(settings.bits_per_byte()) * 1'000'000'000LL / settings.baud);
 }
-
-struct SourcedByte {
-  LineByte byte;
-  std::size_t source;  // attachment index
-};
 
 }  // namespace
 
@@ -85,7 +79,10 @@ std::uint8_t EmulatorRuntime::garble(std::uint8_t value) {
 }
 
 Status EmulatorRuntime::read_input(Nanos now) {
-  for (auto& line : lines_) {
+  for (std::size_t index = 0; index < lines_.size(); ++index) {
+    // poll_fds_ starts with the lines in order: a line poll() saw nothing on costs no read().
+    if (index < poll_fds_.size() && poll_fds_[index].revents == 0) continue;
+    auto& line = lines_[index];
     std::uint8_t buffer[512];
     while (true) {
       const ssize_t n = ::read(line.pty->native_handle(), buffer, sizeof buffer);
@@ -105,17 +102,20 @@ Status EmulatorRuntime::read_input(Nanos now) {
 }
 
 void EmulatorRuntime::run_devices(Nanos now) {
-  std::set<DeviceModel*> done;
+  // A device on several lines runs once (a handful of devices: a linear search is cheapest).
+  advanced_.clear();
   for (auto& line : lines_) {
     for (const auto& attachment : line.config.attachments) {
-      if (done.insert(attachment.device).second) attachment.device->advance(now);
+      if (std::find(advanced_.begin(), advanced_.end(), attachment.device) != advanced_.end()) continue;
+      advanced_.push_back(attachment.device);
+      attachment.device->advance(now);
     }
   }
 }
 
 Status EmulatorRuntime::flush_output(Nanos now) {
-  std::vector<LineByte> taken;
-  std::vector<SourcedByte> merged;
+  auto& taken = taken_;
+  auto& merged = merged_;
   for (auto& line : lines_) {
     merged.clear();
     for (std::size_t i = 0; i < line.config.attachments.size(); ++i) {
@@ -125,10 +125,13 @@ Status EmulatorRuntime::flush_output(Nanos now) {
       for (const auto& byte : taken) merged.push_back(SourcedByte{byte, i});
     }
     if (merged.empty()) continue;
-    std::stable_sort(merged.begin(), merged.end(),
-                     [](const SourcedByte& a, const SourcedByte& b) { return a.byte.done < b.byte.done; });
-    std::vector<std::uint8_t> wire;
-    wire.reserve(merged.size());
+    // One device's bytes are already in order; only a bus needs merging (stable_sort allocates).
+    if (line.config.attachments.size() > 1) {
+      std::stable_sort(merged.begin(), merged.end(),
+                       [](const SourcedByte& a, const SourcedByte& b) { return a.byte.done < b.byte.done; });
+    }
+    auto& wire = wire_;
+    wire.clear();
     for (std::size_t i = 0; i < merged.size(); ++i) {
       const auto& attachment = line.config.attachments[merged[i].source];
       std::uint8_t value = merged[i].byte.value;
@@ -179,6 +182,15 @@ Nanos EmulatorRuntime::next_deadline() const {
   for (const auto& line : lines_) {
     for (const auto& attachment : line.config.attachments)
       earliest = std::min(earliest, attachment.device->next_deadline());
+  }
+  return earliest;
+}
+
+Nanos EmulatorRuntime::next_wake() const {
+  Nanos earliest = Nanos::max();
+  for (const auto& line : lines_) {
+    for (const auto& attachment : line.config.attachments)
+      earliest = std::min(earliest, attachment.device->next_wake());
   }
   return earliest;
 }
@@ -259,20 +271,33 @@ nlohmann::json EmulatorRuntime::handle_control(const nlohmann::json& request) {
   return {{"error", "unknown command '" + command + "' (runtime: status, advance, noise, shutdown)"}};
 }
 
+Nanos loop_wait(Nanos until_deadline, Nanos max_wait, Nanos resolution) {
+  Nanos wait = std::clamp(until_deadline, Nanos(0), max_wait);
+  // Whole milliseconds (the old poll()) made records at 1 kHz and above leave in
+  // batches (issue 17, L78); ppoll() takes the wait to the nanosecond.
+  if (resolution > Nanos(0)) wait = (wait + resolution - Nanos(1)) / resolution * resolution;
+  return wait;
+}
+
 Status EmulatorRuntime::step(Nanos max_wait) {
-  std::vector<pollfd> fds;
-  for (const auto& line : lines_) fds.push_back(pollfd{line.pty->native_handle(), POLLIN, 0});
+  poll_fds_.clear();
+  for (const auto& line : lines_) poll_fds_.push_back(pollfd{line.pty->native_handle(), POLLIN, 0});
   if (control_) {
-    for (const int fd : control_->poll_fds()) fds.push_back(pollfd{fd, POLLIN, 0});
+    for (const int fd : control_->poll_fds()) poll_fds_.push_back(pollfd{fd, POLLIN, 0});
   }
   Nanos wait = max_wait;
   if (real_clock_) {
-    const Nanos deadline = next_deadline();
-    if (deadline != Nanos::max()) wait = std::clamp(real_clock_->real_duration(deadline - now()), Nanos(0), max_wait);
+    // The deadline is absolute (the device's), so a late wake never accumulates: each
+    // wait is measured afresh from it.
+    // A wait_resolution reproduces the old loop whole: every deadline, rounded up.
+    const Nanos deadline = options_.wait_resolution > Nanos(0) ? next_deadline() : next_wake();
+    if (deadline != Nanos::max()) {
+      wait = loop_wait(real_clock_->real_duration(deadline - now()), max_wait, options_.wait_resolution);
+    }
   }
-  // Round up so a deadline less than a millisecond away is not spun on.
-  const int timeout_ms = static_cast<int>((wait.count() + 999'999) / 1'000'000);
-  if (::poll(fds.data(), fds.size(), timeout_ms) < 0 && errno != EINTR) {
+  const auto whole_seconds = std::chrono::duration_cast<std::chrono::seconds>(wait);
+  const timespec timeout{static_cast<time_t>(whole_seconds.count()), static_cast<long>((wait - whole_seconds).count())};
+  if (::ppoll(poll_fds_.data(), poll_fds_.size(), &timeout, nullptr) < 0 && errno != EINTR) {
     return make_error(Errc::io, "poll failed in the emulator loop");
   }
   const Nanos current = now();

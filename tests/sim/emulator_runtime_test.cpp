@@ -225,5 +225,28 @@ TEST(EmulatorRuntime, SymlinkAndControlPathsAreCheckedUpFront) {
   std::filesystem::remove(link);
 }
 
+// L78: LS5 manual §8.4: "When the stream is running, data is sent to the sensor output with
+// a period T=n×t", and table 9.2: "Measurement period (discrete – 0.1 ms, minimum value –
+// 0.1 ms)". A deadline 0.3 ms away must be waited for 0.3 ms, not a whole millisecond (the
+// loop's old poll() rounded up, so records at 1 kHz left in millisecond batches).
+TEST(EmulatorRuntimeLoopWait, L78_WaitsToTheNanosecondForSubMillisecondDeadlines) {
+  EXPECT_EQ(loop_wait(300us, 50ms, Nanos(0)), 300us);
+  EXPECT_EQ(loop_wait(Nanos(86'805), 50ms, Nanos(0)), Nanos(86'805));  // one 10-bit byte at 115200 baud
+  EXPECT_EQ(loop_wait(1ms + 100us, 50ms, Nanos(0)), 1ms + 100us);
+}
+
+TEST(EmulatorRuntimeLoopWait, L78_NeverWaitsPastMaxWaitOrBelowZero) {
+  EXPECT_EQ(loop_wait(2s, 50ms, Nanos(0)), 50ms);
+  EXPECT_EQ(loop_wait(-5us, 50ms, Nanos(0)), Nanos(0));  // an overdue deadline: no wait at all
+}
+
+TEST(EmulatorRuntimeLoopWait, L78_ResolutionRoundsUpForTheBenchComparison) {
+  // RuntimeOptions::wait_resolution = 1 ms reproduces the old loop in bench/emulator_pacing_bench.cpp.
+  EXPECT_EQ(loop_wait(300us, 50ms, 1ms), 1ms);
+  EXPECT_EQ(loop_wait(1ms, 50ms, 1ms), 1ms);
+  EXPECT_EQ(loop_wait(1ms + 1ns, 50ms, 1ms), 2ms);
+  EXPECT_EQ(loop_wait(Nanos(0), 50ms, 1ms), Nanos(0));
+}
+
 }  // namespace
 }  // namespace rangekit

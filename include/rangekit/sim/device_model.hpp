@@ -43,6 +43,12 @@ class DeviceModel {
   virtual void advance(Nanos now) = 0;
   // When advance() next has something to do (Nanos::max() when nothing is scheduled).
   [[nodiscard]] virtual Nanos next_deadline() const = 0;
+  // When the real-clock loop must next run the device: at the latest next_deadline(),
+  // but a model may name a later moment when nothing a host can see happens before it
+  // (bytes leaving back to back are handed over when the run of them ends, as a host
+  // acts on whole frames), saving the loop a wake per byte. advance() still runs every
+  // event at its own time.
+  [[nodiscard]] virtual Nanos next_wake() const { return next_deadline(); }
   // Appends the bytes of `port` whose last bit has left the line by `now`.
   virtual void take_line_output(std::size_t port, Nanos now, std::vector<LineByte>& out) = 0;
   // A control-socket request addressed to this device; returns the reply object.

@@ -9,6 +9,8 @@
 // and drops bytes.
 #pragma once
 
+#include <poll.h>
+
 #include <atomic>
 #include <cstdint>
 #include <cstdio>
@@ -45,6 +47,11 @@ struct RuntimeOptions {
   // Every byte each line sends to the host, before line noise (bench/noise_bench.py's
   // truth: what a clean line would have carried).
   std::optional<std::string> wire_log_path;
+  // Real clock only: the loop wakes when the devices ask (DeviceModel::next_wake) to the
+  // nanosecond (0), or at every deadline with its wait rounded up to a multiple of this
+  // (1 ms: the loop before issue 17, which let records at 1 kHz and above leave in
+  // millisecond batches; kept so bench/emulator_pacing_bench.cpp compares both in one run).
+  Nanos wait_resolution{0};
 };
 
 // Per-line fault injection (control: {"cmd":"noise", ...}).
@@ -53,6 +60,11 @@ struct LineNoise {
   double drop_rate = 0;       // probability of losing each byte sent to the host
   double duplicate_rate = 0;  // probability of sending a byte twice
 };
+
+// How long the real-clock loop sleeps when the next device deadline is `until_deadline`
+// away (real time): exactly that, within [0, max_wait], rounded up to a multiple of
+// `resolution` when that is positive (RuntimeOptions::wait_resolution).
+[[nodiscard]] Nanos loop_wait(Nanos until_deadline, Nanos max_wait, Nanos resolution);
 
 class EmulatorRuntime {
  public:
@@ -83,6 +95,10 @@ class EmulatorRuntime {
   void set_control_extension(ControlExtension extension) { extension_ = std::move(extension); }
 
  private:
+  struct SourcedByte {
+    LineByte byte;
+    std::size_t source;  // attachment index
+  };
   struct Line {
     LineConfig config;
     std::unique_ptr<PseudoTerminal> pty;
@@ -94,6 +110,8 @@ class EmulatorRuntime {
   void run_devices(Nanos now);
   Status flush_output(Nanos now);
   [[nodiscard]] Nanos next_deadline() const;
+  // The real-clock loop's next wake: the devices' next_wake() (whole runs of bytes).
+  [[nodiscard]] Nanos next_wake() const;
   // Whether the host's port reads what the device sends; `sent` carries the speed and
   // stop bits a byte left with (none: the device's present settings).
   [[nodiscard]] bool host_matches(const Line& line, const LineAttachment& attachment,
@@ -114,6 +132,12 @@ class EmulatorRuntime {
   };
   std::unique_ptr<std::FILE, FileCloser> wire_log_;
   bool shutdown_requested_ = false;
+  // Reused by every step, so the loop allocates nothing while it paces output.
+  std::vector<pollfd> poll_fds_;
+  std::vector<DeviceModel*> advanced_;
+  std::vector<LineByte> taken_;
+  std::vector<SourcedByte> merged_;
+  std::vector<std::uint8_t> wire_;
 };
 
 }  // namespace rangekit

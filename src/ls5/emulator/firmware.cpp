@@ -363,6 +363,24 @@ Nanos Firmware::next_deadline() const {
   return next;
 }
 
+Nanos Firmware::next_wake() const {
+  // Whole runs of bytes: a host acts on a frame once its <cr> has arrived.
+  Nanos next = pacer_.queued() > 0 ? pacer_.idle_at(last_now_) : Nanos::max();
+  if (!sent_.empty()) next = std::min(next, sent_.back().done);
+  if (phase_ != Phase::operating) next = std::min(next, phase_until_);
+  if (pending_serial_) next = std::min(next, pending_serial_at_);
+  if (on_ && phase_ == Phase::operating && next_measurement_ != Nanos::max()) {
+    // With the stream on and the UART idle, all a host sees of the next measurement is its
+    // record, which leaves 7 characters later (§8.4): run it then, in one wake instead of
+    // two. advance() still measures at the measurement's own time.
+    const bool record_follows = streaming_ && pacer_.queued() == 0;
+    // character_time() rounds each character down: a nanosecond more each keeps the wake after the <cr>.
+    const Nanos record_time = static_cast<std::int64_t>(stream_record_bytes) * (pacer_.character_time() + Nanos(1));
+    next = std::min(next, record_follows ? next_measurement_ + record_time : next_measurement_);
+  }
+  return next;
+}
+
 void Firmware::advance(Nanos now) {
   last_now_ = std::max(last_now_, now);
   while (true) {

@@ -652,10 +652,16 @@ void Firmware::advance(Nanos now) {
   for (auto& port : ports_) drain(port, now);
 }
 
-Nanos Firmware::next_deadline() const {
+Nanos Firmware::next_deadline() const { return earliest_event(false); }
+
+Nanos Firmware::next_wake() const { return earliest_event(true); }
+
+Nanos Firmware::earliest_event(bool whole_runs) const {
   Nanos earliest = Nanos::max();
   for (const auto& port : ports_) {
-    earliest = std::min(earliest, port.pacer.next_completion());
+    const Nanos output =
+        whole_runs && port.pacer.queued() > 0 ? port.pacer.idle_at(last_now_) : port.pacer.next_completion();
+    earliest = std::min(earliest, output);
     if (port.pending_baud) {
       const bool other_port = port.pending_port != static_cast<std::size_t>(&port - ports_.data());
       const Nanos idle = other_port ? port.pending_at : port.pacer.idle_at(last_now_);

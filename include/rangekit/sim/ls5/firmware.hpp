@@ -79,6 +79,9 @@ class Firmware final : public DeviceModel {
   void receive(std::size_t port, std::uint8_t byte, Nanos now) override;
   void advance(Nanos now) override;
   [[nodiscard]] Nanos next_deadline() const override;
+  // The end of the run of queued bytes instead of each byte, and a streamed measurement
+  // when its record has left (L78).
+  [[nodiscard]] Nanos next_wake() const override;
   void take_line_output(std::size_t port, Nanos now, std::vector<LineByte>& out) override;
   nlohmann::json control(const nlohmann::json& request, Nanos now) override;
   [[nodiscard]] std::string label() const override;

@@ -95,6 +95,8 @@ class Firmware final : public DeviceModel {
   void receive(std::size_t port, std::uint8_t byte, Nanos now) override;
   void advance(Nanos now) override;
   [[nodiscard]] Nanos next_deadline() const override;
+  // The end of each port's run of queued bytes instead of each byte (L78).
+  [[nodiscard]] Nanos next_wake() const override;
   void take_line_output(std::size_t port, Nanos now, std::vector<LineByte>& out) override;
   nlohmann::json control(const nlohmann::json& request, Nanos now) override;
   [[nodiscard]] std::string label() const override;
@@ -112,6 +114,8 @@ class Firmware final : public DeviceModel {
   [[nodiscard]] Nanos last_time() const noexcept { return last_now_; }
 
  private:
+  // next_deadline() (every byte) or next_wake() (the end of each port's run of bytes).
+  [[nodiscard]] Nanos earliest_event(bool whole_runs) const;
   struct Port {
     std::vector<std::uint8_t> input;
     SerialPacer pacer{115200, uls_hundredths_of_bits};
