@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <condition_variable>
 #include <functional>
 #include <future>
@@ -161,8 +162,7 @@ struct CaptureCursors {
   Cursor events;
 };
 
-Result<CaptureCursors> open_cursors(const std::string& path,
-                                   IntegrityCheck integrity = IntegrityCheck::at_open) {
+Result<CaptureCursors> open_cursors(const std::string& path, IntegrityCheck integrity = IntegrityCheck::at_open) {
   auto database = open_database(path, false, false, integrity);
   if (!database) return std::move(database).error();
   // An older capture lacks the columns of later versions: they read as NULL.
@@ -303,6 +303,18 @@ Result<SampleSourcePtr> open_replay(const std::string& path, const ReplayOptions
   auto cursors = open_cursors(path);
   if (!cursors) return std::move(cursors).error();
   return SampleSourcePtr(std::make_unique<ReplaySource>(path, std::move(*cursors), options));
+}
+
+Result<std::size_t> capture_sample_bound(const std::string& path) {
+  auto database = open_database(path, false, false, IntegrityCheck::by_caller);
+  if (!database) return std::move(database).error();
+  // Two subqueries: SQLite finds a lone min() or max() of the key at one end of the tree.
+  auto span = prepare(path, database->get(),
+                      "SELECT coalesce((SELECT max(seq) FROM samples) - (SELECT min(seq) FROM samples) + 1, 0)");
+  if (!span) return make_error(Errc::io, "capture " + path + ": no samples table, not a rangekit capture");
+  const int code = sqlite3_step(span->get());
+  if (code != SQLITE_ROW) return sqlite_error(path, database->get(), code, "reading the samples' span");
+  return static_cast<std::size_t>(std::max<std::int64_t>(sqlite3_column_int64(span->get(), 0), 0));
 }
 
 Status for_each_in_capture(const std::string& path, std::string_view device,

@@ -104,8 +104,7 @@ Status check_is_capture(const std::string& path, sqlite3* database, IntegrityChe
 
 }  // namespace
 
-Result<Database> open_database(const std::string& path, bool writable, bool may_create,
-                               IntegrityCheck integrity) {
+Result<Database> open_database(const std::string& path, bool writable, bool may_create, IntegrityCheck integrity) {
   int flags = writable ? SQLITE_OPEN_READWRITE : SQLITE_OPEN_READONLY;
   if (may_create) flags |= SQLITE_OPEN_CREATE;
   sqlite3* raw = nullptr;
