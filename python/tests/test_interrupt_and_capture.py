@@ -3,6 +3,7 @@
 import json
 import os
 import signal
+import sqlite3
 import subprocess
 import threading
 import time
@@ -101,7 +102,6 @@ def test_corrupt_capture_is_a_clear_error(tmp_path):
     with rangekit.sim.ls5(arguments=LS5_ARGUMENTS) as unit:
         subprocess.run([rangekit.sim.cli_path(), "capture", "--out", str(path), "--ls5", unit.port, "--count", "1",
                         "--quiet"], check=True, timeout=120)
-    import sqlite3
     database = sqlite3.connect(path)
     database.execute("INSERT INTO samples(session, time_ns, device, source, address, kind, code, distance_mm, "
                      "signal) SELECT session, time_ns, device, source, address, kind, code, distance_mm, signal "
