@@ -1,5 +1,6 @@
 // rangekit.capture: a SQLite capture (docs/capture.md) read into NumPy in one pass,
-// through rangekit::record's bulk reader (for_each_in_capture), without the GIL.
+// through rangekit::record's bulk reader (for_each_in_capture) straight into the array,
+// without the GIL.
 #include <cstring>
 #include <string>
 
@@ -15,32 +16,37 @@ void init_capture(py::module_& parent) {
       [](const std::string& path, const std::string& device) {
         if (!device.empty() && device != "uls" && device != "ls5")
           throw py::value_error("device '" + device + "' must be 'uls', 'ls5' or '' (both)");
-        // Records gather in fixed chunks (no reallocation copying what was read) and are
-        // copied once into the array.
-        constexpr std::size_t chunk_size = 1U << 16U;
-        std::vector<std::vector<SampleRecord>> chunks;
+        // The array is allocated once, for the most samples the capture can hold, and filled
+        // as the rows are read; the pages past the last sample are never touched, and the
+        // array is shrunk in place at the end.
+        const std::size_t bound = unwrap(record::capture_sample_bound(path));
+        py::array_t<SampleRecord> samples(static_cast<py::ssize_t>(bound));
+        SampleRecord* const target = samples.mutable_data();
+        std::vector<SampleRecord> beyond_bound;  // a capture written while it is read
         std::size_t total = 0;
         std::vector<StreamEvent> events;
         const Status read = without_gil([&] {
           return record::for_each_in_capture(
               path, device,
               [&](const Sample& sample) {
-                if (chunks.empty() || chunks.back().size() == chunk_size) chunks.emplace_back().reserve(chunk_size);
-                chunks.back().push_back(to_record(sample));
+                if (total < bound) {
+                  target[total] = to_record(sample);
+                } else {
+                  beyond_bound.push_back(to_record(sample));
+                }
                 ++total;
               },
               [&](StreamEvent&& event) { events.push_back(std::move(event)); });
         });
         check(read);
-        py::array_t<SampleRecord> samples(static_cast<py::ssize_t>(total));
-        SampleRecord* target = samples.mutable_data();
-        without_gil([&] {
-          for (const auto& chunk : chunks) {
-            std::memcpy(target, chunk.data(), chunk.size() * sizeof(SampleRecord));
-            target += chunk.size();
-          }
-          return 0;
-        });
+        if (!beyond_bound.empty()) {
+          py::array_t<SampleRecord> all(static_cast<py::ssize_t>(total));
+          std::memcpy(all.mutable_data(), target, bound * sizeof(SampleRecord));
+          std::memcpy(all.mutable_data() + bound, beyond_bound.data(), beyond_bound.size() * sizeof(SampleRecord));
+          samples = std::move(all);
+        } else if (total < bound) {
+          samples.resize({static_cast<py::ssize_t>(total)});
+        }
         py::list event_objects;
         for (StreamEvent& event : events) event_objects.append(py::cast(std::move(event)));
         return py::make_tuple(samples, event_objects);

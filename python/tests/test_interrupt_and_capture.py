@@ -3,6 +3,7 @@
 import json
 import os
 import signal
+import sqlite3
 import subprocess
 import threading
 import time
@@ -91,3 +92,29 @@ def test_capture_dataframe_when_pandas_is_there(tmp_path):
     frame = rangekit.capture.open(path).dataframe()
     assert isinstance(frame, pandas.DataFrame)
     assert list(frame["kind"].unique()) == ["result"]
+
+
+def test_corrupt_capture_is_a_clear_error(tmp_path):
+    # docs/capture.md: a corrupt file is refused with an error naming it. The integrity check
+    # runs beside the bulk read (issue 16): a damaged page must still raise, not crash or return
+    # what happened to be readable.
+    path = tmp_path / "corrupt.sqlite"
+    with rangekit.sim.ls5(arguments=LS5_ARGUMENTS) as unit:
+        subprocess.run([rangekit.sim.cli_path(), "capture", "--out", str(path), "--ls5", unit.port, "--count", "1",
+                        "--quiet"], check=True, timeout=120)
+    database = sqlite3.connect(path)
+    database.execute("INSERT INTO samples(session, time_ns, device, source, address, kind, code, distance_mm, "
+                     "signal) SELECT session, time_ns, device, source, address, kind, code, distance_mm, signal "
+                     "FROM samples, (WITH RECURSIVE n(i) AS (SELECT 1 UNION ALL SELECT i + 1 FROM n WHERE i < 2000) "
+                     "SELECT i FROM n)")
+    database.commit()
+    page_size = database.execute("PRAGMA page_size").fetchone()[0]
+    database.close()
+    assert len(rangekit.capture.open(path)) == 2001
+    content = bytearray(path.read_bytes())
+    assert len(content) > 4 * page_size
+    content[2 * page_size:3 * page_size] = b"\xa5" * page_size  # garbage over a b-tree page of the samples
+    path.write_bytes(bytes(content))
+    with pytest.raises(rangekit.errors.LinkError, match="corrupt") as raised:
+        rangekit.capture.open(path)
+    assert str(path) in str(raised.value)

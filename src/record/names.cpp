@@ -1,14 +1,27 @@
 #include "names.hpp"
 
 #include <array>
+#include <utility>
 
 namespace rangekit::record {
 namespace {
 
+// Each value with its name as a string_view, built once: a capture's reader parses a
+// name on every row, and should not measure the names (strlen) every time.
+template <class Enum, std::size_t N>
+using NameTable = std::array<std::pair<Enum, std::string_view>, N>;
+
 template <class Enum, std::size_t N, class NameOf>
-std::optional<Enum> find_by_name(std::string_view name, const std::array<Enum, N>& values, NameOf name_of) {
-  for (const auto value : values) {
-    if (name == name_of(value)) return value;
+NameTable<Enum, N> name_table(const std::array<Enum, N>& values, NameOf name_of) {
+  NameTable<Enum, N> table{};
+  for (std::size_t i = 0; i < N; ++i) table[i] = {values[i], name_of(values[i])};
+  return table;
+}
+
+template <class Enum, std::size_t N>
+std::optional<Enum> find_by_name(std::string_view name, const NameTable<Enum, N>& table) {
+  for (const auto& [value, value_name] : table) {
+    if (name == value_name) return value;
   }
   return std::nullopt;
 }
@@ -16,21 +29,26 @@ std::optional<Enum> find_by_name(std::string_view name, const std::array<Enum, N
 }  // namespace
 
 std::optional<SampleKind> parse_sample_kind(std::string_view name) {
-  constexpr std::array values{SampleKind::uls_averaging, SampleKind::uls_binning, SampleKind::uls_look_down,
-                              SampleKind::uls_error,     SampleKind::ls5_result,  SampleKind::ls5_derivative};
-  return find_by_name(name, values, sample_kind_name);
+  static const auto table =
+      name_table(std::array{SampleKind::uls_averaging, SampleKind::uls_binning, SampleKind::uls_look_down,
+                            SampleKind::uls_error, SampleKind::ls5_result, SampleKind::ls5_derivative},
+                 sample_kind_name);
+  return find_by_name(name, table);
 }
 
 std::optional<SignalState> parse_signal_state(std::string_view name) {
-  constexpr std::array values{SignalState::ok, SignalState::none_yet, SignalState::lost};
-  return find_by_name(name, values, signal_state_name);
+  static const auto table =
+      name_table(std::array{SignalState::ok, SignalState::none_yet, SignalState::lost}, signal_state_name);
+  return find_by_name(name, table);
 }
 
 std::optional<StreamEventKind> parse_stream_event_kind(std::string_view name) {
-  constexpr std::array values{StreamEventKind::connected, StreamEventKind::disconnected, StreamEventKind::reconnected,
-                              StreamEventKind::bad_frame, StreamEventKind::lost_records, StreamEventKind::device_error,
-                              StreamEventKind::polling};
-  return find_by_name(name, values, stream_event_kind_name);
+  static const auto table =
+      name_table(std::array{StreamEventKind::connected, StreamEventKind::disconnected, StreamEventKind::reconnected,
+                            StreamEventKind::bad_frame, StreamEventKind::lost_records, StreamEventKind::device_error,
+                            StreamEventKind::polling},
+                 stream_event_kind_name);
+  return find_by_name(name, table);
 }
 
 }  // namespace rangekit::record

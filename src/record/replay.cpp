@@ -2,8 +2,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <condition_variable>
 #include <functional>
+#include <future>
 #include <mutex>
 #include <utility>
 
@@ -36,18 +38,33 @@ std::string_view column_view(sqlite3_stmt* statement, int column) {
                          : std::string_view();
 }
 
-bool is_null(sqlite3_stmt* statement, int column) { return sqlite3_column_type(statement, column) == SQLITE_NULL; }
+// One column of the current row: its type asked once, then its value by that type
+// (a scan of millions of rows spends its time in these calls).
+class Column {
+ public:
+  Column(sqlite3_stmt* row, int index) : value_(sqlite3_column_value(row, index)), type_(sqlite3_value_type(value_)) {}
+  [[nodiscard]] bool is_null() const { return type_ == SQLITE_NULL; }
+  template <class T>
+  [[nodiscard]] std::optional<T> integer() const {
+    if (is_null()) return std::nullopt;
+    return static_cast<T>(sqlite3_value_int64(value_));
+  }
+  [[nodiscard]] std::optional<double> real() const {
+    if (is_null()) return std::nullopt;
+    return sqlite3_value_double(value_);
+  }
+  // The text (empty when NULL); valid until the row changes.
+  [[nodiscard]] std::string_view text() const {
+    if (is_null()) return {};
+    const auto* text = reinterpret_cast<const char*>(sqlite3_value_text(value_));
+    return text != nullptr ? std::string_view(text, static_cast<std::size_t>(sqlite3_value_bytes(value_)))
+                           : std::string_view();
+  }
 
-template <class T>
-std::optional<T> column_integer(sqlite3_stmt* statement, int column) {
-  if (is_null(statement, column)) return std::nullopt;
-  return static_cast<T>(sqlite3_column_int64(statement, column));
-}
-
-std::optional<double> column_real(sqlite3_stmt* statement, int column) {
-  if (is_null(statement, column)) return std::nullopt;
-  return sqlite3_column_double(statement, column);
-}
+ private:
+  sqlite3_value* value_;
+  int type_;
+};
 
 void parse_targets(std::string_view text, std::vector<TargetHit>& targets) {
   const auto array = nlohmann::json::parse(text, nullptr, false);
@@ -73,36 +90,33 @@ void read_sample_into(sqlite3_stmt* row, Sample& sample) {
   std::string reason = std::move(sample.suspect_reason);
   std::vector<TargetHit> targets = std::move(sample.targets);
   sample = Sample{};
-  const auto assign_text = [row](std::string& to, int column) {
-    const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(row, column));
-    to.assign(text != nullptr ? text : "", static_cast<std::size_t>(sqlite3_column_bytes(row, column)));
-  };
+  const auto column = [row](int index) { return Column(row, index); };
   sample.time = from_nanos(sqlite3_column_int64(row, 1));
-  assign_text(device, 2);
+  device.assign(column(2).text());
   sample.device = std::move(device);
-  assign_text(source, 3);
+  source.assign(column(3).text());
   sample.source = std::move(source);
-  sample.address = column_integer<int>(row, 4).value_or(-1);
-  sample.kind = parse_sample_kind(column_view(row, 5)).value_or(SampleKind::uls_averaging);
-  sample.distance_m = column_real(row, 6);
-  sample.pulse_width = column_integer<std::uint32_t>(row, 7);
+  sample.address = column(4).integer<int>().value_or(-1);
+  sample.kind = parse_sample_kind(column(5).text()).value_or(SampleKind::uls_averaging);
+  sample.distance_m = column(6).real();
+  sample.pulse_width = column(7).integer<std::uint32_t>();
   targets.clear();
-  if (!is_null(row, 8)) parse_targets(column_view(row, 8), targets);
+  if (const Column hits = column(8); !hits.is_null()) parse_targets(hits.text(), targets);
   sample.targets = std::move(targets);
-  if (!is_null(row, 9)) sample.presence = sqlite3_column_int64(row, 9) != 0;
-  sample.pulses_between_events = column_integer<std::uint32_t>(row, 10);
+  if (const Column presence = column(9); !presence.is_null()) sample.presence = *presence.integer<std::int64_t>() != 0;
+  sample.pulses_between_events = column(10).integer<std::uint32_t>();
   if (sample.kind == SampleKind::uls_look_down && sample.pulses_between_events == 0U) {
     sample.pulses_between_events.reset();  // the wire's 0000: more than 65535 pulses (U88)
     sample.pulses_overflow = true;
   }
-  sample.device_error = column_integer<int>(row, 11);
-  sample.code = column_integer<std::uint16_t>(row, 12);
-  sample.distance_mm = column_real(row, 13);
-  if (!is_null(row, 14)) sample.signal = parse_signal_state(column_view(row, 14));
-  sample.derivative_mm = column_real(row, 15);
-  sample.resolution_mm = column_real(row, 16);
-  sample.suspect = column_integer<int>(row, 17).value_or(0) != 0;
-  if (sample.suspect) assign_text(reason, 18);
+  sample.device_error = column(11).integer<int>();
+  sample.code = column(12).integer<std::uint16_t>();
+  sample.distance_mm = column(13).real();
+  if (const Column signal = column(14); !signal.is_null()) sample.signal = parse_signal_state(signal.text());
+  sample.derivative_mm = column(15).real();
+  sample.resolution_mm = column(16).real();
+  sample.suspect = column(17).integer<int>().value_or(0) != 0;
+  if (sample.suspect) reason.assign(column(18).text());
   sample.suspect_reason = std::move(reason);
 }
 
@@ -148,8 +162,8 @@ struct CaptureCursors {
   Cursor events;
 };
 
-Result<CaptureCursors> open_cursors(const std::string& path) {
-  auto database = open_database(path, false, false);
+Result<CaptureCursors> open_cursors(const std::string& path, IntegrityCheck integrity = IntegrityCheck::at_open) {
+  auto database = open_database(path, false, false, integrity);
   if (!database) return std::move(database).error();
   // An older capture lacks the columns of later versions: they read as NULL.
   std::string samples_sql = samples_columns;
@@ -291,11 +305,30 @@ Result<SampleSourcePtr> open_replay(const std::string& path, const ReplayOptions
   return SampleSourcePtr(std::make_unique<ReplaySource>(path, std::move(*cursors), options));
 }
 
+Result<std::size_t> capture_sample_bound(const std::string& path) {
+  auto database = open_database(path, false, false, IntegrityCheck::by_caller);
+  if (!database) return std::move(database).error();
+  // Two subqueries: SQLite finds a lone min() or max() of the key at one end of the tree.
+  auto span = prepare(path, database->get(),
+                      "SELECT coalesce((SELECT max(seq) FROM samples) - (SELECT min(seq) FROM samples) + 1, 0)");
+  if (!span) return make_error(Errc::io, "capture " + path + ": no samples table, not a rangekit capture");
+  const int code = sqlite3_step(span->get());
+  if (code != SQLITE_ROW) return sqlite_error(path, database->get(), code, "reading the samples' span");
+  return static_cast<std::size_t>(std::max<std::int64_t>(sqlite3_column_int64(span->get(), 0), 0));
+}
+
 Status for_each_in_capture(const std::string& path, std::string_view device,
                            const std::function<void(const Sample&)>& on_sample,
                            const std::function<void(StreamEvent&&)>& on_event) {
-  auto cursors = open_cursors(path);
+  auto cursors = open_cursors(path, IntegrityCheck::by_caller);
   if (!cursors) return std::move(cursors).error();
+  // PRAGMA quick_check reads the whole file as the scan does: it runs at the same time on
+  // a second read-only connection, and its verdict decides whether the scan counts.
+  auto integrity = std::async(std::launch::async, [&path]() -> Status {
+    auto checker = open_database(path, false, false, IntegrityCheck::by_caller);
+    if (!checker) return std::move(checker).error();
+    return check_integrity(path, checker->get());
+  });
   auto& [database, samples, events] = *cursors;
   samples.advance();
   events.advance();
@@ -312,6 +345,7 @@ Status for_each_in_capture(const std::string& path, std::string_view device,
       events.advance();
     }
   }
+  if (auto checked = integrity.get(); !checked) return checked;
   const int code = samples.failed_code() != 0 ? samples.failed_code() : events.failed_code();
   if (code != 0) on_event(read_error_event(path, database.get(), code));
   return ok_status();

@@ -48,25 +48,32 @@ Result<bool> has_column(const std::string& path, sqlite3* database, const char* 
   return sqlite3_column_int64(query->get(), 0) > 0;
 }
 
-namespace {
-
-// Reads the schema; a text file or a damaged header fails here (SQLITE_NOTADB),
-// a database of some other program is recognised by its missing meta row.
-Status check_is_capture(const std::string& path, sqlite3* database) {
-  auto tables = prepare(path, database, "SELECT count(*) FROM sqlite_master");
-  if (!tables) return std::move(tables).error();
-  int code = sqlite3_step(tables->get());
-  if (code != SQLITE_ROW) return sqlite_error(path, database, code, "reading the schema");
-  const auto table_count = sqlite3_column_int64(tables->get(), 0);
-  if (table_count == 0) return ok_status();  // empty database: becomes a capture
-
+Status check_integrity(const std::string& path, sqlite3* database) {
   auto check = prepare(path, database, "PRAGMA quick_check");
   if (!check) return std::move(check).error();
-  code = sqlite3_step(check->get());
+  const int code = sqlite3_step(check->get());
   if (code != SQLITE_ROW) return sqlite_error(path, database, code, "checking the file");
   const auto* verdict = reinterpret_cast<const char*>(sqlite3_column_text(check->get(), 0));
   if (verdict == nullptr || std::string_view(verdict) != "ok") {
     return make_error(Errc::io, "capture " + path + ": corrupt (" + (verdict ? verdict : "?") + ")");
+  }
+  return ok_status();
+}
+
+namespace {
+
+// Reads the schema; a text file or a damaged header fails here (SQLITE_NOTADB),
+// a database of some other program is recognised by its missing meta row.
+Status check_is_capture(const std::string& path, sqlite3* database, IntegrityCheck integrity) {
+  auto tables = prepare(path, database, "SELECT count(*) FROM sqlite_master");
+  if (!tables) return std::move(tables).error();
+  const int code = sqlite3_step(tables->get());
+  if (code != SQLITE_ROW) return sqlite_error(path, database, code, "reading the schema");
+  const auto table_count = sqlite3_column_int64(tables->get(), 0);
+  if (table_count == 0) return ok_status();  // empty database: becomes a capture
+
+  if (integrity == IntegrityCheck::at_open) {
+    if (auto checked = check_integrity(path, database); !checked) return checked;
   }
 
   const auto meta = [database](const char* key) -> std::optional<std::string> {
@@ -97,7 +104,7 @@ Status check_is_capture(const std::string& path, sqlite3* database) {
 
 }  // namespace
 
-Result<Database> open_database(const std::string& path, bool writable, bool may_create) {
+Result<Database> open_database(const std::string& path, bool writable, bool may_create, IntegrityCheck integrity) {
   int flags = writable ? SQLITE_OPEN_READWRITE : SQLITE_OPEN_READONLY;
   if (may_create) flags |= SQLITE_OPEN_CREATE;
   sqlite3* raw = nullptr;
@@ -109,7 +116,10 @@ Result<Database> open_database(const std::string& path, bool writable, bool may_
   }
   sqlite3_extended_result_codes(database.get(), 1);
   sqlite3_busy_timeout(database.get(), 5000);
-  if (auto checked = check_is_capture(path, database.get()); !checked) return std::move(checked).error();
+  // A reader maps the file instead of copying every page out of the page cache (up to
+  // SQLite's compiled-in limit; a writer keeps read()/write(), as SQLite advises).
+  if (!writable) sqlite3_exec(database.get(), "PRAGMA mmap_size = 4294967296", nullptr, nullptr, nullptr);
+  if (auto checked = check_is_capture(path, database.get(), integrity); !checked) return std::move(checked).error();
   return database;
 }
 

@@ -40,8 +40,18 @@ inline constexpr AddedColumn added_columns[] = {
 // Whether `table` has a column named `column`.
 Result<bool> has_column(const std::string& path, sqlite3* database, const char* table, const char* column);
 
+// Whether open_database runs PRAGMA quick_check itself, or leaves it to the caller, who
+// must run check_integrity and refuse the file when it fails (a bulk reader runs it on a
+// second connection while it reads, and discards what it read when the check fails).
+enum class IntegrityCheck { at_open, by_caller };
+
 // Opens `path` and checks that it is a readable rangekit capture (or empty when
-// `may_create`). Nothing is written.
-Result<Database> open_database(const std::string& path, bool writable, bool may_create);
+// `may_create`). Nothing is written. Read-only opens map the file (PRAGMA mmap_size)
+// rather than copy its pages with read().
+Result<Database> open_database(const std::string& path, bool writable, bool may_create,
+                               IntegrityCheck integrity = IntegrityCheck::at_open);
+
+// PRAGMA quick_check: "capture FILE: corrupt (...)" when the file is damaged.
+Status check_integrity(const std::string& path, sqlite3* database);
 
 }  // namespace rangekit::record

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -34,7 +35,16 @@ inline Result<SampleSourcePtr> open_replay(const std::string& path, double speed
 // order they were written, handed over as the file is read: no queue, no thread, and
 // one Sample reused for every row (copy what you keep). For bulk reads (the Python
 // package's rangekit.capture). A capture damaged after opening ends with one bad_frame
-// event saying why, as in open_replay; opening fails as open_replay does.
+// event saying why, as in open_replay; opening fails as open_replay does, except that the
+// integrity check (PRAGMA quick_check) runs on a second thread while the rows are read:
+// when it fails, the error is returned after the callbacks have seen what could be read,
+// and the caller must discard it.
+// At least as many as the samples for_each_in_capture hands over (the span of their
+// sequence numbers, which they share with the events), read from the ends of the table
+// without a scan: a bulk reader allocates once. Opening fails as open_replay does, but
+// without the integrity check (for_each_in_capture runs it).
+Result<std::size_t> capture_sample_bound(const std::string& path);
+
 Status for_each_in_capture(const std::string& path, std::string_view device,
                            const std::function<void(const Sample&)>& on_sample,
                            const std::function<void(StreamEvent&&)>& on_event);
