@@ -116,9 +116,8 @@ Result<Database> open_database(const std::string& path, bool writable, bool may_
   }
   sqlite3_extended_result_codes(database.get(), 1);
   sqlite3_busy_timeout(database.get(), 5000);
-  // A reader maps the file instead of copying every page out of the page cache (up to
-  // SQLite's compiled-in limit; a writer keeps read()/write(), as SQLite advises).
-  if (!writable) sqlite3_exec(database.get(), "PRAGMA mmap_size = 4294967296", nullptr, nullptr, nullptr);
+  // No PRAGMA mmap_size: a mapped capture that another program truncates while it is read
+  // kills the reader with SIGBUS, where read() gives SQLite an error it reports.
   if (auto checked = check_is_capture(path, database.get(), integrity); !checked) return std::move(checked).error();
   return database;
 }
