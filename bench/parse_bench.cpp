@@ -414,7 +414,7 @@ void add_mqtt_rows(GoalTable& table, const char* name) {
   if (!cpu || !base || !p99 || !records || !lost) return;
   const std::string path = "mqtt: 2 LS5 1 kHz, every sample";
   table.add({path + ", CPU", text_of("%.1f %% of a core", *cpu),
-             text_of("ls5 stream | mosquitto_pub x2 %.1f %%", *base), *base > 0 ? *cpu / *base : 0, "< 1x",
+             text_of("ls5 stream piped to mosquitto_pub, x2: %.1f %%", *base), *base > 0 ? *cpu / *base : 0, "< 1x",
              *cpu<*base&& * base> 0});
   table.add({path + ", latency", text_of("p99 %.1f ms", *p99), "-", *p99 / 10.0, "p99 <= 10 ms",
              *p99 <= 10.0 && *records > 0});
@@ -434,7 +434,7 @@ void add_pacing_rows(GoalTable& table, const char* name) {
   if (!p99 || !writer_p99 || !together || !writer_together || !cpu || !rounded_cpu) return;
   const std::string path = "LS5 emulator at 1 kHz";
   const double p99_ratio = *writer_p99 > 0 ? *p99 / *writer_p99 : 0;
-  table.add({path + ", p99 |interval - period|", text_of("%.0f us", *p99),
+  table.add({path + ", p99 of abs(interval - period)", text_of("%.0f us", *p99),
              text_of("minimal writer %.0f us", *writer_p99), p99_ratio, "<= 1.5x",
              p99_ratio <= 1.5 && *writer_p99 > 0});
   table.add({path + ", records together with the previous", text_of("%.2f %%", *together),

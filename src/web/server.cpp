@@ -659,6 +659,11 @@ void Server::Impl::accept() {
       if (!stopped && error != net::error::operation_aborted) accept();
       return;
     }
+    // Every write goes out at once: with Nagle on, an event written while the previous one
+    // is not yet acknowledged waits for the client's delayed ACK (40 ms on Linux), which
+    // made the p99 of record-to-SSE latency 40 ms while the median was 5.
+    beast::error_code ignored;
+    socket.set_option(tcp::no_delay(true), ignored);
     const auto serve = [this](auto connection) {
       if (connections.load() > options.max_connections) {
         ++refused;

@@ -4,10 +4,9 @@
 // (bay-C averaging, bay-A binning, bay-B look down, belt the LS5).
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
-import net from 'node:net';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
-import { cli, launch, screenshots, stopped, WAIT, waitForLine, watchErrors } from './support.mjs';
+import { WAIT, cli, controlRequest, launch, screenshots, stopped, waitForLine, watchErrors } from './support.mjs';
 
 let serve;
 let serviceUrl;
@@ -36,22 +35,7 @@ after(async () => {
 });
 
 // One request to the demo LS5 emulator's control socket (docs/emulator-ls5.md, "Control").
-function ls5Control(request) {
-  return new Promise((resolve, reject) => {
-    const socket = net.createConnection(path.join(demoDir, 'ls5.control'));
-    let text = '';
-    socket.setEncoding('utf8');
-    socket.on('connect', () => socket.write(`${JSON.stringify(request)}\n`));
-    socket.on('data', (chunk) => {
-      text += chunk;
-      if (text.includes('\n')) {
-        socket.end();
-        resolve(JSON.parse(text.slice(0, text.indexOf('\n'))));
-      }
-    });
-    socket.on('error', reject);
-  });
-}
+const ls5Control = (request) => controlRequest(path.join(demoDir, 'ls5.control'), request);
 
 const points = () => page.evaluate(() => Number(document.querySelector('.live-plot')?.dataset.points ?? 0));
 

@@ -9,11 +9,10 @@
 // the page), L76 (the page's indicator is computed, not read from the sensor).
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
-import net from 'node:net';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
 import * as esbuild from 'esbuild';
-import { cli, launch, screenshots, stopped, WAIT, waitForLine, watchErrors } from './support.mjs';
+import { WAIT, cli, controlRequest, launch, screenshots, stopped, waitForLine, watchErrors } from './support.mjs';
 
 let serve;
 let demoDir;
@@ -24,22 +23,7 @@ let url;
 const patches = [];
 
 // One request to the demo LS5 emulator's control socket (docs/emulator-ls5.md, "Control").
-function control(request) {
-  return new Promise((resolve, reject) => {
-    const socket = net.createConnection(path.join(demoDir, 'ls5.control'));
-    let text = '';
-    socket.setEncoding('utf8');
-    socket.on('connect', () => socket.write(`${JSON.stringify(request)}\n`));
-    socket.on('data', (chunk) => {
-      text += chunk;
-      if (text.includes('\n')) {
-        socket.end();
-        resolve(JSON.parse(text.slice(0, text.indexOf('\n'))));
-      }
-    });
-    socket.on('error', reject);
-  });
-}
+const control = (request) => controlRequest(path.join(demoDir, 'ls5.control'), request);
 
 const outputs = async () => {
   const answer = await control({ cmd: 'outputs' });

@@ -7,10 +7,9 @@
 // docs/conformance.md U105 (what the asterisk marks, what is refused), U106 (the site file stays).
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
-import net from 'node:net';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
-import { cli, launch, screenshots, stopped, WAIT, waitForLine, watchErrors } from './support.mjs';
+import { WAIT, cli, controlRequest, launch, screenshots, stopped, waitForLine, watchErrors } from './support.mjs';
 
 let serve;
 let url;
@@ -20,22 +19,7 @@ let page;
 let pageErrors;
 
 // One request to the demo bus emulator's control socket (docs/emulator-uls.md, "Control").
-function control(request) {
-  return new Promise((resolve, reject) => {
-    const socket = net.createConnection(path.join(demoDir, 'bus.control'));
-    let text = '';
-    socket.setEncoding('utf8');
-    socket.on('connect', () => socket.write(`${JSON.stringify(request)}\n`));
-    socket.on('data', (chunk) => {
-      text += chunk;
-      if (text.includes('\n')) {
-        socket.end();
-        resolve(JSON.parse(text.slice(0, text.indexOf('\n'))));
-      }
-    });
-    socket.on('error', reject);
-  });
-}
+const control = (request) => controlRequest(path.join(demoDir, 'bus.control'), request);
 
 // Whether the emulator holds a unit at `address` now (its control socket routes by address).
 const unitAt = async (address) => !('error' in await control({ cmd: 'outputs', device: address }));

@@ -1,6 +1,7 @@
 // What the browser tests share: the browser (Debian's chromium, or skip), the rangekit
 // binary, the screenshot folder, and child processes read and stopped.
 import { existsSync, mkdirSync } from 'node:fs';
+import net from 'node:net';
 import path from 'node:path';
 import { chromium } from 'playwright-core';
 
@@ -62,4 +63,23 @@ export function watchErrors(page) {
     if (message.type() === 'error') errors.push(message.text());
   });
   return errors;
+}
+
+// One request to an emulator's control socket (docs/emulator-uls.md, docs/emulator-ls5.md,
+// "Control"): its one-line JSON answer. Tests check the emulator through it, not the page.
+export function controlRequest(socketPath, request) {
+  return new Promise((resolve, reject) => {
+    const socket = net.createConnection(socketPath);
+    let text = '';
+    socket.setEncoding('utf8');
+    socket.on('connect', () => socket.write(`${JSON.stringify(request)}\n`));
+    socket.on('data', (chunk) => {
+      text += chunk;
+      if (text.includes('\n')) {
+        socket.end();
+        resolve(JSON.parse(text.slice(0, text.indexOf('\n'))));
+      }
+    });
+    socket.on('error', reject);
+  });
 }
