@@ -348,6 +348,18 @@ TEST(UlsBehaviour, OutputsReportThePrfOfEachMode) {
   EXPECT_EQ(unit.firmware->control({{"cmd", "outputs"}}, unit.now)["prf_hz"], nlohmann::json({4000, 2000, 3000}));
 }
 
+// The control socket's `outputs` reports what $TT holds in pulses (docs/emulator-uls.md):
+// §8 Trip Point Timeout "(seconds * 3000) in hexadecimal notation"; §3 "If the short timeout
+// period is selected ... re-reference in 8,000 laser pulses" (U21: 8000 = 1F40).
+// docs/conformance.md U109
+TEST(UlsBehaviour, OutputsReportTheTripTimeoutInPulses) {
+  Unit unit(scene_of({target_at(12.0)}));
+  EXPECT_EQ(unit.ask("$TT,1F40"), "$OK");
+  EXPECT_EQ(unit.firmware->control({{"cmd", "outputs"}}, unit.now)["trip_timeout_pulses"], 8000);
+  EXPECT_EQ(unit.ask("$TT,107AC0"), "$OK");
+  EXPECT_EQ(unit.firmware->control({{"cmd", "outputs"}}, unit.now)["trip_timeout_pulses"], 1080000);
+}
+
 // docs/conformance.md U41
 TEST(UlsBehaviour, MinimumPulseWidthLetsTheUnitSeeThroughDust) {
   // Dust answers half the pulses with a 3 ns return: 992 good of 1024 cannot be filled.

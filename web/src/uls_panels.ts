@@ -37,9 +37,46 @@ const PANELS: [string, [string, string][]][] = [
     ['fault-timeout-s', 'Fault Timeout'], ['fault-current-ma', 'Fault Current']]],
 ];
 
+// §3 "If the short timeout period is selected in the ULS interface, the unit will re-reference in
+// 8,000 laser pulses" (U21: $TT,1F40); the field shows seconds, §8 "seconds * 3000".
+const SHORT_TIMEOUT_PULSES = 8000;
+const PULSES_PER_SECOND = 3000;
+// §3 "a target distance that does not change for prolonged time (1,080,000 laser pulses ...)":
+// what unchecking restores when the unit was read with the short timeout and nothing else was typed.
+const DEFAULT_TIMEOUT_S = '360';
+
+// §2 windows' items with no §8 command behind them: shown as what they are, never as an input.
+const NO_COMMAND_NOTES: Record<string, { id: string; title: string; text: string }> = {
+  'Averaging Parameters': {
+    id: 'note-min-pulse-width',
+    title: 'Minimum Pulse Width (not settable from a host)',
+    text: '§2: "This value is used to reject returned receive pulses less then the value specified, in nano-seconds", ' +
+      'so weak returns can be rejected. §8 has no command to set or read it, so neither this page nor the CLI can; ' +
+      "the emulator keeps it as a unit setting on its control socket (docs/conformance.md U41).",
+  },
+  'Current Loop': {
+    id: 'note-current-loop-calibration',
+    title: 'Calibration (not possible from a host)',
+    text: '§2 "Calibrating the Current Loop": with the unit stopped and the current loop on, adjust the coarse and fine ' +
+      'DAC values of the 4 mA and 20 mA set points, press Set 4 mA or Set 20 mA to output them while a precision meter ' +
+      "measures the current, then SAVE them to the unit's non-volatile memory. §8 has no command for the DAC values, " +
+      "the set buttons or SAVE, so only LTI's Interface Program can calibrate (docs/conformance.md U108).",
+  },
+};
+
 // "off (polled)" -> "off", "1 inch" -> "1-inch": how the API names a value (named_settings.cpp).
 function keyName(name: string): string {
   return name.split('(')[0].trim().toLowerCase().replace(/[ _]+/g, '-').replace(/-+$/, '');
+}
+
+// Seconds as the API prints them (4 decimals, trailing zeros dropped): 8000 pulses -> "2.6667".
+function secondsText(seconds: number): string {
+  return String(Number(seconds.toFixed(4)));
+}
+
+function isShortTimeout(secondsField: string): boolean {
+  const seconds = Number(secondsField.trim());
+  return secondsField.trim() !== '' && Math.round(seconds * PULSES_PER_SECOND) === SHORT_TIMEOUT_PULSES;
 }
 
 function rangeText(row: SchemaRow): string {
@@ -62,6 +99,8 @@ export class UlsPanels {
   private readonly fields = new Map<string, Field>();
   private schemaLoaded = false;
   private errorDisplay = new Map<number, string>();  // §10 "ULS Interface Display" by number
+  private shortTimeout?: HTMLInputElement;
+  private typedTimeout = '';  // the re-reference time before Short Timeout was checked
 
   constructor(private readonly name: string) {
     this.message.setAttribute('role', 'status');
@@ -81,6 +120,14 @@ export class UlsPanels {
       for (const [key, label] of entries) {
         const row = rows.get(key);
         if (row?.writable) panel.append(this.field(row, label));
+        if (key === 'trip-timeout-s' && row?.writable) panel.append(this.shortTimeoutBox());
+      }
+      const note = NO_COMMAND_NOTES[title];
+      if (note) {
+        const box = element('div', 'no-command');
+        box.id = note.id;
+        box.append(element('p', 'no-command-title', note.title), element('p', 'no-command-text', note.text));
+        panel.append(box);
       }
       this.root.append(panel);
     }
@@ -102,6 +149,40 @@ export class UlsPanels {
     return wrapper;
   }
 
+  // §2 Look Down "Short Timeout": checked, the re-reference time becomes 8000 pulses (shown in
+  // the field, sent by Upload Settings); unchecked, the time typed before comes back.
+  private shortTimeoutBox(): HTMLElement {
+    const wrapper = element('div', 'field checkbox');
+    const box = element('input');
+    box.type = 'checkbox';
+    box.id = 'setting-short-timeout';
+    box.dataset.setting = 'short-timeout';
+    box.disabled = true;  // until the settings have been read
+    const label = element('label', undefined, 'Short Timeout');
+    label.htmlFor = box.id;
+    const hint = element('span', 'range',
+      `${SHORT_TIMEOUT_PULSES} pulses (§2: about 3 s at 3000 PRF), for setting up: a presence longer than that is lost`);
+    hint.id = `${box.id}-range`;
+    box.setAttribute('aria-describedby', hint.id);
+    box.title = 'Short Timeout (§2 Look Down; TT 1F40, §3 "re-reference in 8,000 laser pulses")';
+    box.addEventListener('change', () => {
+      const field = this.fields.get('trip-timeout-s');
+      if (!field) return;
+      if (box.checked) {
+        this.typedTimeout = field.input.value;
+        field.input.value = secondsText(SHORT_TIMEOUT_PULSES / PULSES_PER_SECOND);
+      } else {
+        const typed = this.typedTimeout;
+        field.input.value = typed && !isShortTimeout(typed) ? typed : DEFAULT_TIMEOUT_S;
+      }
+      (field.input as HTMLInputElement).readOnly = box.checked;
+      this.check(field);
+    });
+    wrapper.append(label, box, hint);
+    this.shortTimeout = box;
+    return wrapper;
+  }
+
   // The settings as last read (GET /api/sensors): every field shows them, except one being edited.
   update(settings: Record<string, unknown>, force = false): void {
     if (!this.schemaLoaded || Object.keys(settings).length === 0) return;
@@ -114,6 +195,12 @@ export class UlsPanels {
       field.sent = value;
       field.input.disabled = false;
       if (force || !edited) this.check(field);
+    }
+    const timeout = this.fields.get('trip-timeout-s');
+    if (this.shortTimeout && timeout && settings['trip-timeout-s'] !== undefined) {
+      this.shortTimeout.disabled = false;
+      this.shortTimeout.checked = isShortTimeout(timeout.input.value);
+      (timeout.input as HTMLInputElement).readOnly = this.shortTimeout.checked;
     }
   }
 

@@ -133,6 +133,61 @@ test("a unit's refusal shows its §10 number and Interface display text", async 
   await page.waitForFunction(() => document.querySelector('#setting-averaging-weight').value === '992', null, WAIT);
 });
 
+// §2 Look Down "the Short Timeout option allows you to setup the sensor quicker"; §3 "If the short
+// timeout period is selected in the ULS interface, the unit will re-reference in 8,000 laser pulses"
+// (U21: TT takes the pulse count, 8000 = 1F40). The unit's TT is read from the emulator's control
+// socket, not through the page. docs/conformance.md U109.
+test('U109: Short Timeout sets the re-reference time to 8000 pulses in the unit, and unchecking restores the typed time', async () => {
+  const pulsesOfUnit = async () => (await control({ cmd: 'outputs', device: 'C' })).trip_timeout_pulses;
+  assert.equal(await pulsesOfUnit(), 1080000);  // §3 "1,080,000 laser pulses or approximately 6 minutes"
+  assert.equal(await page.inputValue('#setting-trip-timeout-s'), '360');
+  assert.equal(await page.isChecked('#setting-short-timeout'), false);
+  await page.fill('#setting-trip-timeout-s', '120');
+  await page.check('#setting-short-timeout');
+  assert.equal(await page.inputValue('#setting-trip-timeout-s'), '2.6667');  // 8000 / 3000 s
+  assert.equal(await page.getAttribute('#setting-trip-timeout-s', 'readonly'), '');
+  await page.screenshot({ path: path.join(screenshots, 'uls-panels-short-timeout.png'), fullPage: true });
+  await page.getByRole('button', { name: 'Upload Settings' }).click();
+  await page.waitForFunction(() => /Uploaded and read back: trip-timeout-s\.$/.test(document.querySelector('.panel-message').textContent),
+    null, WAIT);
+  assert.equal(await pulsesOfUnit(), 8000);
+  // Read shows the box checked when the unit's TT is 8000 pulses (unchecked here first, so it is Read that checks it).
+  await page.uncheck('#setting-short-timeout');
+  await page.getByRole('button', { name: 'Read', exact: true }).click();
+  await page.waitForFunction(() => document.querySelector('#setting-short-timeout').checked, null, WAIT);
+  assert.equal(await page.inputValue('#setting-trip-timeout-s'), '2.6667');
+  await page.uncheck('#setting-short-timeout');
+  assert.equal(await page.inputValue('#setting-trip-timeout-s'), '120');  // the time typed before
+  assert.equal(await page.getAttribute('#setting-trip-timeout-s', 'readonly'), null);
+  await page.fill('#setting-trip-timeout-s', '360');
+  await page.getByRole('button', { name: 'Upload Settings' }).click();
+  await page.waitForFunction(() => /Uploaded and read back: trip-timeout-s\.$/.test(document.querySelector('.panel-message').textContent),
+    null, WAIT);
+  assert.equal(await pulsesOfUnit(), 1080000);
+});
+
+// U41 (Minimum Pulse Width) and U108 (current loop calibration): §2 shows both, §8 has no command
+// for either, so each is an explanation in its panel, with no input.
+test('U108: Minimum Pulse Width and current loop calibration are explanations without an input', async () => {
+  for (const [panel, id, words] of [
+    ['Averaging Parameters', 'note-min-pulse-width', /reject returned receive pulses.*§8 has no command.*U41/s],
+    ['Current Loop', 'note-current-loop-calibration', /DAC values.*SAVE.*§8 has no command.*U108/s],
+  ]) {
+    const found = await page.$eval(`#${id}`, (note) => ({
+      legend: note.closest('fieldset')?.querySelector('legend')?.textContent,
+      text: note.textContent,
+      controls: note.querySelectorAll('input, select, textarea, button').length,
+      visible: note.getBoundingClientRect().height > 0,
+    }));
+    assert.equal(found.legend, panel);
+    assert.match(found.text, words);
+    assert.equal(found.controls, 0);
+    assert.equal(found.visible, true);
+  }
+  await page.$eval('#note-current-loop-calibration', (note) => note.scrollIntoView());
+  await page.screenshot({ path: path.join(screenshots, 'uls-panels-no-command.png') });
+});
+
 test('no select of the panels is too narrow for its choices', async () => {
   // Each select is at least as wide as the browser makes one with the same choices left to
   // its natural width (a hidden copy, same font): its longest choice then shows whole.

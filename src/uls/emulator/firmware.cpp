@@ -1111,6 +1111,9 @@ nlohmann::json Firmware::control(const nlohmann::json& request, Nanos now) {
                          // What $PF holds, per mode (averaging, binning, look down), so a test can
                          // check a write from outside the link (the dashboard's PRF test, issue 14).
                          {"prf_hz", {settings_.prf[0], settings_.prf[1], settings_.prf[2]}},
+                         // What $TT holds, in pulses (§8 "seconds * 3000"): the page's Short Timeout
+                         // (§3 "8,000 laser pulses") checked from outside the link.
+                         {"trip_timeout_pulses", settings_.trip_timeout_pulses},
                          {"last_error", o.last_error}};
     reply["distance_m"] = o.last_distance_m ? nlohmann::json(*o.last_distance_m) : nlohmann::json(nullptr);
     return reply;
