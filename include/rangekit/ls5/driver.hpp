@@ -187,6 +187,7 @@ class MeasurementStream final : public SampleSource {
  public:
   ~MeasurementStream() override;
   std::optional<StreamItem> next(std::chrono::milliseconds timeout) override;
+  bool next_batch(std::vector<StreamItem>& batch, std::chrono::milliseconds timeout) override;
   [[nodiscard]] bool finished() const override;
   void stop() override;  // joins the reader, sends SB (best effort)
   [[nodiscard]] std::uint64_t lost() const override;

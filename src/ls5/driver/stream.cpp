@@ -154,6 +154,10 @@ std::optional<StreamItem> MeasurementStream::next(std::chrono::milliseconds time
   return shared_->queue.pop(timeout);
 }
 
+bool MeasurementStream::next_batch(std::vector<StreamItem>& batch, std::chrono::milliseconds timeout) {
+  return shared_->queue.take_all(batch, timeout);
+}
+
 bool MeasurementStream::finished() const { return shared_->finished.load(); }
 
 std::uint64_t MeasurementStream::lost() const { return shared_->queue.dropped(); }
@@ -175,6 +179,8 @@ void MeasurementStream::run() {
       driver.identification_ ? std::optional<double>(driver.identification_->range_mm) : std::nullopt;
   const int address = shared.address;
   bool derivative = driver.derivative_results_.value_or(false);
+  // Sample::source of every record: built once, not per record (issue 17); again after a reopen.
+  std::string source = driver.transport_name();
   std::array<std::uint8_t, 4096> buffer{};
   auto last_record = Clock::now();
   bool link_closed = false;
@@ -227,7 +233,7 @@ void MeasurementStream::run() {
         }
         if (reply->kind != ReplyKind::stream_record) continue;  // e.g. a late echo
         last_record = Clock::now();
-        shared.queue.push(make_ls5_sample(reply->result, range_mm, driver.transport_name(), address, derivative));
+        shared.queue.push(make_ls5_sample(reply->result, range_mm, source, address, derivative));
         ++records_;  // after the push: once records() counts it, the queue (and lost()) has it
       }
       continue;
@@ -246,6 +252,7 @@ void MeasurementStream::run() {
         continue;
       }
       link_closed = false;
+      source = driver.transport_name();
     }
     auto identified = driver.transact(Request::simple(shared.address, CommandId::identification));
     if (!identified) {
