@@ -141,5 +141,24 @@ TEST(StreamQueue, AWokenConsumerTakesTheGatheredItemsInOneBatch) {
   EXPECT_EQ(batch, (std::vector<int>{1, 2, 3}));
 }
 
+// push_all: a reader's whole read in one hand-over, in order, dropping the oldest when
+// it overflows, and nothing once closed; the reader's vector comes back empty.
+TEST(StreamQueue, PushAllQueuesABatchInOrderAndDropsTheOldestWhenFull) {
+  StreamQueue<int> queue(4);
+  std::vector<int> read{1, 2, 3};
+  queue.push_all(read);
+  EXPECT_TRUE(read.empty());
+  read = {4, 5, 6};
+  queue.push_all(read);
+  EXPECT_EQ(queue.dropped(), 2U);
+  std::vector<int> batch;
+  ASSERT_TRUE(queue.take_all(batch, 0ms));
+  EXPECT_EQ(batch, (std::vector<int>{3, 4, 5, 6}));
+  queue.close();
+  read = {7};
+  queue.push_all(read);
+  EXPECT_EQ(queue.size(), 0U);
+}
+
 }  // namespace
 }  // namespace rangekit

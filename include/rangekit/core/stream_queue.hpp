@@ -52,6 +52,29 @@ class StreamQueue {
     ready_.notify_all();
   }
 
+  // Pushes every item of `batch` in order under one lock and with at most one wake-up
+  // (a reader handing over what one read decoded); `batch` is left empty with its storage.
+  void push_all(std::vector<T>& batch) {
+    if (batch.empty()) return;
+    bool was_empty = false;
+    {
+      std::lock_guard lock(mutex_);
+      if (!closed_) {
+        was_empty = queued() == 0;
+        for (T& item : batch) {
+          if (queued() >= capacity_) {
+            ++head_;
+            ++dropped_;
+            compact();
+          }
+          items_.push_back(std::move(item));
+        }
+      }
+    }
+    batch.clear();
+    if (was_empty) ready_.notify_all();
+  }
+
   // Waits up to `timeout` for an item; nullopt on timeout or once closed and empty.
   std::optional<T> pop(std::chrono::milliseconds timeout) {
     std::unique_lock lock(mutex_);
