@@ -9,8 +9,11 @@
 // driver's stream and (b) by `cat` into a file, the floor. Over a 5 s window
 // bracketed by two control-socket `outputs` requests, the bursts the emulator
 // put on the wire (measurements - skipped) are compared with those the host got.
+// The driver's consumer takes batches as `rangekit uls stream` does (next_batch), and
+// the heap allocations this process makes inside the window are counted per burst.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -19,7 +22,9 @@
 #include <string>
 #include <thread>
 #include <variant>
+#include <vector>
 
+#include "allocation_counter.hpp"
 #include "host_stream_rig.hpp"
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/uls/driver.hpp"
@@ -166,21 +171,31 @@ void BM_HostUlsDriverBinning230400(benchmark::State& state) {
     std::uint64_t short_bursts = 0;
     std::optional<Mark> first;
     std::optional<Mark> last;
+    std::vector<rangekit::StreamItem> batch;
+    std::uint64_t allocations_at_first = 0;
+    std::uint64_t allocations_in_window = 0;
+    std::uint64_t bursts_in_window = 0;
     while (!last) {
-      auto item = (*stream)->next(50ms);
-      if (item) {
-        if (const auto* sample = std::get_if<rangekit::Sample>(&*item);
-            sample != nullptr && sample->kind == rangekit::SampleKind::uls_binning) {
-          ++bursts;
-          targets += sample->targets.size();
-          if (sample->targets.size() != static_cast<std::size_t>(scene_targets)) ++short_bursts;
+      if ((*stream)->next_batch(batch, 50ms)) {
+        for (const auto& item : batch) {
+          if (const auto* sample = std::get_if<rangekit::Sample>(&item);
+              sample != nullptr && sample->kind == rangekit::SampleKind::uls_binning) {
+            ++bursts;
+            targets += sample->targets.size();
+            if (sample->targets.size() != static_cast<std::size_t>(scene_targets)) ++short_bursts;
+          }
         }
       }
       const auto now = Clock::now();
       if (first ? now < first->at + window : now < started + settle) continue;
+      if (first) {
+        allocations_in_window = rangekit::bench::allocation_count() - allocations_at_first;
+        bursts_in_window = bursts - first->host_bursts;
+      }
       auto count = device_count(rig);
       if (!count) return state.SkipWithError(count.error().describe().c_str());
       (first ? last : first) = Mark{*count, bursts, uls.counters().measurements, bytes->load(), Clock::now()};
+      allocations_at_first = rangekit::bench::allocation_count();
     }
     (*stream)->stop(rangekit::uls::AfterStream::stop_measuring);  // ST
     const double stream_s = std::chrono::duration<double>(Clock::now() - started).count();
@@ -189,6 +204,8 @@ void BM_HostUlsDriverBinning230400(benchmark::State& state) {
     state.counters["targets_per_burst"] = static_cast<double>(targets) / static_cast<double>(bursts);
     state.counters["short_bursts"] = static_cast<double>(short_bursts);
     state.counters["bad_frames"] = static_cast<double>(uls.counters().bad_frames);
+    state.counters["allocs_per_record"] =
+        static_cast<double>(allocations_in_window) / static_cast<double>(std::max<std::uint64_t>(bursts_in_window, 1));
   }
 }
 

@@ -18,6 +18,9 @@ class DriverAndStream final : public SampleSource {
   DriverAndStream(std::unique_ptr<DriverType> driver, std::unique_ptr<StreamType> stream)
       : driver_(std::move(driver)), stream_(std::move(stream)) {}
   std::optional<StreamItem> next(std::chrono::milliseconds timeout) override { return stream_->next(timeout); }
+  bool next_batch(std::vector<StreamItem>& batch, std::chrono::milliseconds timeout) override {
+    return stream_->next_batch(batch, timeout);
+  }
   [[nodiscard]] bool finished() const override { return stream_->finished(); }
   void stop() override { stream_->stop(); }
   [[nodiscard]] std::uint64_t lost() const override { return stream_->lost(); }

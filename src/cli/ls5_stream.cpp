@@ -61,20 +61,29 @@ class HintWhenSilent final : public SampleSource {
       : inner_(inner), patience_(patience), hint_(std::move(hint)), started_(std::chrono::steady_clock::now()) {}
   std::optional<StreamItem> next(std::chrono::milliseconds timeout) override {
     auto item = inner_.next(timeout);
-    if (item) {
-      heard_ = true;
-    } else if (!heard_ && !hinted_ && std::chrono::steady_clock::now() - started_ >= patience_) {
-      hinted_ = true;
-      fmt::print(stderr, "{}\n", hint_);
-      std::fflush(stderr);
-    }
+    heard(item.has_value());
     return item;
+  }
+  bool next_batch(std::vector<StreamItem>& batch, std::chrono::milliseconds timeout) override {
+    const bool got = inner_.next_batch(batch, timeout);
+    heard(got);
+    return got;
   }
   [[nodiscard]] bool finished() const override { return inner_.finished(); }
   void stop() override { inner_.stop(); }
   [[nodiscard]] std::uint64_t lost() const override { return inner_.lost(); }
 
  private:
+  void heard(bool got) {
+    if (got) {
+      heard_ = true;
+    } else if (!heard_ && !hinted_ && std::chrono::steady_clock::now() - started_ >= patience_) {
+      hinted_ = true;
+      fmt::print(stderr, "{}\n", hint_);
+      std::fflush(stderr);
+    }
+  }
+
   SampleSource& inner_;
   std::chrono::milliseconds patience_;
   std::string hint_;

@@ -1,5 +1,7 @@
 #include "rangekit/core/sample.hpp"
 
+#include <utility>
+
 namespace rangekit {
 
 const char* sample_kind_name(SampleKind kind) noexcept {
@@ -50,6 +52,14 @@ const char* stream_event_kind_name(StreamEventKind kind) noexcept {
       return "polling";
   }
   return "unknown";
+}
+
+bool SampleSource::next_batch(std::vector<StreamItem>& batch, std::chrono::milliseconds timeout) {
+  batch.clear();
+  auto item = next(timeout);
+  if (!item) return false;
+  batch.push_back(std::move(*item));
+  return true;
 }
 
 }  // namespace rangekit

@@ -24,6 +24,9 @@ class MergedSource final : public SampleSource {
   }
 
   std::optional<StreamItem> next(std::chrono::milliseconds timeout) override { return queue_.pop(timeout); }
+  bool next_batch(std::vector<StreamItem>& batch, std::chrono::milliseconds timeout) override {
+    return queue_.take_all(batch, timeout);
+  }
 
   // Only once every reader has ended and its last items were taken.
   [[nodiscard]] bool finished() const override {

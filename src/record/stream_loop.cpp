@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <utility>
 #include <variant>
+#include <vector>
 
 #include "rangekit/record/text_sink.hpp"
 
@@ -36,15 +37,18 @@ class StreamLoop {
         timeout = std::min(timeout, std::chrono::ceil<std::chrono::milliseconds>(limit - now));
       }
       // Read before waiting: a source that was finished then has nothing left
-      // once next() comes back empty, while one that finishes during the wait
+      // once next_batch() comes back empty, while one that finishes during the wait
       // may still hand over its last items.
       const bool was_finished = source_.finished();
-      auto item = source_.next(timeout);
-      if (item) {
-        if (auto written = std::visit([this](const auto& value) { return handle(value); }, *item); !written) {
-          return finish(StopReason::write_failed, std::move(written).error());
+      // One wake-up for everything the reader queued meanwhile (issue 17): the items
+      // are handled in order, exactly as if they had been taken one by one.
+      if (source_.next_batch(batch_, timeout)) {
+        for (StreamItem& item : batch_) {
+          if (auto written = std::visit([this](auto& value) { return handle(value); }, item); !written) {
+            return finish(StopReason::write_failed, std::move(written).error());
+          }
+          if (options_.count && stats_.samples >= *options_.count) return finish(StopReason::count_reached);
         }
-        if (options_.count && stats_.samples >= *options_.count) return finish(StopReason::count_reached);
       } else if (was_finished) {
         return finish(StopReason::source_finished);
       }
@@ -68,14 +72,9 @@ class StreamLoop {
     return ok_status();
   }
 
-  Status handle(const Sample& received) {
-    const Sample* checked = &received;
-    if (checker_) {
-      scratch_ = received;
-      checker_->check(scratch_);
-      checked = &scratch_;
-    }
-    const Sample& sample = *checked;
+  // The sample is the loop's own (taken from the batch): checked in place, not copied.
+  Status handle(Sample& sample) {
+    if (checker_) checker_->check(sample);
     if (sample.suspect) {
       ++stats_.suspect;
       if (options_.drop_suspect) {
@@ -181,7 +180,7 @@ class StreamLoop {
   std::unique_ptr<CaptureSink> capture_;
   StreamStats stats_;
   std::optional<SampleChecker> checker_;
-  Sample scratch_;  // the checked copy of a sample, reused
+  std::vector<StreamItem> batch_;  // what the source handed over last; its storage is reused
   std::uint64_t lost_from_events_ = 0;
   Clock::time_point start_;
   Clock::time_point last_flush_;

@@ -4,10 +4,14 @@
 // is a test binary of its own.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <string>
+#include <vector>
 
 #include "allocation_counter.hpp"
 #include "rangekit/core/framer.hpp"
+#include "rangekit/core/sample.hpp"
+#include "rangekit/core/stream_queue.hpp"
 #include "rangekit/ls5/reply.hpp"
 #include "rangekit/ls5/udp_packet.hpp"
 #include "rangekit/uls/measurement.hpp"
@@ -78,6 +82,32 @@ TEST(HotPathAllocation, Ls5StreamRecordsAndUdpPackets) {
   ASSERT_TRUE(ls5::encode_udp_packet(packet, datagram));
   const long before = static_cast<long>(bench::allocation_count());
   for (int i = 0; i < 100; ++i) ASSERT_TRUE(ls5::decode_udp_packet(datagram));
+  EXPECT_EQ(static_cast<long>(bench::allocation_count()) - before, 0);
+}
+
+// The live path's hand-off (issue 17 item 2: "no allocation per record on the live
+// path"): once both sides' vectors have grown to a batch, a reader pushing samples and a
+// consumer taking them in batches allocate nothing more. (A deque allocated a node for
+// every item or two of a StreamItem's size.)
+TEST(HotPathAllocation, StreamQueueHandOffOfSamplesInBatches) {
+  StreamQueue<StreamItem> queue;
+  std::vector<StreamItem> batch;
+  Sample sample;
+  sample.device = "ls5";
+  sample.source = "/dev/pts/3";  // a port name as the driver gives it (short: no heap)
+  sample.kind = SampleKind::ls5_result;
+  sample.code = 1234;
+  auto run_batches = [&](int batches) {
+    std::size_t taken = 0;
+    for (int b = 0; b < batches; ++b) {
+      for (int i = 0; i < 3; ++i) queue.push(StreamItem{sample});
+      if (queue.take_all(batch, std::chrono::milliseconds(0))) taken += batch.size();
+    }
+    return taken;
+  };
+  EXPECT_EQ(run_batches(4), 12U);  // warm-up: the two vectors get their storage
+  const long before = static_cast<long>(bench::allocation_count());
+  EXPECT_EQ(run_batches(1000), 3000U);
   EXPECT_EQ(static_cast<long>(bench::allocation_count()) - before, 0);
 }
 

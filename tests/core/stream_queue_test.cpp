@@ -6,6 +6,7 @@
 #include <chrono>
 #include <optional>
 #include <thread>
+#include <vector>
 
 #include "rangekit/core/stream_queue.hpp"
 
@@ -79,6 +80,84 @@ TEST(StreamQueue, TwoWaitingConsumersEachGetOneOfTwoItems) {
   b.join();
   ASSERT_TRUE(got[0] && got[1]);
   EXPECT_EQ(*got[0] + *got[1], 3);
+}
+
+// take_all (issue 17 item 2): a consumer takes everything queued with one wake-up, in
+// the order pushed, and sees the same items pop() would have given it one by one.
+TEST(StreamQueue, TakeAllHandsOverEverythingQueuedInOrder) {
+  StreamQueue<int> queue;
+  std::vector<int> batch{99};  // what a previous batch left: replaced, not appended to
+  EXPECT_FALSE(queue.take_all(batch, 0ms));
+  EXPECT_TRUE(batch.empty());
+  for (int i = 1; i <= 3; ++i) queue.push(i);
+  ASSERT_TRUE(queue.take_all(batch, 0ms));
+  EXPECT_EQ(batch, (std::vector<int>{1, 2, 3}));
+  EXPECT_EQ(queue.size(), 0U);
+  queue.push(4);
+  ASSERT_TRUE(queue.take_all(batch, 0ms));
+  EXPECT_EQ(batch, (std::vector<int>{4}));
+}
+
+// Mixed with single pops and with drops of the oldest, take_all still gets exactly
+// what is left, oldest first; a closed queue still hands over what it holds.
+TEST(StreamQueue, TakeAllAfterPopsAndDropsGetsWhatIsLeft) {
+  StreamQueue<int> queue(4);
+  for (int i = 1; i <= 6; ++i) queue.push(i);  // 1 and 2 dropped
+  EXPECT_EQ(queue.dropped(), 2U);
+  EXPECT_EQ(queue.pop(0ms), 3);
+  queue.close();
+  std::vector<int> batch;
+  ASSERT_TRUE(queue.take_all(batch, 0ms));
+  EXPECT_EQ(batch, (std::vector<int>{4, 5, 6}));
+  EXPECT_FALSE(queue.take_all(batch, 0ms));  // closed and drained: at once
+}
+
+// A full queue dropping for a long time (no consumer) keeps only its newest `capacity`
+// items, in order: the dropped ones do not pile up behind them.
+TEST(StreamQueue, ALongOverflowKeepsTheNewestInOrder) {
+  StreamQueue<int> queue(100);
+  for (int i = 1; i <= 10'000; ++i) queue.push(i);
+  EXPECT_EQ(queue.dropped(), 9'900U);
+  EXPECT_EQ(queue.size(), 100U);
+  std::vector<int> batch;
+  ASSERT_TRUE(queue.take_all(batch, 0ms));
+  ASSERT_EQ(batch.size(), 100U);
+  for (std::size_t i = 0; i < batch.size(); ++i) EXPECT_EQ(batch[i], static_cast<int>(9'901 + i));
+}
+
+// With a gather time the consumer woken by the first item takes the ones that joined it
+// in the same batch; close() ends an hour's gather at once.
+TEST(StreamQueue, AWokenConsumerTakesTheGatheredItemsInOneBatch) {
+  StreamQueue<int> queue(16, std::chrono::hours(1));
+  std::vector<int> batch;
+  bool got = false;
+  std::thread consumer([&] { got = queue.take_all(batch, std::chrono::hours(1)); });
+  queue.push(1);
+  queue.push(2);
+  queue.push(3);
+  queue.close();
+  consumer.join();
+  ASSERT_TRUE(got);
+  EXPECT_EQ(batch, (std::vector<int>{1, 2, 3}));
+}
+
+// push_all: a reader's whole read in one hand-over, in order, dropping the oldest when
+// it overflows, and nothing once closed; the reader's vector comes back empty.
+TEST(StreamQueue, PushAllQueuesABatchInOrderAndDropsTheOldestWhenFull) {
+  StreamQueue<int> queue(4);
+  std::vector<int> read{1, 2, 3};
+  queue.push_all(read);
+  EXPECT_TRUE(read.empty());
+  read = {4, 5, 6};
+  queue.push_all(read);
+  EXPECT_EQ(queue.dropped(), 2U);
+  std::vector<int> batch;
+  ASSERT_TRUE(queue.take_all(batch, 0ms));
+  EXPECT_EQ(batch, (std::vector<int>{3, 4, 5, 6}));
+  queue.close();
+  read = {7};
+  queue.push_all(read);
+  EXPECT_EQ(queue.size(), 0U);
 }
 
 }  // namespace

@@ -60,6 +60,69 @@ TEST(StreamLoop, StopsAfterCountSamplesAndStopsTheSource) {
   EXPECT_EQ(line_count(read_file(path)), 4u);  // header + 3 rows
 }
 
+// A live stream's queue hands over everything queued at once (issue 17 item 2): this one
+// has all its items in one batch and refuses single next() calls.
+class OneBatchSource final : public SampleSource {
+ public:
+  explicit OneBatchSource(std::vector<StreamItem> items) : items_(std::move(items)) {}
+  std::optional<StreamItem> next(std::chrono::milliseconds /*timeout*/) override {
+    ADD_FAILURE() << "the loop took an item one by one";
+    return std::nullopt;
+  }
+  bool next_batch(std::vector<StreamItem>& batch, std::chrono::milliseconds /*timeout*/) override {
+    ++batches_taken;
+    batch.clear();
+    if (items_.empty()) return false;
+    batch.swap(items_);
+    return true;
+  }
+  [[nodiscard]] bool finished() const override { return items_.empty(); }
+  void stop() override { stopped = true; }
+  int batches_taken = 0;
+  bool stopped = false;
+
+ private:
+  std::vector<StreamItem> items_;
+};
+
+TEST(StreamLoop, TakesABatchAtOnceAndWritesItInOrder) {
+  TempDir dir;
+  const auto path = dir.file("out.jsonl");
+  OneBatchSource source({uls_averaging(0ms), event(StreamEventKind::lost_records, "gap", 2), uls_averaging(1ms)});
+  const std::atomic<bool> stop{false};
+  const auto outcome = run_stream_loop(source, to_file(path), stop);
+  EXPECT_EQ(outcome.reason, StopReason::source_finished);
+  EXPECT_EQ(source.batches_taken, 2);  // the batch, then the empty answer of a finished source
+  EXPECT_EQ(outcome.stats.samples, 2u);
+  EXPECT_EQ(outcome.stats.lost, 2u);
+  const std::string text = read_file(path);
+  EXPECT_EQ(line_count(text), 3u);
+  const auto first = text.find("\"time\":\"2026-11-26T01:02:03.456Z\",\"device\"");
+  const auto gap = text.find("\"event\":\"lost_records\"");
+  const auto second = text.find("\"time\":\"2026-11-26T01:02:03.457Z\",\"device\"");
+  ASSERT_NE(first, std::string::npos);
+  ASSERT_NE(gap, std::string::npos);
+  ASSERT_NE(second, std::string::npos);
+  EXPECT_LT(first, gap);
+  EXPECT_LT(gap, second);
+}
+
+TEST(StreamLoop, ACountReachedInsideABatchWritesNoMore) {
+  TempDir dir;
+  const auto path = dir.file("out.csv");
+  std::vector<StreamItem> items;
+  for (int i = 0; i < 10; ++i) items.emplace_back(uls_averaging(std::chrono::milliseconds(i)));
+  OneBatchSource source(std::move(items));
+  auto options = to_file(path, OutputFormat::csv);
+  options.count = 3;
+  const std::atomic<bool> stop{false};
+  const auto outcome = run_stream_loop(source, options, stop);
+  EXPECT_EQ(outcome.reason, StopReason::count_reached);
+  EXPECT_EQ(outcome.stats.samples, 3u);
+  EXPECT_TRUE(source.stopped);
+  EXPECT_EQ(line_count(read_file(path)), 4u);  // header + 3 rows
+}
+
 TEST(StreamLoop, StopsAfterDurationOnAQuietSource) {
   FakeSource source({}, true);
   StreamLoopOptions options;

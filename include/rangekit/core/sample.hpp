@@ -109,6 +109,12 @@ class SampleSource {
   // The next sample or event, waiting up to `timeout`; nullopt when nothing came
   // in time, or at once when finished() and nothing is left.
   virtual std::optional<StreamItem> next(std::chrono::milliseconds timeout) = 0;
+  // The next items, in order, waiting up to `timeout` for the first: `batch` is
+  // replaced (pass the same vector each time; its storage is reused). False, with
+  // `batch` empty, when next() would have returned nullopt. A live stream hands over
+  // everything its reader queued with one wake-up and one lock (issue 17); this
+  // default takes one item.
+  virtual bool next_batch(std::vector<StreamItem>& batch, std::chrono::milliseconds timeout);
   // True once the source has ended for good (replay reached its end, the device
   // stream stopped and will not reconnect). Items may still be queued.
   [[nodiscard]] virtual bool finished() const = 0;

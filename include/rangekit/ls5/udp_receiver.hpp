@@ -38,6 +38,7 @@ class UdpReceiver final : public SampleSource {
   ~UdpReceiver() override;
 
   std::optional<StreamItem> next(std::chrono::milliseconds timeout) override;
+  bool next_batch(std::vector<StreamItem>& batch, std::chrono::milliseconds timeout) override;
   [[nodiscard]] bool finished() const override;
   void stop() override;
   // Records lost to counter gaps plus records the queue dropped.

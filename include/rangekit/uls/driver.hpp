@@ -44,6 +44,9 @@ struct DriverOptions {
   std::chrono::milliseconds reconnect_interval{250};
   std::optional<std::chrono::milliseconds> give_up_after;  // none: retry the reopen forever
   std::size_t queue_capacity = 65536;
+  // A stream consumer woken by a sample lets the next ones collect this long before it
+  // takes them (the LS5 stream's gather): one wake-up per batch at the fastest outputs.
+  std::chrono::microseconds gather{2000};
   std::string source;  // Sample::source; defaults to the transport's name
 };
 
@@ -303,6 +306,7 @@ class MeasurementStream final : public SampleSource {
  public:
   ~MeasurementStream() override;
   std::optional<StreamItem> next(std::chrono::milliseconds timeout) override;
+  bool next_batch(std::vector<StreamItem>& batch, std::chrono::milliseconds timeout) override;
   // Ended (stopped, or the link lost for good) and nothing left in the queue.
   [[nodiscard]] bool finished() const override;
   void stop() override;  // stop(AfterStream::as_found)

@@ -5,6 +5,7 @@
 #include <condition_variable>
 #include <mutex>
 #include <thread>
+#include <vector>
 
 #include "rangekit/core/stream_queue.hpp"
 #include "rangekit/ls5/driver.hpp"
@@ -154,6 +155,10 @@ std::optional<StreamItem> MeasurementStream::next(std::chrono::milliseconds time
   return shared_->queue.pop(timeout);
 }
 
+bool MeasurementStream::next_batch(std::vector<StreamItem>& batch, std::chrono::milliseconds timeout) {
+  return shared_->queue.take_all(batch, timeout);
+}
+
 bool MeasurementStream::finished() const { return shared_->finished.load(); }
 
 std::uint64_t MeasurementStream::lost() const { return shared_->queue.dropped(); }
@@ -175,7 +180,10 @@ void MeasurementStream::run() {
       driver.identification_ ? std::optional<double>(driver.identification_->range_mm) : std::nullopt;
   const int address = shared.address;
   bool derivative = driver.derivative_results_.value_or(false);
+  // Sample::source of every record: built once, not per record (issue 17); again after a reopen.
+  std::string source = driver.transport_name();
   std::array<std::uint8_t, 4096> buffer{};
+  std::vector<StreamItem> decoded;  // what one read decoded, handed over at once; storage reused
   auto last_record = Clock::now();
   bool link_closed = false;
 
@@ -212,23 +220,33 @@ void MeasurementStream::run() {
       }
       driver.assembler_->push(Bytes(buffer.data(), *got));
       FrameAssembler::Event event;
+      std::uint64_t records_read = 0;
       while (driver.assembler_->next(event)) {
         if (event.kind == FrameAssembler::Event::Kind::rejected) {
           if (event.reason != nullptr) {
-            shared.queue.push(make_event(StreamEventKind::bad_frame,
+            decoded.push_back(make_event(StreamEventKind::bad_frame,
                                          std::to_string(event.rejected_bytes) + " bytes rejected: " + event.reason));
           }
           continue;
         }
         auto reply = parse_reply(event.frame);
         if (!reply) {
-          shared.queue.push(make_event(StreamEventKind::bad_frame, reply.error().message));
+          decoded.push_back(make_event(StreamEventKind::bad_frame, reply.error().message));
           continue;
         }
         if (reply->kind != ReplyKind::stream_record) continue;  // e.g. a late echo
         last_record = Clock::now();
-        shared.queue.push(make_ls5_sample(reply->result, range_mm, driver.transport_name(), address, derivative));
-        ++records_;  // after the push: once records() counts it, the queue (and lost()) has it
+        decoded.push_back(make_ls5_sample(reply->result, range_mm, source, address, derivative));
+        ++records_read;
+      }
+      // What one read decoded goes over in one batch (one lock, at most one wake-up).
+      shared.queue.push_all(decoded);
+      records_ += records_read;  // after the push: once records() counts them, the queue (and lost()) has them
+      // Let the next records collect in the port before reading again: one read, and one
+      // hand-over, per read_gather instead of per record (issue 17). A stop ends the wait.
+      if (*got > 0 && options_.read_gather.count() > 0) {
+        std::unique_lock lock(shared.mutex);
+        shared.wake.wait_for(lock, options_.read_gather, [&shared] { return shared.stop_requested; });
       }
       continue;
     }
@@ -246,6 +264,7 @@ void MeasurementStream::run() {
         continue;
       }
       link_closed = false;
+      source = driver.transport_name();
     }
     auto identified = driver.transact(Request::simple(shared.address, CommandId::identification));
     if (!identified) {

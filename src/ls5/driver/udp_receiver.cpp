@@ -149,6 +149,9 @@ UdpReceiver::UdpReceiver(std::unique_ptr<State> state) : state_(std::move(state)
 UdpReceiver::~UdpReceiver() { stop(); }
 
 std::optional<StreamItem> UdpReceiver::next(std::chrono::milliseconds timeout) { return state_->queue.pop(timeout); }
+bool UdpReceiver::next_batch(std::vector<StreamItem>& batch, std::chrono::milliseconds timeout) {
+  return state_->queue.take_all(batch, timeout);
+}
 
 bool UdpReceiver::finished() const { return state_->finished.load(); }
 

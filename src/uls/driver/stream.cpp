@@ -38,7 +38,7 @@ class BorrowedTransport final : public Transport {
 namespace detail {
 
 struct LiveStream {
-  explicit LiveStream(std::size_t capacity) : queue(capacity) {}
+  LiveStream(std::size_t capacity, std::chrono::microseconds gather) : queue(capacity, gather) {}
   StreamQueue<StreamItem> queue;
   std::atomic<bool> stop_requested{false};
   std::atomic<bool> finished{false};  // the reader has ended (stopped, or the link lost for good)
@@ -72,6 +72,9 @@ MeasurementStream::~MeasurementStream() { stop(); }
 std::optional<StreamItem> MeasurementStream::next(std::chrono::milliseconds timeout) {
   return live_->queue.pop(timeout);
 }
+bool MeasurementStream::next_batch(std::vector<StreamItem>& batch, std::chrono::milliseconds timeout) {
+  return live_->queue.take_all(batch, timeout);
+}
 bool MeasurementStream::finished() const { return live_->finished.load() && live_->queue.size() == 0; }
 void MeasurementStream::stop() { stop(AfterStream::as_found); }
 void MeasurementStream::stop(AfterStream after) { detail::stop_live_stream(*live_, after); }
@@ -103,7 +106,9 @@ void Driver::handle_measurement(const Measurement& measurement) {
     }
     if (step == detail::BinningArray::incomplete) return;
     Sample sample = sample_from_reading(measurement.reading, address, options_.source);
-    sample.targets = std::move(partial_targets_);
+    // Copied (one allocation of the array's size), so the collecting vector keeps its
+    // storage for the next burst instead of growing again target by target.
+    sample.targets = partial_targets_;
     partial_targets_.clear();
     if (collecting_) emit_sample(std::move(sample));
     return;
@@ -186,7 +191,7 @@ Result<std::unique_ptr<MeasurementStream>> Driver::start_stream(StreamMode mode)
   // A stream that ended by itself (link lost for good) is joined and forgets this
   // driver: its object, if it lives on, can no longer touch the new stream's unit.
   if (previous) detail::stop_live_stream(*previous, AfterStream::as_found, true);
-  auto live = std::make_shared<detail::LiveStream>(options_.queue_capacity);
+  auto live = std::make_shared<detail::LiveStream>(options_.queue_capacity, options_.gather);
   live->driver = this;
   {
     std::lock_guard lock(live_mutex_);
