@@ -7,10 +7,9 @@
 // docs/conformance.md U119: ranges from the API's schema, checked before sending; §10 display text.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
-import net from 'node:net';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
-import { cli, launch, screenshots, stopped, WAIT, waitForLine, watchErrors } from './support.mjs';
+import { WAIT, cli, controlRequest, launch, screenshots, stopped, waitForLine, watchErrors } from './support.mjs';
 
 let serve;
 let demoDir;
@@ -20,22 +19,7 @@ let pageErrors;
 const patches = [];
 
 // One request to the demo bus emulator's control socket (docs/emulator-uls.md, "Control").
-function control(request) {
-  return new Promise((resolve, reject) => {
-    const socket = net.createConnection(path.join(demoDir, 'bus.control'));
-    let text = '';
-    socket.setEncoding('utf8');
-    socket.on('connect', () => socket.write(`${JSON.stringify(request)}\n`));
-    socket.on('data', (chunk) => {
-      text += chunk;
-      if (text.includes('\n')) {
-        socket.end();
-        resolve(JSON.parse(text.slice(0, text.indexOf('\n'))));
-      }
-    });
-    socket.on('error', reject);
-  });
-}
+const control = (request) => controlRequest(path.join(demoDir, 'bus.control'), request);
 
 const prfOfUnit = async (unit) => (await control({ cmd: 'outputs', device: unit })).prf_hz;
 const message = () => page.textContent('.panel-message');
