@@ -534,6 +534,9 @@ Result<std::unique_ptr<Bridge>> Bridge::start(hub::Hub& hub, BridgeOptions optio
     link.client = mosquitto_new(client_id.c_str(), true, &link);
     if (link.client == nullptr) return make_error(Errc::io, "mqtt: cannot make a client (out of memory)");
     mosquitto_int_option(link.client, MOSQ_OPT_PROTOCOL_VERSION, MQTT_PROTOCOL_V5);
+    // Each reading leaves at once: with Nagle on, a publish behind an unacknowledged one
+    // waits for the broker's delayed ACK (40 ms on Linux).
+    mosquitto_int_option(link.client, MOSQ_OPT_TCP_NODELAY, 1);
     mosquitto_connect_v5_callback_set(link.client, on_connect);
     mosquitto_disconnect_v5_callback_set(link.client, on_disconnect);
     mosquitto_publish_v5_callback_set(link.client, on_publish);

@@ -97,6 +97,7 @@ Status LocalBroker::launch() {
            << "listener " << options_.port << " 127.0.0.1\n"
            << "user root\n"  // started as root it would switch to 'mosquitto', who cannot read this folder
            << "persistence false\n"
+           << "set_tcp_nodelay true\n"  // deliveries leave at once, not after a delayed ACK
            << "log_dest stderr\n";
     if (options_.password_file.empty()) {
       config << "allow_anonymous true\n";
