@@ -44,6 +44,8 @@ export class Ls5Page {
   private readonly message = element('p', 'page-message');
   private readonly panels: Ls5Panels;
   private readonly plot = new LivePlot();
+  private newest: Ls5Sample | null = null;
+  private renderPending = false;
   private readonly outputs = element('section', 'ls5-outputs');
   private readonly analogValue = element('output', 'analog-value');
   private readonly analogMeter = element('meter');
@@ -235,10 +237,23 @@ export class Ls5Page {
   }
 
   private sample(sample: Ls5Sample): void {
-    const distance = sample.distance_mm;
     // Results in mm on the left axis; with «Type of preliminary result» 01 the derivatives on
     // their own right axis (L80); no-signal records (no distance) are gaps.
-    this.plot.add({ time: sample.time, kind: sample.kind ?? 'result', distance_mm: distance, derivative_mm: sample.derivative_mm });
+    this.plot.add({ time: sample.time, kind: sample.kind ?? 'result', distance_mm: sample.distance_mm, derivative_mm: sample.derivative_mm });
+    // The box, the code and the outputs show the newest sample once per animation frame: at
+    // 1 kHz, writing them for every sample would cost the page its frame rate.
+    if (!this.udpOnly && sample.code !== undefined && sample.code <= MAX_CODE) this.lastResultCode = sample.code;
+    this.newest = sample;
+    if (this.renderPending) return;
+    this.renderPending = true;
+    requestAnimationFrame(() => {
+      this.renderPending = false;
+      if (this.newest) this.show(this.newest);
+    });
+  }
+
+  private show(sample: Ls5Sample): void {
+    const distance = sample.distance_mm;
     if (this.udpOnly) {
       this.box.textContent = distance !== undefined ? `${distance} mm` : sample.signal === 'lost' ? 'no signal' : '–';
       return;
@@ -246,7 +261,6 @@ export class Ls5Page {
     const code = sample.code;
     if (code === undefined) return;
     this.code = code;
-    if (code <= MAX_CODE) this.lastResultCode = code;
     const range = Number(this.idValues.get('range')?.textContent?.replace(' mm', ''));
     let text: string;
     if (code === NO_SIGNAL) text = 'no signal';
