@@ -11,6 +11,11 @@
 #include "rangekit/uls/bus.hpp"
 
 namespace rangekit::hub {
+
+std::string bus_address_text(std::uint8_t address) { return uls::address_text(address); }
+
+std::optional<std::uint8_t> parse_bus_address(std::string_view text) { return uls::parse_unit_address(text); }
+
 namespace {
 
 constexpr std::array<std::pair<Action, const char*>, 8> action_names{{{Action::start, "start"},

@@ -12,7 +12,6 @@
 #include <charconv>
 #include <thread>
 
-#include "rangekit/uls/bus.hpp"
 #include "web/event_stream.hpp"
 #include "web/flush_ticker.hpp"
 #include "web/http.hpp"
@@ -502,7 +501,7 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
           if (!result) return self->fail(result.error());
           nlohmann::json units = nlohmann::json::array();
           for (const hub::BusUnitFound& unit : result->found) {
-            nlohmann::json entry{{"address", uls::address_text(unit.address)},
+            nlohmann::json entry{{"address", hub::bus_address_text(unit.address)},
                                  {"code", unit.address},
                                  {"version", unit.version},
                                  {"duplicate", unit.duplicate},
@@ -515,7 +514,7 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
           }
           nlohmann::json site = nlohmann::json::array();
           for (const auto& [address, sensor] : result->site) {
-            site.push_back({{"address", uls::address_text(address)}, {"code", address}, {"sensor", sensor}});
+            site.push_back({{"address", hub::bus_address_text(address)}, {"code", address}, {"sensor", sensor}});
           }
           self->respond(
               http::status::ok,
@@ -545,7 +544,7 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
       if (!json.contains(key)) continue;
       const std::string text =
           json[key].is_string() ? json[key].get<std::string>() : std::to_string(json[key].get<std::uint64_t>());
-      const auto address = uls::parse_unit_address(text);
+      const auto address = hub::parse_bus_address(text);
       if (!address) {
         return respond(http::status::bad_request,
                        error_json("out_of_range",
@@ -562,8 +561,8 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     off_loop([&hub = server_.hub, name, from, to] { return hub.assign_address(name, from, to); },
              [self = this->shared_from_this(), to](const Status& result) {
                if (!result) return self->fail(result.error());
-               self->respond(http::status::ok, nlohmann::json{{"result", "assigned " + uls::address_text(to)},
-                                                              {"address", uls::address_text(to)}}
+               self->respond(http::status::ok, nlohmann::json{{"result", "assigned " + hub::bus_address_text(to)},
+                                                              {"address", hub::bus_address_text(to)}}
                                                    .dump());
              });
   }

@@ -70,6 +70,11 @@ struct BusScan {
   std::vector<std::pair<std::uint8_t, std::string>> site;  // address, sensor: the site file's units on the port
 };
 
+// A bus address as §7's table writes it ('A', '0', ...), and such text read back (nullopt
+// outside 0x30..0xEF): the faces use these and need no ULS header of their own.
+std::string bus_address_text(std::uint8_t address);
+std::optional<std::uint8_t> parse_bus_address(std::string_view text);
+
 // A sensor action (POST …/actions/{action}); the family decides what each means.
 enum class Action : std::uint8_t {
   start,    // measure and stream
