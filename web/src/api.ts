@@ -75,6 +75,14 @@ export async function listSensors(): Promise<Sensor[]> {
   return body.sensors;
 }
 
+// One sensor's own stream, every sample unmerged (a sensor page's live plot).
+export function sensorEventsUrl(name: string): string {
+  const query = new URLSearchParams();
+  const value = token();
+  if (value) query.set('token', value);
+  return `/api/sensors/${encodeURIComponent(name)}/events?${query.toString()}`;
+}
+
 export function eventsUrl(maxRate: number): string {
   const query = new URLSearchParams({ max_rate: String(maxRate) });
   const value = token();

@@ -4,7 +4,7 @@
 // table 9.2 parameters (ls5_panels.ts) and the live plot (live_plot.ts). An Ethernet LS5 heard
 // over UDP only (§10) gets the stream, and a word on why it has no settings.
 import type { Sensor } from './api';
-import { authorisedFetch } from './api';
+import { authorisedFetch, sensorEventsUrl } from './api';
 import { LivePlot } from './live_plot';
 import { Ls5Panels } from './ls5_panels';
 import {
@@ -215,10 +215,7 @@ export class Ls5Page {
 
   open(): void {
     this.source?.close();
-    const query = new URLSearchParams();
-    const token = sessionStorage.getItem('rangekit-token');
-    if (token) query.set('token', token);
-    this.source = new EventSource(`/api/sensors/${encodeURIComponent(this.name)}/events?${query.toString()}`);
+    this.source = new EventSource(sensorEventsUrl(this.name));
     this.source.addEventListener('sample', (message) => {
       const item = JSON.parse((message as MessageEvent<string>).data) as { data: Ls5Sample };
       this.sample(item.data);

@@ -4,7 +4,7 @@
 // panels (uls_panels.ts), configuration files (config_file.ts), capture (capture_panel.ts),
 // the RS-485 network (rs485_network.ts) and the live plot (live_plot.ts).
 import type { Sensor } from './api';
-import { authorisedFetch } from './api';
+import { authorisedFetch, sensorEventsUrl } from './api';
 import { CapturePanel } from './capture_panel';
 import { ConfigFilePanel } from './config_file';
 import { Rs485Network } from './rs485_network';
@@ -147,10 +147,7 @@ export class UlsPage {
 
   open(): void {
     this.source?.close();
-    const query = new URLSearchParams();
-    const token = sessionStorage.getItem('rangekit-token');
-    if (token) query.set('token', token);
-    this.source = new EventSource(`/api/sensors/${encodeURIComponent(this.name)}/events?${query.toString()}`);
+    this.source = new EventSource(sensorEventsUrl(this.name));
     this.source.addEventListener('sample', (message) => {
       const item = JSON.parse((message as MessageEvent<string>).data) as { data: UlsSample };
       this.sample(item.data);
