@@ -8,12 +8,15 @@
 // the full outputs as text, to diff a run of the old decoders with the new.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <string>
 #include <string_view>
+
+#include "rangekit/core/framer.hpp"
 
 namespace rangekit::testing::corpus {
 
@@ -126,6 +129,39 @@ inline std::string escaped(std::string_view bytes) {
     }
   }
   return text;
+}
+
+// The corpus as one stream: `lines` lines of make_line(random), one in four damaged by mutate.
+template <class MakeLine>
+std::string corpus_stream(Random& random, std::size_t lines, MakeLine make_line) {
+  std::string stream;
+  for (std::size_t i = 0; i < lines; ++i) {
+    std::string line = make_line(random);
+    if (random.one_in(4)) line = mutate(std::move(line), random);
+    stream += line;
+  }
+  return stream;
+}
+
+// Feeds `stream` to a framer in random chunks of 1-200 bytes, as reads arrive, records each
+// rejection and frame in `framing`, and hands every frame to on_frame.
+template <class OnFrame>
+void frame_in_chunks(std::string_view stream, ScanFunction scan, Random& random, Digest& framing, OnFrame on_frame) {
+  FrameAssembler assembler(scan, 256);
+  FrameAssembler::Event event;
+  std::size_t offset = 0;
+  while (offset < stream.size()) {
+    const std::size_t chunk = std::min<std::size_t>(1 + random.below(200), stream.size() - offset);
+    offset += assembler.push(as_bytes(stream.substr(offset, chunk)));
+    while (assembler.next(event)) {
+      if (event.kind == FrameAssembler::Event::Kind::rejected) {
+        framing.add("rejected " + std::to_string(event.rejected_bytes) + " " + event.reason);
+        continue;
+      }
+      framing.add("frame " + escaped(as_text(event.frame)));
+      on_frame(event.frame);
+    }
+  }
 }
 
 }  // namespace rangekit::testing::corpus

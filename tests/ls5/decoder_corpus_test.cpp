@@ -106,31 +106,14 @@ std::string describe(const Reply& reply) {
 // L1, L2, L7 and table 9.1's reply forms, all at once: the whole output for the corpus.
 TEST(Ls5DecoderCorpus, SerialRepliesMatchTheRecordedOutputs) {
   Random random(17);
-  std::string stream;
-  for (std::size_t i = 0; i < corpus_lines; ++i) {
-    std::string line = random_line(random);
-    if (random.one_in(4)) line = testing::corpus::mutate(std::move(line), random);
-    stream += line;
-  }
+  const std::string stream = testing::corpus::corpus_stream(random, corpus_lines, random_line);
 
   Digest framing("ls5_framing");
   Digest parsing("ls5_parse_reply");
-  FrameAssembler assembler(&scan_reply_frame, 256);
-  FrameAssembler::Event event;
-  std::size_t offset = 0;
-  while (offset < stream.size()) {
-    const std::size_t chunk = std::min<std::size_t>(1 + random.below(200), stream.size() - offset);
-    offset += assembler.push(as_bytes(std::string_view(stream).substr(offset, chunk)));
-    while (assembler.next(event)) {
-      if (event.kind == FrameAssembler::Event::Kind::rejected) {
-        framing.add("rejected " + std::to_string(event.rejected_bytes) + " " + event.reason);
-        continue;
-      }
-      framing.add("frame " + escaped(as_text(event.frame)));
-      const Result<Reply> reply = parse_reply(event.frame);
-      parsing.add(reply ? describe(*reply) : describe(reply.error()));
-    }
-  }
+  testing::corpus::frame_in_chunks(stream, &scan_reply_frame, random, framing, [&](Bytes frame) {
+    const Result<Reply> reply = parse_reply(frame);
+    parsing.add(reply ? describe(*reply) : describe(reply.error()));
+  });
 
   // Recorded with the decoders of commit 3310b0b (before issue 17).
   EXPECT_EQ(framing.lines(), 60221U);

@@ -151,37 +151,20 @@ constexpr std::array<MeasurementContext, 10> contexts{{
 // U11, U27, U32 and the framer rules F1-F5, all at once: the whole output for the corpus.
 TEST(UlsDecoderCorpus, OutputsMatchTheRecordedOnes) {
   Random random(17);
-  std::string stream;
-  for (std::size_t i = 0; i < corpus_lines; ++i) {
-    std::string line = random_line(random);
-    if (random.one_in(4)) line = testing::corpus::mutate(std::move(line), random);
-    stream += line;
-  }
+  const std::string stream = testing::corpus::corpus_stream(random, corpus_lines, random_line);
 
   Digest framing("uls_framing");
   Digest parsing("uls_parse_frame");
   Digest decoding("uls_decode_measurement");
-  FrameAssembler assembler(&scan_frame, 256);
-  FrameAssembler::Event event;
-  std::size_t offset = 0;
-  while (offset < stream.size()) {
-    const std::size_t chunk = std::min<std::size_t>(1 + random.below(200), stream.size() - offset);
-    offset += assembler.push(as_bytes(std::string_view(stream).substr(offset, chunk)));
-    while (assembler.next(event)) {
-      if (event.kind == FrameAssembler::Event::Kind::rejected) {
-        framing.add("rejected " + std::to_string(event.rejected_bytes) + " " + event.reason);
-        continue;
-      }
-      framing.add("frame " + escaped(as_text(event.frame)));
-      const Result<FrameView> view = parse_frame(event.frame);
-      parsing.add(view ? describe(*view) : describe(view.error()));
-      for (const auto& context : contexts) {
-        const Result<Measurement> measurement = decode_measurement(event.frame, context);
-        decoding.add(measurement ? describe(measurement->source) + " " + describe(measurement->reading)
-                                 : describe(measurement.error()));
-      }
+  testing::corpus::frame_in_chunks(stream, &scan_frame, random, framing, [&](Bytes frame) {
+    const Result<FrameView> view = parse_frame(frame);
+    parsing.add(view ? describe(*view) : describe(view.error()));
+    for (const auto& context : contexts) {
+      const Result<Measurement> measurement = decode_measurement(frame, context);
+      decoding.add(measurement ? describe(measurement->source) + " " + describe(measurement->reading)
+                               : describe(measurement.error()));
     }
-  }
+  });
 
   // Recorded with the decoders of commit 3310b0b (before issue 17).
   EXPECT_EQ(framing.lines(), 59106U);
