@@ -3,8 +3,7 @@
 // uses), with table 9.2's name, the unit and the range, and checked here before anything is
 // sent (the same fields and checks as the ULS panels: settings_fields.ts). Upload sends only
 // the fields that changed, as one PATCH; the service checks again and reads every byte back.
-import { authorisedFetch } from './api';
-import { buildField, element, numberProblem } from './settings_fields';
+import { buildField, element, numberProblem, patchSettings } from './settings_fields';
 import type { FieldView } from './settings_fields';
 import { distanceMm, MAX_CODE } from './ls5_outputs';
 
@@ -222,25 +221,13 @@ export class Ls5Panels {
       if (!this.check(field)) wrong.push(key);
       if (field.input.value !== field.sent) body[key] = field.input.value.trim();
     }
-    if (wrong.length > 0) {
-      this.message.textContent = `Nothing sent: ${wrong.map((key) => `${this.fields.get(key)!.row.title}: ${this.fields.get(key)!.problem.textContent}`).join('; ')}`;
-      this.message.dataset.state = 'error';
-      this.fields.get(wrong[0])!.input.focus();
-      return;
-    }
-    if (Object.keys(body).length === 0) {
-      this.message.textContent = 'Nothing to upload: no field was changed.';
-      this.message.dataset.state = '';
-      return;
-    }
-    this.message.textContent = `Uploading ${Object.keys(body).join(', ')}…`;
-    this.message.dataset.state = '';
-    const response = await authorisedFetch(`/api/sensors/${encodeURIComponent(this.name)}/settings`, {
-      method: 'PATCH',
-      headers: { 'Content-Type': 'application/json' },
-      body: JSON.stringify(body),
+    const refusals = wrong.map((key) => {
+      const field = this.fields.get(key)!;
+      return { label: field.row.title, problem: field.problem.textContent ?? '', input: field.input };
     });
-    const answer = (await response.json()) as Record<string, unknown> & { error?: { message: string } };
+    const sent = await patchSettings(this.name, body, refusals, this.message);
+    if (!sent) return;
+    const { response, answer } = sent;
     if (!response.ok) {
       this.message.textContent = `Upload refused: ${answer.error?.message ?? response.status}`;
       this.message.dataset.state = 'error';

@@ -1,6 +1,8 @@
 // What the settings panels of every sensor page share (ULS §2 panels, LS5 table 9.2 groups):
 // an element helper, one labelled field (its range, its problem, wired for screen readers),
-// and the check of one number against the document's range, made before anything is sent.
+// and the check of one number against the document's range, made before anything is sent, and
+// the upload of what changed.
+import { authorisedFetch } from './api';
 
 export function element<K extends keyof HTMLElementTagNameMap>(tag: K, className?: string, text?: string) {
   const made = document.createElement(tag);
@@ -84,4 +86,40 @@ export function numberProblem(text: string, rule: NumberRule): string {
     }
   }
   return '';
+}
+
+// A field that failed its check: its name as the message gives it, the problem, and the input
+// that gets the focus.
+export interface Refusal {
+  label: string;
+  problem: string;
+  input: HTMLElement;
+}
+
+// Upload Settings of every panel: nothing is sent while a field is wrong (the first gets the
+// focus) or when nothing changed; otherwise one PATCH of `body`, whose response and JSON answer
+// come back for the page to show. Null when nothing was sent.
+export async function patchSettings(
+  name: string, body: Record<string, unknown>, wrong: Refusal[], message: HTMLElement,
+): Promise<{ response: Response; answer: Record<string, unknown> & { error?: { message: string; field?: string } } } | null> {
+  if (wrong.length > 0) {
+    message.textContent = `Nothing sent: ${wrong.map((refusal) => `${refusal.label}: ${refusal.problem}`).join('; ')}`;
+    message.dataset.state = 'error';
+    wrong[0].input.focus();
+    return null;
+  }
+  if (Object.keys(body).length === 0) {
+    message.textContent = 'Nothing to upload: no field was changed.';
+    message.dataset.state = '';
+    return null;
+  }
+  message.textContent = `Uploading ${Object.keys(body).join(', ')}…`;
+  message.dataset.state = '';
+  const response = await authorisedFetch(`/api/sensors/${encodeURIComponent(name)}/settings`, {
+    method: 'PATCH',
+    headers: { 'Content-Type': 'application/json' },
+    body: JSON.stringify(body),
+  });
+  const answer = (await response.json()) as Record<string, unknown> & { error?: { message: string; field?: string } };
+  return { response, answer };
 }

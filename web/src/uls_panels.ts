@@ -3,8 +3,7 @@
 // checks by), shown with its range and unit, and checked here before anything is sent.
 // Upload Settings sends only the fields that changed, as one PATCH; a refusal of the unit
 // shows the API's message, which carries the §10 number and its Interface text.
-import { authorisedFetch } from './api';
-import { buildField, element, numberProblem } from './settings_fields';
+import { buildField, element, numberProblem, patchSettings } from './settings_fields';
 
 export interface SchemaRow {
   key: string;
@@ -249,25 +248,13 @@ export class UlsPanels {
       const parts = field.input.value.split(',').map((part) => Number(part.trim()));
       body[key] = field.row.max_fields > 1 ? parts : parts[0];
     }
-    if (wrong.length > 0) {
-      this.message.textContent = `Nothing sent: ${wrong.map((key) => `${key}: ${this.fields.get(key)!.problem.textContent}`).join('; ')}`;
-      this.message.dataset.state = 'error';
-      this.fields.get(wrong[0])!.input.focus();
-      return;
-    }
-    if (Object.keys(body).length === 0) {
-      this.message.textContent = 'Nothing to upload: no field was changed.';
-      this.message.dataset.state = '';
-      return;
-    }
-    this.message.textContent = `Uploading ${Object.keys(body).join(', ')}…`;
-    this.message.dataset.state = '';
-    const response = await authorisedFetch(`/api/sensors/${encodeURIComponent(this.name)}/settings`, {
-      method: 'PATCH',
-      headers: { 'Content-Type': 'application/json' },
-      body: JSON.stringify(body),
+    const refusals = wrong.map((key) => {
+      const field = this.fields.get(key)!;
+      return { label: key, problem: field.problem.textContent ?? '', input: field.input };
     });
-    const answer = (await response.json()) as Record<string, unknown> & { error?: { message: string; field?: string } };
+    const sent = await patchSettings(this.name, body, refusals, this.message);
+    if (!sent) return;
+    const { response, answer } = sent;
     if (!response.ok) {
       // device_error: "$AW: device error 49: Pulse Per Output Must Be Greater Than Average Weight" (§10)
       const message = answer.error?.message ?? String(response.status);
