@@ -64,12 +64,14 @@ class ScriptedDevice {
           line.push_back(static_cast<char>(buffer[i]));
           continue;
         }
-        const std::string reply = handler_(line);
+        // Recorded before the handler runs: a handler may send (GO's lines) and the driver
+        // can act on those bytes before this thread gets here again.
         {
           std::lock_guard lock(mutex_);
           requests_.push_back(line);
         }
         seen_.notify_all();
+        const std::string reply = handler_(line);
         if (!reply.empty()) send(reply);
         line.clear();
       }
