@@ -47,7 +47,9 @@ void Subscription::set_listener(std::function<void()> listener) {
 
 std::vector<HubItemPtr> Subscription::take(std::size_t max, std::chrono::milliseconds timeout) {
   std::unique_lock lock(mutex_);
-  ready_.wait_for(lock, timeout, [this] { return !items_.empty() || closed_; });
+  // No wait at all for a zero timeout: a condition wait with an expired deadline still
+  // sleeps in the kernel, once per flush of every SSE client (perf, docs/service.md).
+  if (timeout.count() > 0) ready_.wait_for(lock, timeout, [this] { return !items_.empty() || closed_; });
   std::vector<HubItemPtr> batch;
   const std::size_t count = std::min(max, items_.size());
   batch.reserve(count);

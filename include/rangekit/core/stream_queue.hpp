@@ -144,6 +144,9 @@ class StreamQueue {
 
   // Waits for an item, then (with a gather time) for the next ones to join it.
   bool wait_for_items(std::unique_lock<std::mutex>& lock, std::chrono::milliseconds timeout) {
+    // A condition wait with an expired deadline still sleeps in the kernel: a zero timeout
+    // (a consumer draining what is there) only looks.
+    if (timeout.count() <= 0) return queued() > 0;
     const auto deadline = std::chrono::steady_clock::now() + std::min(timeout, std::chrono::milliseconds(86'400'000));
     while (queued() == 0) {
       if (!ready_.wait_until(lock, deadline, [this] { return queued() > 0 || closed_; })) return false;
