@@ -103,10 +103,14 @@ void PortWorker::loop() {
     }
     run_jobs(connected);
     if (connected && backend_->pump(std::chrono::milliseconds(20))) continue;
-    // Nothing to read: sleep until a command comes, or until it is time to retry the port.
+    // Nothing to do now: sleep until a command comes, the next paced poll is due, or it is
+    // time to retry the port.
+    auto until = std::chrono::steady_clock::now() + (connected ? std::chrono::milliseconds(200) : reconnect_interval_);
+    if (connected) {
+      if (const auto due = backend_->next_due(); due && *due < until) until = *due;
+    }
     std::unique_lock lock(mutex_);
-    wake_.wait_for(lock, connected ? std::chrono::milliseconds(200) : reconnect_interval_,
-                   [this] { return stopping_ || !jobs_.empty(); });
+    wake_.wait_until(lock, until, [this] { return stopping_ || !jobs_.empty(); });
   }
   backend_->shutdown();
 }

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -51,6 +52,9 @@ class Backend {
   // Reads or polls for up to `wait`, publishing what arrives. False when there
   // was nothing to do (no stream): the worker then waits for a command instead.
   virtual bool pump(std::chrono::milliseconds wait) = 0;
+  // When pump() has something to do again without a command (a paced poll); none: only
+  // a command or a reconnect wakes the worker.
+  [[nodiscard]] virtual std::optional<std::chrono::steady_clock::time_point> next_due() const { return std::nullopt; }
   virtual Status set_streaming(Session& session, bool on) = 0;
   virtual Result<std::vector<Field>> read_settings(Session& session) = 0;
   virtual Result<std::vector<Field>> write_settings(Session& session, const SettingValues& values) = 0;

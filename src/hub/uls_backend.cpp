@@ -296,7 +296,10 @@ class UlsBusBackend final : public Backend {
         publisher_(publisher),
         open_(std::move(open)),
         answering_(sessions_.size(), true),
-        retry_at_(sessions_.size()) {}
+        retry_at_(sessions_.size()),
+        next_poll_at_(sessions_.size()),
+        plans_(sessions_.size()),
+        last_look_down_(sessions_.size()) {}
 
   Status connect() override {
     const SensorConfig& first = sessions_.front()->config;
@@ -330,6 +333,7 @@ class UlsBusBackend final : public Backend {
                                       "talks unasked and collides with the others; set continuous=off"));
       }
     }
+    for (auto& plan : plans_) plan.reset();  // read again from the units as they are now
     bus_ = std::move(bus);
     // Units that did not answer are reported on their own; the port itself is up.
     for (std::size_t i = 0; i < sessions_.size(); ++i) {
@@ -344,19 +348,23 @@ class UlsBusBackend final : public Backend {
   [[nodiscard]] bool connected() const override { return bus_ != nullptr; }
 
   bool pump(std::chrono::milliseconds /*wait*/) override {
-    // The next polling unit after the last one polled: every unit gets its turn.
+    // The next unit due after the last one polled: every unit gets its turn.
+    const auto now = std::chrono::steady_clock::now();
     for (std::size_t step = 0; step < sessions_.size(); ++step) {
       next_ = (next_ + 1) % sessions_.size();
-      Session& session = *sessions_[next_];
-      {
-        std::lock_guard lock(session.mutex);
-        if (!session.streaming) continue;
-      }
-      if (!answering_[next_] && std::chrono::steady_clock::now() < retry_at_[next_]) continue;
+      if (!streaming(next_) || now < due_at(next_)) continue;
       poll(next_);
       return true;
     }
     return false;
+  }
+
+  [[nodiscard]] std::optional<std::chrono::steady_clock::time_point> next_due() const override {
+    std::optional<std::chrono::steady_clock::time_point> earliest;
+    for (std::size_t i = 0; i < sessions_.size(); ++i) {
+      if (streaming(i) && (!earliest || due_at(i) < *earliest)) earliest = due_at(i);
+    }
+    return earliest;
   }
 
   Status set_streaming(Session& session, bool on) override {
@@ -370,6 +378,7 @@ class UlsBusBackend final : public Backend {
   }
 
   Result<std::vector<Field>> write_settings(Session& session, const SettingValues& values) override {
+    forget_plan(session);  // PF, PO or MM may change the output period
     return addressed(session, [&](uls::Driver& driver) { return write_fields(driver, session, values); });
   }
 
@@ -378,6 +387,7 @@ class UlsBusBackend final : public Backend {
       if (auto changed = set_streaming(session, action == Action::start); !changed) return std::move(changed).error();
       return std::string();
     }
+    forget_plan(session);  // a reset restores the default rates
     return addressed(session, [&](uls::Driver& driver) { return unit_action(driver, session, action, argument); });
   }
 
@@ -386,6 +396,7 @@ class UlsBusBackend final : public Backend {
   }
 
   Result<std::vector<Field>> import_config(Session& session, std::string_view toml) override {
+    forget_plan(session);
     return addressed(session, [&](uls::Driver& driver) { return import_fields(driver, session, toml); });
   }
 
@@ -433,9 +444,39 @@ class UlsBusBackend final : public Backend {
     return call(driver);
   }
 
+  using Clock = std::chrono::steady_clock;
+
+  [[nodiscard]] bool streaming(std::size_t index) const {
+    std::lock_guard lock(sessions_[index]->mutex);
+    return sessions_[index]->streaming;
+  }
+  // A silent unit is asked again every few seconds; one that answers once per output period.
+  [[nodiscard]] Clock::time_point due_at(std::size_t index) const {
+    return answering_[index] ? next_poll_at_[index] : retry_at_[index];
+  }
+  void forget_plan(const Session& session) {
+    for (std::size_t i = 0; i < sessions_.size(); ++i) {
+      if (sessions_[i] == &session) plans_[i].reset();
+    }
+  }
+  // The unit's output period (U110), read again after anything that may have changed it.
+  const uls::Driver::PollPlan& plan_of(std::size_t index) {
+    if (!plans_[index]) {
+      uls::Driver& driver = bus_->driver();
+      auto mode = driver.mode();
+      auto plan = mode ? driver.poll_plan(*mode) : Result<uls::Driver::PollPlan>(std::move(mode).error());
+      if (!plan) return fallback_plan;  // read again before the next poll
+      plans_[index] = *plan;
+      last_look_down_[index].reset();
+    }
+    return *plans_[index];
+  }
+
   void poll(std::size_t index) {
     Session& session = *sessions_[index];
     const auto address = static_cast<std::uint8_t>(*session.config.address);
+    (void)bus_->driver().set_address(address);
+    const uls::Driver::PollPlan plan = plan_of(index);
     const auto results = bus_->poll({address}, true);
     const uls::PollResult& result = results.front();
     if (!result.answered) {
@@ -460,7 +501,16 @@ class UlsBusBackend final : public Backend {
       std::lock_guard lock(session.mutex);
       session.status = status_fields(*result.status);
     }
+    // The next BM one output period after this one was answered (U89, U110).
+    next_poll_at_[index] = Clock::now() + plan.period;
     if (result.sample) {
+      // Look down is reported by its changes (U87): the same answer again is no new edge.
+      if (plan.look_down) {
+        const bool repeat =
+            last_look_down_[index] && uls::same_look_down_answer(*last_look_down_[index], *result.sample);
+        last_look_down_[index] = *result.sample;
+        if (repeat) return;
+      }
       publisher_.publish(session, *result.sample);
     } else if (result.error) {
       publisher_.publish(session, make_event(StreamEventKind::device_error, result.error->describe()));
@@ -472,6 +522,10 @@ class UlsBusBackend final : public Backend {
   PortOpener open_;
   std::vector<bool> answering_;
   std::vector<std::chrono::steady_clock::time_point> retry_at_;  // when a silent unit is asked again
+  std::vector<Clock::time_point> next_poll_at_;
+  std::vector<std::optional<uls::Driver::PollPlan>> plans_;
+  std::vector<std::optional<Sample>> last_look_down_;      // the previous answer of a unit in look down
+  static constexpr uls::Driver::PollPlan fallback_plan{};  // 100 ms while the plan cannot be read
   static constexpr std::chrono::seconds silent_retry_interval{2};
   // A scan's wait at each address: a silent one costs this much (a unit answers in a few ms).
   static constexpr std::chrono::milliseconds scan_wait{200};

@@ -178,3 +178,36 @@ TEST(HubPty, U105_U106_ScanAndAssignOnTheBus) {
   EXPECT_EQ(hub->scan_bus("silo").error().code, Errc::unsupported);
   EXPECT_EQ(hub->assign_address("belt", std::nullopt, 'E').error().code, Errc::unsupported);
 }
+
+// U110: §2 Continuous Output "The continuous output data rate is the pulses per measure
+// divided by the PRF", and a poll faster than that returns a measurement twice (U89). The
+// network poll (§7 "The ULS Interface Program periodically polls the units") asks each unit
+// again one output period after its previous answer: bay-A at PRF 4000 Hz and 400 pulses per
+// measure (100 ms) gives samples at least 100 ms apart (it was polled about 27 times a second).
+// Look down is reported by its changes (U87): bay-B, with nothing passing, gives one sample.
+TEST(HubPty, U110_TheBusPollsEachUnitOncePerOutputPeriod) {
+  Site site;
+  auto hub = Hub::start(site.config);
+  auto averaging =
+      hub->set("bay-A", {{"mode", "averaging"}, {"averaging-weight", "100"}, {"prf-hz", "4000"}, {"ppm", "400"}});
+  ASSERT_TRUE(averaging.ok()) << averaging.error().message;
+  auto look_down = hub->set("bay-B", {{"mode", "look-down"}});
+  ASSERT_TRUE(look_down.ok()) << look_down.error().message;
+  auto bay_a = hub->subscribe("bay-A", 1000, OverflowPolicy::drop_oldest);
+  auto bay_b = hub->subscribe("bay-B", 1000, OverflowPolicy::drop_oldest);
+  ASSERT_TRUE(bay_a.ok() && bay_b.ok());
+  std::vector<Sample> samples;
+  ASSERT_TRUE(take_until(**bay_a, [&](const HubItem& item) {
+    if (const auto* sample = std::get_if<Sample>(&item.item)) samples.push_back(*sample);
+    return samples.size() >= 8;
+  }));
+  for (std::size_t i = 1; i < samples.size(); ++i) {
+    EXPECT_GE(samples[i].time - samples[i - 1].time, 100ms) << "samples " << i - 1 << " and " << i;
+  }
+  // 700 ms and more have passed: at 50 ms a poll, more than ten look-down answers, all OFF.
+  std::size_t look_down_samples = 0;
+  for (const HubItemPtr& item : (*bay_b)->take(1000, 0ms)) {
+    if (std::holds_alternative<Sample>(item->item)) ++look_down_samples;
+  }
+  EXPECT_EQ(look_down_samples, 1u);
+}

@@ -135,6 +135,16 @@ class Driver final {
 
   Result<Mode> mode();
   Status set_mode(Mode mode);
+  // How often a BM poll can bring a new answer in `mode`: the output period PPM / PRF
+  // (§2 Continuous Output), rounded up to the microsecond (a faster poll returns a
+  // measurement twice, U89) and kept within 5 ms..10 s; look down, which a poll reports
+  // by its changes (U87), every 50 ms. Reads PF (and PO). A polled stream and the
+  // RS-485 network poll (U110) both pace by it.
+  struct PollPlan {
+    std::chrono::microseconds period{100000};
+    bool look_down = false;
+  };
+  Result<PollPlan> poll_plan(Mode mode);
   Result<DisplayMode> display_mode();
   Status set_display_mode(DisplayMode display);
   Result<Units> units();
@@ -289,9 +299,7 @@ class Driver final {
   std::atomic<bool> collecting_{false};  // measurements go to the stream's queue
   std::atomic<StreamMode> active_mode_{StreamMode::continuous};
   StreamMode requested_mode_ = StreamMode::automatic;
-  std::chrono::microseconds poll_period_{100000};  // the output period PPM / PRF, rounded up
-  // Look down sends only edges (U87): silence is normal and a poll reports changes only.
-  bool look_down_stream_ = false;
+  PollPlan poll_plan_;  // look down sends only edges (U87): silence is normal and a poll reports changes only
   std::optional<Sample> last_polled_;  // the previous poll's answer in look down
   std::chrono::steady_clock::time_point last_measurement_{};
 };
@@ -338,5 +346,9 @@ Result<ProbeResult> probe(Transport& transport, std::optional<std::uint8_t> addr
 // Builds a Sample (device "uls") from a decoded reading; binning targets are
 // collected by the driver into one sample per array.
 Sample sample_from_reading(const Reading& reading, int address, const std::string& source);
+
+// Whether two look-down poll answers say the same (presence, time between events, error):
+// the same answer again is no new edge (U87), on its own port and on a bus (U110).
+bool same_look_down_answer(const Sample& a, const Sample& b) noexcept;
 
 }  // namespace rangekit::uls

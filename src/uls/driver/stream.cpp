@@ -118,13 +118,34 @@ void Driver::handle_measurement(const Measurement& measurement) {
 
 // A look-down poll reads the state the last edge left (§2 Single Measurement, "the most recent
 // measurement"): the same answer again is no new edge (U87).
+bool same_look_down_answer(const Sample& a, const Sample& b) noexcept {
+  return a.kind == b.kind && a.presence == b.presence && a.pulses_between_events == b.pulses_between_events &&
+         a.pulses_overflow == b.pulses_overflow && a.device_error == b.device_error;
+}
+
 bool Driver::repeats_last_poll(const Sample& sample) {
-  const bool same = last_polled_ && last_polled_->kind == sample.kind && last_polled_->presence == sample.presence &&
-                    last_polled_->pulses_between_events == sample.pulses_between_events &&
-                    last_polled_->pulses_overflow == sample.pulses_overflow &&
-                    last_polled_->device_error == sample.device_error;
+  const bool same = last_polled_ && same_look_down_answer(*last_polled_, sample);
   last_polled_ = sample;
   return same;
+}
+
+Result<Driver::PollPlan> Driver::poll_plan(Mode mode) {
+  PollPlan plan;
+  plan.look_down = mode == Mode::look_down;
+  if (plan.look_down) {
+    plan.period = 50ms;
+    return plan;
+  }
+  auto rates = prf();
+  if (!rates) return rates.error();
+  auto ppm = pulses_per_measurement();
+  if (!ppm) return ppm.error();
+  const std::size_t index = mode == Mode::averaging ? 0 : 1;
+  const double seconds = output_period_s((*ppm)[index], (*rates)[index]);
+  // Rounded up: polling faster than the unit measures returns a measurement twice (U89).
+  const auto period = std::chrono::ceil<std::chrono::microseconds>(std::chrono::duration<double>(seconds));
+  plan.period = std::clamp<std::chrono::microseconds>(period, 5ms, 10000ms);
+  return plan;
 }
 
 Status Driver::begin_measuring(bool reconnecting) {
@@ -142,19 +163,9 @@ Status Driver::begin_measuring(bool reconnecting) {
     mode = *continuous_on ? StreamMode::continuous : StreamMode::polled;
   }
   // The poll period is the output period PPM / PRF of the mode (§2); look down reports changes.
-  auto rates = prf();
-  if (!rates) return rates.error();
-  std::chrono::microseconds period = 50ms;
-  if (context->mode != Mode::look_down) {
-    auto ppm = pulses_per_measurement();
-    if (!ppm) return ppm.error();
-    const std::size_t index = context->mode == Mode::averaging ? 0 : 1;
-    const double seconds = output_period_s((*ppm)[index], (*rates)[index]);
-    // Rounded up: polling faster than the unit measures returns a measurement twice (U89).
-    period = std::chrono::ceil<std::chrono::microseconds>(std::chrono::duration<double>(seconds));
-  }
-  poll_period_ = std::clamp<std::chrono::microseconds>(period, 5ms, 10000ms);
-  look_down_stream_ = context->mode == Mode::look_down;
+  auto plan = poll_plan(context->mode);
+  if (!plan) return plan.error();
+  poll_plan_ = *plan;
   last_polled_.reset();
   partial_targets_.clear();
   active_mode_ = mode;
@@ -278,9 +289,9 @@ void Driver::reader_loop(detail::LiveStream& live) {
       // BM answers "the most recent measurement" (§2 Single Measurement), and the first
       // answer waits for the first measurement: the next new one is due one output period
       // after the answer, not after the request (U89).
-      next_poll = std::chrono::steady_clock::now() + poll_period_;
+      next_poll = std::chrono::steady_clock::now() + poll_plan_.period;
       if (done) {
-        if (!look_down_stream_ || !repeats_last_poll(sample)) emit_sample(std::move(sample));
+        if (!poll_plan_.look_down || !repeats_last_poll(sample)) emit_sample(std::move(sample));
       } else if (done.error().code == Errc::closed || done.error().code == Errc::io) {
         step = done.error();
       } else if (done.error().code == Errc::device_error) {
@@ -295,16 +306,16 @@ void Driver::reader_loop(detail::LiveStream& live) {
       // No continuous lines on this port (MO sends them elsewhere): poll instead (U62).
       // Not in look down, which is silent while nothing changes (U87).
       if (step && requested_mode_ == StreamMode::automatic && active_mode_ == StreamMode::continuous &&
-          !look_down_stream_ &&
+          !poll_plan_.look_down &&
           std::chrono::steady_clock::now() - last_measurement_ >
-              std::max<std::chrono::microseconds>(3 * poll_period_, 1500ms)) {
+              std::max<std::chrono::microseconds>(3 * poll_plan_.period, 1500ms)) {
         active_mode_ = StreamMode::polled;
         // Said, not done silently: the data now come one BM at a time, and a unit that
         // sends its lines to the other port (MO) is worth knowing about.
         emit_event(StreamEventKind::polling,
                    options_.source +
                        ": no continuous lines on this port (CO on, MO elsewhere?): polling with BM every " +
-                       std::to_string(std::chrono::ceil<std::chrono::milliseconds>(poll_period_).count()) + " ms");
+                       std::to_string(std::chrono::ceil<std::chrono::milliseconds>(poll_plan_.period).count()) + " ms");
       }
     }
     if (step) continue;
