@@ -174,7 +174,8 @@ void Stream::stop() {
   });
 }
 
-bool Stream::finished() const { return !source_ || (source_->finished() && batch_empty()); }
+// The source's own flag only: another Python thread may ask while a read fills batch_ without the GIL.
+bool Stream::finished() const { return !source_ || source_->finished(); }
 
 std::uint64_t Stream::lost() const { return source_ ? source_->lost() : 0; }
 
@@ -195,7 +196,9 @@ void init_streams(py::module_& module) {
            "are kept for take_events(). The GIL is released while waiting; Ctrl-C raises KeyboardInterrupt.")
       .def("take_events", &Stream::take_events, "The events read() met since the last call, in order.")
       .def("stop", &Stream::stop, "Ends the stream (the device is left as the driver's stream stop says).")
-      .def_property_readonly("finished", &Stream::finished, "the stream has ended and nothing is left")
+      .def_property_readonly(
+          "finished", &Stream::finished,
+          "the stream has ended (what it queued before may still come out of read() and the iterator)")
       .def_property_readonly("lost", &Stream::lost, "records lost inside the stream (queue overflow, counter gaps)")
       .def_property_readonly("waiting", &Stream::waiting, "a read or next is waiting for the device right now");
 }
