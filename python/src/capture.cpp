@@ -36,7 +36,7 @@ void init_capture(py::module_& parent) {
                 }
                 ++total;
               },
-              [&](StreamEvent&& event) { events.push_back(std::move(event)); });
+              [&](StreamEvent&& event) { events.push_back(std::move(event)); }, record::CaptureFields::array);
         });
         check(read);
         if (!beyond_bound.empty()) {

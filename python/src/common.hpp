@@ -79,13 +79,6 @@ py::array records_to_array(const std::vector<SampleRecord>& records);
 // A sample or an event as its Python object (rangekit.Sample / rangekit.Event).
 py::object to_python(StreamItem item);
 
-// Waits for the source's next item until `deadline` (none: for ever), in short
-// slices with the GIL released; between slices Python's signal handlers run, so
-// Ctrl-C raises KeyboardInterrupt here. Nothing: the deadline passed or the source
-// finished. `waiting` is true while the GIL is released for the wait.
-std::optional<StreamItem> wait_next(SampleSource& source, std::optional<std::chrono::steady_clock::time_point> deadline,
-                                    std::atomic<bool>& waiting);
-
 // The Python stream object over a driver's MeasurementStream or a replay.
 // The per-sample quality checks a stream applies, as `rangekit ls5|uls stream` does
 // (--max-speed, --drop-suspect; core/sample_quality.hpp).
@@ -113,9 +106,21 @@ class Stream {
  private:
   // Runs the quality checks on a sample; false when it is suspect and dropped.
   bool admit(StreamItem& item);
+  // The next admitted item, from the batch at hand or the next one taken until `deadline`
+  // (none: for ever); nothing when the deadline passed or the source finished.
   std::optional<StreamItem> next_admitted(std::optional<std::chrono::steady_clock::time_point> deadline);
+  // Takes the source's next batch (everything it queued, one lock) into batch_, waiting
+  // until `deadline` in short slices with the GIL released; between slices Python's signal
+  // handlers run, so Ctrl-C raises KeyboardInterrupt here. False: the deadline passed or
+  // the source finished and nothing is left.
+  bool take_batch(std::optional<std::chrono::steady_clock::time_point> deadline);
+  [[nodiscard]] bool batch_empty() const noexcept { return batch_next_ == batch_.size(); }
 
   SampleSourcePtr source_;
+  // The source's items taken but not handed out yet, from batch_next_ on: read(n) and the
+  // iterator both hand them out before taking more, so every item comes out once, in order.
+  std::vector<StreamItem> batch_;
+  std::size_t batch_next_ = 0;
   std::optional<SampleChecker> checker_;
   bool drop_suspect_ = false;
   std::deque<StreamEvent> events_;  // met by read(), kept for take_events()

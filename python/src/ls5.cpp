@@ -15,6 +15,11 @@ namespace rangekit::python {
 namespace {
 
 constexpr std::string_view family = "ls5";
+// The stream reader lets records collect in the port this long between reads (the C++
+// default is 2 ms): a Python consumer takes them at most every few milliseconds anyway, and
+// 500 wake-ups a second were most of a 1 kHz stream's CPU (docs/python.md, Benchmark).
+// 10 ms is 920 bytes at 921600 baud, far below the port buffer.
+constexpr std::chrono::microseconds python_read_gather{10000};
 
 py::object typed_value(const ls5::HostSetting* setting, const std::string& text) {
   if (setting == nullptr || !ls5::setting_is_numeric(*setting)) return py::str(text);
@@ -167,6 +172,7 @@ void init_ls5(py::module_& parent) {
             }
             options.reconnect_interval = std::chrono::milliseconds(static_cast<long>(reconnect_interval * 1000.0));
             options.silence_timeout = std::chrono::milliseconds(static_cast<long>(silence_timeout * 1000.0));
+            options.read_gather = python_read_gather;
             auto stream =
                 unwrap(device.call([&](ls5::Driver& driver) { return driver.start_stream(options); }), family);
             return std::make_unique<Stream>(SampleSourcePtr(std::move(stream)), quality);

@@ -28,24 +28,6 @@ std::mutex& events_mutex() {
 
 }  // namespace
 
-std::optional<StreamItem> wait_next(SampleSource& source, std::optional<steady_clock::time_point> deadline,
-                                    std::atomic<bool>& waiting) {
-  while (true) {
-    auto slice_end = steady_clock::now() + signal_slice;
-    if (deadline) slice_end = std::min(slice_end, *deadline);
-    std::optional<StreamItem> item = without_gil([&] {
-      waiting = true;
-      auto next = source.next(until(slice_end));
-      waiting = false;
-      return next;
-    });
-    if (item) return item;
-    if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // KeyboardInterrupt
-    if (source.finished()) return std::nullopt;
-    if (deadline && steady_clock::now() >= *deadline) return std::nullopt;
-  }
-}
-
 StreamQuality stream_quality(bool check, std::optional<double> max_speed_mps, bool drop_suspect) {
   if (max_speed_mps && !(*max_speed_mps > 0)) throw py::value_error("max_speed must be more than 0 m/s");
   if (drop_suspect && !check) throw py::value_error("drop_suspect needs check_quality");
@@ -64,10 +46,35 @@ bool Stream::admit(StreamItem& item) {
   return !(sample->suspect && drop_suspect_);
 }
 
+bool Stream::take_batch(std::optional<steady_clock::time_point> deadline) {
+  while (true) {
+    auto slice_end = steady_clock::now() + signal_slice;
+    if (deadline) slice_end = std::min(slice_end, *deadline);
+    // Read before waiting: a source that was finished then has nothing left once the
+    // batch comes back empty, while one that finishes during the wait may still hand
+    // over its last items.
+    const bool was_finished = source_->finished();
+    const bool got = without_gil([&] {
+      waiting_ = true;
+      const bool taken = source_->next_batch(batch_, until(slice_end));
+      waiting_ = false;
+      return taken;
+    });
+    batch_next_ = 0;
+    if (got) return true;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // KeyboardInterrupt
+    if (was_finished) return false;
+    if (deadline && steady_clock::now() >= *deadline) return false;
+  }
+}
+
 std::optional<StreamItem> Stream::next_admitted(std::optional<steady_clock::time_point> deadline) {
   while (true) {
-    auto item = wait_next(*source_, deadline, waiting_);
-    if (!item || admit(*item)) return item;
+    while (!batch_empty()) {
+      StreamItem& item = batch_[batch_next_++];
+      if (admit(item)) return std::move(item);
+    }
+    if (!take_batch(deadline)) return std::nullopt;
   }
 }
 
@@ -112,21 +119,30 @@ py::array Stream::read(std::optional<std::size_t> count, std::optional<double> d
       auto slice_end = steady_clock::now() + signal_slice;
       if (deadline) slice_end = std::min(slice_end, *deadline);
       while (want_more()) {
-        auto item = source_->next(std::chrono::milliseconds(0));
-        if (!item) {
-          ended = source_->finished();
-          if (ended || steady_clock::now() >= slice_end) break;
-          // Nothing queued: let records gather for a batch period instead of waking for each
-          // one (at 1 kHz that is 50 a wake-up, not 1); the array comes back at the end anyway.
-          std::this_thread::sleep_for(std::min<steady_clock::duration>(batch_period, slice_end - steady_clock::now()));
-          continue;
+        if (batch_empty()) {
+          const bool was_finished = source_->finished();  // before taking: see take_batch
+          const bool got = source_->next_batch(batch_, std::chrono::milliseconds(0));
+          batch_next_ = 0;
+          if (!got) {
+            ended = was_finished;
+            if (ended || steady_clock::now() >= slice_end) break;
+            // Nothing queued: let records gather for a batch period instead of waking for each
+            // one (at 1 kHz that is 50 a wake-up, not 1); the array comes back at the end anyway.
+            std::this_thread::sleep_for(
+                std::min<steady_clock::duration>(batch_period, slice_end - steady_clock::now()));
+            continue;
+          }
         }
-        if (!admit(*item)) continue;  // suspect, and drop_suspect
-        if (const auto* sample = std::get_if<Sample>(&*item)) {
-          records.push_back(to_record(*sample));
-        } else {
-          std::lock_guard lock(events_mutex());
-          events_.push_back(std::get<StreamEvent>(std::move(*item)));
+        // The whole batch in one go; what read(n) leaves of it stays for the next call.
+        while (!batch_empty() && want_more()) {
+          StreamItem& item = batch_[batch_next_++];
+          if (!admit(item)) continue;  // suspect, and drop_suspect
+          if (const auto* sample = std::get_if<Sample>(&item)) {
+            records.push_back(to_record(*sample));
+          } else {
+            std::lock_guard lock(events_mutex());
+            events_.push_back(std::get<StreamEvent>(std::move(item)));
+          }
         }
         if (steady_clock::now() >= slice_end) break;
       }
@@ -158,6 +174,7 @@ void Stream::stop() {
   });
 }
 
+// The source's own flag only: another Python thread may ask while a read fills batch_ without the GIL.
 bool Stream::finished() const { return !source_ || source_->finished(); }
 
 std::uint64_t Stream::lost() const { return source_ ? source_->lost() : 0; }
@@ -179,7 +196,9 @@ void init_streams(py::module_& module) {
            "are kept for take_events(). The GIL is released while waiting; Ctrl-C raises KeyboardInterrupt.")
       .def("take_events", &Stream::take_events, "The events read() met since the last call, in order.")
       .def("stop", &Stream::stop, "Ends the stream (the device is left as the driver's stream stop says).")
-      .def_property_readonly("finished", &Stream::finished, "the stream has ended and nothing is left")
+      .def_property_readonly(
+          "finished", &Stream::finished,
+          "the stream has ended (what it queued before may still come out of read() and the iterator)")
       .def_property_readonly("lost", &Stream::lost, "records lost inside the stream (queue overflow, counter gaps)")
       .def_property_readonly("waiting", &Stream::waiting, "a read or next is waiting for the device right now");
 }

@@ -108,6 +108,38 @@ def test_killed_emulator_yields_disconnected_then_reconnected(ls5_unit):
         stream.stop()
 
 
+def test_batches_hand_out_every_item_once_in_order_across_read_and_iteration(ls5_unit):
+    """The stream takes the driver's queue in batches (everything queued, with one lock):
+    read(n) leaves the rest of a batch for the next read() or the iterator, and a link's
+    events stay where they came among the samples (issue 16: streams as iterators, events
+    delivered in order)."""
+    with rangekit.ls5.open(ls5_unit.port) as drv:
+        stream = drv.stream(thinning=1, reconnect_interval=0.1)
+        assert first_event(stream).kind == "connected"
+        block = stream.read(2)  # waits for a batch of several records and takes two
+        following = next(stream)  # the next one: from the same batch, not a later one
+        assert not following.is_event and following.code == EXPECTED_CODE
+        assert block["time"][0] <= block["time"][1] <= following.time
+        ls5_unit.kill()
+        items = []
+        for item in stream:  # the samples still queued, then the loss of the link
+            items.append(item)
+            if item.is_event and item.kind == "disconnected":
+                break
+        kinds = [item.kind if item.is_event else "sample" for item in items]
+        # Samples first, at most a half frame's bad_frame, the disconnection last.
+        assert kinds[-1] == "disconnected"
+        assert kinds[:-1] == sorted(kinds[:-1], key=lambda kind: kind != "sample")
+        assert set(kinds[:-1]) <= {"sample", "bad_frame"}
+        times = [item.time for item in items]
+        assert times == sorted(times)
+        ls5_unit.restart()
+        block = stream.read(3)  # the reconnection's event comes first, then the records
+        assert len(block) == 3 and (block["code"] == EXPECTED_CODE).all()
+        assert [event.kind for event in stream.take_events()] == ["reconnected"]
+        stream.stop()
+
+
 # L71 (issue 18 item 2): a record further from the running median than max_speed allows is
 # marked suspect, as `rangekit ls5 stream` marks it; drop_suspect leaves it out. LS5 100/200
 # (range 200 mm): the scene jumps 160 mm in 1 ms every second, beyond the default max_speed

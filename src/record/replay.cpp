@@ -20,6 +20,12 @@ using SystemTime = std::chrono::system_clock::time_point;
 constexpr const char* samples_columns =
     "SELECT seq, time_ns, device, source, address, kind, distance_m, pulse_width, targets, presence, "
     "pulses_between_events, device_error, code, distance_mm, signal";
+// The same columns in the same places, those CaptureFields::array leaves out read as NULL:
+// SQLite then never decodes them (a bulk scan spends most of its time decoding columns).
+constexpr const char* samples_array_columns =
+    "SELECT seq, time_ns, device, NULL, address, kind, distance_m, pulse_width, targets, presence, "
+    "pulses_between_events, device_error, code, distance_mm, signal";
+bool left_out_of_arrays(std::string_view column) { return column == "resolution_mm" || column == "suspect_reason"; }
 constexpr const char* events_sql = "SELECT seq, time_ns, kind, message, count FROM events ORDER BY seq";
 
 SystemTime from_nanos(std::int64_t nanos) {
@@ -83,28 +89,24 @@ void parse_targets(std::string_view text, std::vector<TargetHit>& targets) {
 }
 
 // Fills `sample` from a row, reusing its strings' and targets' storage: a scan of
-// millions of rows allocates nothing per row.
+// millions of rows allocates nothing per row. Every field of Sample is assigned here, for
+// every row (a field added to Sample must be too): nothing of the previous row stays, and
+// the sample is not rebuilt nor its strings moved out and back for each row.
 void read_sample_into(sqlite3_stmt* row, Sample& sample) {
-  std::string device = std::move(sample.device);
-  std::string source = std::move(sample.source);
-  std::string reason = std::move(sample.suspect_reason);
-  std::vector<TargetHit> targets = std::move(sample.targets);
-  sample = Sample{};
   const auto column = [row](int index) { return Column(row, index); };
   sample.time = from_nanos(sqlite3_column_int64(row, 1));
-  device.assign(column(2).text());
-  sample.device = std::move(device);
-  source.assign(column(3).text());
-  sample.source = std::move(source);
+  sample.device.assign(column(2).text());
+  sample.source.assign(column(3).text());
   sample.address = column(4).integer<int>().value_or(-1);
   sample.kind = parse_sample_kind(column(5).text()).value_or(SampleKind::uls_averaging);
   sample.distance_m = column(6).real();
   sample.pulse_width = column(7).integer<std::uint32_t>();
-  targets.clear();
-  if (const Column hits = column(8); !hits.is_null()) parse_targets(hits.text(), targets);
-  sample.targets = std::move(targets);
+  sample.targets.clear();
+  if (const Column hits = column(8); !hits.is_null()) parse_targets(hits.text(), sample.targets);
+  sample.presence.reset();
   if (const Column presence = column(9); !presence.is_null()) sample.presence = *presence.integer<std::int64_t>() != 0;
   sample.pulses_between_events = column(10).integer<std::uint32_t>();
+  sample.pulses_overflow = false;
   if (sample.kind == SampleKind::uls_look_down && sample.pulses_between_events == 0U) {
     sample.pulses_between_events.reset();  // the wire's 0000: more than 65535 pulses (U88)
     sample.pulses_overflow = true;
@@ -112,12 +114,13 @@ void read_sample_into(sqlite3_stmt* row, Sample& sample) {
   sample.device_error = column(11).integer<int>();
   sample.code = column(12).integer<std::uint16_t>();
   sample.distance_mm = column(13).real();
+  sample.signal.reset();
   if (const Column signal = column(14); !signal.is_null()) sample.signal = parse_signal_state(signal.text());
   sample.derivative_mm = column(15).real();
   sample.resolution_mm = column(16).real();
   sample.suspect = column(17).integer<int>().value_or(0) != 0;
-  if (sample.suspect) reason.assign(column(18).text());
-  sample.suspect_reason = std::move(reason);
+  sample.suspect_reason.clear();
+  if (sample.suspect) sample.suspect_reason.assign(column(18).text());
 }
 
 // The device column of a row, without copying it.
@@ -162,15 +165,18 @@ struct CaptureCursors {
   Cursor events;
 };
 
-Result<CaptureCursors> open_cursors(const std::string& path, IntegrityCheck integrity = IntegrityCheck::at_open) {
+Result<CaptureCursors> open_cursors(const std::string& path, IntegrityCheck integrity = IntegrityCheck::at_open,
+                                    CaptureFields fields = CaptureFields::all) {
   auto database = open_database(path, false, false, integrity);
   if (!database) return std::move(database).error();
   // An older capture lacks the columns of later versions: they read as NULL.
-  std::string samples_sql = samples_columns;
+  const bool array = fields == CaptureFields::array;
+  std::string samples_sql = array ? samples_array_columns : samples_columns;
   for (const auto& column : added_columns) {
     auto present = has_column(path, database->get(), "samples", column.name);
     if (!present) return std::move(present).error();
-    samples_sql += std::string(", ") + (*present ? column.name : "NULL");
+    const bool read = *present && !(array && left_out_of_arrays(column.name));
+    samples_sql += std::string(", ") + (read ? column.name : "NULL");
   }
   samples_sql += " FROM samples ORDER BY seq";
   auto samples = prepare(path, database->get(), samples_sql.c_str());
@@ -319,8 +325,8 @@ Result<std::size_t> capture_sample_bound(const std::string& path) {
 
 Status for_each_in_capture(const std::string& path, std::string_view device,
                            const std::function<void(const Sample&)>& on_sample,
-                           const std::function<void(StreamEvent&&)>& on_event) {
-  auto cursors = open_cursors(path, IntegrityCheck::by_caller);
+                           const std::function<void(StreamEvent&&)>& on_event, CaptureFields fields) {
+  auto cursors = open_cursors(path, IntegrityCheck::by_caller, fields);
   if (!cursors) return std::move(cursors).error();
   // PRAGMA quick_check reads the whole file as the scan does: it runs at the same time on
   // a second read-only connection, and its verdict decides whether the scan counts.

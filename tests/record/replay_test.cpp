@@ -229,6 +229,36 @@ TEST(CaptureBulkRead, GivesWhatTheReplayGivesInTheSameOrder) {
   }
 }
 
+// CaptureFields::array (the Python arrays' reader) leaves out what an array row has no
+// column for: source, resolution_mm and suspect_reason come back empty, the rest as always.
+TEST(CaptureBulkRead, ArrayFieldsLeaveOutSourceResolutionAndSuspectReason) {
+  TempDir dir;
+  const auto path = dir.file("array.sqlite");
+  auto suspect = ls5_result(34845, 69.69, SignalState::ok);
+  suspect.suspect = true;
+  suspect.suspect_reason = "jump: 20 mm in 1 ms";
+  suspect.resolution_mm = 0.002;
+  capture_samples(path, {uls_binning(), suspect, uls_look_down_overflow(), ls5_result(24845, 49.69, SignalState::ok)});
+  const auto read = [&path](CaptureFields fields) {
+    std::vector<Sample> samples;
+    const auto status = for_each_in_capture(
+        path, "", [&](const Sample& sample) { samples.push_back(sample); }, [](StreamEvent&&) {}, fields);
+    EXPECT_TRUE(status.ok()) << status.error().message;
+    return samples;
+  };
+  auto expected = read(CaptureFields::all);
+  ASSERT_EQ(expected.size(), 4U);
+  EXPECT_FALSE(expected[1].source.empty());
+  EXPECT_EQ(expected[1].suspect_reason, "jump: 20 mm in 1 ms");
+  EXPECT_EQ(expected[1].resolution_mm, 0.002);
+  for (Sample& sample : expected) {
+    sample.source.clear();
+    sample.resolution_mm.reset();
+    sample.suspect_reason.clear();
+  }
+  EXPECT_EQ(read(CaptureFields::array), expected);
+}
+
 TEST(CaptureBulkRead, AMissingFileIsAnIoErrorNamingIt) {
   const auto read = for_each_in_capture(
       "/nonexistent-dir/capture.sqlite", "", [](const Sample&) {}, [](StreamEvent&&) {});

@@ -45,8 +45,14 @@ inline Result<SampleSourcePtr> open_replay(const std::string& path, double speed
 // without the integrity check (for_each_in_capture runs it).
 Result<std::size_t> capture_sample_bound(const std::string& path);
 
+// Which fields of the samples for_each_in_capture fills: all of them, or those of an
+// array row (rangekit.capture in Python): `source`, `resolution_mm` and `suspect_reason`
+// are left empty and SQLite does not decode them.
+enum class CaptureFields { all, array };
+
 Status for_each_in_capture(const std::string& path, std::string_view device,
                            const std::function<void(const Sample&)>& on_sample,
-                           const std::function<void(StreamEvent&&)>& on_event);
+                           const std::function<void(StreamEvent&&)>& on_event,
+                           CaptureFields fields = CaptureFields::all);
 
 }  // namespace rangekit::record
