@@ -66,7 +66,7 @@ class Column {
   int type_;
 };
 
-void parse_targets(std::string_view text, std::vector<TargetHit>& targets) {
+void parse_targets(std::string_view text, TargetList& targets) {
   const auto array = nlohmann::json::parse(text, nullptr, false);
   if (!array.is_array()) return;
   for (const auto& entry : array) {
@@ -86,15 +86,16 @@ void parse_targets(std::string_view text, std::vector<TargetHit>& targets) {
 // millions of rows allocates nothing per row.
 void read_sample_into(sqlite3_stmt* row, Sample& sample) {
   std::string device = std::move(sample.device);
-  std::string source = std::move(sample.source);
+  SharedName source = std::move(sample.source);
   std::string reason = std::move(sample.suspect_reason);
-  std::vector<TargetHit> targets = std::move(sample.targets);
+  TargetList targets = std::move(sample.targets);
   sample = Sample{};
   const auto column = [row](int index) { return Column(row, index); };
   sample.time = from_nanos(sqlite3_column_int64(row, 1));
   device.assign(column(2).text());
   sample.device = std::move(device);
-  source.assign(column(3).text());
+  // Rows of one source follow each other: the previous row's name is kept, not made again.
+  if (const std::string_view text = column(3).text(); source != text) source = SharedName(text);
   sample.source = std::move(source);
   sample.address = column(4).integer<int>().value_or(-1);
   sample.kind = parse_sample_kind(column(5).text()).value_or(SampleKind::uls_averaging);
