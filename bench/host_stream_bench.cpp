@@ -179,6 +179,8 @@ void BM_HostLs5Driver1kHz921600(benchmark::State& state) {
     report(state, *first, *last, cpu_s, stream_s, static_cast<double>(stream.lost()));
     state.counters["consumed"] = static_cast<double>(consumed);
     state.counters["records"] = static_cast<double>(stream.records());
+    state.counters["allocs_in_window"] = static_cast<double>(allocations_in_window);
+    state.counters["records_in_window"] = static_cast<double>(records_in_window);
     state.counters["allocs_per_record"] =
         static_cast<double>(allocations_in_window) / static_cast<double>(std::max<std::uint64_t>(records_in_window, 1));
   }

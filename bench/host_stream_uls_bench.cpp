@@ -204,6 +204,8 @@ void BM_HostUlsDriverBinning230400(benchmark::State& state) {
     state.counters["targets_per_burst"] = static_cast<double>(targets) / static_cast<double>(bursts);
     state.counters["short_bursts"] = static_cast<double>(short_bursts);
     state.counters["bad_frames"] = static_cast<double>(uls.counters().bad_frames);
+    state.counters["allocs_in_window"] = static_cast<double>(allocations_in_window);
+    state.counters["records_in_window"] = static_cast<double>(bursts_in_window);
     state.counters["allocs_per_record"] =
         static_cast<double>(allocations_in_window) / static_cast<double>(std::max<std::uint64_t>(bursts_in_window, 1));
   }

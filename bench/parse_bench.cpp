@@ -384,6 +384,22 @@ void add_host_rows(GoalTable& table, const char* path, const char* driver, const
              "<= 1.5x cat", ratio <= 1.5 && *cat_cpu > 0});
 }
 
+// Issue 17 item 2: "no allocation per record on the live path", counted by the bench's
+// replacing operator new over the driver benches' window (records of LS5, bursts of ULS
+// binning). The hand-off vectors grow when a batch is larger than any before (a late
+// consumer): a rare allocation that does not come with every record, so the goal is met
+// below one allocation per hundred records.
+void add_allocation_row(GoalTable& table, const char* path, const char* driver, const char* record) {
+  const auto per_record = table.value(driver, "allocs_per_record");
+  const auto in_window = table.value(driver, "allocs_in_window");
+  const auto records = table.value(driver, "records_in_window");
+  if (!per_record || !in_window || !records) return;
+  table.add(
+      {std::string(path) + ", allocations per " + record + " on the live path",
+       text_of("%.4f (%.0f in the window, ", *per_record, *in_window) + text_of("%.0f ", *records) + record + "s)", "-",
+       *per_record, "0 per " + std::string(record), *per_record < 0.01 && *records > 0});
+}
+
 // The sensor service (issue 13): CPU against `rangekit ls5 stream` of the same LS5s, same run;
 // goals: at most 3x that CPU, RSS <= 64 MB, record-to-SSE latency p99 <= 20 ms.
 void add_service_rows(GoalTable& table, const char* name) {
@@ -476,6 +492,10 @@ int main(int argc, char** argv) {
                 "BM_CatLs5Floor1kHz921600/iterations:1/real_time");
   add_host_rows(table, "uls stream, binning at 230400", "BM_HostUlsDriverBinning230400/iterations:1/real_time",
                 "BM_CatUlsFloorBinning230400/iterations:1/real_time");
+  add_allocation_row(table, "ls5 stream, 1 kHz at 921600", "BM_HostLs5Driver1kHz921600/iterations:1/real_time",
+                     "record");
+  add_allocation_row(table, "uls stream, binning at 230400", "BM_HostUlsDriverBinning230400/iterations:1/real_time",
+                     "burst");
   add_pacing_rows(table, "BM_EmulatorPacingLs5At1kHz/iterations:1/real_time");
   add_capture_row(table, "record_capture_binning_vs_raw_sqlite/iterations:1/real_time");
   add_service_rows(table, "BM_ServiceVersusLs5Stream/iterations:1/real_time");

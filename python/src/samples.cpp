@@ -152,7 +152,8 @@ void init_samples(py::module_& module) {
           "time", [](const Sample& s) { return to_seconds(s.time); },
           "host receive time, seconds since the Unix epoch (UTC)")
       .def_readonly("device", &Sample::device, "'uls' or 'ls5'")
-      .def_readonly("source", &Sample::source, "port path it came from")
+      .def_property_readonly(
+          "source", [](const Sample& s) { return s.source.str(); }, "port path it came from")
       .def_readonly("address", &Sample::address, "bus address, -1 when the protocol has none")
       .def_property_readonly(
           "kind", [](const Sample& s) { return std::string(sample_kind_name(s.kind)); },

@@ -71,7 +71,7 @@ struct Hub::Impl final : Publisher {
     // In the service a sample's source is its sensor's name (the port alone would not
     // tell the units of a bus apart in a capture or a download).
     auto* sample = std::get_if<Sample>(&item);
-    if (sample != nullptr) sample->source = session.config.name;
+    if (sample != nullptr) sample->source = session.source;
     std::lock_guard order(publish_mutex);
     // Quality (issue 18 item 2): flagged here, so the ring, the streams, the captures and
     // the health all see the same flag; a sensor with drop_suspect never shows them.

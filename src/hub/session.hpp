@@ -17,8 +17,12 @@ namespace rangekit::hub {
 
 struct Session {
   Session(SensorConfig sensor, std::size_t ring_capacity)
-      : config(std::move(sensor)), ring(ring_capacity), checker(QualitySettings{config.max_speed_mps}) {}
+      : config(std::move(sensor)),
+        source(config.name),
+        ring(ring_capacity),
+        checker(QualitySettings{config.max_speed_mps}) {}
   const SensorConfig config;
+  const SharedName source;  // config.name as every sample's source: shared, so no allocation per sample
   SampleRing ring;
   SampleChecker checker;  // used under the hub's publish order (a serial and a UDP worker may share a session)
 

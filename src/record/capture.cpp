@@ -104,7 +104,7 @@ void bind_optional_real(sqlite3_stmt* statement, int index, const std::optional<
 // by nlohmann's own shortest round-trip printer, NaN and infinities as null), but
 // straight into a reused buffer: building the json objects was most of a binning
 // sample's capture cost (issue 17 item 3).
-void append_targets_json(std::string& out, const std::vector<TargetHit>& targets) {
+void append_targets_json(std::string& out, const TargetList& targets) {
   out += '[';
   std::array<char, 64> number{};  // nlohmann's own number buffer size
   for (std::size_t i = 0; i < targets.size(); ++i) {
@@ -163,7 +163,7 @@ class SqliteCapture final : public CaptureSink {
     sqlite3_bind_int64(statement, 2, session_);
     sqlite3_bind_int64(statement, 3, to_nanos(sample.time));
     bind_text_in_place(statement, 4, sample.device);
-    bind_text_in_place(statement, 5, sample.source);
+    bind_text_in_place(statement, 5, sample.source.str());
     bind_optional_integer(statement, 6, sample.address >= 0 ? std::optional<int>(sample.address) : std::nullopt);
     sqlite3_bind_text(statement, 7, sample_kind_name(sample.kind), -1, SQLITE_STATIC);
     bind_optional_real(statement, 8, sample.distance_m);
@@ -203,7 +203,7 @@ class SqliteCapture final : public CaptureSink {
       seen_source_ = true;
       last_device_ = sample.device;
       last_source_ = sample.source;
-      if (sources_.insert(sample.device + " " + sample.source).second) sources_changed_ = true;
+      if (sources_.insert(sample.device + " " + sample.source.str()).second) sources_changed_ = true;
     }
     return commit_if_due();
   }
@@ -357,7 +357,7 @@ class SqliteCapture final : public CaptureSink {
   std::set<std::string> sources_;
   bool seen_source_ = false;
   std::string last_device_;
-  std::string last_source_;
+  SharedName last_source_;
   bool sources_changed_ = false;
   std::string targets_text_;  // reused for every binning sample
   std::optional<Error> failure_;

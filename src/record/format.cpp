@@ -177,7 +177,7 @@ void append_jsonl(std::string& out, const Sample& sample) {
     append_int(out, sample.address);
   }
   append_json_key(out, "source");
-  append_json_string(out, sample.source);
+  append_json_string(out, sample.source.str());
   append_json_key(out, "kind");
   out += '"';
   out += sample_kind_name(sample.kind);
@@ -274,7 +274,7 @@ void append_csv(std::string& out, const Sample& sample) {
   out += ',';
   if (sample.address >= 0) append_int(out, sample.address);
   out += ',';
-  append_csv_text(out, sample.source);
+  append_csv_text(out, sample.source.str());
   out += ',';
   out += sample_kind_name(sample.kind);
   out += ',';

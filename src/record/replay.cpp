@@ -72,7 +72,7 @@ class Column {
   int type_;
 };
 
-void parse_targets(std::string_view text, std::vector<TargetHit>& targets) {
+void parse_targets(std::string_view text, TargetList& targets) {
   const auto array = nlohmann::json::parse(text, nullptr, false);
   if (!array.is_array()) return;
   for (const auto& entry : array) {
@@ -96,7 +96,8 @@ void read_sample_into(sqlite3_stmt* row, Sample& sample) {
   const auto column = [row](int index) { return Column(row, index); };
   sample.time = from_nanos(sqlite3_column_int64(row, 1));
   sample.device.assign(column(2).text());
-  sample.source.assign(column(3).text());
+  // Rows of one source follow each other: the previous row's name is kept, not made again.
+  if (const std::string_view text = column(3).text(); sample.source != text) sample.source = SharedName(text);
   sample.address = column(4).integer<int>().value_or(-1);
   sample.kind = parse_sample_kind(column(5).text()).value_or(SampleKind::uls_averaging);
   sample.distance_m = column(6).real();

@@ -6,6 +6,8 @@
 
 #include <chrono>
 #include <string>
+#include <utility>
+#include <variant>
 #include <vector>
 
 #include "allocation_counter.hpp"
@@ -109,6 +111,84 @@ TEST(HotPathAllocation, StreamQueueHandOffOfSamplesInBatches) {
   const long before = static_cast<long>(bench::allocation_count());
   EXPECT_EQ(run_batches(1000), 3000U);
   EXPECT_EQ(static_cast<long>(bench::allocation_count()) - before, 0);
+}
+
+// Every record of a stream carries the port it came from, and a real port path
+// (/dev/serial/by-id/...) or a scratch pty link is longer than std::string's inline
+// buffer: as a std::string, each copy of a Sample allocated (issue 17 item 2, "no
+// allocation per record on the live path"). The name is shared instead.
+TEST(HotPathAllocation, CopyingASampleWithALongSourceDoesNotAllocate) {
+  const std::string path = "/dev/serial/by-id/usb-FTDI_FT232R_USB_UART_A10KZ3Q7-if00-port0";
+  Sample sample;
+  sample.device = "ls5";
+  sample.source = path;
+  sample.kind = SampleKind::ls5_result;
+  sample.code = 1234;
+  const long before = static_cast<long>(bench::allocation_count());
+  Sample copy = sample;
+  Sample moved = std::move(copy);
+  Sample assigned;
+  assigned = moved;
+  const bool same = assigned == sample && assigned.source == path && assigned.source == sample.source;
+  EXPECT_EQ(static_cast<long>(bench::allocation_count()) - before, 0);
+  EXPECT_TRUE(same);
+  EXPECT_EQ(assigned.source.str(), path);  // the text itself, unchanged for every output
+  EXPECT_EQ(sample.source.view(), path);
+}
+
+TEST(HotPathAllocation, SourcesCompareByTheirText) {
+  // Two names made apart from the same text are equal; a different text is not.
+  const SharedName first = std::string("/dev/serial/by-id/usb-FTDI_FT232R_USB_UART_A10KZ3Q7-if00-port0");
+  const SharedName second = std::string("/dev/serial/by-id/usb-FTDI_FT232R_USB_UART_A10KZ3Q7-if00-port0");
+  const SharedName other = std::string("/dev/serial/by-id/usb-FTDI_FT232R_USB_UART_B20KZ3Q7-if00-port0");
+  EXPECT_EQ(first, second);
+  EXPECT_NE(first, other);
+  EXPECT_LT(first, other);
+  EXPECT_TRUE(SharedName().empty());
+  EXPECT_EQ(SharedName(), "");
+  EXPECT_EQ(SharedName("").str(), "");
+}
+
+// A binning burst: §9 "Up to 15 targets maximum or 15 lines maximum per measurement"
+// (and §3 "The maximum number of targets allowed in Binning Mode is 15"). The targets
+// are kept in the sample, so copying a full burst does not allocate either.
+TEST(HotPathAllocation, CopyingABinningSampleOfFifteenTargetsDoesNotAllocate) {
+  Sample burst;
+  burst.device = "uls";
+  burst.source = "/dev/serial/by-id/usb-FTDI_FT232R_USB_UART_A10KZ3Q7-if00-port0";
+  burst.kind = SampleKind::uls_binning;
+  std::vector<TargetHit> collected;
+  for (std::uint32_t i = 0; i < 15; ++i) collected.push_back(TargetHit{1.0 + 0.75 * i, 100 + i});
+  const long before = static_cast<long>(bench::allocation_count());
+  burst.targets.assign(collected.begin(), collected.end());
+  Sample copy = burst;
+  StreamItem item{std::move(copy)};
+  const Sample& queued = std::get<Sample>(item);
+  const bool same = queued == burst;
+  EXPECT_EQ(static_cast<long>(bench::allocation_count()) - before, 0);
+  EXPECT_TRUE(same);
+  ASSERT_EQ(queued.targets.size(), 15U);
+  EXPECT_DOUBLE_EQ(queued.targets[14].distance_m, 11.5);
+  EXPECT_EQ(queued.targets[14].strength, 114U);
+}
+
+TEST(HotPathAllocation, MoreThanFifteenTargetsStillFit) {
+  // A capture written by hand may hold more than the ULS reports: none is lost.
+  TargetList targets;
+  for (std::uint32_t i = 0; i < 20; ++i) targets.push_back(TargetHit{0.5 * i, i});
+  ASSERT_EQ(targets.size(), 20U);
+  for (std::uint32_t i = 0; i < 20; ++i) {
+    EXPECT_DOUBLE_EQ(targets[i].distance_m, 0.5 * i);
+    EXPECT_EQ(targets[i].strength, i);
+  }
+  const TargetList copy = targets;
+  EXPECT_EQ(copy, targets);
+  targets.clear();
+  EXPECT_TRUE(targets.empty());
+  targets = {{4.572, 42}, {7.1, 13}};
+  ASSERT_EQ(targets.size(), 2U);
+  EXPECT_EQ(targets.back().strength, 13U);
+  EXPECT_NE(copy, targets);
 }
 
 }  // namespace

@@ -3,11 +3,16 @@
 // alike. Field names follow the JSON keys of docs/cli.md.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdint>
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "rangekit/core/shared_name.hpp"
 
 namespace rangekit {
 
@@ -28,6 +33,69 @@ struct TargetHit {
   friend bool operator==(const TargetHit&, const TargetHit&) = default;
 };
 
+// The targets of one binning burst. The ULS reports at most 15 (uls-interface-spec §3
+// "the maximum number of targets allowed in Binning Mode is 15", §9 "Up to 15 targets
+// maximum"; the decoder refuses a larger count), so they are kept inside the Sample:
+// a burst on the live path allocates nothing (issue 17). More (a hand-made capture)
+// still fit: they go to the heap.
+class TargetList {
+ public:
+  static constexpr std::size_t inline_capacity = 15;
+  using value_type = TargetHit;
+  using iterator = TargetHit*;
+  using const_iterator = const TargetHit*;
+
+  TargetList() = default;
+  TargetList(std::initializer_list<TargetHit> hits) { assign(hits.begin(), hits.end()); }
+  TargetList& operator=(std::initializer_list<TargetHit> hits) {
+    assign(hits.begin(), hits.end());
+    return *this;
+  }
+
+  template <typename Iterator>
+  void assign(Iterator first, Iterator last) {
+    clear();
+    for (; first != last; ++first) push_back(*first);
+  }
+  void push_back(const TargetHit& hit) {
+    if (size_ < inline_capacity) {
+      inline_[size_] = hit;
+    } else {
+      if (size_ == inline_capacity) overflow_.assign(inline_.begin(), inline_.end());
+      overflow_.push_back(hit);
+    }
+    ++size_;
+  }
+  void clear() noexcept {
+    size_ = 0;
+    overflow_.clear();
+  }
+
+  [[nodiscard]] std::size_t size() const noexcept { return size_; }
+  [[nodiscard]] bool empty() const noexcept { return size_ == 0; }
+  [[nodiscard]] TargetHit* data() noexcept { return size_ > inline_capacity ? overflow_.data() : inline_.data(); }
+  [[nodiscard]] const TargetHit* data() const noexcept {
+    return size_ > inline_capacity ? overflow_.data() : inline_.data();
+  }
+  [[nodiscard]] iterator begin() noexcept { return data(); }
+  [[nodiscard]] iterator end() noexcept { return data() + size_; }
+  [[nodiscard]] const_iterator begin() const noexcept { return data(); }
+  [[nodiscard]] const_iterator end() const noexcept { return data() + size_; }
+  [[nodiscard]] TargetHit& operator[](std::size_t index) noexcept { return data()[index]; }
+  [[nodiscard]] const TargetHit& operator[](std::size_t index) const noexcept { return data()[index]; }
+  [[nodiscard]] const TargetHit& front() const noexcept { return data()[0]; }
+  [[nodiscard]] const TargetHit& back() const noexcept { return data()[size_ - 1]; }
+
+  friend bool operator==(const TargetList& a, const TargetList& b) noexcept {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end());
+  }
+
+ private:
+  std::array<TargetHit, inline_capacity> inline_{};
+  std::size_t size_ = 0;
+  std::vector<TargetHit> overflow_;  // all of them, once there are more than inline_capacity
+};
+
 // LS5 result-code meaning (§9.3): a distance, 65534 no measurement yet, 65535 no signal.
 enum class SignalState : std::uint8_t { ok, none_yet, lost };
 const char* signal_state_name(SignalState state) noexcept;
@@ -35,15 +103,15 @@ const char* signal_state_name(SignalState state) noexcept;
 struct Sample {
   std::chrono::system_clock::time_point time;  // host receive time (UTC)
   std::string device;                          // "uls" or "ls5"
-  std::string source;                          // port path or UDP endpoint it came from
-  int address = -1;                            // bus address, -1 when the protocol has none
+  SharedName source;  // port path or UDP endpoint it came from; shared, so a copy does not allocate
+  int address = -1;   // bus address, -1 when the protocol has none
   SampleKind kind = SampleKind::uls_averaging;
 
   // ULS averaging
   std::optional<double> distance_m;
   std::optional<std::uint32_t> pulse_width;  // as on the wire (picoseconds)
   // ULS binning
-  std::vector<TargetHit> targets;
+  TargetList targets;
   // ULS look down
   std::optional<bool> presence;
   std::optional<std::uint32_t> pulses_between_events;

@@ -83,7 +83,7 @@ class SampleChecker {
     std::uint64_t count = 0;
     [[nodiscard]] double period_s() const;
   };
-  using Key = std::tuple<std::string, std::string, int, SampleKind>;
+  using Key = std::tuple<std::string, SharedName, int, SampleKind>;
 
   QualitySettings settings_;
   std::map<Key, Stream> streams_;

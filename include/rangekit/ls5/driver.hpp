@@ -211,7 +211,7 @@ class MeasurementStream final : public SampleSource {
 // Decodes one stream record or LR/FR result into a Sample (for the driver and tests):
 // kind ls5_derivative with formula 8.2 when `derivative`, else ls5_result with formula
 // 8.1; resolution_mm is the range's discreteness (table 3.1).
-Sample make_ls5_sample(ResultCode code, std::optional<double> range_mm, std::string source, int address,
+Sample make_ls5_sample(ResultCode code, std::optional<double> range_mm, SharedName source, int address,
                        bool derivative = false);
 
 // For `rangekit detect`: does an LS5 answer on this transport? Listens first; a

@@ -272,6 +272,7 @@ class Driver final {
   [[nodiscard]] bool on_reader_thread() const;
 
   DriverOptions options_;
+  SharedName source_name_;  // options_.source, shared by every sample (a copy does not allocate)
   ReopenFunction reopen_;
   mutable std::mutex transport_mutex_;  // guards the pointer and writes
   TransportPtr transport_;
@@ -285,8 +286,8 @@ class Driver final {
   MeasurementContext context_;
   bool context_known_ = false;  // context_ was read from this unit and no set has changed it since
   std::optional<Units> units_;
-  std::vector<TargetHit> partial_targets_;
-  std::deque<std::string> recent_sent_;  // the last few requests without CR, to recognise echoes (U67)
+  std::vector<TargetHit> partial_targets_;  // one binning array being collected; storage reused
+  std::deque<std::string> recent_sent_;     // the last few requests without CR, to recognise echoes (U67)
   std::uint8_t partial_count_ = 0;
 
   std::mutex stream_control_mutex_;  // start_stream, stop_stream and the destructor one at a time
@@ -345,7 +346,7 @@ Result<ProbeResult> probe(Transport& transport, std::optional<std::uint8_t> addr
 
 // Builds a Sample (device "uls") from a decoded reading; binning targets are
 // collected by the driver into one sample per array.
-Sample sample_from_reading(const Reading& reading, int address, const std::string& source);
+Sample sample_from_reading(const Reading& reading, int address, const SharedName& source);
 
 // Whether two look-down poll answers say the same (presence, time between events, error):
 // the same answer again is no new edge (U87), on its own port and on a bus (U110).

@@ -23,7 +23,7 @@ StreamEvent make_event(StreamEventKind kind, std::string message, std::uint64_t 
 
 }  // namespace
 
-Sample make_ls5_sample(ResultCode code, std::optional<double> range_mm, std::string source, int address,
+Sample make_ls5_sample(ResultCode code, std::optional<double> range_mm, SharedName source, int address,
                        bool derivative) {
   const bool has_range = range_mm && *range_mm > 0;
   Sample sample;
@@ -181,7 +181,7 @@ void MeasurementStream::run() {
   const int address = shared.address;
   bool derivative = driver.derivative_results_.value_or(false);
   // Sample::source of every record: built once, not per record (issue 17); again after a reopen.
-  std::string source = driver.transport_name();
+  SharedName source = driver.transport_name();
   std::array<std::uint8_t, 4096> buffer{};
   std::vector<StreamItem> decoded;  // what one read decoded, handed over at once; storage reused
   auto last_record = Clock::now();

@@ -15,7 +15,7 @@ namespace {
 
 constexpr std::chrono::milliseconds receive_slice{100};  // how often the reader looks at the stop flag
 
-Sample record_sample(const UdpRecord& record, const UdpPacket& packet, const std::string& source, int address,
+Sample record_sample(const UdpRecord& record, const UdpPacket& packet, const SharedName& source, int address,
                      std::chrono::system_clock::time_point time) {
   Sample sample;
   sample.time = time;
@@ -59,7 +59,7 @@ struct UdpReceiver::State {
   std::thread reader;
   std::mutex stopping;  // stop() from two threads joins once
 
-  void handle(Bytes datagram, const std::string& source) {
+  void handle(Bytes datagram, const SharedName& source) {
     const auto now = std::chrono::system_clock::now();
     auto packet = decode_udp_packet(datagram);
     if (!packet) {
@@ -67,7 +67,8 @@ struct UdpReceiver::State {
         std::lock_guard lock(counters_mutex);
         ++counters.bad_packets;
       }
-      queue.push(make_event(StreamEventKind::bad_frame, "UDP packet from " + source + ": " + packet.error().message));
+      queue.push(
+          make_event(StreamEventKind::bad_frame, "UDP packet from " + source.str() + ": " + packet.error().message));
       return;
     }
     if (last_counter && udp_packet_is_duplicate(*last_counter, packet->counter)) {
@@ -76,7 +77,7 @@ struct UdpReceiver::State {
         std::lock_guard lock(counters_mutex);
         ++counters.duplicates;
       }
-      queue.push(make_event(StreamEventKind::bad_frame, "UDP packet from " + source + " repeats counter " +
+      queue.push(make_event(StreamEventKind::bad_frame, "UDP packet from " + source.str() + " repeats counter " +
                                                             std::to_string(packet->counter) + ": duplicate dropped (" +
                                                             std::to_string(udp_record_count) + " records)"));
       return;
@@ -99,7 +100,7 @@ struct UdpReceiver::State {
     }
     if (!last_counter) {
       // The first packet is the link coming up: a `connected` event as the serial streams give.
-      queue.push(make_event(StreamEventKind::connected, "UDP packets from " + source));
+      queue.push(make_event(StreamEventKind::connected, "UDP packets from " + source.str()));
     }
     last_counter = packet->counter;
     {
@@ -113,6 +114,9 @@ struct UdpReceiver::State {
 
   void run() {
     std::array<std::uint8_t, 2048> buffer{};
+    // Sample::source of every record, made again only when the sender changes (issue 17).
+    Endpoint last_from;
+    SharedName source;
     while (!stop_requested.load()) {
       auto got = socket.receive(buffer, receive_slice);
       if (!got) {
@@ -128,7 +132,11 @@ struct UdpReceiver::State {
         queue.push(make_event(StreamEventKind::disconnected, "UDP socket: " + got.error().message));
         break;
       }
-      handle(Bytes(buffer.data(), got->size), got->from.to_string());
+      if (source.empty() || got->from.host != last_from.host || got->from.port != last_from.port) {
+        last_from = got->from;
+        source = got->from.to_string();
+      }
+      handle(Bytes(buffer.data(), got->size), source);
     }
     finished = true;
     queue.close();

@@ -79,7 +79,7 @@ StatusInfo decode_status(std::uint8_t value) noexcept {
   return info;
 }
 
-Sample sample_from_reading(const Reading& reading, int address, const std::string& source) {
+Sample sample_from_reading(const Reading& reading, int address, const SharedName& source) {
   Sample sample;
   sample.time = std::chrono::system_clock::now();
   sample.device = "uls";
@@ -114,6 +114,7 @@ Driver::Driver(TransportPtr transport, DriverOptions options, ReopenFunction reo
       transport_(std::move(transport)),
       assembler_(&scan_frame) {
   if (options_.source.empty() && transport_) options_.source = transport_->name();
+  source_name_ = options_.source;
 }
 
 // A unit the stream started is not left measuring by a driver that goes away (U86). The
@@ -270,11 +271,11 @@ void Driver::dispatch(Bytes frame_bytes) {
     ++counters_.measurements;
     if (pending != nullptr && pending->expect == Expect::measurement) {
       const int address = frame.address.addressed ? frame.address.byte : -1;
-      Sample sample = sample_from_reading(decoded->reading, address, options_.source);
+      Sample sample = sample_from_reading(decoded->reading, address, source_name_);
       if (const auto* target = std::get_if<BinningTarget>(&decoded->reading)) {
         bool broken = false;
         if (!pending->bins.add(*target, broken)) return;
-        sample.targets = pending->bins.targets;
+        sample.targets.assign(pending->bins.targets.begin(), pending->bins.targets.end());
       }
       *pending->measurement = std::move(sample);
       pending->done = true;

@@ -105,15 +105,15 @@ void Driver::handle_measurement(const Measurement& measurement) {
       return;
     }
     if (step == detail::BinningArray::incomplete) return;
-    Sample sample = sample_from_reading(measurement.reading, address, options_.source);
-    // Copied (one allocation of the array's size), so the collecting vector keeps its
-    // storage for the next burst instead of growing again target by target.
-    sample.targets = partial_targets_;
+    Sample sample = sample_from_reading(measurement.reading, address, source_name_);
+    // Copied into the sample's own inline storage (at most 15, the decoder checks), so
+    // neither side allocates: the collecting vector keeps its storage for the next burst.
+    sample.targets.assign(partial_targets_.begin(), partial_targets_.end());
     partial_targets_.clear();
     if (collecting_) emit_sample(std::move(sample));
     return;
   }
-  if (collecting_) emit_sample(sample_from_reading(measurement.reading, address, options_.source));
+  if (collecting_) emit_sample(sample_from_reading(measurement.reading, address, source_name_));
 }
 
 // A look-down poll reads the state the last edge left (§2 Single Measurement, "the most recent
