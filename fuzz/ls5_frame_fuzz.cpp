@@ -4,6 +4,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <string>
+#include <vector>
 
 #include "rangekit/core/framer.hpp"
 #include "rangekit/ls5/reply.hpp"
@@ -70,6 +72,47 @@ void assemble(ScanFunction scan, Bytes bytes, bool requests) {
   }
 }
 
+// The stream reader's decode_replies against next() and parse_reply on every frame, fed
+// the same pieces: the same records, replies (or errors) and rejections, in order.
+void decode_replies_agrees(Bytes bytes) {
+  FrameAssembler by_frame(scan_reply_frame, 128);
+  FrameAssembler direct(scan_reply_frame, 128);
+  std::vector<std::string> expected;
+  std::vector<std::string> got;
+  auto describe = [](const Result<Reply>& reply) {
+    if (!reply) return "error " + reply.error().message;
+    return "reply " + std::to_string(static_cast<int>(reply->kind)) + " " + std::to_string(reply->address) + " " +
+           std::to_string(static_cast<int>(reply->command)) + " " + std::to_string(reply->result.value) + " " +
+           std::to_string(static_cast<int>(reply->result.kind));
+  };
+  auto rejected = [](const FrameAssembler::Event& event) {
+    return "rejected " + std::to_string(event.rejected_bytes) + " " + (event.reason ? event.reason : "-");
+  };
+  std::size_t offset = 0;
+  std::size_t piece = 1;
+  FrameAssembler::Event event;
+  while (offset < bytes.size()) {
+    const std::size_t size = piece < bytes.size() - offset ? piece : bytes.size() - offset;
+    const std::size_t taken = by_frame.push(bytes.subspan(offset, size));
+    check(direct.push(bytes.subspan(offset, size)) == taken);
+    offset += taken;
+    piece = piece % 13 + 1;
+    while (by_frame.next(event)) {
+      expected.push_back(event.kind == FrameAssembler::Event::Kind::rejected ? rejected(event)
+                                                                             : describe(parse_reply(event.frame)));
+    }
+    decode_replies(
+        direct, [&](ResultCode code) { got.push_back(describe(Reply::stream_record(code))); },
+        [&](Bytes, const Result<Reply>& reply) { got.push_back(describe(reply)); },
+        [&](const FrameAssembler::Event& rejection) { got.push_back(rejected(rejection)); });
+    check(got == expected);
+    check(direct.buffered() == by_frame.buffered());
+    if (taken == 0 && expected.empty()) break;
+    expected.clear();
+    got.clear();
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -77,5 +120,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   parse_all(bytes);
   assemble(scan_request_frame, bytes, true);
   assemble(scan_reply_frame, bytes, false);
+  decode_replies_agrees(bytes);
   return 0;
 }

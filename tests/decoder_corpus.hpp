@@ -143,25 +143,40 @@ std::string corpus_stream(Random& random, std::size_t lines, MakeLine make_line)
   return stream;
 }
 
-// Feeds `stream` to a framer in random chunks of 1-200 bytes, as reads arrive, records each
-// rejection and frame in `framing`, and hands every frame to on_frame.
-template <class OnFrame>
-void frame_in_chunks(std::string_view stream, ScanFunction scan, Random& random, Digest& framing, OnFrame on_frame) {
+// Feeds `stream` to an assembler in random chunks of 1-200 bytes, as reads arrive, and
+// calls drain(assembler) after each.
+template <class Drain>
+void feed_in_chunks(std::string_view stream, ScanFunction scan, Random& random, Drain drain) {
   FrameAssembler assembler(scan, 256);
-  FrameAssembler::Event event;
   std::size_t offset = 0;
   while (offset < stream.size()) {
     const std::size_t chunk = std::min<std::size_t>(1 + random.below(200), stream.size() - offset);
     offset += assembler.push(as_bytes(stream.substr(offset, chunk)));
+    drain(assembler);
+  }
+}
+
+// The lines of the framing digest.
+inline void add_rejection(Digest& framing, const FrameAssembler::Event& event) {
+  framing.add("rejected " + std::to_string(event.rejected_bytes) + " " + event.reason);
+}
+inline void add_frame(Digest& framing, Bytes frame) { framing.add("frame " + escaped(as_text(frame))); }
+
+// Feeds `stream` to a framer in random chunks of 1-200 bytes, as reads arrive, records each
+// rejection and frame in `framing`, and hands every frame to on_frame.
+template <class OnFrame>
+void frame_in_chunks(std::string_view stream, ScanFunction scan, Random& random, Digest& framing, OnFrame on_frame) {
+  feed_in_chunks(stream, scan, random, [&](FrameAssembler& assembler) {
+    FrameAssembler::Event event;
     while (assembler.next(event)) {
       if (event.kind == FrameAssembler::Event::Kind::rejected) {
-        framing.add("rejected " + std::to_string(event.rejected_bytes) + " " + event.reason);
+        add_rejection(framing, event);
         continue;
       }
-      framing.add("frame " + escaped(as_text(event.frame)));
+      add_frame(framing, event.frame);
       on_frame(event.frame);
     }
-  }
+  });
 }
 
 }  // namespace rangekit::testing::corpus

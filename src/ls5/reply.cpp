@@ -128,22 +128,6 @@ Result<Reply> parse_addressed_reply(std::string_view frame) {
 
 const Reply blank_reply{};
 
-// A good stream record "!ddddd" (L1, L7), the frame an LS5 streams up to a
-// thousand times a second: true with its code, false for anything else.
-bool read_good_stream_record(Bytes frame, std::uint16_t& code) noexcept {
-  if (frame.size() != 1 + result_digits || frame[0] != reply_start) return false;
-  std::uint32_t value = 0;
-  bool digits = true;
-  for (std::size_t i = 1; i < frame.size(); ++i) {
-    const auto digit = static_cast<std::uint32_t>(frame[i] - '0');
-    digits = digits && digit <= 9;
-    value = value * 10 + digit;
-  }
-  if (!digits || value > 0xFFFF || !valid_code(static_cast<std::uint16_t>(value))) return false;
-  code = static_cast<std::uint16_t>(value);
-  return true;
-}
-
 // Any reply, with a message that names what is wrong with a bad one.
 // Kept out of line: inlined, its stack frame made every stream record pay for it.
 [[gnu::noinline]] Result<Reply> parse_any_reply(Bytes frame_bytes) {
@@ -214,7 +198,8 @@ Result<Reply> parse_reply(Bytes frame_bytes) {
   // Copied from a finished blank: built field by field on the stack and then
   // copied, a Reply stalled on store forwarding (perf, issue 17).
   Result<Reply> reply = blank_reply;
-  if (std::uint16_t code = 0; read_good_stream_record(frame_bytes, code)) {
+  if (std::uint16_t code = 0;
+      frame_bytes.size() == detail::stream_record_length && detail::read_good_stream_record(frame_bytes.data(), code)) {
     reply->kind = ReplyKind::stream_record;
     reply->command = CommandId::start_stream;
     reply->result = classify_result_code(code);

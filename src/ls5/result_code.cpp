@@ -14,12 +14,6 @@ Result<ResultCode> make_result_code(std::uint32_t raw) {
                                             "65535 no signal (§8.9)");
 }
 
-ResultCode classify_result_code(std::uint16_t value) noexcept {
-  if (value == code_no_signal) return ResultCode{value, CodeKind::no_signal};
-  if (value == code_no_measurement_yet) return ResultCode{value, CodeKind::no_measurement_yet};
-  return ResultCode{value, CodeKind::result};
-}
-
 double distance_mm(std::uint16_t code, double range_mm) noexcept { return range_mm * code / max_result_code; }
 
 double discreteness_mm(double range_mm) noexcept {

@@ -122,6 +122,42 @@ TEST(Ls5DecoderCorpus, SerialRepliesMatchTheRecordedOutputs) {
   EXPECT_EQ(parsing.hex(), "0dfbbbc1be6a1c0c");
 }
 
+// The stream reader's path (issue 17): decode_replies reads good "!ddddd" records straight
+// from the framer's buffer and everything else through next() and parse_reply. It must
+// give the same frames, rejections and replies, in the same order, as the test above:
+// the same recorded digests (L1: "!ddddd<CR>", L7: codes 0-50000, 65534, 65535).
+TEST(Ls5DecoderCorpus, DecodeRepliesMatchesTheRecordedOutputs) {
+  Random random(17);
+  const std::string stream = testing::corpus::corpus_stream(random, corpus_lines, random_line);
+
+  Digest framing("ls5_framing_decode_replies");
+  Digest parsing("ls5_parse_reply_decode_replies");
+  std::size_t records = 0;
+  auto on_record = [&](ResultCode code) {
+    // The frame it came from: '!' and the code in five digits, as on the wire (L1).
+    std::string frame = std::to_string(code.value);
+    frame = "!" + std::string(5 - frame.size(), '0') + frame;
+    testing::corpus::add_frame(framing, as_bytes(frame));
+    parsing.add(describe(Reply::stream_record(code)));
+    ++records;
+  };
+  auto on_reply = [&](Bytes frame, const Result<Reply>& reply) {
+    testing::corpus::add_frame(framing, frame);
+    parsing.add(reply ? describe(*reply) : describe(reply.error()));
+  };
+  auto on_rejected = [&](const FrameAssembler::Event& event) { testing::corpus::add_rejection(framing, event); };
+  testing::corpus::feed_in_chunks(stream, &scan_reply_frame, random, [&](FrameAssembler& assembler) {
+    decode_replies(assembler, on_record, on_reply, on_rejected);
+  });
+
+  EXPECT_GT(records, 30000U);  // most records took the direct path
+  // The digests recorded with the decoders of commit 3310b0b (before issue 17), as above.
+  EXPECT_EQ(framing.lines(), 60221U);
+  EXPECT_EQ(framing.hex(), "0ddba90e7d7ba62e");
+  EXPECT_EQ(parsing.lines(), 53510U);
+  EXPECT_EQ(parsing.hex(), "0dfbbbc1be6a1c0c");
+}
+
 // §10.1: "the checksum is the XOR of bytes 0-509"; state bit 1 always 1, bits 4-7 always 0 (L12).
 TEST(Ls5DecoderCorpus, UdpDatagramsMatchTheRecordedOutputs) {
   Random random(1017);

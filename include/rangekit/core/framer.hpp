@@ -86,6 +86,11 @@ class FrameAssembler {
   // Next frame or rejection; false when more bytes are needed.
   bool next(Event& event);
   [[nodiscard]] std::size_t buffered() const noexcept { return end_ - begin_; }
+  // The bytes not handed out yet, and dropping `count` of them from the front: for a
+  // decoder that reads the frames it knows best straight from the buffer instead of
+  // one next() per frame (ls5::decode_replies). next() then carries on after them.
+  [[nodiscard]] Bytes pending() const noexcept { return {buffer_.data() + begin_, end_ - begin_}; }
+  void consume(std::size_t count) noexcept { begin_ += count < end_ - begin_ ? count : end_ - begin_; }
   void clear() noexcept { begin_ = end_ = 0; }
 
  private:

@@ -219,26 +219,26 @@ void MeasurementStream::run() {
         continue;
       }
       driver.assembler_->push(Bytes(buffer.data(), *got));
-      FrameAssembler::Event event;
       std::uint64_t records_read = 0;
-      while (driver.assembler_->next(event)) {
-        if (event.kind == FrameAssembler::Event::Kind::rejected) {
-          if (event.reason != nullptr) {
-            decoded.push_back(make_event(StreamEventKind::bad_frame,
-                                         std::to_string(event.rejected_bytes) + " bytes rejected: " + event.reason));
-          }
-          continue;
-        }
-        auto reply = parse_reply(event.frame);
+      auto on_record = [&](ResultCode code) {
+        last_record = Clock::now();
+        decoded.push_back(make_ls5_sample(code, range_mm, source, address, derivative));
+        ++records_read;
+      };
+      auto on_reply = [&](Bytes, const Result<Reply>& reply) {
         if (!reply) {
           decoded.push_back(make_event(StreamEventKind::bad_frame, reply.error().message));
-          continue;
+          return;
         }
-        if (reply->kind != ReplyKind::stream_record) continue;  // e.g. a late echo
-        last_record = Clock::now();
-        decoded.push_back(make_ls5_sample(reply->result, range_mm, source, address, derivative));
-        ++records_read;
-      }
+        if (reply->kind == ReplyKind::stream_record) on_record(reply->result);  // else e.g. a late echo
+      };
+      auto on_rejected = [&](const FrameAssembler::Event& event) {
+        if (event.reason == nullptr) return;
+        decoded.push_back(make_event(StreamEventKind::bad_frame,
+                                     std::to_string(event.rejected_bytes) + " bytes rejected: " + event.reason));
+      };
+      // Stream records straight from the buffer, everything else through parse_reply (issue 17).
+      decode_replies(*driver.assembler_, on_record, on_reply, on_rejected);
       // What one read decoded goes over in one batch (one lock, at most one wake-up).
       shared.queue.push_all(decoded);
       records_ += records_read;  // after the push: once records() counts them, the queue (and lost()) has them
