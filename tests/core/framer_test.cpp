@@ -122,5 +122,29 @@ TEST(FrameAssembler, FullBufferWithoutFrameEndIsRejectedNotStuck) {
   EXPECT_LT(assembler.buffered(), 16U);
 }
 
+// A read as large as the assembler on top of a half frame it holds: push() takes what fits
+// and feed_all hands the rest over once frames have made room, so no byte is lost (the LS5
+// stream reader dropped them: a 4 KiB read into a 4 KiB assembler holding part of a record).
+TEST(FrameAssembler, FeedAllLosesNothingWhenAReadOverfillsTheBuffer) {
+  FrameAssembler assembler(&scan_uls_like, 16);
+  std::vector<std::string> frames;
+  FrameAssembler::Event event;
+  const auto drain = [&] {
+    while (assembler.next(event)) {
+      if (event.kind == FrameAssembler::Event::Kind::frame) frames.emplace_back(as_text(event.frame));
+    }
+  };
+  feed_all(assembler, as_bytes(std::string_view("$AB")), drain);
+  const std::string read = "C\r$DEF\r$GHI\r$JK\r";  // 16 bytes: 3 of them do not fit at first
+  ASSERT_EQ(read.size(), 16U);
+  EXPECT_LT(assembler.push(as_bytes(std::string_view(read))), read.size()) << "the case this test is about";
+  assembler.clear();
+  frames.clear();
+  feed_all(assembler, as_bytes(std::string_view("$AB")), drain);
+  feed_all(assembler, as_bytes(std::string_view(read)), drain);
+  EXPECT_EQ(frames, (std::vector<std::string>{"$ABC", "$DEF", "$GHI", "$JK"}));
+  EXPECT_EQ(assembler.buffered(), 0U);
+}
+
 }  // namespace
 }  // namespace rangekit

@@ -100,4 +100,16 @@ class FrameAssembler {
   std::size_t end_ = 0;
 };
 
+// Feeds all of `bytes`, letting `drain` take frames (next(), or pending()/consume())
+// whenever the buffer is full: a read as large as the capacity on top of a half frame
+// already held loses nothing (push() takes only what fits).
+template <class Drain>
+void feed_all(FrameAssembler& assembler, Bytes bytes, Drain&& drain) {
+  for (;;) {
+    bytes = bytes.subspan(assembler.push(bytes));
+    drain();
+    if (bytes.empty()) return;
+  }
+}
+
 }  // namespace rangekit

@@ -218,7 +218,6 @@ void MeasurementStream::run() {
         lose_link(got.error().message, true);
         continue;
       }
-      driver.assembler_->push(Bytes(buffer.data(), *got));
       std::uint64_t records_read = 0;
       auto on_record = [&](ResultCode code) {
         last_record = Clock::now();
@@ -238,7 +237,9 @@ void MeasurementStream::run() {
                                      std::to_string(event.rejected_bytes) + " bytes rejected: " + event.reason));
       };
       // Stream records straight from the buffer, everything else through parse_reply (issue 17).
-      decode_replies(*driver.assembler_, on_record, on_reply, on_rejected);
+      // A read that does not fit beside a half record is fed in parts, decoded in between.
+      feed_all(*driver.assembler_, Bytes(buffer.data(), *got),
+               [&] { decode_replies(*driver.assembler_, on_record, on_reply, on_rejected); });
       // What one read decoded goes over in one batch (one lock, at most one wake-up).
       shared.queue.push_all(decoded);
       records_ += records_read;  // after the push: once records() counts them, the queue (and lost()) has them

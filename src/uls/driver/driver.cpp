@@ -199,10 +199,7 @@ Status Driver::pump(std::chrono::milliseconds wait) {
     if (got.error().code == Errc::timeout) return ok_status();
     return got.error();
   }
-  Bytes rest(buffer.data(), *got);
-  while (true) {
-    const std::size_t taken = assembler_.push(rest);
-    rest = rest.subspan(taken);
+  feed_all(assembler_, Bytes(buffer.data(), *got), [this] {
     FrameAssembler::Event event;
     while (assembler_.next(event)) {
       if (event.kind == FrameAssembler::Event::Kind::frame) {
@@ -216,8 +213,7 @@ Status Driver::pump(std::chrono::milliseconds wait) {
         if (collecting_) emit_event(StreamEventKind::bad_frame, event.reason);
       }
     }
-    if (rest.empty()) break;
-  }
+  });
   return ok_status();
 }
 
