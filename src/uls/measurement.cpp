@@ -1,6 +1,7 @@
 // Measurement lines (§8 p.23-24, §9 p.39-41; U8-U13, U27, U31, U32).
 #include "rangekit/uls/measurement.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "rangekit/core/text.hpp"
@@ -345,6 +346,65 @@ Result<Measurement> decode_measurement(Bytes frame, const MeasurementContext& co
     decoded = std::move(view).error();
   }
   return decoded;
+}
+
+std::size_t detail::read_good_averaging_line(Bytes pending, const MeasurementContext& context, Measurement& out) {
+  const bool with_range = context.display != DisplayMode::intensity;
+  const bool with_width = context.display != DisplayMode::range;
+  if (context.mode != Mode::averaging ||
+      (context.display != DisplayMode::range && context.display != DisplayMode::range_and_intensity &&
+       context.display != DisplayMode::intensity)) {
+    return 0;
+  }
+  const std::string_view line = as_text(pending);
+  Address source{};  // as decode_measurement leaves a '$' line's source
+  std::size_t at = 1;
+  if (line.size() < 2) return 0;
+  if (line[0] == '#') {
+    // A unit address below DEL: scan_frame hands such a frame out whole up to its CR.
+    const auto address = static_cast<std::uint8_t>(line[1]);
+    if (address < first_unit_address || address >= 0x7F) return 0;
+    source = Address::unit(address);
+    if (source.is_broadcast()) return 0;
+    at = 2;
+  } else if (line[0] != '$') {
+    return 0;
+  }
+  if (line.size() < at + 3 || text::to_upper(line[at]) != 'B' || text::to_upper(line[at + 1]) != 'M' ||
+      line[at + 2] != ',') {
+    return 0;
+  }
+  at += 3;
+  // The next field: up to the ',' or CR that ends it, at most max_chars long. The
+  // readers below take only digits, '.' and a leading '-', so every byte of a line
+  // taken here is one scan_frame's fast path passes.
+  auto next_field = [&](std::size_t max_chars, char terminator, std::string_view& field) {
+    const std::size_t limit = std::min(line.size(), at + max_chars + 1);
+    for (std::size_t end = at; end < limit; ++end) {
+      if (line[end] == terminator) {
+        field = line.substr(at, end - at);
+        at = end + 1;
+        return true;
+      }
+    }
+    return false;
+  };
+  std::string_view field;
+  Range range;
+  std::uint32_t width = 0;
+  if (with_range &&
+      (!next_field(max_range_chars, with_width ? ',' : '\r', field) || !read_good_range(field, context.units, range))) {
+    return 0;
+  }
+  if (with_width && (!next_field(max_pulse_width_digits, '\r', field) ||
+                     !read_good_unsigned(field, max_pulse_width_digits, 9'999'999, width))) {
+    return 0;
+  }
+  out.source = source;
+  AveragingReading& averaging = out.reading.emplace<AveragingReading>();
+  if (with_range) averaging.range = range;
+  if (with_width) averaging.pulse_width_ps = width;
+  return at;
 }
 
 Result<FrameText> encode_averaging(Address address, const AveragingReading& reading) {

@@ -175,5 +175,49 @@ TEST(UlsDecoderCorpus, OutputsMatchTheRecordedOnes) {
   EXPECT_EQ(decoding.hex(), "47aa2749abd91289");
 }
 
+// A stream reader's path (issue 17): decode_measurements reads good averaging lines
+// ("$BM,<range>[,<pulse width>]", §9; U8, U9, U27) straight from the framer's buffer and
+// hands every other frame out to be decoded as before. Under each context it must give
+// the same frames, rejections and measurements, in the same order, as next() and
+// decode_measurement(frame, context) on every frame, over the same reads.
+TEST(UlsDecoderCorpus, DecodeMeasurementsMatchesNextAndDecodeMeasurement) {
+  Random corpus_random(17);
+  const std::string stream = testing::corpus::corpus_stream(corpus_random, corpus_lines, random_line);
+  std::size_t direct = 0;
+  for (const auto& context : contexts) {
+    auto describe_decoded = [](const Result<Measurement>& measurement) {
+      return measurement ? describe(measurement->source) + " " + describe(measurement->reading)
+                         : describe(measurement.error());
+    };
+    Random expected_random(1017);
+    Digest expected("uls_next_decode_measurement");
+    testing::corpus::frame_in_chunks(stream, &scan_frame, expected_random, expected, [&](Bytes frame) {
+      expected.add(describe_decoded(decode_measurement(frame, context)));
+    });
+
+    Random random(1017);
+    Digest got("uls_next_decode_measurement");
+    auto on_measurement = [&](Bytes frame, const Measurement& measurement) {
+      testing::corpus::add_frame(got, frame);
+      got.add(describe_decoded(measurement));
+      ++direct;
+    };
+    auto on_frame = [&](Bytes frame) {
+      testing::corpus::add_frame(got, frame);
+      got.add(describe_decoded(decode_measurement(frame, context)));
+    };
+    auto on_rejected = [&](const FrameAssembler::Event& event) { testing::corpus::add_rejection(got, event); };
+    testing::corpus::feed_in_chunks(stream, &scan_frame, random, [&](FrameAssembler& assembler) {
+      decode_measurements(assembler, context, on_measurement, on_frame, on_rejected);
+    });
+
+    EXPECT_EQ(got.lines(), expected.lines())
+        << "context " << static_cast<int>(context.mode) << "/" << static_cast<int>(context.display);
+    EXPECT_EQ(got.hex(), expected.hex()) << "context " << static_cast<int>(context.mode) << "/"
+                                         << static_cast<int>(context.display);
+  }
+  EXPECT_GT(direct, 15000U);  // many averaging lines took the direct path
+}
+
 }  // namespace
 }  // namespace rangekit::uls

@@ -258,7 +258,9 @@ class Driver final {
   Status write_frame(Bytes bytes);
   // Reads once (up to `wait`) and dispatches every complete frame.
   Status pump(std::chrono::milliseconds wait);
-  void dispatch(Bytes frame);
+  // `direct`: the line's measurement as decode_measurements read it under `direct_context`
+  // (a good averaging line), used when that is still the unit's context (issue 17).
+  void dispatch(Bytes frame, const Measurement* direct = nullptr, const MeasurementContext* direct_context = nullptr);
   void handle_measurement(const Measurement& measurement);
   void emit_sample(Sample sample);
   void emit_event(StreamEventKind kind, std::string message);

@@ -5,8 +5,10 @@
 
 #include <cstdint>
 #include <optional>
+#include <utility>
 #include <variant>
 
+#include "rangekit/core/framer.hpp"
 #include "rangekit/core/result.hpp"
 #include "rangekit/uls/frame.hpp"
 #include "rangekit/uls/types.hpp"
@@ -80,6 +82,50 @@ struct Measurement {
 // Reads one measurement line; does not allocate on success.
 Result<Measurement> decode_measurement(const FrameView& frame, const MeasurementContext& context);
 Result<Measurement> decode_measurement(Bytes frame, const MeasurementContext& context);
+
+namespace detail {
+
+// The line an averaging unit streams, "$BM,<range>[,<pulse width>]<CR>" or the same
+// from a unit address "#a" (§9, U8, U9, U27), at the front of `pending`: its length
+// with the CR, and the measurement decode_measurement gives for it in `out`; 0 for
+// anything else (other modes and lines, a line not complete yet), which
+// decode_measurement reads (or refuses, naming the problem) in full. Only lines of
+// bytes scan_frame hands out whole as that frame are taken (issue 17).
+std::size_t read_good_averaging_line(Bytes pending, const MeasurementContext& context, Measurement& out);
+
+}  // namespace detail
+
+// Hands out every frame `assembler` holds, in order, as a stream reader needs them: a
+// good averaging line to on_measurement(Bytes frame, const Measurement&), read straight
+// from the assembler's buffer with no scan call, FrameView or Result built (issue 17);
+// any other frame to on_frame(Bytes frame), for the caller to read with parse_frame or
+// decode_measurement exactly as before; rejected bytes to
+// on_rejected(const FrameAssembler::Event&). The same frames and rejections, in the
+// same order, as next() on every frame; the measurement is the one
+// decode_measurement(frame, context) gives. Views are valid until the next push().
+template <class OnMeasurement, class OnFrame, class OnRejected>
+void decode_measurements(FrameAssembler& assembler, const MeasurementContext& context, OnMeasurement&& on_measurement,
+                         OnFrame&& on_frame, OnRejected&& on_rejected) {
+  FrameAssembler::Event event;
+  Measurement measurement;
+  while (true) {
+    // Each line is consumed before its callback, as next() does: a callback that
+    // clears the assembler (a new transport) ends the loop as it ends next().
+    while (context.mode == Mode::averaging) {
+      const Bytes pending = assembler.pending();
+      const std::size_t length = detail::read_good_averaging_line(pending, context, measurement);
+      if (length == 0) break;
+      assembler.consume(length);
+      on_measurement(pending.first(length - 1), std::as_const(measurement));
+    }
+    if (!assembler.next(event)) return;
+    if (event.kind == FrameAssembler::Event::Kind::rejected) {
+      on_rejected(event);
+    } else {
+      on_frame(event.frame);
+    }
+  }
+}
 
 // Writes the line a unit sends for a reading. Ranges are written in their own
 // units (3 decimals metres, 2 feet) and must fit the §9 width (U27).

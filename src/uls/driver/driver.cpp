@@ -199,25 +199,45 @@ Status Driver::pump(std::chrono::milliseconds wait) {
     if (got.error().code == Errc::timeout) return ok_status();
     return got.error();
   }
-  feed_all(assembler_, Bytes(buffer.data(), *got), [this] {
-    FrameAssembler::Event event;
-    while (assembler_.next(event)) {
-      if (event.kind == FrameAssembler::Event::Kind::frame) {
-        dispatch(event.frame);
-      } else if (event.reason != nullptr) {
-        {
-          std::lock_guard lock(state_mutex_);
-          counters_.rejected_bytes += event.rejected_bytes;
-          ++counters_.bad_frames;
+  auto on_rejected = [&](const FrameAssembler::Event& event) {
+    if (event.reason == nullptr) return;
+    {
+      std::lock_guard lock(state_mutex_);
+      counters_.rejected_bytes += event.rejected_bytes;
+      ++counters_.bad_frames;
+    }
+    if (collecting_) emit_event(StreamEventKind::bad_frame, event.reason);
+  };
+  feed_all(assembler_, Bytes(buffer.data(), *got), [&] {
+    MeasurementContext context;
+    bool context_known = false;
+    {
+      std::lock_guard lock(state_mutex_);
+      context = context_;
+      context_known = context_known_;
+    }
+    if (context_known) {
+      // Good averaging lines straight from the buffer (issue 17); dispatch checks the
+      // context is still this one and decodes again if not.
+      decode_measurements(
+          assembler_, context,
+          [&](Bytes frame, const Measurement& measurement) { dispatch(frame, &measurement, &context); },
+          [&](Bytes frame) { dispatch(frame); }, on_rejected);
+    } else {
+      FrameAssembler::Event event;
+      while (assembler_.next(event)) {
+        if (event.kind == FrameAssembler::Event::Kind::frame) {
+          dispatch(event.frame);
+        } else {
+          on_rejected(event);
         }
-        if (collecting_) emit_event(StreamEventKind::bad_frame, event.reason);
       }
     }
   });
   return ok_status();
 }
 
-void Driver::dispatch(Bytes frame_bytes) {
+void Driver::dispatch(Bytes frame_bytes, const Measurement* direct, const MeasurementContext* direct_context) {
   {
     // A 2-wire RS-485 adapter without echo suppression reads back what the host
     // sent, before the unit's reply. A copy of a request sent since the last reply
@@ -231,7 +251,10 @@ void Driver::dispatch(Bytes frame_bytes) {
       return;
     }
   }
-  auto parsed = parse_frame(frame_bytes);
+  // A direct line is a good "$BM" averaging line (decode_measurements): parse_frame
+  // would read it as a BM message from measurement.source.
+  Result<FrameView> parsed = FrameView{};
+  if (direct == nullptr) parsed = parse_frame(frame_bytes);
   if (!parsed) {
     {
       std::lock_guard lock(state_mutex_);
@@ -241,13 +264,14 @@ void Driver::dispatch(Bytes frame_bytes) {
     return;
   }
   const FrameView& frame = *parsed;
-  const bool measurement_line = frame.kind == FrameKind::time_between_events || frame.is("BM");
+  const Address address = direct != nullptr ? direct->source : frame.address;
+  const bool measurement_line = direct != nullptr || frame.kind == FrameKind::time_between_events || frame.is("BM");
   int error_number = 0;
-  if (frame.is("ER") && frame.field_count == 1) {
+  if (direct == nullptr && frame.is("ER") && frame.field_count == 1) {
     error_number = static_cast<int>(text::parse_unsigned(frame.field_slots[0], 3).value_or(0));
   }
   std::unique_lock lock(state_mutex_);
-  const bool ours = frame.address == request_address();  // set_address writes it under this lock
+  const bool ours = address == request_address();  // set_address writes it under this lock
   Pending* pending = (pending_ != nullptr && !pending_->done && ours) ? pending_ : nullptr;
 
   if (measurement_line || is_stream_error(error_number)) {
@@ -257,7 +281,16 @@ void Driver::dispatch(Bytes frame_bytes) {
       ++counters_.undecoded;
       return;
     }
-    auto decoded = decode_measurement(frame, context_);
+    if (direct != nullptr && (direct_context->mode != context_.mode || direct_context->display != context_.display ||
+                              direct_context->units != context_.units ||
+                              direct_context->time_between_events != context_.time_between_events)) {
+      // The context changed since the line was read: read it again with the new one.
+      lock.unlock();
+      dispatch(frame_bytes);
+      return;
+    }
+    Result<Measurement> decoded =
+        direct != nullptr ? Result<Measurement>(*direct) : decode_measurement(frame, context_);
     if (!decoded) {
       ++counters_.bad_frames;
       lock.unlock();
@@ -266,8 +299,8 @@ void Driver::dispatch(Bytes frame_bytes) {
     }
     ++counters_.measurements;
     if (pending != nullptr && pending->expect == Expect::measurement) {
-      const int address = frame.address.addressed ? frame.address.byte : -1;
-      Sample sample = sample_from_reading(decoded->reading, address, source_name_);
+      const int sample_address = address.addressed ? address.byte : -1;
+      Sample sample = sample_from_reading(decoded->reading, sample_address, source_name_);
       if (const auto* target = std::get_if<BinningTarget>(&decoded->reading)) {
         bool broken = false;
         if (!pending->bins.add(*target, broken)) return;
