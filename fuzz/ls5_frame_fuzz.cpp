@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,17 +44,26 @@ void parse_all(Bytes bytes) {
   if (const auto reply = parse_reply_line(bytes); reply.ok()) round_trip(*reply);
 }
 
-void assemble(ScanFunction scan, Bytes bytes, bool requests) {
-  FrameAssembler assembler(scan, 128);
-  // Push in pieces of varying size, so frames straddle pushes.
+// Feeds `bytes` in pieces of 1 to 13 bytes, so frames straddle pushes. `push` gets each
+// piece and returns how many bytes it took (the rest comes again), or nothing to stop.
+template <class Push>
+void in_pieces(Bytes bytes, Push&& push) {
   std::size_t offset = 0;
   std::size_t piece = 1;
-  FrameAssembler::Event event;
   while (offset < bytes.size()) {
     const std::size_t size = piece < bytes.size() - offset ? piece : bytes.size() - offset;
-    const std::size_t taken = assembler.push(bytes.subspan(offset, size));
-    offset += taken;
+    const std::optional<std::size_t> taken = push(bytes.subspan(offset, size));
+    if (!taken) return;
+    offset += *taken;
     piece = piece % 13 + 1;
+  }
+}
+
+void assemble(ScanFunction scan, Bytes bytes, bool requests) {
+  FrameAssembler assembler(scan, 128);
+  FrameAssembler::Event event;
+  in_pieces(bytes, [&](Bytes piece) -> std::optional<std::size_t> {
+    const std::size_t taken = assembler.push(piece);
     bool progressed = taken > 0;
     while (assembler.next(event)) {
       progressed = true;
@@ -69,7 +79,8 @@ void assemble(ScanFunction scan, Bytes bytes, bool requests) {
       }
     }
     check(progressed);
-  }
+    return taken;
+  });
 }
 
 // The stream reader's decode_replies against next() and parse_reply on every frame, fed
@@ -88,15 +99,10 @@ void decode_replies_agrees(Bytes bytes) {
   auto rejected = [](const FrameAssembler::Event& event) {
     return "rejected " + std::to_string(event.rejected_bytes) + " " + (event.reason ? event.reason : "-");
   };
-  std::size_t offset = 0;
-  std::size_t piece = 1;
   FrameAssembler::Event event;
-  while (offset < bytes.size()) {
-    const std::size_t size = piece < bytes.size() - offset ? piece : bytes.size() - offset;
-    const std::size_t taken = by_frame.push(bytes.subspan(offset, size));
-    check(direct.push(bytes.subspan(offset, size)) == taken);
-    offset += taken;
-    piece = piece % 13 + 1;
+  in_pieces(bytes, [&](Bytes piece) -> std::optional<std::size_t> {
+    const std::size_t taken = by_frame.push(piece);
+    check(direct.push(piece) == taken);
     while (by_frame.next(event)) {
       expected.push_back(event.kind == FrameAssembler::Event::Kind::rejected ? rejected(event)
                                                                              : describe(parse_reply(event.frame)));
@@ -107,10 +113,11 @@ void decode_replies_agrees(Bytes bytes) {
         [&](const FrameAssembler::Event& rejection) { got.push_back(rejected(rejection)); });
     check(got == expected);
     check(direct.buffered() == by_frame.buffered());
-    if (taken == 0 && expected.empty()) break;
+    if (taken == 0 && expected.empty()) return std::nullopt;
     expected.clear();
     got.clear();
-  }
+    return taken;
+  });
 }
 
 }  // namespace
