@@ -20,6 +20,7 @@ struct MeasurementContext {
   DisplayMode display = DisplayMode::range;  // DM (averaging only)
   Units units = Units::metres;               // MU
   bool time_between_events = false;          // TB (look down only)
+  friend bool operator==(const MeasurementContext&, const MeasurementContext&) = default;
 };
 
 // §9 field widths (U27): a range is at most 8 characters with its sign, a pulse

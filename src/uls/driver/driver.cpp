@@ -281,9 +281,7 @@ void Driver::dispatch(Bytes frame_bytes, const Measurement* direct, const Measur
       ++counters_.undecoded;
       return;
     }
-    if (direct != nullptr && (direct_context->mode != context_.mode || direct_context->display != context_.display ||
-                              direct_context->units != context_.units ||
-                              direct_context->time_between_events != context_.time_between_events)) {
+    if (direct != nullptr && *direct_context != context_) {
       // The context changed since the line was read: read it again with the new one.
       lock.unlock();
       dispatch(frame_bytes);
