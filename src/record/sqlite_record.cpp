@@ -6,7 +6,13 @@
 namespace rangekit::record::sqlite_pages {
 namespace {
 
-bool read_varint(const std::uint8_t* bytes, std::size_t end, std::size_t& offset, std::uint64_t& value) {
+// Serial types below 128 (NULL, numbers, text up to 57 bytes: nearly every value of a
+// capture) are one byte: that case is inlined, the rest take the loop.
+inline bool read_varint(const std::uint8_t* bytes, std::size_t end, std::size_t& offset, std::uint64_t& value) {
+  if (offset < end && bytes[offset] < 0x80U) {
+    value = bytes[offset++];
+    return true;
+  }
   value = 0;
   for (int i = 0; i < 8; ++i) {
     if (offset >= end) return false;
