@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstring>
 #include <string_view>
+#include <system_error>
 
 namespace rangekit::record::sqlite_pages {
 namespace {
@@ -94,7 +95,7 @@ class FilePages final : public PageSource {
     while (got < wanted) {
       const ssize_t n = ::pread(descriptor_, window_.data() + got, wanted - got, offset + static_cast<off_t>(got));
       if (n < 0 && errno == EINTR) continue;
-      if (n < 0) return damaged(number, std::string("cannot be read (") + std::strerror(errno) + ")");
+      if (n < 0) return damaged(number, std::string("cannot be read (") + std::generic_category().message(errno) + ")");
       if (n == 0) break;
       got += static_cast<std::size_t>(n);
     }
@@ -312,7 +313,8 @@ Result<Geometry> parse_header(std::span<const std::uint8_t> start, std::uint64_t
 
 Result<std::unique_ptr<PageSource>> open_file_pages(const std::string& path) {
   const int descriptor = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (descriptor < 0) return make_error(Errc::io, std::string("cannot open (") + std::strerror(errno) + ")");
+  if (descriptor < 0)
+    return make_error(Errc::io, std::string("cannot open (") + std::generic_category().message(errno) + ")");
   struct stat status {};
   std::array<std::uint8_t, header_size> start{};
   if (::fstat(descriptor, &status) != 0 ||
