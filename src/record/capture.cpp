@@ -8,6 +8,7 @@
 #include <set>
 #include <utility>
 
+#include "capture_schema.hpp"
 #include "rangekit/record/format.hpp"
 #include "rangekit/version.hpp"
 #include "sqlite_handle.hpp"
@@ -18,7 +19,9 @@ namespace {
 // The project version from CMake (project(... VERSION)), recorded per session.
 constexpr const char* rangekit_version = rangekit::version_string;
 
-constexpr const char* schema_sql = R"sql(
+// The samples table comes from capture_schema.hpp, which the direct page reader compares.
+std::string schema_sql() {
+  return R"sql(
 BEGIN;
 CREATE TABLE IF NOT EXISTS meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
 INSERT OR IGNORE INTO meta(key, value) VALUES ('format', 'rangekit-capture'), ('format_version', '3');
@@ -29,27 +32,8 @@ CREATE TABLE IF NOT EXISTS sessions(
   ended_ns INTEGER,
   rangekit_version TEXT NOT NULL,
   sources TEXT NOT NULL DEFAULT '');
-CREATE TABLE IF NOT EXISTS samples(
-  seq INTEGER PRIMARY KEY,
-  session INTEGER NOT NULL,
-  time_ns INTEGER NOT NULL,
-  device TEXT NOT NULL,
-  source TEXT NOT NULL,
-  address INTEGER,
-  kind TEXT NOT NULL,
-  distance_m REAL,
-  pulse_width INTEGER,
-  targets TEXT,
-  presence INTEGER,
-  pulses_between_events INTEGER,
-  device_error INTEGER,
-  code INTEGER,
-  distance_mm REAL,
-  signal TEXT,
-  derivative_mm REAL,
-  resolution_mm REAL,
-  suspect INTEGER,
-  suspect_reason TEXT);
+)sql" + std::string("CREATE TABLE IF NOT EXISTS ") +
+         std::string(samples_table_definition) + R"sql(;
 CREATE TABLE IF NOT EXISTS events(
   seq INTEGER PRIMARY KEY,
   session INTEGER NOT NULL,
@@ -59,6 +43,7 @@ CREATE TABLE IF NOT EXISTS events(
   count INTEGER NOT NULL);
 COMMIT;
 )sql";
+}
 
 constexpr const char* insert_sample_sql =
     "INSERT INTO samples(seq, session, time_ns, device, source, address, kind, distance_m, pulse_width, targets, "
@@ -139,7 +124,7 @@ class SqliteCapture final : public CaptureSink {
       const auto pragma = "PRAGMA max_page_count=" + std::to_string(options_.max_page_count);
       if (auto status = execute(path_, db, pragma.c_str()); !status) return status;
     }
-    if (auto status = execute(path_, db, schema_sql); !status) {
+    if (auto status = execute(path_, db, schema_sql().c_str()); !status) {
       (void)execute(path_, db, "ROLLBACK");
       return status;
     }

@@ -1,7 +1,5 @@
 #include "rangekit/record/replay.hpp"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <condition_variable>
 #include <functional>
@@ -9,8 +7,10 @@
 #include <mutex>
 #include <utility>
 
+#include "capture_pages.hpp"
 #include "names.hpp"
 #include "sqlite_handle.hpp"
+#include "targets_text.hpp"
 
 namespace rangekit::record {
 namespace {
@@ -72,22 +72,6 @@ class Column {
   int type_;
 };
 
-void parse_targets(std::string_view text, TargetList& targets) {
-  const auto array = nlohmann::json::parse(text, nullptr, false);
-  if (!array.is_array()) return;
-  for (const auto& entry : array) {
-    if (!entry.is_object()) continue;
-    TargetHit target;
-    if (const auto distance = entry.find("distance_m"); distance != entry.end() && distance->is_number()) {
-      target.distance_m = distance->get<double>();
-    }
-    if (const auto strength = entry.find("strength"); strength != entry.end() && strength->is_number_unsigned()) {
-      target.strength = strength->get<std::uint32_t>();
-    }
-    targets.push_back(target);
-  }
-}
-
 // Fills `sample` from a row, reusing its strings' and targets' storage: a scan of
 // millions of rows allocates nothing per row. Every field of Sample is assigned here, for
 // every row (a field added to Sample must be too): nothing of the previous row stays, and
@@ -103,7 +87,7 @@ void read_sample_into(sqlite3_stmt* row, Sample& sample) {
   sample.distance_m = column(6).real();
   sample.pulse_width = column(7).integer<std::uint32_t>();
   sample.targets.clear();
-  if (const Column hits = column(8); !hits.is_null()) parse_targets(hits.text(), sample.targets);
+  if (const Column hits = column(8); !hits.is_null()) parse_targets_text(hits.text(), sample.targets);
   sample.presence.reset();
   if (const Column presence = column(9); !presence.is_null()) sample.presence = *presence.integer<std::int64_t>() != 0;
   sample.pulses_between_events = column(10).integer<std::uint32_t>();
@@ -324,9 +308,63 @@ Result<std::size_t> capture_sample_bound(const std::string& path) {
   return static_cast<std::size_t>(std::max<std::int64_t>(sqlite3_column_int64(span->get(), 0), 0));
 }
 
+namespace {
+
+// The array path with the samples read from the table's pages (capture_pages.hpp), the
+// events through SQLite as before, merged by seq as the SQLite path merges them. One read
+// transaction covers the schema check, the events and the pages, so a writer's checkpoint
+// cannot change the file under the reader. False: the file does not qualify, nothing
+// was handed over. For `samples` the page walker's checks (each page of the tree once, page
+// types, bounds, key order, every record decoded) take the place of PRAGMA quick_check,
+// which would read every row through SQLite's row engine again (slower than the read
+// itself); the other tables, small, are checked by SQLite beside the read.
+Result<bool> for_each_sample_page(const std::string& path, std::string_view device,
+                                  const std::function<void(const Sample&)>& on_sample,
+                                  const std::function<void(StreamEvent&&)>& on_event) {
+  auto cursors = open_cursors(path, IntegrityCheck::by_caller, CaptureFields::array);
+  if (!cursors) return std::move(cursors).error();
+  auto& [database, samples, events] = *cursors;
+  if (auto begun = execute(path, database.get(), "BEGIN"); !begun) return std::move(begun).error();
+  auto root = samples_pages_root(path, database.get());
+  if (!root) return std::move(root).error();
+  if (!*root) return false;
+  auto integrity = std::async(std::launch::async, [&path]() -> Status {
+    auto checker = open_database(path, false, false, IntegrityCheck::by_caller);
+    if (!checker) return std::move(checker).error();
+    for (const char* table : {"meta", "sessions", "events"}) {
+      if (auto checked = check_integrity(path, checker->get(), table); !checked) return checked;
+    }
+    return ok_status();
+  });
+  events.advance();
+  const auto events_up_to = [&](std::optional<std::int64_t> seq) {
+    while (events.has_row() && (!seq || events.seq() <= *seq)) {
+      on_event(read_event(events.row()));
+      events.advance();
+    }
+  };
+  auto read = read_samples_pages(path, **root, device, [&](std::int64_t seq, const Sample& sample) {
+    events_up_to(seq);
+    on_sample(sample);
+  });
+  auto checked = integrity.get();
+  if (!read) return std::move(read).error();
+  if (!checked) return std::move(checked).error();
+  events_up_to(std::nullopt);
+  if (events.failed_code() != 0) on_event(read_error_event(path, database.get(), events.failed_code()));
+  return true;
+}
+
+}  // namespace
+
 Status for_each_in_capture(const std::string& path, std::string_view device,
                            const std::function<void(const Sample&)>& on_sample,
                            const std::function<void(StreamEvent&&)>& on_event, CaptureFields fields) {
+  if (fields == CaptureFields::array) {
+    auto direct = for_each_sample_page(path, device, on_sample, on_event);
+    if (!direct) return std::move(direct).error();
+    if (*direct) return ok_status();
+  }
   auto cursors = open_cursors(path, IntegrityCheck::by_caller, fields);
   if (!cursors) return std::move(cursors).error();
   // PRAGMA quick_check reads the whole file as the scan does: it runs at the same time on

@@ -48,8 +48,9 @@ Result<bool> has_column(const std::string& path, sqlite3* database, const char* 
   return sqlite3_column_int64(query->get(), 0) > 0;
 }
 
-Status check_integrity(const std::string& path, sqlite3* database) {
-  auto check = prepare(path, database, "PRAGMA quick_check");
+Status check_integrity(const std::string& path, sqlite3* database, const char* table) {
+  const std::string pragma = table != nullptr ? std::string("PRAGMA quick_check(") + table + ")" : "PRAGMA quick_check";
+  auto check = prepare(path, database, pragma.c_str());
   if (!check) return std::move(check).error();
   const int code = sqlite3_step(check->get());
   if (code != SQLITE_ROW) return sqlite_error(path, database, code, "checking the file");

@@ -51,7 +51,8 @@ enum class IntegrityCheck { at_open, by_caller };
 Result<Database> open_database(const std::string& path, bool writable, bool may_create,
                                IntegrityCheck integrity = IntegrityCheck::at_open);
 
-// PRAGMA quick_check: "capture FILE: corrupt (...)" when the file is damaged.
-Status check_integrity(const std::string& path, sqlite3* database);
+// PRAGMA quick_check: "capture FILE: corrupt (...)" when the file is damaged; of one table
+// and its indexes only when `table` is given (a constant name, not quoted).
+Status check_integrity(const std::string& path, sqlite3* database, const char* table = nullptr);
 
 }  // namespace rangekit::record

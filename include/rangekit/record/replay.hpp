@@ -47,7 +47,10 @@ Result<std::size_t> capture_sample_bound(const std::string& path);
 
 // Which fields of the samples for_each_in_capture fills: all of them, or those of an
 // array row (rangekit.capture in Python): `source`, `resolution_mm` and `suspect_reason`
-// are left empty and SQLite does not decode them.
+// are left empty. An array read takes the samples from the file's pages without SQLite's
+// row engine when the file qualifies (docs/capture.md, "Direct reading of the samples"):
+// same samples and events, and damage to the samples' pages is an error naming the page
+// instead of quick_check's verdict.
 enum class CaptureFields { all, array };
 
 Status for_each_in_capture(const std::string& path, std::string_view device,

@@ -1,0 +1,218 @@
+#include "capture_pages.hpp"
+
+#include <sys/stat.h>
+
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "capture_schema.hpp"
+#include "names.hpp"
+#include "sqlite_handle.hpp"
+#include "sqlite_pages.hpp"
+#include "sqlite_record.hpp"
+#include "targets_text.hpp"
+
+namespace rangekit::record {
+namespace {
+
+using sqlite_pages::FieldValue;
+using sqlite_pages::StorageClass;
+
+// The columns' places in a record of `samples` (capture_schema.hpp); seq is the rowid.
+enum Column : std::size_t {
+  time_ns = 2,
+  device = 3,
+  address = 5,
+  kind = 6,
+  distance_m = 7,
+  pulse_width = 8,
+  targets = 9,
+  presence = 10,
+  pulses_between_events = 11,
+  device_error = 12,
+  code = 13,
+  distance_mm = 14,
+  signal = 15,
+  derivative_mm = 16,
+  suspect = 18,
+  column_count = 20,
+};
+constexpr std::array<const char*, column_count> column_names = {
+    "seq",          "session",       "time_ns",     "device",  "source",        "address",
+    "kind",         "distance_m",    "pulse_width", "targets", "presence",      "pulses_between_events",
+    "device_error", "code",          "distance_mm", "signal",  "derivative_mm", "resolution_mm",
+    "suspect",      "suspect_reason"};
+
+constexpr std::uint32_t utf8 = 1;
+
+// A record's value that SQLite would convert where this reader does not (text in a number
+// column, a number in a text column: only a file edited by hand holds one).
+struct Mismatch {
+  std::size_t column = 0;
+  StorageClass type = StorageClass::null;
+};
+
+// The row's values as the SQLite reader's Column converts them (sqlite3_value_int64,
+// sqlite3_value_double, sqlite3_value_text) for the storage classes the writer produces.
+class Row {
+ public:
+  explicit Row(const std::array<FieldValue, column_count>& fields) : fields_(fields) {}
+
+  [[nodiscard]] bool is_null(std::size_t column) const { return fields_[column].type == StorageClass::null; }
+
+  template <class T>
+  [[nodiscard]] std::optional<T> integer(std::size_t column) {
+    const FieldValue& field = fields_[column];
+    if (field.type == StorageClass::integer) return static_cast<T>(field.integer);
+    if (field.type == StorageClass::real) return static_cast<T>(real_to_integer(field.real));
+    if (field.type != StorageClass::null) mismatch(column);
+    return std::nullopt;
+  }
+  [[nodiscard]] std::optional<double> real(std::size_t column) {
+    const FieldValue& field = fields_[column];
+    if (field.type == StorageClass::real) return field.real;
+    // SQLite stores a REAL column's whole numbers as integers in the record.
+    if (field.type == StorageClass::integer) return static_cast<double>(field.integer);
+    if (field.type != StorageClass::null) mismatch(column);
+    return std::nullopt;
+  }
+  // The text (empty when NULL).
+  [[nodiscard]] std::string_view text(std::size_t column) {
+    const FieldValue& field = fields_[column];
+    if (field.type == StorageClass::text || field.type == StorageClass::blob) return field.bytes;
+    if (field.type != StorageClass::null) mismatch(column);
+    return {};
+  }
+  [[nodiscard]] const std::optional<Mismatch>& first_mismatch() const { return mismatch_; }
+
+ private:
+  // sqlite3_value_int64 of a REAL: truncated, saturated at the int64 limits.
+  static std::int64_t real_to_integer(double value) {
+    constexpr auto lowest = std::numeric_limits<std::int64_t>::min();
+    constexpr auto highest = std::numeric_limits<std::int64_t>::max();
+    if (std::isnan(value)) return 0;
+    if (value <= static_cast<double>(lowest)) return lowest;
+    if (value >= static_cast<double>(highest)) return highest;
+    return static_cast<std::int64_t>(value);
+  }
+  void mismatch(std::size_t column) {
+    if (!mismatch_) mismatch_ = Mismatch{column, fields_[column].type};
+  }
+
+  const std::array<FieldValue, column_count>& fields_;
+  std::optional<Mismatch> mismatch_;
+};
+
+const char* storage_name(StorageClass type) {
+  switch (type) {
+    case StorageClass::integer:
+      return "an integer";
+    case StorageClass::real:
+      return "a real";
+    case StorageClass::text:
+      return "text";
+    case StorageClass::blob:
+      return "a blob";
+    case StorageClass::null:
+      break;
+  }
+  return "NULL";
+}
+
+// The fields of CaptureFields::array, as read_sample_into in replay.cpp fills them from
+// the SQLite reader's row (source, resolution_mm and suspect_reason stay empty).
+void fill_array_sample(Row& row, Sample& sample) {
+  sample.time = std::chrono::system_clock::time_point(std::chrono::duration_cast<std::chrono::system_clock::duration>(
+      std::chrono::nanoseconds(row.integer<std::int64_t>(time_ns).value_or(0))));
+  sample.device.assign(row.text(device));
+  sample.address = row.integer<int>(address).value_or(-1);
+  sample.kind = parse_sample_kind(row.text(kind)).value_or(SampleKind::uls_averaging);
+  sample.distance_m = row.real(distance_m);
+  sample.pulse_width = row.integer<std::uint32_t>(pulse_width);
+  sample.targets.clear();
+  if (!row.is_null(targets)) parse_targets_text(row.text(targets), sample.targets);
+  sample.presence.reset();
+  if (!row.is_null(presence)) sample.presence = row.integer<std::int64_t>(presence).value_or(0) != 0;
+  sample.pulses_between_events = row.integer<std::uint32_t>(pulses_between_events);
+  sample.pulses_overflow = false;
+  if (sample.kind == SampleKind::uls_look_down && sample.pulses_between_events == 0U) {
+    sample.pulses_between_events.reset();  // the wire's 0000: more than 65535 pulses (U88)
+    sample.pulses_overflow = true;
+  }
+  sample.device_error = row.integer<int>(device_error);
+  sample.code = row.integer<std::uint16_t>(code);
+  sample.distance_mm = row.real(distance_mm);
+  sample.signal.reset();
+  if (!row.is_null(signal)) sample.signal = parse_signal_state(row.text(signal));
+  sample.derivative_mm = row.real(derivative_mm);
+  sample.resolution_mm.reset();
+  sample.suspect = row.integer<int>(suspect).value_or(0) != 0;
+  sample.suspect_reason.clear();
+}
+
+bool wal_is_empty(const std::string& path) {
+  struct stat status {};
+  const std::string wal = path + "-wal";
+  return ::stat(wal.c_str(), &status) != 0 || status.st_size == 0;
+}
+
+}  // namespace
+
+Result<std::optional<std::uint32_t>> samples_pages_root(const std::string& path, sqlite3* database) {
+  auto query =
+      prepare(path, database, "SELECT rootpage, sql FROM sqlite_schema WHERE type = 'table' AND name = 'samples'");
+  if (!query) return std::move(query).error();
+  const int code = sqlite3_step(query->get());
+  if (code == SQLITE_DONE) return std::optional<std::uint32_t>();
+  if (code != SQLITE_ROW) return sqlite_error(path, database, code, "reading the schema");
+  const auto root = sqlite3_column_int64(query->get(), 0);
+  const auto* sql = reinterpret_cast<const char*>(sqlite3_column_text(query->get(), 1));
+  const std::string expected = "CREATE TABLE " + std::string(samples_table_definition);
+  // A capture of an older version, upgraded by ALTER TABLE, has another text (and the
+  // same column places, but only this text is known for certain).
+  if (sql == nullptr || expected != sql || root <= 1 || root > std::numeric_limits<std::uint32_t>::max()) {
+    return std::optional<std::uint32_t>();
+  }
+  // The schema read above began the read transaction: from here on a checkpoint cannot
+  // copy frames into the main file, so a log empty now stays empty for this reader.
+  if (!wal_is_empty(path)) return std::optional<std::uint32_t>();
+  auto encoding = prepare(path, database, "PRAGMA encoding");
+  if (!encoding || sqlite3_step(encoding->get()) != SQLITE_ROW) return std::optional<std::uint32_t>();
+  const auto* name = reinterpret_cast<const char*>(sqlite3_column_text(encoding->get(), 0));
+  if (name == nullptr || std::string_view(name) != "UTF-8") return std::optional<std::uint32_t>();
+  return std::optional<std::uint32_t>(static_cast<std::uint32_t>(root));
+}
+
+Status read_samples_pages(const std::string& path, std::uint32_t root, std::string_view wanted_device,
+                          const std::function<void(std::int64_t seq, const Sample&)>& on_sample) {
+  const std::string prefix = "capture " + path + ": corrupt samples table: ";
+  auto pages = sqlite_pages::open_file_pages(path);
+  if (!pages) return make_error(Errc::io, prefix + pages.error().message);
+  if ((*pages)->geometry().text_encoding != utf8) return make_error(Errc::io, prefix + "text is not UTF-8");
+  std::array<FieldValue, column_count> fields{};
+  Sample sample;  // one for every row: its strings keep their storage
+  std::optional<Error> failure;
+  auto walked = sqlite_pages::walk_table(**pages, root, [&](std::int64_t seq, std::span<const std::uint8_t> record) {
+    if (!sqlite_pages::decode_record(record, fields)) {
+      failure = make_error(Errc::io, prefix + "row " + std::to_string(seq) + ": malformed record");
+      return false;
+    }
+    Row row(fields);
+    if (!wanted_device.empty() && row.text(device) != wanted_device) return true;
+    fill_array_sample(row, sample);
+    if (const auto& mismatch = row.first_mismatch()) {
+      failure =
+          make_error(Errc::io, prefix + "row " + std::to_string(seq) + ": column " + column_names[mismatch->column] +
+                                   " holds " + storage_name(mismatch->type) + ", which rangekit never writes there");
+      return false;
+    }
+    on_sample(seq, sample);
+    return true;
+  });
+  if (failure) return *failure;
+  if (!walked) return make_error(Errc::io, prefix + walked.error().message);
+  return ok_status();
+}
+
+}  // namespace rangekit::record
