@@ -323,7 +323,10 @@ Result<bool> for_each_sample_page(const std::string& path, std::string_view devi
                                   const std::function<void(StreamEvent&&)>& on_event) {
   auto cursors = open_cursors(path, IntegrityCheck::by_caller, CaptureFields::array);
   if (!cursors) return std::move(cursors).error();
-  auto& [database, samples, events] = *cursors;
+  // Named references, not a structured binding: a lambda below captures `events`, which
+  // clang 14 (clang-tidy's front end) refuses for a binding.
+  auto& database = cursors->database;
+  auto& events = cursors->events;
   if (auto begun = execute(path, database.get(), "BEGIN"); !begun) return std::move(begun).error();
   auto root = samples_pages_root(path, database.get());
   if (!root) return std::move(root).error();
