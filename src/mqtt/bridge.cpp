@@ -35,10 +35,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-// The longest a sample waits in the hub's queue for the network thread (docs/mqtt.md): the
-// bench's latency goal is p99 <= 10 ms from the record's last byte to a subscriber.
-constexpr std::chrono::nanoseconds batch_interval = 1ms;
-
 struct Message {
   std::string topic;
   std::string payload;
@@ -120,7 +116,7 @@ struct Bridge::Impl {
     if (::write(wake_fd, &one, sizeof one) < 0) return;  // full counter: a wake is pending anyway
   }
   void run_network();
-  void serve_sockets(std::chrono::nanoseconds timeout, bool woken_too);
+  void serve_sockets(int timeout_ms);
   void take_items(hub::Subscription& subscription);
   void send_replies();
   void poll_sensors(std::chrono::steady_clock::time_point now);
@@ -380,15 +376,14 @@ std::vector<Message> discovery_messages(const Link& link, const hub::MqttConfig&
 
 }  // namespace
 
-// One poll over every open session socket (and the wake eventfd when `woken_too`), then
-// libmosquitto's read and write for the sockets that are ready (its callbacks run here,
-// on the network thread).
-void Bridge::Impl::serve_sockets(std::chrono::nanoseconds timeout, bool woken_too) {
+// One poll over the wake eventfd and every open session socket, then libmosquitto's read
+// and write for the sockets that are ready (its callbacks run here, on the network thread).
+void Bridge::Impl::serve_sockets(int timeout_ms) {
   std::vector<pollfd> fds;
   std::vector<Link*> owners;
   fds.reserve(links.size() + 1);
   owners.reserve(links.size());
-  fds.push_back(pollfd{woken_too ? wake_fd : -1, POLLIN, 0});  // poll skips a negative fd
+  fds.push_back(pollfd{wake_fd, POLLIN, 0});
   for (const auto& link : links) {
     const int sock = mosquitto_socket(link->client);
     if (sock < 0) continue;
@@ -396,9 +391,7 @@ void Bridge::Impl::serve_sockets(std::chrono::nanoseconds timeout, bool woken_to
     fds.push_back(pollfd{sock, events, 0});
     owners.push_back(link.get());
   }
-  const auto seconds = std::chrono::duration_cast<std::chrono::seconds>(timeout);
-  const timespec wait{static_cast<time_t>(seconds.count()), static_cast<long>((timeout - seconds).count())};
-  if (::ppoll(fds.data(), fds.size(), &wait, nullptr) <= 0) return;
+  if (::poll(fds.data(), fds.size(), timeout_ms) <= 0) return;
   if ((fds[0].revents & POLLIN) != 0) {
     std::uint64_t count = 0;
     if (::read(wake_fd, &count, sizeof count) < 0) count = 0;  // nonblocking: nothing to take is fine
@@ -537,7 +530,7 @@ void Bridge::Impl::say_offline_and_disconnect() {
     });
   };
   const auto deadline = std::chrono::steady_clock::now() + 5s;
-  while (waiting() && std::chrono::steady_clock::now() < deadline) serve_sockets(50ms, false);
+  while (waiting() && std::chrono::steady_clock::now() < deadline) serve_sockets(50);
   for (const auto& link : links) {
     if (mosquitto_socket(link->client) >= 0) mosquitto_disconnect(link->client);
   }
@@ -547,7 +540,7 @@ void Bridge::Impl::say_offline_and_disconnect() {
                        [](const auto& link) { return mosquitto_socket(link->client) >= 0; });
   };
   const auto closed_by = std::chrono::steady_clock::now() + 1s;
-  while (open() && std::chrono::steady_clock::now() < closed_by) serve_sockets(50ms, false);
+  while (open() && std::chrono::steady_clock::now() < closed_by) serve_sockets(50);
 }
 
 void Bridge::Impl::run_network() {
@@ -559,22 +552,14 @@ void Bridge::Impl::run_network() {
     mosquitto_connect_async(link->client, address.host.c_str(), address.port, options.keepalive_s);
   }
   auto next_poll = std::chrono::steady_clock::now();
-  auto last_take = next_poll - batch_interval;
   while (!closing) {
     auto now = std::chrono::steady_clock::now();
-    // Hub items are taken at most once a batch_interval: at 1 kHz a sensor then costs this
-    // thread one wake-up per batch instead of one per sample. Sockets are served meanwhile;
-    // otherwise it wakes at least every 20 ms for the windows' deadlines.
-    const auto take_at = last_take + batch_interval;
-    const bool may_take = now >= take_at;
-    const auto timeout = may_take ? std::min<std::chrono::nanoseconds>(20ms, next_poll - now) : take_at - now;
-    serve_sockets(std::max<std::chrono::nanoseconds>(timeout, 0ns), may_take);
+    // Wakes for hub items, replies, sockets, and at least every 20 ms for the windows' deadlines.
+    const auto until_poll = std::chrono::duration_cast<std::chrono::milliseconds>(next_poll - now).count();
+    serve_sockets(static_cast<int>(std::clamp<std::int64_t>(until_poll, 0, 20)));
+    if (subscription) take_items(**subscription);
+    send_replies();
     now = std::chrono::steady_clock::now();
-    if (now >= last_take + batch_interval) {
-      last_take = now;
-      if (subscription) take_items(**subscription);
-      send_replies();
-    }
     for (const auto& link : links) {
       if (auto message = link->window.flush_due(now)) {
         link->send(Message{link->reading_topic, std::move(*message), options.config.qos_reading, false});
