@@ -67,6 +67,23 @@ struct Command {
   std::string correlation;     // MQTT 5 correlation data, as bytes
 };
 
+// The network thread's eventfd. Shared with the hub's listener, which the hub may still be
+// calling while the bridge stops: the fd closes when the last holder lets go, so a late
+// wake-up never writes to a closed (or reused) descriptor.
+struct WakeFd {
+  int fd = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+  WakeFd() = default;
+  ~WakeFd() {
+    if (fd >= 0) ::close(fd);
+  }
+  WakeFd(const WakeFd&) = delete;
+  WakeFd& operator=(const WakeFd&) = delete;
+  void signal() const {
+    const std::uint64_t one = 1;
+    if (::write(fd, &one, sizeof one) < 0) return;  // full counter: a wake-up is pending anyway
+  }
+};
+
 // A command's result, published by the network thread.
 struct Reply {
   Link* link = nullptr;
@@ -85,7 +102,8 @@ struct Bridge::Impl {
 
   std::atomic<bool> stopping{false};  // the command thread ends
   std::atomic<bool> closing{false};   // the network thread says offline, disconnects and ends
-  int wake_fd = -1;                   // eventfd: hub items, replies or closing for the network thread
+  // Hub items, replies or closing for the network thread.
+  std::shared_ptr<const WakeFd> waker = std::make_shared<const WakeFd>();
   std::thread network;
   std::thread commander;
   std::mutex command_mutex;
@@ -111,10 +129,7 @@ struct Bridge::Impl {
   void log(const std::string& line) const {
     if (options.log) options.log(line);
   }
-  void wake() const {
-    const std::uint64_t one = 1;
-    if (::write(wake_fd, &one, sizeof one) < 0) return;  // full counter: a wake is pending anyway
-  }
+  void wake() const { waker->signal(); }
   void run_network();
   void serve_sockets(int timeout_ms);
   void take_items(hub::Subscription& subscription);
@@ -383,7 +398,7 @@ void Bridge::Impl::serve_sockets(int timeout_ms) {
   std::vector<Link*> owners;
   fds.reserve(links.size() + 1);
   owners.reserve(links.size());
-  fds.push_back(pollfd{wake_fd, POLLIN, 0});
+  fds.push_back(pollfd{waker->fd, POLLIN, 0});
   for (const auto& link : links) {
     const int sock = mosquitto_socket(link->client);
     if (sock < 0) continue;
@@ -394,7 +409,7 @@ void Bridge::Impl::serve_sockets(int timeout_ms) {
   if (::poll(fds.data(), fds.size(), timeout_ms) <= 0) return;
   if ((fds[0].revents & POLLIN) != 0) {
     std::uint64_t count = 0;
-    if (::read(wake_fd, &count, sizeof count) < 0) count = 0;  // nonblocking: nothing to take is fine
+    if (::read(waker->fd, &count, sizeof count) < 0) count = 0;  // nonblocking: nothing to take is fine
   }
   for (std::size_t i = 0; i < owners.size(); ++i) {
     const short revents = fds[i + 1].revents;
@@ -546,7 +561,7 @@ void Bridge::Impl::say_offline_and_disconnect() {
 void Bridge::Impl::run_network() {
   auto subscription = hub.subscribe("", 65536, hub::OverflowPolicy::drop_oldest);
   if (!subscription) log("mqtt: cannot subscribe to the hub: " + subscription.error().message);
-  if (subscription) (*subscription)->set_listener([this] { wake(); });
+  if (subscription) (*subscription)->set_listener([waker = waker] { waker->signal(); });
   for (const auto& link : links) {
     // Refused or unreachable now is retried with backoff by keep_connected.
     mosquitto_connect_async(link->client, address.host.c_str(), address.port, options.keepalive_s);
@@ -642,7 +657,6 @@ Bridge::Impl::~Impl() {
   for (const auto& link : links) {
     if (link->client != nullptr) mosquitto_destroy(link->client);
   }
-  if (wake_fd >= 0) ::close(wake_fd);
 }
 
 Bridge::Bridge(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -655,8 +669,7 @@ Result<std::unique_ptr<Bridge>> Bridge::start(hub::Hub& hub, BridgeOptions optio
   init_library();
   auto impl = std::make_unique<Impl>(hub, std::move(options));
   impl->address = *address;
-  impl->wake_fd = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
-  if (impl->wake_fd < 0) return make_error(Errc::io, "mqtt: cannot make an eventfd for the network thread");
+  if (impl->waker->fd < 0) return make_error(Errc::io, "mqtt: cannot make an eventfd for the network thread");
   const hub::MqttConfig& config = impl->options.config;
   for (const hub::SensorSnapshot& sensor : hub.sensors()) {
     impl->links.push_back(std::make_unique<Link>(*impl, sensor.config));
