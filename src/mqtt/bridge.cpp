@@ -1,13 +1,21 @@
 // One libmosquitto session per sensor, so that each sensor's availability topic can
 // carry its own will ("offline", retained) and the broker marks every sensor offline
-// when the service dies. One publishing thread reads the hub's bounded subscription
-// and turns items into messages; a command thread runs `set` and `action` requests,
-// which wait for the sensor, off the network threads. libmosquitto's own thread per
-// session reconnects with exponential backoff (docs/mqtt.md says why libmosquitto).
+// when the service dies. One network thread of ours drives every session (no
+// libmosquitto thread): it waits in one poll() on the hub's bounded subscription and on
+// every session's socket, turns hub items into messages and publishes them itself, so a
+// publish is a write() on this thread that wakes no other (with a libmosquitto thread
+// per session, each publish woke that thread through its socketpair: perf, docs/mqtt.md).
+// libmosquitto is not thread-safe per session without its own thread, so every call for
+// a session happens on the network thread, which also reconnects with exponential
+// backoff. A command thread runs `set` and `action` requests, which wait for the sensor,
+// and hands their results back to the network thread through a queue.
 #include "rangekit/mqtt/bridge.hpp"
 
 #include <mosquitto.h>
 #include <mqtt_protocol.h>
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -59,6 +67,32 @@ struct Command {
   std::string correlation;     // MQTT 5 correlation data, as bytes
 };
 
+// The network thread's eventfd. Shared with the hub's listener, which the hub may still be
+// calling while the bridge stops: the fd closes when the last holder lets go, so a late
+// wake-up never writes to a closed (or reused) descriptor.
+struct WakeFd {
+  int fd = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+  WakeFd() = default;
+  ~WakeFd() {
+    if (fd >= 0) ::close(fd);
+  }
+  WakeFd(const WakeFd&) = delete;
+  WakeFd& operator=(const WakeFd&) = delete;
+  void signal() const {
+    const std::uint64_t one = 1;
+    if (::write(fd, &one, sizeof one) < 0) return;  // full counter: a wake-up is pending anyway
+  }
+};
+
+// A command's result, published by the network thread.
+struct Reply {
+  Link* link = nullptr;
+  std::string topic;
+  std::string payload;
+  std::string response_topic;  // MQTT 5
+  std::string correlation;
+};
+
 struct Bridge::Impl {
   hub::Hub& hub;
   BridgeOptions options;
@@ -66,12 +100,17 @@ struct Bridge::Impl {
   std::vector<std::unique_ptr<Link>> links;
   std::map<std::string, Link*, std::less<>> by_sensor;
 
-  std::atomic<bool> stopping{false};
-  std::thread publisher;
+  std::atomic<bool> stopping{false};  // the command thread ends
+  std::atomic<bool> closing{false};   // the network thread says offline, disconnects and ends
+  // Hub items, replies or closing for the network thread.
+  std::shared_ptr<const WakeFd> waker = std::make_shared<const WakeFd>();
+  std::thread network;
   std::thread commander;
   std::mutex command_mutex;
   std::condition_variable command_ready;
   std::deque<Command> commands;
+  std::mutex reply_mutex;
+  std::deque<Reply> replies;
 
   mutable std::mutex state_mutex;  // error, logged flags
   std::string error;
@@ -90,54 +129,58 @@ struct Bridge::Impl {
   void log(const std::string& line) const {
     if (options.log) options.log(line);
   }
-  void run_publisher();
+  void wake() const { waker->signal(); }
+  void run_network();
+  void serve_sockets(int timeout_ms);
+  void take_items(hub::Subscription& subscription);
+  void send_replies();
+  void poll_sensors(std::chrono::steady_clock::time_point now);
+  void keep_connected(Link& link, std::chrono::steady_clock::time_point now) const;
+  void say_offline_and_disconnect();
   void run_commands();
   void handle(Command& command);
   void on_connected(Link& link, int reason);
   void on_lost(Link& link, int reason);
-  void retry_refused(Link& link, std::chrono::steady_clock::time_point now) const;
 };
 
 struct Link {
   Bridge::Impl& bridge;
   hub::SensorConfig config;
-  std::string topic;  // <base>/<sensor>
+  std::string topic;          // <base>/<sensor>
+  std::string reading_topic;  // <base>/<sensor>/reading, made once
   mosquitto* client = nullptr;
   ReadingWindow window;
 
-  std::mutex mutex;  // the queue and the counters
+  mutable std::mutex mutex;  // the queue and the counters, which stats() reads from other threads
   std::deque<Message> queue;
   std::uint64_t published = 0;
   std::uint64_t dropped = 0;
   std::uint64_t reconnects = 0;
   bool ever_connected = false;
   std::atomic<bool> connected{false};
-  std::atomic<bool> republish{false};  // set on connect: the publisher sends the retained state again
+  std::atomic<bool> status_now{false};  // a command changed something: status goes out at the next poll
 
-  // Publisher-thread state: what was last said on availability and when status went out.
-  std::optional<bool> online;
+  // Network-thread state from here on.
+  bool republish = false;      // set on connect: the retained state goes out again
+  std::optional<bool> online;  // what was last said on availability
   std::chrono::steady_clock::time_point next_status{};
-
-  std::atomic<bool> status_now{false};
-  std::string last_status;  // publisher thread: the status without its health, to see a change
-  // Set when the broker refused the session: libmosquitto does not retry that, the publisher does,
-  // quietly, every config.reconnect_max_s (the log said it once).
-  std::atomic<bool> refused{false};
-  std::chrono::steady_clock::time_point
-      refused_at{};  // publisher thread  // a command changed something: status goes out at the next poll
-
-  // The clean stop waits for the offline message to leave: the messages the broker
-  // acknowledged, collected while stopping. Its own mutex, never held while calling libmosquitto.
-  std::mutex sent_mutex;
-  std::condition_variable sent;
-  bool collecting = false;
-  std::vector<int> acked;
+  std::string last_status;  // the status without its health, to see a change
+  // Reconnecting: the next attempt (none planned while zero) and the backoff after it. A
+  // refused session is retried quietly every config.reconnect_max_s (the log said it once).
+  std::chrono::steady_clock::time_point next_attempt{};
+  int backoff_s = 1;
+  bool refused = false;
+  // The clean stop waits for the offline message to leave.
+  int offline_mid = -1;
+  bool offline_acked = false;
 
   Link(Bridge::Impl& b, hub::SensorConfig c)
       : bridge(b),
         config(std::move(c)),
         topic(b.options.config.base_topic + "/" + config.name),
-        window(b.options.config.max_rate_hz) {}
+        reading_topic(topic + "/reading"),
+        window(b.options.config.max_rate_hz),
+        backoff_s(std::max(b.options.reconnect_min_s, 1)) {}
 
   // Never waits for the broker: when the session is down the message waits in the
   // bounded queue, and a full queue loses its oldest message (counted).
@@ -151,7 +194,8 @@ struct Link {
     }
   }
 
-  // Called with the mutex held.
+  // Called with the mutex held, on the network thread: without libmosquitto's thread the
+  // packet is written here and then, or queued in the session until the socket can take it.
   bool try_publish(const Message& message, int* mid = nullptr) {
     const int rc = mosquitto_publish(client, mid, message.topic.c_str(), static_cast<int>(message.payload.size()),
                                      message.payload.data(), message.qos, message.retain);
@@ -185,11 +229,7 @@ void on_disconnect(mosquitto* /*client*/, void* user, int reason, const mosquitt
 
 void on_publish(mosquitto* /*client*/, void* user, int mid, int /*reason*/, const mosquitto_property* /*props*/) {
   auto* link = static_cast<Link*>(user);
-  const std::lock_guard lock(link->sent_mutex);
-  if (link->collecting) {
-    link->acked.push_back(mid);
-    link->sent.notify_all();
-  }
+  if (mid == link->offline_mid) link->offline_acked = true;
 }
 
 void on_message(mosquitto* /*client*/, void* user, const mosquitto_message* message, const mosquitto_property* props) {
@@ -250,6 +290,7 @@ void Bridge::Impl::on_connected(Link& link, int reason) {
     }
     return;
   }
+  link.backoff_s = std::max(options.reconnect_min_s, 1);
   const std::string set_topic = link.topic + "/set";
   const std::string action_topic = link.topic + "/action";
   mosquitto_subscribe(link.client, nullptr, set_topic.c_str(), options.config.qos_command);
@@ -260,7 +301,7 @@ void Bridge::Impl::on_connected(Link& link, int reason) {
     link.ever_connected = true;
     link.connected = true;
   }
-  link.republish = true;
+  link.republish = true;  // the callback runs on the network thread
   const int now_connected = ++connected_links;
   const std::lock_guard lock(state_mutex);
   error.clear();
@@ -350,88 +391,202 @@ std::vector<Message> discovery_messages(const Link& link, const hub::MqttConfig&
 
 }  // namespace
 
-void Bridge::Impl::retry_refused(Link& link, std::chrono::steady_clock::time_point now) const {
-  if (link.refused_at == std::chrono::steady_clock::time_point{}) {
-    link.refused_at = now;
-    return;
+// One poll over the wake eventfd and every open session socket, then libmosquitto's read
+// and write for the sockets that are ready (its callbacks run here, on the network thread).
+void Bridge::Impl::serve_sockets(int timeout_ms) {
+  std::vector<pollfd> fds;
+  std::vector<Link*> owners;
+  fds.reserve(links.size() + 1);
+  owners.reserve(links.size());
+  fds.push_back(pollfd{waker->fd, POLLIN, 0});
+  for (const auto& link : links) {
+    const int sock = mosquitto_socket(link->client);
+    if (sock < 0) continue;
+    const auto events = static_cast<short>(POLLIN | (mosquitto_want_write(link->client) ? POLLOUT : 0));
+    fds.push_back(pollfd{sock, events, 0});
+    owners.push_back(link.get());
   }
-  if (now - link.refused_at < std::chrono::seconds(options.config.reconnect_max_s)) return;
-  link.refused = false;
-  link.refused_at = {};
-  // The session's thread has ended after the refusal: a new one connects again.
-  mosquitto_disconnect(link.client);
-  mosquitto_loop_stop(link.client, false);
-  mosquitto_connect_async(link.client, address.host.c_str(), address.port, options.keepalive_s);
-  mosquitto_loop_start(link.client);
+  if (::poll(fds.data(), fds.size(), timeout_ms) <= 0) return;
+  if ((fds[0].revents & POLLIN) != 0) {
+    std::uint64_t count = 0;
+    if (::read(waker->fd, &count, sizeof count) < 0) count = 0;  // nonblocking: nothing to take is fine
+  }
+  for (std::size_t i = 0; i < owners.size(); ++i) {
+    const short revents = fds[i + 1].revents;
+    mosquitto* client = owners[i]->client;
+    if ((revents & (POLLIN | POLLERR | POLLHUP)) != 0) mosquitto_loop_read(client, 1);
+    if ((revents & POLLOUT) != 0 && mosquitto_socket(client) >= 0) mosquitto_loop_write(client, 1);
+  }
 }
 
-void Bridge::Impl::run_publisher() {
-  auto subscription = hub.subscribe("", 65536, hub::OverflowPolicy::drop_oldest);
-  if (!subscription) {
-    log("mqtt: cannot subscribe to the hub: " + subscription.error().message);
-    return;
-  }
+void Bridge::Impl::take_items(hub::Subscription& subscription) {
   const hub::MqttConfig& config = options.config;
-  auto next_poll = std::chrono::steady_clock::now();
-  while (!stopping) {
-    for (const hub::HubItemPtr& item : (*subscription)->take(1024, 20ms)) {
+  // The listener wakes this thread only when an item lands in an empty queue: take it all.
+  for (std::size_t taken = 1024; taken == 1024;) {
+    const auto batch = subscription.take(1024, 0ms);
+    taken = batch.size();
+    for (const hub::HubItemPtr& item : batch) {
       const auto found = by_sensor.find(item->sensor);
       if (found == by_sensor.end()) continue;
       Link& link = *found->second;
-      const auto now = std::chrono::steady_clock::now();
       if (const auto* sample = std::get_if<Sample>(&item->item)) {
-        if (auto message = link.window.add(*sample, now)) {
-          link.send(Message{link.topic + "/reading", std::move(*message), config.qos_reading, false});
+        if (auto message = link.window.add(*sample, std::chrono::steady_clock::now())) {
+          link.send(Message{link.reading_topic, std::move(*message), config.qos_reading, false});
         }
       } else if (const auto* event = std::get_if<StreamEvent>(&item->item);
                  event != nullptr && event->kind == StreamEventKind::lost_records) {
         link.window.add_lost(event->count);
       }
     }
-    hub_lost = (*subscription)->lost();
-    const auto now = std::chrono::steady_clock::now();
+  }
+  hub_lost = subscription.lost();
+}
+
+void Bridge::Impl::send_replies() {
+  std::deque<Reply> ready;
+  {
+    const std::lock_guard lock(reply_mutex);
+    ready.swap(replies);
+  }
+  const int qos = options.config.qos_command;
+  for (Reply& reply : ready) {
+    Link& link = *reply.link;
+    if (!reply.response_topic.empty()) {
+      // MQTT 5 request/response: the answer on the asked topic, with the request's correlation data.
+      mosquitto_property* props = nullptr;
+      if (!reply.correlation.empty()) {
+        mosquitto_property_add_binary(&props, MQTT_PROP_CORRELATION_DATA, reply.correlation.data(),
+                                      static_cast<std::uint16_t>(reply.correlation.size()));
+      }
+      const std::lock_guard lock(link.mutex);
+      if (link.connected && mosquitto_publish_v5(link.client, nullptr, reply.response_topic.c_str(),
+                                                 static_cast<int>(reply.payload.size()), reply.payload.data(), qos,
+                                                 false, props) == MOSQ_ERR_SUCCESS) {
+        ++link.published;
+      }
+      mosquitto_property_free_all(&props);
+    }
+    link.send(Message{std::move(reply.topic), std::move(reply.payload), qos, false});
+  }
+}
+
+// Without libmosquitto's thread the bridge keeps each session up itself: keepalive (PINGREQ,
+// and a silent broker counted as lost), and a reconnect with backoff doubling from
+// reconnect_min_s to reconnect_max_s, or every reconnect_max_s after a refusal.
+void Bridge::Impl::keep_connected(Link& link, std::chrono::steady_clock::time_point now) const {
+  if (mosquitto_socket(link.client) >= 0) {
+    mosquitto_loop_misc(link.client);
+    return;
+  }
+  if (link.next_attempt == std::chrono::steady_clock::time_point{}) {
+    const int max_s = std::max(options.config.reconnect_max_s, 1);
+    const int delay_s = link.refused ? max_s : std::min(link.backoff_s, max_s);
+    if (!link.refused) link.backoff_s = std::min(link.backoff_s * 2, max_s);
+    link.refused = false;
+    link.next_attempt = now + std::chrono::seconds(delay_s);
+    return;
+  }
+  if (now < link.next_attempt) return;
+  link.next_attempt = {};
+  // A broker still away fails here or on the socket; the next call plans the next attempt.
+  mosquitto_reconnect_async(link.client);
+}
+
+// Availability follows the sensor's link; status goes out on a change and every status_interval.
+void Bridge::Impl::poll_sensors(std::chrono::steady_clock::time_point now) {
+  const hub::MqttConfig& config = options.config;
+  for (const auto& link : links) {
+    keep_connected(*link, now);
+    auto snapshot = hub.sensor(link->config.name);
+    if (!snapshot) continue;
+    const bool republish = std::exchange(link->republish, false);
+    // What waited goes first: after a reconnect without its stale retained messages; otherwise
+    // what a publish refused in passing (a connection that dropped and came back in between).
+    if (republish || link->connected) link->flush(republish);
+    const bool online = snapshot->health.connected;
+    nlohmann::json status = hub::sensor_json(*snapshot);
+    nlohmann::json without_health = status;
+    without_health.erase("health");
+    without_health.erase("last_id");
+    std::string fingerprint = without_health.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    const bool changed = fingerprint != link->last_status;
+    link->last_status = std::move(fingerprint);
+    const bool status_now = link->status_now.exchange(false) || changed;
+    if (republish || status_now || link->online != online || now >= link->next_status) {
+      if (republish && config.discovery) {
+        for (Message& message : discovery_messages(*link, config)) link->send(std::move(message));
+      }
+      if (republish || link->online != online) {
+        link->send(Message{link->topic + "/availability", online ? "online" : "offline", config.qos_state, true});
+      }
+      status["service"] = config.client_id;
+      link->send(Message{link->topic + "/status", status.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
+                         config.qos_state, true});
+      link->online = online;
+      link->next_status = now + options.status_interval;
+    }
+  }
+}
+
+// A clean stop says offline itself (the broker sends no will after a DISCONNECT) and
+// waits, bounded, for the broker to acknowledge it, then disconnects every session.
+void Bridge::Impl::say_offline_and_disconnect() {
+  const int qos = std::max(options.config.qos_state, 1);
+  for (const auto& link : links) {
+    const std::lock_guard lock(link->mutex);
+    int mid = -1;
+    if (link->connected && link->try_publish(Message{link->topic + "/availability", "offline", qos, true}, &mid)) {
+      link->offline_mid = mid;
+    }
+  }
+  const auto waiting = [&] {
+    return std::any_of(links.begin(), links.end(), [](const auto& link) {
+      return link->connected && link->offline_mid >= 0 && !link->offline_acked;
+    });
+  };
+  const auto deadline = std::chrono::steady_clock::now() + 5s;
+  while (waiting() && std::chrono::steady_clock::now() < deadline) serve_sockets(50);
+  for (const auto& link : links) {
+    if (mosquitto_socket(link->client) >= 0) mosquitto_disconnect(link->client);
+  }
+  // The DISCONNECTs that did not fit the sockets at once.
+  const auto open = [&] {
+    return std::any_of(links.begin(), links.end(),
+                       [](const auto& link) { return mosquitto_socket(link->client) >= 0; });
+  };
+  const auto closed_by = std::chrono::steady_clock::now() + 1s;
+  while (open() && std::chrono::steady_clock::now() < closed_by) serve_sockets(50);
+}
+
+void Bridge::Impl::run_network() {
+  auto subscription = hub.subscribe("", 65536, hub::OverflowPolicy::drop_oldest);
+  if (!subscription) log("mqtt: cannot subscribe to the hub: " + subscription.error().message);
+  if (subscription) (*subscription)->set_listener([waker = waker] { waker->signal(); });
+  for (const auto& link : links) {
+    // Refused or unreachable now is retried with backoff by keep_connected.
+    mosquitto_connect_async(link->client, address.host.c_str(), address.port, options.keepalive_s);
+  }
+  auto next_poll = std::chrono::steady_clock::now();
+  while (!closing) {
+    auto now = std::chrono::steady_clock::now();
+    // Wakes for hub items, replies, sockets, and at least every 20 ms for the windows' deadlines.
+    const auto until_poll = std::chrono::duration_cast<std::chrono::milliseconds>(next_poll - now).count();
+    serve_sockets(static_cast<int>(std::clamp<std::int64_t>(until_poll, 0, 20)));
+    if (subscription) take_items(**subscription);
+    send_replies();
+    now = std::chrono::steady_clock::now();
     for (const auto& link : links) {
       if (auto message = link->window.flush_due(now)) {
-        link->send(Message{link->topic + "/reading", std::move(*message), config.qos_reading, false});
+        link->send(Message{link->reading_topic, std::move(*message), options.config.qos_reading, false});
       }
     }
     if (now < next_poll) continue;
     next_poll = now + 100ms;
-    // Availability follows the sensor's link; status goes out on a change and every status_interval.
-    for (const auto& link : links) {
-      if (link->refused) retry_refused(*link, now);
-      auto snapshot = hub.sensor(link->config.name);
-      if (!snapshot) continue;
-      const bool republish = link->republish.exchange(false);
-      // What waited goes first: after a reconnect without its stale retained messages; otherwise
-      // what a publish refused in passing (a connection that dropped and came back in between).
-      if (republish || link->connected) link->flush(republish);
-      const bool online = snapshot->health.connected;
-      nlohmann::json status = hub::sensor_json(*snapshot);
-      nlohmann::json without_health = status;
-      without_health.erase("health");
-      without_health.erase("last_id");
-      std::string fingerprint = without_health.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-      const bool changed = fingerprint != link->last_status;
-      link->last_status = std::move(fingerprint);
-      const bool status_now = link->status_now.exchange(false) || changed;
-      if (republish || status_now || link->online != online || now >= link->next_status) {
-        if (republish && config.discovery) {
-          for (Message& message : discovery_messages(*link, config)) link->send(std::move(message));
-        }
-        if (republish || link->online != online) {
-          link->send(Message{link->topic + "/availability", online ? "online" : "offline", config.qos_state, true});
-        }
-        status["service"] = config.client_id;
-        link->send(Message{link->topic + "/status",
-                           status.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), config.qos_state,
-                           true});
-        link->online = online;
-        link->next_status = now + options.status_interval;
-      }
-    }
+    poll_sensors(now);
   }
-  (*subscription)->close();
+  if (subscription) (*subscription)->close();
+  send_replies();
+  say_offline_and_disconnect();
 }
 
 void Bridge::Impl::run_commands() {
@@ -487,28 +642,17 @@ void Bridge::Impl::handle(Command& command) {
   }
   if (result.contains("error")) result["ok"] = false;
   ++handled;
-  const hub::MqttConfig& config = options.config;
-  const std::string payload = result.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  link.send(
-      Message{link.topic + (command.is_set ? "/set/result" : "/action/result"), payload, config.qos_command, false});
-  if (!command.response_topic.empty()) {
-    // MQTT 5 request/response: the answer on the asked topic, with the request's correlation data.
-    mosquitto_property* props = nullptr;
-    if (!command.correlation.empty()) {
-      mosquitto_property_add_binary(&props, MQTT_PROP_CORRELATION_DATA, command.correlation.data(),
-                                    static_cast<std::uint16_t>(command.correlation.size()));
-    }
-    const std::lock_guard lock(link.mutex);
-    if (mosquitto_publish_v5(link.client, nullptr, command.response_topic.c_str(), static_cast<int>(payload.size()),
-                             payload.data(), config.qos_command, false, props) == MOSQ_ERR_SUCCESS) {
-      ++link.published;
-    }
-    mosquitto_property_free_all(&props);
+  {
+    const std::lock_guard lock(reply_mutex);
+    replies.push_back(Reply{&link, link.topic + (command.is_set ? "/set/result" : "/action/result"),
+                            result.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
+                            std::move(command.response_topic), std::move(command.correlation)});
   }
   link.status_now = true;  // settings may have changed: the status goes out again at once
+  wake();
 }
 
-// Sessions made by a start() that failed before their threads ran; stop() destroys the others.
+// Sessions made by a start() that failed before their threads ran, or stopped ones.
 Bridge::Impl::~Impl() {
   for (const auto& link : links) {
     if (link->client != nullptr) mosquitto_destroy(link->client);
@@ -525,6 +669,7 @@ Result<std::unique_ptr<Bridge>> Bridge::start(hub::Hub& hub, BridgeOptions optio
   init_library();
   auto impl = std::make_unique<Impl>(hub, std::move(options));
   impl->address = *address;
+  if (impl->waker->fd < 0) return make_error(Errc::io, "mqtt: cannot make an eventfd for the network thread");
   const hub::MqttConfig& config = impl->options.config;
   for (const hub::SensorSnapshot& sensor : hub.sensors()) {
     impl->links.push_back(std::make_unique<Link>(*impl, sensor.config));
@@ -541,8 +686,6 @@ Result<std::unique_ptr<Bridge>> Bridge::start(hub::Hub& hub, BridgeOptions optio
     mosquitto_disconnect_v5_callback_set(link.client, on_disconnect);
     mosquitto_publish_v5_callback_set(link.client, on_publish);
     mosquitto_message_v5_callback_set(link.client, on_message);
-    mosquitto_reconnect_delay_set(link.client, static_cast<unsigned>(impl->options.reconnect_min_s),
-                                  static_cast<unsigned>(config.reconnect_max_s), true);
     const std::string availability = link.topic + "/availability";
     mosquitto_will_set_v5(link.client, availability.c_str(), 7, "offline", config.qos_state, true, nullptr);
     if (!config.username.empty()) {
@@ -558,12 +701,7 @@ Result<std::unique_ptr<Bridge>> Bridge::start(hub::Hub& hub, BridgeOptions optio
     }
   }
   Impl* raw = impl.get();
-  for (const auto& link : impl->links) {
-    // Refused or unreachable now is retried by the session's thread with backoff.
-    mosquitto_connect_async(link->client, address->host.c_str(), address->port, raw->options.keepalive_s);
-    mosquitto_loop_start(link->client);
-  }
-  impl->publisher = std::thread([raw] { raw->run_publisher(); });
+  impl->network = std::thread([raw] { raw->run_network(); });
   impl->commander = std::thread([raw] { raw->run_commands(); });
   return std::unique_ptr<Bridge>(new Bridge(std::move(impl)));
 }
@@ -572,33 +710,11 @@ void Bridge::stop() {
   if (!impl_ || impl_->stopping.exchange(true)) return;
   impl_->command_ready.notify_all();
   if (impl_->commander.joinable()) impl_->commander.join();
-  if (impl_->publisher.joinable()) impl_->publisher.join();
-  const hub::MqttConfig& config = impl_->options.config;
+  // After the commands, so that their results still go out before offline.
+  impl_->closing = true;
+  impl_->wake();
+  if (impl_->network.joinable()) impl_->network.join();
   for (const auto& link : impl_->links) {
-    // A clean stop says offline itself (the broker sends no will after a DISCONNECT) and
-    // waits, bounded, for it to leave.
-    {
-      const std::lock_guard lock(link->sent_mutex);
-      link->collecting = true;
-    }
-    int mid = -1;
-    bool published = false;
-    {
-      const std::lock_guard lock(link->mutex);
-      published = link->connected &&
-                  link->try_publish(
-                      Message{link->topic + "/availability", "offline", std::max(config.qos_state, 1), true}, &mid);
-    }
-    if (published) {
-      std::unique_lock lock(link->sent_mutex);
-      link->sent.wait_for(lock, 5s, [&] {
-        return !link->connected || std::find(link->acked.begin(), link->acked.end(), mid) != link->acked.end();
-      });
-    }
-    mosquitto_disconnect(link->client);
-  }
-  for (const auto& link : impl_->links) {
-    mosquitto_loop_stop(link->client, false);
     mosquitto_destroy(link->client);
     link->client = nullptr;
   }
