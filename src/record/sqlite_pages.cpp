@@ -1,4 +1,5 @@
 #include "sqlite_pages.hpp"
+#include "sqlite_varint.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -28,20 +29,6 @@ std::uint32_t big_endian(const std::uint8_t* bytes, int count) {
 
 Error damaged(std::uint32_t page, const std::string& what) {
   return make_error(Errc::io, "page " + std::to_string(page) + ": " + what);
-}
-
-// A varint (1-9 bytes) at `offset` of `bytes[0, end)`; false when it runs past `end`.
-bool read_varint(const std::uint8_t* bytes, std::size_t end, std::size_t& offset, std::uint64_t& value) {
-  value = 0;
-  for (int i = 0; i < 8; ++i) {
-    if (offset >= end) return false;
-    const std::uint8_t byte = bytes[offset++];
-    value = (value << 7U) | (byte & 0x7FU);
-    if ((byte & 0x80U) == 0) return true;
-  }
-  if (offset >= end) return false;
-  value = (value << 8U) | bytes[offset++];
-  return true;
 }
 
 class MemoryPages final : public PageSource {

@@ -1,29 +1,11 @@
 #include "sqlite_record.hpp"
+#include "sqlite_varint.hpp"
 
 #include <bit>
 #include <cstring>
 
 namespace rangekit::record::sqlite_pages {
 namespace {
-
-// Serial types below 128 (NULL, numbers, text up to 57 bytes: nearly every value of a
-// capture) are one byte: that case is inlined, the rest take the loop.
-inline bool read_varint(const std::uint8_t* bytes, std::size_t end, std::size_t& offset, std::uint64_t& value) {
-  if (offset < end && bytes[offset] < 0x80U) {
-    value = bytes[offset++];
-    return true;
-  }
-  value = 0;
-  for (int i = 0; i < 8; ++i) {
-    if (offset >= end) return false;
-    const std::uint8_t byte = bytes[offset++];
-    value = (value << 7U) | (byte & 0x7FU);
-    if ((byte & 0x80U) == 0) return true;
-  }
-  if (offset >= end) return false;
-  value = (value << 8U) | bytes[offset++];
-  return true;
-}
 
 // A big-endian two's complement integer of `count` bytes (1-8).
 std::int64_t signed_big_endian(const std::uint8_t* bytes, std::size_t count) {
