@@ -151,16 +151,18 @@ struct Link {
   mosquitto* client = nullptr;
   ReadingWindow window;
 
-  mutable std::mutex mutex;  // the queue and the counters, which stats() reads from other threads
-  std::deque<Message> queue;
-  std::uint64_t published = 0;
-  std::uint64_t dropped = 0;
-  std::uint64_t reconnects = 0;
-  bool ever_connected = false;
+  // The counters stats() reads from other threads. No lock around libmosquitto: its callbacks
+  // run under its own locks, and a lock of ours taken on both sides is an inversion (TSan).
+  std::atomic<std::uint64_t> published{0};
+  std::atomic<std::uint64_t> dropped{0};
+  std::atomic<std::uint64_t> reconnects{0};
+  std::atomic<std::uint64_t> queued{0};  // queue.size()
   std::atomic<bool> connected{false};
   std::atomic<bool> status_now{false};  // a command changed something: status goes out at the next poll
 
   // Network-thread state from here on.
+  std::deque<Message> queue;
+  bool ever_connected = false;
   bool republish = false;      // set on connect: the retained state goes out again
   std::optional<bool> online;  // what was last said on availability
   std::chrono::steady_clock::time_point next_status{};
@@ -185,16 +187,16 @@ struct Link {
   // Never waits for the broker: when the session is down the message waits in the
   // bounded queue, and a full queue loses its oldest message (counted).
   void send(Message message) {
-    const std::lock_guard lock(mutex);
     if (connected && queue.empty() && try_publish(message)) return;
     queue.push_back(std::move(message));
     while (queue.size() > bridge.options.config.queue_limit) {
       queue.pop_front();
       ++dropped;
     }
+    queued = queue.size();
   }
 
-  // Called with the mutex held, on the network thread: without libmosquitto's thread the
+  // On the network thread: without libmosquitto's thread the
   // packet is written here and then, or queued in the session until the socket can take it.
   bool try_publish(const Message& message, int* mid = nullptr) {
     const int rc = mosquitto_publish(client, mid, message.topic.c_str(), static_cast<int>(message.payload.size()),
@@ -207,11 +209,11 @@ struct Link {
   // Sends what waited, oldest first. After a (re)connect its retained messages are stale (the
   // fresh state goes out next) and are left out.
   void flush(bool drop_retained) {
-    const std::lock_guard lock(mutex);
     while (!queue.empty() && connected) {
       if (!(drop_retained && queue.front().retain) && !try_publish(queue.front())) break;
       queue.pop_front();
     }
+    queued = queue.size();
   }
 };
 
@@ -295,12 +297,9 @@ void Bridge::Impl::on_connected(Link& link, int reason) {
   const std::string action_topic = link.topic + "/action";
   mosquitto_subscribe(link.client, nullptr, set_topic.c_str(), options.config.qos_command);
   mosquitto_subscribe(link.client, nullptr, action_topic.c_str(), options.config.qos_command);
-  {
-    const std::lock_guard lock(link.mutex);
-    if (link.ever_connected) ++link.reconnects;
-    link.ever_connected = true;
-    link.connected = true;
-  }
+  if (link.ever_connected) ++link.reconnects;
+  link.ever_connected = true;
+  link.connected = true;
   link.republish = true;  // the callback runs on the network thread
   const int now_connected = ++connected_links;
   const std::lock_guard lock(state_mutex);
@@ -314,13 +313,7 @@ void Bridge::Impl::on_connected(Link& link, int reason) {
 }
 
 void Bridge::Impl::on_lost(Link& link, int reason) {
-  bool was = false;
-  {
-    const std::lock_guard lock(link.mutex);
-    was = link.connected;
-    link.connected = false;
-  }
-  if (!was) return;
+  if (!link.connected.exchange(false)) return;
   --connected_links;
   if (stopping || reason == 0) return;
   const std::lock_guard lock(state_mutex);
@@ -458,7 +451,6 @@ void Bridge::Impl::send_replies() {
         mosquitto_property_add_binary(&props, MQTT_PROP_CORRELATION_DATA, reply.correlation.data(),
                                       static_cast<std::uint16_t>(reply.correlation.size()));
       }
-      const std::lock_guard lock(link.mutex);
       if (link.connected && mosquitto_publish_v5(link.client, nullptr, reply.response_topic.c_str(),
                                                  static_cast<int>(reply.payload.size()), reply.payload.data(), qos,
                                                  false, props) == MOSQ_ERR_SUCCESS) {
@@ -533,7 +525,6 @@ void Bridge::Impl::poll_sensors(std::chrono::steady_clock::time_point now) {
 void Bridge::Impl::say_offline_and_disconnect() {
   const int qos = std::max(options.config.qos_state, 1);
   for (const auto& link : links) {
-    const std::lock_guard lock(link->mutex);
     int mid = -1;
     if (link->connected && link->try_publish(Message{link->topic + "/availability", "offline", qos, true}, &mid)) {
       link->offline_mid = mid;
@@ -732,11 +723,10 @@ BridgeStats Bridge::stats() const {
   stats.commands = impl_->handled.load();
   stats.refusals = impl_->refusals.load();
   for (const auto& link : impl_->links) {
-    const std::lock_guard lock(link->mutex);
-    stats.published += link->published;
-    stats.dropped += link->dropped;
-    stats.queued += link->queue.size();
-    stats.reconnects += link->reconnects;
+    stats.published += link->published.load();
+    stats.dropped += link->dropped.load();
+    stats.queued += link->queued.load();
+    stats.reconnects += link->reconnects.load();
   }
   return stats;
 }
