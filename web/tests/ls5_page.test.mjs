@@ -121,12 +121,14 @@ test('the analog and discrete indicators follow formulas 8.3 and 8.4 for the liv
   // Defaults (table 9.2): analog limits 0000 and C350 (50000), 4-20 mA (the emulator's default
   // output without an ordering code, L74); discrete outputs 12 with swings 0 and 50000.
   assert.equal(await page.inputValue('#ls5-analog-type'), '4-20mA');
-  await page.waitForFunction(() => Number(document.querySelector('#ls5-analog-value')?.dataset.code) <= 50000, null, WAIT);
-  const shown = await page.evaluate(() => {
+  // Read the indicators in the same turn as the check that the code lies in 0...50000: a live code
+  // can be 65535 (no signal) a moment later, and then 8.3 holds an extreme instead (L8).
+  const shown = await (await page.waitForFunction(() => {
     const analog = document.querySelector('#ls5-analog-value');
+    if (!analog || !(Number(analog.dataset.code) <= 50000)) return null;
     return { code: Number(analog.dataset.code), value: Number(analog.dataset.value), text: analog.textContent,
       oc1: document.querySelector('#ls5-oc1').dataset.state, oc2: document.querySelector('#ls5-oc2').dataset.state };
-  });
+  }, null, WAIT)).jsonValue();
   // 8.3 with K_n = 0, K_v = 50000: A = 4 + (20 − 4) · K / 50000.
   const expected = 4 + (16 * shown.code) / 50000;
   assert.ok(Math.abs(shown.value - expected) < 1e-9, `${shown.value} mA for K = ${shown.code}; 8.3 gives ${expected}`);
@@ -136,12 +138,12 @@ test('the analog and discrete indicators follow formulas 8.3 and 8.4 for the liv
   await page.screenshot({ path: path.join(screenshots, 'ls5-page-outputs.png') });  // the top of the page
   // The 0-10 V output type turns the same code into volts: A = 10 · K / 50000.
   await page.selectOption('#ls5-analog-type', '0-10V');
-  await page.waitForFunction(() => / V$/.test(document.querySelector('#ls5-analog-value').textContent), null, WAIT);
-  const volts = await page.evaluate(() => {
+  const volts = await (await page.waitForFunction(() => {
     const analog = document.querySelector('#ls5-analog-value');
+    if (!/ V$/.test(analog.textContent) || !(Number(analog.dataset.code) <= 50000)) return null;
     return { code: Number(analog.dataset.code), value: Number(analog.dataset.value) };
-  });
-  assert.ok(Math.abs(volts.value - (10 * volts.code) / 50000) < 1e-9);
+  }, null, WAIT)).jsonValue();
+  assert.ok(Math.abs(volts.value - (10 * volts.code) / 50000) < 1e-9, `${volts.value} V for K = ${volts.code}`);
   await page.selectOption('#ls5-analog-type', '4-20mA');
 });
 
