@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <condition_variable>
 #include <deque>
@@ -140,6 +141,7 @@ struct Bridge::Impl {
   void run_commands();
   void handle(Command& command);
   void on_connected(Link& link, int reason);
+  void on_subscribed(Link& link, int mid, int count, const int* granted);
   void on_lost(Link& link, int reason);
 };
 
@@ -158,6 +160,9 @@ struct Link {
   std::atomic<std::uint64_t> reconnects{0};
   std::atomic<std::uint64_t> queued{0};  // queue.size()
   std::atomic<bool> connected{false};
+  // The broker acknowledged the set and action subscriptions of this session: only then does
+  // it count as connected in stats(), so a command sent after that is heard.
+  std::atomic<bool> listening{false};
   std::atomic<bool> status_now{false};  // a command changed something: status goes out at the next poll
 
   // Network-thread state from here on.
@@ -175,6 +180,7 @@ struct Link {
   // The clean stop waits for the offline message to leave.
   int offline_mid = -1;
   bool offline_acked = false;
+  int subscribe_mid = -1;  // the SUBSCRIBE of set and action this session waits to see acknowledged
 
   Link(Bridge::Impl& b, hub::SensorConfig c)
       : bridge(b),
@@ -227,6 +233,12 @@ void on_connect(mosquitto* /*client*/, void* user, int reason, int /*flags*/, co
 void on_disconnect(mosquitto* /*client*/, void* user, int reason, const mosquitto_property* /*props*/) {
   auto* link = static_cast<Link*>(user);
   link->bridge.on_lost(*link, reason);
+}
+
+void on_subscribe(mosquitto* /*client*/, void* user, int mid, int count, const int* granted,
+                  const mosquitto_property* /*props*/) {
+  auto* link = static_cast<Link*>(user);
+  link->bridge.on_subscribed(*link, mid, count, granted);
 }
 
 void on_publish(mosquitto* /*client*/, void* user, int mid, int /*reason*/, const mosquitto_property* /*props*/) {
@@ -293,18 +305,32 @@ void Bridge::Impl::on_connected(Link& link, int reason) {
     return;
   }
   link.backoff_s = std::max(options.reconnect_min_s, 1);
+  // Both command topics in one SUBSCRIBE: the session counts as connected at its SUBACK.
   const std::string set_topic = link.topic + "/set";
   const std::string action_topic = link.topic + "/action";
-  mosquitto_subscribe(link.client, nullptr, set_topic.c_str(), options.config.qos_command);
-  mosquitto_subscribe(link.client, nullptr, action_topic.c_str(), options.config.qos_command);
+  std::array<char*, 2> topics{const_cast<char*>(set_topic.c_str()), const_cast<char*>(action_topic.c_str())};
+  link.subscribe_mid = -1;
+  mosquitto_subscribe_multiple(link.client, &link.subscribe_mid, static_cast<int>(topics.size()), topics.data(),
+                               options.config.qos_command, 0, nullptr);
   if (link.ever_connected) ++link.reconnects;
   link.ever_connected = true;
   link.connected = true;
   link.republish = true;  // the callback runs on the network thread
-  const int now_connected = ++connected_links;
   const std::lock_guard lock(state_mutex);
   error.clear();
   told_refused = false;
+}
+
+void Bridge::Impl::on_subscribed(Link& link, int mid, int count, const int* granted) {
+  if (mid != link.subscribe_mid || !link.connected || link.listening.exchange(true)) return;
+  for (int i = 0; i < count; ++i) {
+    if (granted[i] >= 0x80) {  // MQTT 5 reason codes from 0x80 are failures (e.g. not authorised)
+      log("mqtt: broker " + options.config.broker + " refused the subscription to " + link.topic +
+          (i == 0 ? "/set" : "/action") + ": " + mosquitto_reason_string(granted[i]) + "; commands will not be heard");
+    }
+  }
+  const int now_connected = ++connected_links;
+  const std::lock_guard lock(state_mutex);
   if (now_connected == static_cast<int>(links.size())) {
     log("mqtt: connected to " + options.config.broker + " as " + options.config.client_id + "-* (" +
         std::to_string(links.size()) + " sensors under " + options.config.base_topic + "/)");
@@ -314,7 +340,7 @@ void Bridge::Impl::on_connected(Link& link, int reason) {
 
 void Bridge::Impl::on_lost(Link& link, int reason) {
   if (!link.connected.exchange(false)) return;
-  --connected_links;
+  if (link.listening.exchange(false)) --connected_links;
   if (stopping || reason == 0) return;
   const std::lock_guard lock(state_mutex);
   if (!told_down) {
@@ -676,6 +702,7 @@ Result<std::unique_ptr<Bridge>> Bridge::start(hub::Hub& hub, BridgeOptions optio
     mosquitto_connect_v5_callback_set(link.client, on_connect);
     mosquitto_disconnect_v5_callback_set(link.client, on_disconnect);
     mosquitto_publish_v5_callback_set(link.client, on_publish);
+    mosquitto_subscribe_v5_callback_set(link.client, on_subscribe);
     mosquitto_message_v5_callback_set(link.client, on_message);
     const std::string availability = link.topic + "/availability";
     mosquitto_will_set_v5(link.client, availability.c_str(), 7, "offline", config.qos_state, true, nullptr);

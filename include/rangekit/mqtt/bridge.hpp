@@ -29,7 +29,7 @@ struct BridgeOptions {
 };
 
 struct BridgeStats {
-  bool connected = false;        // every sensor's session is connected to the broker
+  bool connected = false;        // every sensor's session is connected, its set and action subscribed (SUBACK)
   std::string error;             // a refusal that retrying will not fix (credentials), until a connect succeeds
   std::string broker;            // as configured
   std::uint64_t published = 0;   // messages handed to the broker's connection
