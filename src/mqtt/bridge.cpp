@@ -28,6 +28,7 @@
 #include <mutex>
 #include <thread>
 
+#include "mqtt/packet_outbox.hpp"
 #include "mqtt/reading_window.hpp"
 #include "rangekit/hub/json_views.hpp"
 
@@ -132,8 +133,8 @@ struct Bridge::Impl {
   }
   void wake() const { waker->signal(); }
   void run_network();
-  void serve_sockets(int timeout_ms);
-  void take_items(hub::Subscription& subscription);
+  bool serve_sockets(std::chrono::microseconds timeout, bool hear_wake = true);
+  std::size_t take_items(hub::Subscription& subscription);
   void send_replies();
   void poll_sensors(std::chrono::steady_clock::time_point now);
   void keep_connected(Link& link, std::chrono::steady_clock::time_point now) const;
@@ -180,7 +181,17 @@ struct Link {
   // The clean stop waits for the offline message to leave.
   int offline_mid = -1;
   bool offline_acked = false;
-  int subscribe_mid = -1;  // the SUBSCRIBE of set and action this session waits to see acknowledged
+  int subscribe_mid = -1;             // the SUBSCRIBE of set and action this session waits to see acknowledged
+  bool told_refused_message = false;  // a message libmosquitto will never take was logged
+
+  // The reading fast path (docs/mqtt.md): QoS 0 readings on a plain TCP session are encoded
+  // here and written with one send() per drain. The socket is shared with libmosquitto, so
+  // packets never interleave: ours go only when libmosquitto has nothing pending
+  // (mosquitto_want_write), and while part of ours is on the wire (mid_packet) no
+  // libmosquitto call that may write is made (publish, read, misc, write, disconnect).
+  bool direct = false;           // plain TCP and a reading topic libmosquitto would accept too
+  std::uint32_t max_packet = 0;  // the broker's Maximum Packet Size (CONNACK, MQTT 5), 0: none
+  PacketOutbox out;
 
   Link(Bridge::Impl& b, hub::SensorConfig c)
       : bridge(b),
@@ -193,7 +204,7 @@ struct Link {
   // Never waits for the broker: when the session is down the message waits in the
   // bounded queue, and a full queue loses its oldest message (counted).
   void send(Message message) {
-    if (connected && queue.empty() && try_publish(message)) return;
+    if (connected && queue.empty() && !out.mid_packet() && try_publish(message) != Publish::later) return;
     queue.push_back(std::move(message));
     while (queue.size() > bridge.options.config.queue_limit) {
       queue.pop_front();
@@ -202,21 +213,60 @@ struct Link {
     queued = queue.size();
   }
 
-  // On the network thread: without libmosquitto's thread the
-  // packet is written here and then, or queued in the session until the socket can take it.
-  bool try_publish(const Message& message, int* mid = nullptr) {
+  enum class Publish {
+    sent,     // handed to libmosquitto (written, or queued in the session until the socket takes it)
+    later,    // not now (no connection): keep it
+    refused,  // never: too large for the broker, or a topic or text libmosquitto rejects (dropped, counted)
+  };
+  // On the network thread: without libmosquitto's thread the packet is written here and then,
+  // or queued in the session until the socket can take it.
+  Publish try_publish(const Message& message, int* mid = nullptr) {
     const int rc = mosquitto_publish(client, mid, message.topic.c_str(), static_cast<int>(message.payload.size()),
                                      message.payload.data(), message.qos, message.retain);
-    if (rc != MOSQ_ERR_SUCCESS) return false;
-    ++published;
-    return true;
+    if (rc == MOSQ_ERR_SUCCESS) {
+      ++published;
+      return Publish::sent;
+    }
+    if (rc != MOSQ_ERR_OVERSIZE_PACKET && rc != MOSQ_ERR_PAYLOAD_SIZE && rc != MOSQ_ERR_INVAL &&
+        rc != MOSQ_ERR_MALFORMED_UTF8 && rc != MOSQ_ERR_QOS_NOT_SUPPORTED && rc != MOSQ_ERR_NOT_SUPPORTED) {
+      return Publish::later;
+    }
+    // Kept, it would hold up every message behind it in the queue for good.
+    ++dropped;
+    if (!told_refused_message) {
+      told_refused_message = true;
+      bridge.log("mqtt: " + message.topic + ": the message cannot be published (" + mosquitto_strerror(rc) +
+                 (rc == MOSQ_ERR_OVERSIZE_PACKET ? ", larger than the broker's maximum packet size" : "") +
+                 "); dropped and counted, and so are the next such ones, unsaid");
+    }
+    return Publish::refused;
   }
+
+  // A reading: by the fast path when it can (QoS 0, connected, nothing queued before it),
+  // else as any message.
+  void send_reading(std::string payload, int qos) {
+    if (direct && qos == 0 && connected && queue.empty() && out.add(reading_topic, payload, max_packet)) return;
+    send(Message{reading_topic, std::move(payload), qos, false});
+  }
+
+  // Writes out as far as the socket takes it (nonblocking), after anything libmosquitto has pending.
+  void write_out() {
+    const int sock = mosquitto_socket(client);
+    if (out.empty() || sock < 0) return;
+    if (!out.mid_packet() && mosquitto_want_write(client)) return;  // its packet first (POLLOUT)
+    // A failed write means the connection is gone: libmosquitto's next read finds out and reconnects.
+    if (out.write_to(sock) == PacketOutbox::Write::failed) drop_out();
+    published += out.take_completed();
+  }
+
+  // What out still holds will not reach the broker (a lost connection): counted as dropped.
+  void drop_out() { dropped += out.drop(); }
 
   // Sends what waited, oldest first. After a (re)connect its retained messages are stale (the
   // fresh state goes out next) and are left out.
   void flush(bool drop_retained) {
-    while (!queue.empty() && connected) {
-      if (!(drop_retained && queue.front().retain) && !try_publish(queue.front())) break;
+    while (!queue.empty() && connected && !out.mid_packet()) {
+      if (!(drop_retained && queue.front().retain) && try_publish(queue.front()) == Publish::later) break;
       queue.pop_front();
     }
     queued = queue.size();
@@ -225,8 +275,15 @@ struct Link {
 
 namespace {
 
-void on_connect(mosquitto* /*client*/, void* user, int reason, int /*flags*/, const mosquitto_property* /*props*/) {
+void on_connect(mosquitto* /*client*/, void* user, int reason, int /*flags*/, const mosquitto_property* props) {
   auto* link = static_cast<Link*>(user);
+  // A broker may limit the packets it takes (MQTT 5 §3.2.2.3.6); libmosquitto checks its own
+  // publishes against it, and the fast path must too.
+  std::uint32_t max_packet = 0;
+  if (mosquitto_property_read_int32(props, MQTT_PROP_MAXIMUM_PACKET_SIZE, &max_packet, false) == nullptr) {
+    max_packet = 0;
+  }
+  link->max_packet = max_packet;
   link->bridge.on_connected(*link, reason);
 }
 
@@ -339,6 +396,7 @@ void Bridge::Impl::on_subscribed(Link& link, int mid, int count, const int* gran
 }
 
 void Bridge::Impl::on_lost(Link& link, int reason) {
+  link.drop_out();
   if (!link.connected.exchange(false)) return;
   if (link.listening.exchange(false)) --connected_links;
   if (stopping || reason == 0) return;
@@ -412,45 +470,59 @@ std::vector<Message> discovery_messages(const Link& link, const hub::MqttConfig&
 
 // One poll over the wake eventfd and every open session socket, then libmosquitto's read
 // and write for the sockets that are ready (its callbacks run here, on the network thread).
-void Bridge::Impl::serve_sockets(int timeout_ms) {
+// True when the eventfd woke it (hub items, replies or closing); not heard when !hear_wake.
+bool Bridge::Impl::serve_sockets(std::chrono::microseconds timeout, bool hear_wake) {
   std::vector<pollfd> fds;
   std::vector<Link*> owners;
   fds.reserve(links.size() + 1);
   owners.reserve(links.size());
-  fds.push_back(pollfd{waker->fd, POLLIN, 0});
+  fds.push_back(pollfd{waker->fd, static_cast<short>(hear_wake ? POLLIN : 0), 0});
   for (const auto& link : links) {
     const int sock = mosquitto_socket(link->client);
     if (sock < 0) continue;
-    const auto events = static_cast<short>(POLLIN | (mosquitto_want_write(link->client) ? POLLOUT : 0));
+    // While part of a fast-path packet is on the wire only its rest may go (Link::out).
+    const bool write = mosquitto_want_write(link->client) || !link->out.empty();
+    const auto events = static_cast<short>((link->out.mid_packet() ? 0 : POLLIN) | (write ? POLLOUT : 0));
     fds.push_back(pollfd{sock, events, 0});
     owners.push_back(link.get());
   }
-  if (::poll(fds.data(), fds.size(), timeout_ms) <= 0) return;
-  if ((fds[0].revents & POLLIN) != 0) {
+  const auto seconds = std::chrono::duration_cast<std::chrono::seconds>(timeout);
+  const timespec wait{seconds.count(), std::chrono::duration_cast<std::chrono::nanoseconds>(timeout - seconds).count()};
+  if (::ppoll(fds.data(), fds.size(), &wait, nullptr) <= 0) return false;
+  const bool woken = (fds[0].revents & POLLIN) != 0;
+  if (woken) {
     std::uint64_t count = 0;
     if (::read(waker->fd, &count, sizeof count) < 0) count = 0;  // nonblocking: nothing to take is fine
   }
   for (std::size_t i = 0; i < owners.size(); ++i) {
     const short revents = fds[i + 1].revents;
-    mosquitto* client = owners[i]->client;
-    if ((revents & (POLLIN | POLLERR | POLLHUP)) != 0) mosquitto_loop_read(client, 1);
-    if ((revents & POLLOUT) != 0 && mosquitto_socket(client) >= 0) mosquitto_loop_write(client, 1);
+    Link& link = *owners[i];
+    mosquitto* client = link.client;
+    if ((revents & (POLLERR | POLLHUP)) != 0) link.drop_out();  // lost: libmosquitto's read says so
+    if ((revents & (POLLIN | POLLERR | POLLHUP)) != 0 && !link.out.mid_packet()) mosquitto_loop_read(client, 1);
+    if ((revents & POLLOUT) != 0 && mosquitto_socket(client) >= 0) {
+      if (!link.out.mid_packet() && mosquitto_want_write(client)) mosquitto_loop_write(client, 1);
+      link.write_out();
+    }
   }
+  return woken;
 }
 
-void Bridge::Impl::take_items(hub::Subscription& subscription) {
+std::size_t Bridge::Impl::take_items(hub::Subscription& subscription) {
   const hub::MqttConfig& config = options.config;
+  std::size_t total = 0;
   // The listener wakes this thread only when an item lands in an empty queue: take it all.
   for (std::size_t taken = 1024; taken == 1024;) {
     const auto batch = subscription.take(1024, 0ms);
     taken = batch.size();
+    total += taken;
     for (const hub::HubItemPtr& item : batch) {
       const auto found = by_sensor.find(item->sensor);
       if (found == by_sensor.end()) continue;
       Link& link = *found->second;
       if (const auto* sample = std::get_if<Sample>(&item->item)) {
         if (auto message = link.window.add(*sample, std::chrono::steady_clock::now())) {
-          link.send(Message{link.reading_topic, std::move(*message), config.qos_reading, false});
+          link.send_reading(std::move(*message), config.qos_reading);
         }
       } else if (const auto* event = std::get_if<StreamEvent>(&item->item);
                  event != nullptr && event->kind == StreamEventKind::lost_records) {
@@ -459,6 +531,7 @@ void Bridge::Impl::take_items(hub::Subscription& subscription) {
     }
   }
   hub_lost = subscription.lost();
+  return total;
 }
 
 void Bridge::Impl::send_replies() {
@@ -468,8 +541,13 @@ void Bridge::Impl::send_replies() {
     ready.swap(replies);
   }
   const int qos = options.config.qos_command;
+  std::deque<Reply> later;  // a session with part of a fast-path packet on the wire writes nothing else
   for (Reply& reply : ready) {
     Link& link = *reply.link;
+    if (link.out.mid_packet()) {
+      later.push_back(std::move(reply));
+      continue;
+    }
     if (!reply.response_topic.empty()) {
       // MQTT 5 request/response: the answer on the asked topic, with the request's correlation data.
       mosquitto_property* props = nullptr;
@@ -486,6 +564,9 @@ void Bridge::Impl::send_replies() {
     }
     link.send(Message{std::move(reply.topic), std::move(reply.payload), qos, false});
   }
+  if (later.empty()) return;
+  const std::lock_guard lock(reply_mutex);
+  for (auto it = later.rbegin(); it != later.rend(); ++it) replies.push_front(std::move(*it));
 }
 
 // Without libmosquitto's thread the bridge keeps each session up itself: keepalive (PINGREQ,
@@ -493,7 +574,7 @@ void Bridge::Impl::send_replies() {
 // reconnect_min_s to reconnect_max_s, or every reconnect_max_s after a refusal.
 void Bridge::Impl::keep_connected(Link& link, std::chrono::steady_clock::time_point now) const {
   if (mosquitto_socket(link.client) >= 0) {
-    mosquitto_loop_misc(link.client);
+    if (!link.out.mid_packet()) mosquitto_loop_misc(link.client);  // it may write a PINGREQ
     return;
   }
   if (link.next_attempt == std::chrono::steady_clock::time_point{}) {
@@ -549,10 +630,20 @@ void Bridge::Impl::poll_sensors(std::chrono::steady_clock::time_point now) {
 // A clean stop says offline itself (the broker sends no will after a DISCONNECT) and
 // waits, bounded, for the broker to acknowledge it, then disconnects every session.
 void Bridge::Impl::say_offline_and_disconnect() {
+  // The fast path's last readings first, bounded. A session whose socket never takes the rest
+  // of a packet writes nothing more: closed without DISCONNECT, its will says offline.
+  const auto unsent = [&] {
+    return std::any_of(links.begin(), links.end(),
+                       [](const auto& link) { return link->connected && !link->out.empty(); });
+  };
+  for (const auto& link : links) link->write_out();
+  const auto flushed_by = std::chrono::steady_clock::now() + 1s;
+  while (unsent() && std::chrono::steady_clock::now() < flushed_by) serve_sockets(50ms);
   const int qos = std::max(options.config.qos_state, 1);
   for (const auto& link : links) {
     int mid = -1;
-    if (link->connected && link->try_publish(Message{link->topic + "/availability", "offline", qos, true}, &mid)) {
+    if (link->connected && !link->out.mid_packet() &&
+        link->try_publish(Message{link->topic + "/availability", "offline", qos, true}, &mid) == Link::Publish::sent) {
       link->offline_mid = mid;
     }
   }
@@ -562,17 +653,17 @@ void Bridge::Impl::say_offline_and_disconnect() {
     });
   };
   const auto deadline = std::chrono::steady_clock::now() + 5s;
-  while (waiting() && std::chrono::steady_clock::now() < deadline) serve_sockets(50);
+  while (waiting() && std::chrono::steady_clock::now() < deadline) serve_sockets(50ms);
   for (const auto& link : links) {
-    if (mosquitto_socket(link->client) >= 0) mosquitto_disconnect(link->client);
+    if (mosquitto_socket(link->client) >= 0 && !link->out.mid_packet()) mosquitto_disconnect(link->client);
   }
   // The DISCONNECTs that did not fit the sockets at once.
   const auto open = [&] {
     return std::any_of(links.begin(), links.end(),
-                       [](const auto& link) { return mosquitto_socket(link->client) >= 0; });
+                       [](const auto& link) { return mosquitto_socket(link->client) >= 0 && !link->out.mid_packet(); });
   };
   const auto closed_by = std::chrono::steady_clock::now() + 1s;
-  while (open() && std::chrono::steady_clock::now() < closed_by) serve_sockets(50);
+  while (open() && std::chrono::steady_clock::now() < closed_by) serve_sockets(50ms);
 }
 
 void Bridge::Impl::run_network() {
@@ -583,19 +674,35 @@ void Bridge::Impl::run_network() {
     // Refused or unreachable now is retried with backoff by keep_connected.
     mosquitto_connect_async(link->client, address.host.c_str(), address.port, options.keepalive_s);
   }
-  auto next_poll = std::chrono::steady_clock::now();
+  using Clock = std::chrono::steady_clock;
+  auto next_poll = Clock::now();
+  // Hub items are taken at most once per drain_gather: woken by the first item of a quiet
+  // spell the thread lets the next ones join it, so a drain carries several readings per
+  // session and their send() (docs/mqtt.md, "The reading fast path"). While items flow it
+  // drains on that timer alone, deaf to the hub's wake-ups (one wake-up per drain, not two);
+  // a drain that finds nothing goes back to waiting for the hub, so an idle bridge sleeps.
+  bool items_waiting = false;
+  bool ticking = false;
+  auto last_drain = Clock::now() - options.drain_gather;
   while (!closing) {
-    auto now = std::chrono::steady_clock::now();
+    auto now = Clock::now();
     // Wakes for hub items, replies, sockets, and at least every 20 ms for the windows' deadlines.
-    const auto until_poll = std::chrono::duration_cast<std::chrono::milliseconds>(next_poll - now).count();
-    serve_sockets(static_cast<int>(std::clamp<std::int64_t>(until_poll, 0, 20)));
-    if (subscription) take_items(**subscription);
+    auto wait = std::min<Clock::duration>(next_poll - now, 20ms);
+    if (items_waiting || ticking) wait = std::min<Clock::duration>(wait, last_drain + options.drain_gather - now);
+    const auto timeout = std::chrono::duration_cast<std::chrono::microseconds>(std::max<Clock::duration>(wait, 0us));
+    if (serve_sockets(timeout, !ticking)) items_waiting = true;
+    now = Clock::now();
+    if (subscription && (items_waiting || ticking) && now >= last_drain + options.drain_gather) {
+      items_waiting = false;
+      last_drain = now;
+      ticking = take_items(**subscription) > 0;
+    }
     send_replies();
     now = std::chrono::steady_clock::now();
     for (const auto& link : links) {
-      if (auto message = link->window.flush_due(now)) {
-        link->send(Message{link->reading_topic, std::move(*message), options.config.qos_reading, false});
-      }
+      if (auto message = link->window.flush_due(now))
+        link->send_reading(std::move(*message), options.config.qos_reading);
+      link->write_out();  // the drain's fast-path readings, in one send() per session
     }
     if (now < next_poll) continue;
     next_poll = now + 100ms;
@@ -704,6 +811,11 @@ Result<std::unique_ptr<Bridge>> Bridge::start(hub::Hub& hub, BridgeOptions optio
     mosquitto_publish_v5_callback_set(link.client, on_publish);
     mosquitto_subscribe_v5_callback_set(link.client, on_subscribe);
     mosquitto_message_v5_callback_set(link.client, on_message);
+    // The fast path writes the socket itself: plain TCP only, and a topic libmosquitto would take.
+    link.direct = !address->tls &&
+                  mosquitto_validate_utf8(link.reading_topic.c_str(), static_cast<int>(link.reading_topic.size())) ==
+                      MOSQ_ERR_SUCCESS &&
+                  mosquitto_pub_topic_check2(link.reading_topic.c_str(), link.reading_topic.size()) == MOSQ_ERR_SUCCESS;
     const std::string availability = link.topic + "/availability";
     mosquitto_will_set_v5(link.client, availability.c_str(), 7, "offline", config.qos_state, true, nullptr);
     if (!config.username.empty()) {

@@ -104,6 +104,7 @@ Status LocalBroker::launch() {
     } else {
       config << "allow_anonymous false\npassword_file " << options_.password_file << "\n";
     }
+    config << options_.extra_config;
     if (!config.flush()) return make_error(Errc::io, "cannot write " + config_path.string());
   }
   const std::string log = log_path();

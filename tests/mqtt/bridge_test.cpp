@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <fstream>
+#include <functional>
+#include <mutex>
 #include <thread>
 
 #include "ls5_driver/cli_process.hpp"
@@ -94,6 +96,24 @@ bool until(Done done, std::chrono::seconds limit = 90s) {
   }
   return true;
 }
+
+// A log the test can read while the bridge writes it (from the network thread).
+struct Log {
+  std::mutex mutex;
+  std::vector<std::string> lines;
+  std::function<void(const std::string&)> sink() {
+    return [this](const std::string& line) {
+      const std::lock_guard lock(mutex);
+      lines.push_back(line);
+    };
+  }
+  std::string text() {
+    const std::lock_guard lock(mutex);
+    std::string all;
+    for (const auto& line : lines) all += line + "\n";
+    return all;
+  }
+};
 
 TEST(MqttBridge, ReadingsCarryTheScenesDistanceAndNoSignalIsNeverADistance) {
   Broker broker;
@@ -326,6 +346,41 @@ TEST(MqttBridge, BrokerKilledAndRestartedMidStreamTheServiceResumesAndCountsTheD
   EXPECT_GE(stats.reconnects, 1u);
   EXPECT_GT(stats.dropped, 0u);
   EXPECT_GT(hub->sensor("belt")->health.records, records);
+  (*bridge)->stop();
+}
+
+// A broker that takes no packet over 120 bytes says so in its CONNACK (MQTT 5 Maximum Packet
+// Size): the readings (about 160 bytes), the status and discovery cannot go, by the fast path
+// or by libmosquitto. They are dropped and counted, said once in the log, and do not hold up
+// the queue: the small availability message still arrives, and the session is never cut for
+// an oversized packet.
+TEST(MqttBridge, MessagesOverTheBrokersMaximumPacketSizeAreDroppedAndCountedAndHoldNothingUp) {
+  Broker broker({}, {}, "max_packet_size 120\n");
+  Ls5 ls5;
+  auto hub = hub::Hub::start(ls5.site);
+  Subscriber subscriber(broker.port(), {"rangekit/belt/#"});
+  ASSERT_TRUE(subscriber.wait_subscribed());
+  Log log;
+  auto options = options_for(broker, 0);
+  options.log = log.sink();
+  auto bridge = mqtt::Bridge::start(*hub, options);
+  ASSERT_TRUE(bridge.ok()) << bridge.error().message;
+  // Availability may say offline first (the sensor not yet connected), then online.
+  ASSERT_TRUE(subscriber.wait_for([](const auto& heard) {
+    return std::any_of(heard.begin(), heard.end(),
+                       [](const Heard& m) { return m.topic == "rangekit/belt/availability" && m.payload == "online"; });
+  })) << log.text();
+  const auto records = hub->sensor("belt")->health.records;
+  ASSERT_TRUE(until([&] { return hub->sensor("belt")->health.records >= records + 200; }));
+  const auto stats = (*bridge)->stats();
+  EXPECT_GT(stats.dropped, 200u);
+  EXPECT_EQ(stats.queued, 0u);
+  EXPECT_EQ(stats.reconnects, 0u);
+  EXPECT_TRUE(stats.connected);
+  EXPECT_EQ(find(subscriber.heard(), "rangekit/belt/reading"), nullptr);
+  EXPECT_EQ(find(subscriber.heard(), "rangekit/belt/status"), nullptr);
+  const std::string said = log.text();
+  EXPECT_NE(said.find("larger than the broker's maximum packet size"), std::string::npos) << said;
   (*bridge)->stop();
 }
 

@@ -33,9 +33,11 @@ struct Heard {
 struct Broker {
   ls5_driver_test::TempDir dir;
   std::unique_ptr<rangekit::mqtt::LocalBroker> broker;
-  explicit Broker(const std::string& user = {}, const std::string& password = {}) {
+  explicit Broker(const std::string& user = {}, const std::string& password = {},
+                  const std::string& extra_config = {}) {
     rangekit::mqtt::LocalBrokerOptions options;
     options.dir = dir.path;
+    options.extra_config = extra_config;
     if (!user.empty()) {
       options.password_file = (dir.path / "passwords").string();
       const pid_t pid = ::fork();

@@ -24,6 +24,9 @@ struct BridgeOptions {
   int reconnect_min_s = 1;                          // reconnect backoff: doubles from min to max
   int reconnect_max_s = 30;
   int keepalive_s = 30;
+  // Hub items are taken at most this often: a drain then carries several readings per
+  // sensor, written in one send() (docs/mqtt.md), for at most this much added latency.
+  std::chrono::microseconds drain_gather{3000};
   // One line per event worth telling (connected, lost, refused credentials); the service prints them.
   std::function<void(const std::string&)> log;
 };
@@ -33,7 +36,7 @@ struct BridgeStats {
   std::string error;             // a refusal that retrying will not fix (credentials), until a connect succeeds
   std::string broker;            // as configured
   std::uint64_t published = 0;   // messages handed to the broker's connection
-  std::uint64_t dropped = 0;     // messages dropped from full queues plus items the bridge fell behind on
+  std::uint64_t dropped = 0;     // dropped from full queues, cut off by a lost connection, or fallen behind on
   std::uint64_t queued = 0;      // messages waiting for the broker now
   std::uint64_t reconnects = 0;  // sessions that came back after a loss
   std::uint64_t commands = 0;    // set/action requests handled

@@ -19,6 +19,7 @@ struct LocalBrokerOptions {
   std::uint16_t port = 0;     // 0: a free one
   std::string password_file;  // mosquitto_passwd file: anonymous clients refused; empty: anonymous allowed
   std::string executable;     // empty: found on PATH or in /usr/sbin
+  std::string extra_config;   // lines appended to the generated mosquitto.conf (e.g. "max_packet_size 200\n")
 };
 
 class LocalBroker {
