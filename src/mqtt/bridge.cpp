@@ -5,6 +5,9 @@
 // every session's socket, turns hub items into messages and publishes them itself, so a
 // publish is a write() on this thread that wakes no other (with a libmosquitto thread
 // per session, each publish woke that thread through its socketpair: perf, docs/mqtt.md).
+// QoS 0 readings skip mosquitto_publish: each drain's are encoded here and leave in one
+// send() per session (the fast path, Link::out), and while they flow the thread drains
+// the hub on a timer (BridgeOptions::drain_gather) instead of at every wake-up.
 // libmosquitto is not thread-safe per session without its own thread, so every call for
 // a session happens on the network thread, which also reconnects with exponential
 // backoff. A command thread runs `set` and `action` requests, which wait for the sensor,
