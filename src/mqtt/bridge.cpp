@@ -18,6 +18,7 @@
 #include <mqtt_protocol.h>
 #include <poll.h>
 #include <sys/eventfd.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
@@ -186,6 +187,9 @@ struct Link {
   bool offline_acked = false;
   int subscribe_mid = -1;             // the SUBSCRIBE of set and action this session waits to see acknowledged
   bool told_refused_message = false;  // a message libmosquitto will never take was logged
+  // Since when part of a fast-path packet has waited on the wire (keepalive is held off meanwhile).
+  std::chrono::steady_clock::time_point mid_packet_since{};
+  bool disconnect_sent = false;  // the clean stop's DISCONNECT went to libmosquitto
 
   // The reading fast path (docs/mqtt.md): QoS 0 readings on a plain TCP session are encoded
   // here and written with one send() per drain. The socket is shared with libmosquitto, so
@@ -268,7 +272,8 @@ struct Link {
   // Sends what waited, oldest first. After a (re)connect its retained messages are stale (the
   // fresh state goes out next) and are left out.
   void flush(bool drop_retained) {
-    while (!queue.empty() && connected && !out.mid_packet()) {
+    // After the fast path's packets: a reading queued behind them must not overtake them.
+    while (!queue.empty() && connected && out.empty()) {
       if (!(drop_retained && queue.front().retain) && try_publish(queue.front()) == Publish::later) break;
       queue.pop_front();
     }
@@ -576,8 +581,21 @@ void Bridge::Impl::send_replies() {
 // and a silent broker counted as lost), and a reconnect with backoff doubling from
 // reconnect_min_s to reconnect_max_s, or every reconnect_max_s after a refusal.
 void Bridge::Impl::keep_connected(Link& link, std::chrono::steady_clock::time_point now) const {
-  if (mosquitto_socket(link.client) >= 0) {
-    if (!link.out.mid_packet()) mosquitto_loop_misc(link.client);  // it may write a PINGREQ
+  if (const int sock = mosquitto_socket(link.client); sock >= 0) {
+    if (!link.out.mid_packet()) {
+      link.mid_packet_since = {};
+      mosquitto_loop_misc(link.client);  // keepalive; it may write a PINGREQ
+      return;
+    }
+    // No PINGREQ can go while part of a packet waits, so libmosquitto's keepalive cannot see a
+    // broker that stopped reading (a dead host, no RST). A socket that takes nothing more for
+    // 1.5 keepalive periods is taken for lost, as libmosquitto would: shut down, its next read
+    // reports the loss and the session reconnects.
+    if (link.mid_packet_since == std::chrono::steady_clock::time_point{}) link.mid_packet_since = now;
+    if (now - link.mid_packet_since > std::chrono::milliseconds(1500) * std::max(options.keepalive_s, 1)) {
+      ::shutdown(sock, SHUT_RDWR);
+      link.mid_packet_since = {};
+    }
     return;
   }
   if (link.next_attempt == std::chrono::steady_clock::time_point{}) {
@@ -658,15 +676,20 @@ void Bridge::Impl::say_offline_and_disconnect() {
   const auto deadline = std::chrono::steady_clock::now() + 5s;
   while (waiting() && std::chrono::steady_clock::now() < deadline) serve_sockets(50ms);
   for (const auto& link : links) {
-    if (mosquitto_socket(link->client) >= 0 && !link->out.mid_packet()) mosquitto_disconnect(link->client);
+    if (mosquitto_socket(link->client) >= 0 && !link->out.mid_packet()) {
+      mosquitto_disconnect(link->client);
+      link->disconnect_sent = true;
+    }
   }
   // The DISCONNECTs that did not fit the sockets at once.
   const auto open = [&] {
     return std::any_of(links.begin(), links.end(),
-                       [](const auto& link) { return mosquitto_socket(link->client) >= 0 && !link->out.mid_packet(); });
+                       [](const auto& link) { return link->disconnect_sent && mosquitto_socket(link->client) >= 0; });
   };
   const auto closed_by = std::chrono::steady_clock::now() + 1s;
   while (open() && std::chrono::steady_clock::now() < closed_by) serve_sockets(50ms);
+  // What the broker never took (a session that would not drain) is lost with the socket: counted.
+  for (const auto& link : links) link->drop_out();
 }
 
 void Bridge::Impl::run_network() {

@@ -2,13 +2,18 @@
 // readings with the scene's distance, windows above the rate, retained state and
 // discovery, `set` and `action` checked on the emulator's side, and a broker killed
 // and restarted mid-stream.
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <fstream>
 #include <functional>
+#include <iostream>
 #include <mutex>
 #include <thread>
 
@@ -95,6 +100,32 @@ bool until(Done done, std::chrono::seconds limit = 90s) {
     std::this_thread::sleep_for(20ms);
   }
   return true;
+}
+
+// Sets a 4 KB send buffer on every TCP socket of this process connected to 127.0.0.1:`port`;
+// returns how many there were.
+int shrink_send_buffers(std::uint16_t port) {
+  int found = 0;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc/self/fd")) {
+    int fd = -1;
+    try {
+      fd = std::stoi(entry.path().filename().string());
+    } catch (const std::exception&) {
+      continue;
+    }
+    sockaddr_in peer{};
+    socklen_t length = sizeof peer;
+    int type = 0;
+    socklen_t type_length = sizeof type;
+    if (::getsockopt(fd, SOL_SOCKET, SO_TYPE, &type, &type_length) != 0 || type != SOCK_STREAM) continue;
+    if (::getpeername(fd, reinterpret_cast<sockaddr*>(&peer), &length) != 0 || peer.sin_family != AF_INET ||
+        ntohs(peer.sin_port) != port) {
+      continue;
+    }
+    const int size = 4096;
+    if (::setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &size, sizeof size) == 0) ++found;
+  }
+  return found;
 }
 
 // A log the test can read while the bridge writes it (from the network thread).
@@ -381,6 +412,51 @@ TEST(MqttBridge, MessagesOverTheBrokersMaximumPacketSizeAreDroppedAndCountedAndH
   EXPECT_EQ(find(subscriber.heard(), "rangekit/belt/status"), nullptr);
   const std::string said = log.text();
   EXPECT_NE(said.find("larger than the broker's maximum packet size"), std::string::npos) << said;
+  (*bridge)->stop();
+}
+
+// A broker that stops reading without closing the connection (a host gone dead, no RST;
+// here SIGSTOP). The readings fill the socket and part of a fast-path packet is left on the
+// wire, which holds off libmosquitto's keepalive: the bridge must still take the session for
+// lost within 1.5 keepalive periods (here 7.5 s) of the socket taking nothing (on loopback TCP never
+// gives up on its own), and come back once the broker reads again.
+TEST(MqttBridge, ABrokerThatStopsReadingIsTakenForLostAndTheSessionComesBack) {
+  Broker broker;
+  Ls5 ls5;
+  auto hub = hub::Hub::start(ls5.site);
+  // §8.4: t = 1 ms and every result, 1000 readings a second to fill the socket quickly.
+  ASSERT_TRUE(hub->set("belt", {{"period-ms", "1"}, {"thinning", "1"}}).ok());
+  auto options = options_for(broker, 0);
+  options.keepalive_s = 5;  // libmosquitto takes no less
+  options.reconnect_max_s = 1;
+  auto bridge = mqtt::Bridge::start(*hub, options);
+  ASSERT_TRUE(bridge.ok()) << bridge.error().message;
+  ASSERT_TRUE(until([&] { return (*bridge)->stats().connected && (*bridge)->stats().published > 500; }, 20s))
+      << "published " << (*bridge)->stats().published << " connected " << (*bridge)->stats().connected << " records "
+      << hub->sensor("belt")->health.records;
+  // The session's socket in this process gets a small send buffer (which also ends its
+  // autotuning), so the stopped broker's receive window and it fill within a second and a
+  // send() then takes part of a packet; on its own the kernel took all 1.5 MB sent in 9 s.
+  ASSERT_EQ(shrink_send_buffers(broker.port()), 1) << "the bridge's session socket was not found";
+  const pid_t pid = broker.broker->pid();
+  struct Resume {  // SIGCONT on every way out: a stopped broker would not take its SIGTERM
+    pid_t pid;
+    ~Resume() { ::kill(pid, SIGCONT); }
+  } resume{pid};
+  ASSERT_EQ(::kill(pid, SIGSTOP), 0);
+  const auto stopped_at = std::chrono::steady_clock::now();
+  ASSERT_TRUE(until([&] { return !(*bridge)->stats().connected; }, 60s))
+      << "the session still counts as connected to a broker that reads nothing";
+  const auto noticed_after = std::chrono::steady_clock::now() - stopped_at;
+  EXPECT_TRUE(hub->sensor("belt")->health.connected);  // the sensor never waited for the broker
+  ::kill(pid, SIGCONT);
+  ASSERT_TRUE(until([&] { return (*bridge)->stats().connected && (*bridge)->stats().reconnects >= 1; }))
+      << "no reconnect after the broker read again";
+  const auto published = (*bridge)->stats().published;
+  EXPECT_TRUE(until([&] { return (*bridge)->stats().published > published + 500; }));
+  EXPECT_GT((*bridge)->stats().dropped, 0u);
+  std::cout << "lost session noticed " << std::chrono::duration<double>(noticed_after).count()
+            << " s after the broker stopped reading\n";
   (*bridge)->stop();
 }
 
