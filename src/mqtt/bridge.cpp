@@ -138,6 +138,8 @@ struct Bridge::Impl {
   void wake() const { waker->signal(); }
   void run_network();
   bool serve_sockets(std::chrono::microseconds timeout, bool hear_wake = true);
+  template <class Pending>
+  void serve_while(Pending pending, std::chrono::milliseconds limit);
   std::size_t take_items(hub::Subscription& subscription);
   void send_replies();
   void poll_sensors(std::chrono::steady_clock::time_point now);
@@ -648,6 +650,13 @@ void Bridge::Impl::poll_sensors(std::chrono::steady_clock::time_point now) {
   }
 }
 
+// The clean stop's waits: the sockets are served while `pending()` holds, for at most `limit`.
+template <class Pending>
+void Bridge::Impl::serve_while(Pending pending, std::chrono::milliseconds limit) {
+  const auto until = std::chrono::steady_clock::now() + limit;
+  while (pending() && std::chrono::steady_clock::now() < until) serve_sockets(50ms);
+}
+
 // A clean stop says offline itself (the broker sends no will after a DISCONNECT) and
 // waits, bounded, for the broker to acknowledge it, then disconnects every session.
 void Bridge::Impl::say_offline_and_disconnect() {
@@ -658,8 +667,7 @@ void Bridge::Impl::say_offline_and_disconnect() {
                        [](const auto& link) { return link->connected && !link->out.empty(); });
   };
   for (const auto& link : links) link->write_out();
-  const auto flushed_by = std::chrono::steady_clock::now() + 1s;
-  while (unsent() && std::chrono::steady_clock::now() < flushed_by) serve_sockets(50ms);
+  serve_while(unsent, 1s);
   const int qos = std::max(options.config.qos_state, 1);
   for (const auto& link : links) {
     int mid = -1;
@@ -673,8 +681,7 @@ void Bridge::Impl::say_offline_and_disconnect() {
       return link->connected && link->offline_mid >= 0 && !link->offline_acked;
     });
   };
-  const auto deadline = std::chrono::steady_clock::now() + 5s;
-  while (waiting() && std::chrono::steady_clock::now() < deadline) serve_sockets(50ms);
+  serve_while(waiting, 5s);
   for (const auto& link : links) {
     if (mosquitto_socket(link->client) >= 0 && !link->out.mid_packet()) {
       mosquitto_disconnect(link->client);
@@ -686,8 +693,7 @@ void Bridge::Impl::say_offline_and_disconnect() {
     return std::any_of(links.begin(), links.end(),
                        [](const auto& link) { return link->disconnect_sent && mosquitto_socket(link->client) >= 0; });
   };
-  const auto closed_by = std::chrono::steady_clock::now() + 1s;
-  while (open() && std::chrono::steady_clock::now() < closed_by) serve_sockets(50ms);
+  serve_while(open, 1s);
   // What the broker never took (a session that would not drain) is lost with the socket: counted.
   for (const auto& link : links) link->drop_out();
 }
