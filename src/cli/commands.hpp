@@ -33,10 +33,17 @@ int exit_code_for(const Error& error);
 inline constexpr double max_duration_s = 31'536'000;  // a year
 inline constexpr double max_count = 1'000'000'000;
 inline constexpr double max_timeout_ms = 60'000;
-CLI::Validator in_range(double lowest, double highest, const std::string& unit);
+// above_lowest: the lowest value itself is refused too (a speed or a range of 0 means nothing).
+CLI::Validator in_range(double lowest, double highest, const std::string& unit, bool above_lowest = false);
+inline constexpr double max_pace_factor = 1000;
+inline constexpr double max_target_speed_mps = 10'000;
+inline constexpr double max_range_mm = 1'000'000;
 inline CLI::Validator duration_seconds() { return in_range(0, max_duration_s, "seconds"); }
 inline CLI::Validator sample_count() { return in_range(1, max_count, "samples"); }
 inline CLI::Validator timeout_milliseconds() { return in_range(1, max_timeout_ms, "milliseconds"); }
+inline CLI::Validator pace_factor() { return in_range(0, max_pace_factor, "times as fast as recorded", true); }
+inline CLI::Validator target_speed() { return in_range(0, max_target_speed_mps, "m/s", true); }
+inline CLI::Validator range_millimetres() { return in_range(0, max_range_mm, "mm", true); }
 
 void add_tables_command(CLI::App& app, int& exit_code);
 void add_decode_command(CLI::App& app, int& exit_code);

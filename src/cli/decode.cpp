@@ -101,7 +101,7 @@ void add_decode_command(CLI::App& app, int& exit_code) {
   command->add_option("--units", options->units, "ULS units (MU)")->check(CLI::IsMember({"m", "ft"}));
   command->add_flag("--time-between-events", options->time_between_events, "ULS look down with TB on");
   command->add_option("--range-mm", options->range_mm, "LS5 measurement range, to print millimetres")
-      ->check(CLI::PositiveNumber);
+      ->check(range_millimetres());
   command->footer("Exit codes: 0 every frame decoded, 3 some bytes or frames rejected, 4 file not readable.");
   command->callback([options, &exit_code] { exit_code = run_decode(*options); });
 }

@@ -40,15 +40,17 @@ int exit_code_for(const Error& error) {
   return exit_bad_input;
 }
 
-CLI::Validator in_range(double lowest, double highest, const std::string& unit) {
-  const std::string range = fmt::format("{:g} to {:.0f} {}", lowest, highest, unit);
+CLI::Validator in_range(double lowest, double highest, const std::string& unit, bool above_lowest) {
+  const std::string range = above_lowest ? fmt::format("more than {:g}, up to {:.0f} {}", lowest, highest, unit)
+                                         : fmt::format("{:g} to {:.0f} {}", lowest, highest, unit);
   return CLI::Validator(
-      [lowest, highest, range](std::string& text) -> std::string {
+      [lowest, highest, range, above_lowest](std::string& text) -> std::string {
         char* end = nullptr;
         const double value = std::strtod(text.c_str(), &end);
         if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value))
           return "'" + text + "' is not a number: give " + range;
-        if (value < lowest || value > highest) return text + " is out of range: give " + range;
+        const bool too_low = above_lowest ? value <= lowest : value < lowest;
+        if (too_low || value > highest) return text + " is out of range: give " + range;
         return {};
       },
       range);

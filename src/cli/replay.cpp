@@ -43,7 +43,7 @@ void add_replay_command(CLI::App& app, int& exit_code) {
   command->add_option("file", arguments->file, "capture file written with --capture")->required();
   auto* full_speed = command->add_flag("--full-speed", arguments->full_speed, "no waiting between samples");
   command->add_option("--speed", arguments->speed, "pace factor: 1 = as recorded (default), 2 = twice as fast")
-      ->check(CLI::PositiveNumber)
+      ->check(pace_factor())
       ->excludes(full_speed);
   command->add_option("--device", arguments->device, "only samples of this family (events always)")
       ->check(CLI::IsMember({"uls", "ls5"}));

@@ -99,7 +99,7 @@ void add_quality_options(CLI::App& command, StreamOptions& options, bool live) {
         .add_option("--max-speed", options.max_speed_mps,
                     "fastest the target moves, m/s: a faster jump is suspect (default: ULS 25, LS5 its range a "
                     "second)")
-        ->check(CLI::PositiveNumber);
+        ->check(target_speed());
   }
 }
 

@@ -31,6 +31,10 @@ const std::vector<Case>& cases() {
       {"uls stream --port /dev/null --duration", "0 to 31536000 seconds"},
       {"capture --out /dev/null --uls /dev/null --duration", "0 to 31536000 seconds"},
       {"demo --seconds", "0 to 31536000 seconds"},
+      {"replay /dev/null --speed", "more than 0, up to 1000 times as fast as recorded"},
+      {"uls stream --port /dev/null --max-speed", "more than 0, up to 10000 m/s"},
+      {"ls5 stream --port /dev/null --max-speed", "more than 0, up to 10000 m/s"},
+      {"decode ls5 /dev/null --range-mm", "more than 0, up to 1000000 mm"},
   };
   return all;
 }
@@ -53,6 +57,12 @@ TEST(Numbers, HugeAndNonNumericValuesAreRefused) {
     EXPECT_EQ(word.exit_code, 2) << c.command << ": " << word.output;
     EXPECT_TRUE(contains(word.output, "'soon' is not a number: give " + c.range)) << c.command << ": " << word.output;
   }
+}
+
+TEST(Numbers, ZeroIsRefusedWhereOnlyAPositiveNumberMeansAnything) {
+  const auto run = run_cli("replay /dev/null --speed 0");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_TRUE(contains(run.output, "0 is out of range: give more than 0, up to 1000")) << run.output;
 }
 
 TEST(Numbers, TheTimeScaleOfTheEmulatorIsChecked) {
