@@ -174,6 +174,24 @@ TEST(OneVocabulary, AnLs5AddressIsDecimalInEveryMessage) {
   EXPECT_FALSE(contains(silent.output, "address 1A")) << silent.output;
   const auto found = run_cli("detect --timeout 300 --baud 115200 --json --port " + sims.ls5_port);
   EXPECT_TRUE(contains(found.output, "\"address\":\"1\"")) << found.output;
+
+  // The emulator names itself by the same decimal address ("[LS5 26] ready", not "1A").
+  const std::string port = (sims.dir.path / "ls5-26").string();
+  ls5_driver_test::Child addressed({"sim", "ls5", "--port", port, "--address", "26"});
+  const std::string ready = addressed.read_line();
+  EXPECT_TRUE(contains(ready, "[LS5 26] ready:")) << ready;
+}
+
+// A refused LS5 value is explained in the user's terms only: the allowed values in
+// decimal, without the parameter byte's hex ("accepted: 01, 03, ..., 31") beside them.
+TEST(OneVocabulary, AnLs5RefusalSpeaksOneBase) {
+  Emulators sims;
+  ASSERT_TRUE(sims.ready());
+  const auto run = run_cli("ls5 set median-points=99 --port " + sims.ls5_port);
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_TRUE(contains(run.output, "median-points=99 refused: allowed 1, 3, ..., 49 (odd)")) << run.output;
+  EXPECT_FALSE(contains(run.output, "63")) << "99 as the hex byte it makes: " << run.output;
+  EXPECT_FALSE(contains(run.output, "31")) << "49 as hex: " << run.output;
 }
 
 // L69: "A `connected` event for both families": the ULS stream's first item is `connected`

@@ -104,6 +104,17 @@ Error refused(const HostSetting& setting, std::string_view text, const SettingCo
                                   describe_setting_values(setting, context) + " (" + why.message + ")");
 }
 
+// A parameter byte the table refuses is explained by the allowed values alone: the
+// table's own text speaks in hex bytes ("does not accept 63"), which the user never
+// typed (docs/cli.md: one base per message). Model and firmware refusals pass through.
+Error byte_refused(const HostSetting& setting, std::string_view text, const SettingContext& context,
+                   const ParameterWrite& write, const Error& why) {
+  if (!value_in_spans(*find_parameter(write.address), write.value)) {
+    return refused(setting, text, context, make_error(why.code, "not one of these"));
+  }
+  return refused(setting, text, context, why);
+}
+
 Result<double> range_of(const HostSetting& setting, const SettingContext& context) {
   if (!context.range_mm || *context.range_mm <= 0) {
     return make_error(Errc::unsupported,
@@ -292,7 +303,7 @@ Result<ParameterWrites> encode_setting(const HostSetting& setting, std::string_v
       byte = static_cast<std::uint8_t>(*number);
     }
     Status accepted = check_parameter_byte(setting.parameter, *byte, context.model);
-    if (!accepted) return refused(setting, text, context, accepted.error());
+    if (!accepted) return byte_refused(setting, text, context, {setting.parameter, *byte}, accepted.error());
     ParameterWrites writes;
     writes.items[0] = {setting.parameter, *byte};
     writes.count = 1;
@@ -305,7 +316,7 @@ Result<ParameterWrites> encode_setting(const HostSetting& setting, std::string_v
   if (!writes) return refused(setting, text, context, writes.error());
   for (const ParameterWrite& write : writes->view()) {
     Status accepted = check_parameter_byte(write.address, write.value, context.model);
-    if (!accepted) return refused(setting, text, context, accepted.error());
+    if (!accepted) return byte_refused(setting, text, context, write, accepted.error());
   }
   return writes;
 }

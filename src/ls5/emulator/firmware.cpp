@@ -218,7 +218,8 @@ Nanos Firmware::period() const noexcept {
   return Nanos(static_cast<std::int64_t>(code) * 100'000);  // 0.1 ms units
 }
 
-std::string Firmware::label() const { return "LS5 " + text::hex_byte(ram_[address::network_address]); }
+// The network address in decimal, as --address takes it and every host message prints it.
+std::string Firmware::label() const { return "LS5 " + std::to_string(ram_[address::network_address]); }
 
 // ---- Serial side ----
 
