@@ -58,9 +58,12 @@ int run_capture(CaptureArguments& arguments) {
   }
   record::StreamStats stats;
   const int code = run_stream_as(*merged, options, "capture", &stats);
-  // No silent end (issue 11 point 5): what the file holds and how to look at it.
-  fmt::print(stderr, "rangekit capture: {} samples \u2192 {}; replay with: rangekit replay {}\n", stats.samples,
-             options.capture, options.capture);
+  // No silent end (issue 11 point 5): what the file holds and how to look at it; said
+  // only when there is a file to replay (not after "cannot open" it).
+  const bool file_written = code == exit_ok || code == exit_interrupted || stats.samples > 0;
+  if (file_written)
+    fmt::print(stderr, "rangekit capture: {} samples \u2192 {}; replay with: rangekit replay {}\n", stats.samples,
+               options.capture, options.capture);
   return code;
 }
 

@@ -57,4 +57,17 @@ TEST(Capture, BothFamiliesIntoOneFileThatReplays) {
   EXPECT_TRUE(contains(absent.err, "absent")) << absent.err;
 }
 
+// The closing line points at a file to replay; when the file cannot be made there is none.
+TEST(Capture, AFileThatCannotBeOpenedGetsNoReplayHint) {
+  const ls5_driver_test::TempDir temp;
+  const auto ls5_port = (temp.path / "ls5").string();
+  Child ls5({"sim", "ls5", "--port", ls5_port});
+  ASSERT_TRUE(contains(ls5.read_line(), "ready:"));
+  const auto file = (temp.path / "no-such-dir" / "x.sqlite").string();
+  const auto run = run_cli(temp.path, {"capture", "--out", file, "--ls5", ls5_port, "--duration", "1"});
+  EXPECT_EQ(run.exit_code, 4) << run.err;
+  EXPECT_TRUE(contains(run.err, "no-such-dir")) << run.err;
+  EXPECT_FALSE(contains(run.err, "replay with")) << run.err;
+}
+
 }  // namespace
