@@ -5,6 +5,8 @@
 
 #include <toml++/toml.h>
 
+#include <initializer_list>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -31,6 +33,26 @@ inline Result<toml::table> parse_toml(std::string_view text, std::string_view so
   if (!parsed) return failure(parsed.error());
   return std::move(parsed).table();
 #endif
+}
+
+// "<source_name>:<line>" of a node, the start of every message about a TOML value.
+inline std::string toml_place(std::string_view source_name, const toml::node& node) {
+  return std::string(source_name) + ":" + std::to_string(node.source().begin.line);
+}
+
+// The first key of `table` not among `known`, with its node; nullopt when every key is known.
+struct TomlKey {
+  std::string_view key;
+  const toml::node* node;
+};
+inline std::optional<TomlKey> first_unknown_key(const toml::table& table,
+                                                std::initializer_list<std::string_view> known) {
+  for (const auto& [key, node] : table) {
+    bool found = false;
+    for (const std::string_view name : known) found = found || key.str() == name;
+    if (!found) return TomlKey{key.str(), &node};
+  }
+  return std::nullopt;
 }
 
 }  // namespace rangekit

@@ -17,7 +17,7 @@ namespace rangekit::hub {
 namespace {
 
 Error at(std::string_view file, const toml::node& node, Errc code, const std::string& what) {
-  return make_error(code, std::string(file) + ":" + std::to_string(node.source().begin.line) + ": " + what);
+  return make_error(code, toml_place(file, node) + ": " + what);
 }
 
 bool valid_name(std::string_view name) {
@@ -30,12 +30,11 @@ bool valid_name(std::string_view name) {
 // The keys a table may hold; anything else is refused naming the allowed ones.
 Status only_keys(std::string_view file, const toml::table& table, std::string_view where,
                  std::initializer_list<std::string_view> allowed) {
-  for (const auto& [key, node] : table) {
-    if (std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end()) continue;
+  if (const auto unknown = first_unknown_key(table, allowed)) {
     std::string list;
     for (std::string_view name : allowed) list += (list.empty() ? "" : ", ") + std::string(name);
-    return at(file, node, Errc::invalid_frame,
-              "unknown key '" + std::string(key.str()) + "' in " + std::string(where) + " (allowed: " + list + ")");
+    return at(file, *unknown->node, Errc::invalid_frame,
+              "unknown key '" + std::string(unknown->key) + "' in " + std::string(where) + " (allowed: " + list + ")");
   }
   return ok_status();
 }

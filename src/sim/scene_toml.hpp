@@ -20,7 +20,7 @@ inline std::string where(std::string_view source, const toml::node& node, std::s
   // A key may hold any character, NUL and escape sequences too (issue 18): shown escaped.
   const std::string shown = text::printable(key);
   const std::string name = style == KeyStyle::quoted ? "'" + shown + "'" : shown;
-  return std::string(source) + ":" + std::to_string(node.source().begin.line) + ": " + name;
+  return toml_place(source, node) + ": " + name;
 }
 
 // The number at `key`, `fallback` when absent; bad_number or out_of_range naming file, line and key.
@@ -40,13 +40,9 @@ inline Result<double> number(std::string_view source, const toml::table& table, 
 // invalid_frame for the first key of `table` that is not in `known`.
 inline Status check_keys(std::string_view source, const toml::table& table,
                          std::initializer_list<std::string_view> known, std::string_view section, KeyStyle style) {
-  for (const auto& [key, node] : table) {
-    bool found = false;
-    for (const auto k : known) found = found || key.str() == k;
-    if (!found) {
-      return make_error(Errc::invalid_frame,
-                        where(source, node, key.str(), style) + ": unknown key in " + std::string(section));
-    }
+  if (const auto unknown = first_unknown_key(table, known)) {
+    return make_error(Errc::invalid_frame,
+                      where(source, *unknown->node, unknown->key, style) + ": unknown key in " + std::string(section));
   }
   return ok_status();
 }

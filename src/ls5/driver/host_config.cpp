@@ -112,7 +112,7 @@ Result<DeviceConfig> parse_config_toml(std::string_view text, const std::string&
       return make_error(Errc::wrong_form, message);
     }
     for (const auto& [key, node] : *entries) {
-      const std::string line = source_name + ":" + std::to_string(node.source().begin.line) + ": ";
+      const std::string line = toml_place(source_name, node) + ": ";
       const HostSetting* setting = find_host_setting(key.str());
       if (setting == nullptr) {
         return make_error(Errc::unknown_parameter, line + "'" + text::printable(key.str()) + "' is not an LS5 setting");

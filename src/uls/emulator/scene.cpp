@@ -73,8 +73,8 @@ Result<SceneTarget> toml_target(std::string_view source, const toml::table& tabl
   }
   const toml::node* distance_node = table.get("distance_m");
   if (distance_node == nullptr)
-    return make_error(Errc::invalid_frame, std::string(source) + ":" + std::to_string(table.source().begin.line) +
-                                               ": " + section + " needs 'distance_m' or 'path'");
+    return make_error(Errc::invalid_frame,
+                      toml_place(source, table) + ": " + section + " needs 'distance_m' or 'path'");
   auto distance = toml_number(source, table, "distance_m", 0.0, 0.0, max_distance_m);
   if (!distance) return distance.error();
   auto speed = toml_number(source, table, "speed_mps", 0.0, -1000.0, 1000.0);
