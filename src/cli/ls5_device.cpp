@@ -333,7 +333,7 @@ void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
                      [](ls5::Driver& driver, DeviceCommand&) -> Status {
                        auto identified = driver.identify();
                        if (!identified) return identified.error();
-                       auto result = driver.read_last();
+                       auto result = driver.measure();
                        if (!result) return result.error();
                        fmt::print("{}\n", measurement_text(*result));
                        return ok_status();

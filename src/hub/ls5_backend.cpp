@@ -165,7 +165,7 @@ class Ls5Backend final : public Backend {
       }
       case Action::single:
         return paused([&]() -> Result<std::string> {
-          auto last = driver_->read_last();  // LR
+          auto last = driver_->measure();  // LR
           if (!last) return std::move(last).error();
           return describe(*last);
         });

@@ -247,6 +247,12 @@ TEST(Ls5Driver, LastAndLatchedResultsWithSpecialCodes) {
   EXPECT_EQ(latched->code.kind, CodeKind::no_signal);
   EXPECT_FALSE(latched->distance_mm.has_value());
   EXPECT_EQ(f.device->receive_until("#01FR\r"), "#01ID\r#01LR\r#01FR\r");
+  // measure(), the verb of both drivers (issue 11 point 2), is LR on the LS5.
+  f.device->send("!01LR12500\r");
+  auto measured = f.driver->measure();
+  ASSERT_TRUE(measured) << measured.error().message;
+  EXPECT_EQ(measured->code.value, 12500);
+  EXPECT_EQ(f.device->receive_until("#01LR\r"), "#01LR\r");
 }
 
 TEST(Ls5Driver, ClosedLinkIsReportedAsClosed) {

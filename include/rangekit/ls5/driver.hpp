@@ -86,7 +86,10 @@ class Driver {
   Status stop_stream();
   Result<Measurement> read_latched();  // FR
   Result<Measurement> read_last();     // LR
-  Status restore_defaults();           // DF (RAM only until FL, L27)
+  // The single measurement under the verb both drivers use (uls::Driver::measure() is BM):
+  // the LS5's is the last result, LR (table 9.1).
+  Result<Measurement> measure() { return read_last(); }
+  Status restore_defaults();  // DF (RAM only until FL, L27)
   // ST is start_stream below: its records are the reply.
 
   // Raw bytes (`ls5 set 13=FF 14=00`): each byte checked against table 9.2 and the
