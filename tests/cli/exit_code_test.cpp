@@ -66,14 +66,4 @@ TEST_F(ExitCodes, ThePortIsNamedOnceWhenItCannotBeOpened) {
   }
 }
 
-// The same point for a refused setting: the setting is named once, by its own name and
-// mnemonic, not again by the spelling it was given ("long-gate-m: long-gate (LG): ...").
-TEST_F(ExitCodes, ARefusedSettingIsNamedOnce) {
-  const CliResult run = run_cli("uls set long-gate-m=99999 --port " + (dir_ / "nothing-here").string());
-  EXPECT_EQ(run.exit_code, 2) << run.output;
-  EXPECT_NE(run.output.find("uls set: long-gate (LG): '99999' refused before sending"), std::string::npos)
-      << run.output;
-  EXPECT_EQ(count_of(run.output, "long-gate"), 1U) << run.output;
-}
-
 }  // namespace

@@ -321,23 +321,20 @@ Result<std::vector<Assignment>> plan(const std::vector<std::pair<std::string, st
   }
   // Every value is checked before the first is sent (distances again once MU is known). A
   // refusal starts with the name as it was given ("short-gate-m: ..."), so a caller with
-  // several values knows which one, unless it already starts with the setting's own name
-  // ("long-gate (LG): ...": not "long-gate-m: long-gate (LG): ...", issue 11 point 5).
-  const auto named_after = [&](const std::string& given, const CommandInfo& command, Error error) {
-    const bool named = error.message.rfind(given, 0) == 0 || error.message.rfind(std::string(command.cli_name), 0) == 0;
-    if (!named) error.message = given + ": " + error.message;
+  // several values knows which one.
+  const auto named_after = [&](const std::string& given, Error error) {
+    if (error.message.rfind(given, 0) != 0) error.message = given + ": " + error.message;
     return error;
   };
   for (std::size_t i = 0; i < work.size(); ++i) {
     const auto& [target, value] = work[i];
     auto fields = to_fields(target, value, Units::metres);
-    if (!fields) return named_after(pairs[i].first, *target.command, fields.error());
+    if (!fields) return named_after(pairs[i].first, fields.error());
     const bool distance = target.command->is_distance();
     const std::vector<std::string_view> views(fields->begin(), fields->end());
     if (const Verdict verdict = validate_request(*target.command, views, Units::metres);
         !verdict.ok() && !(distance && target.raw))
-      return named_after(pairs[i].first, *target.command,
-                         local_refusal(*target.command, value, verdict.error, Units::metres));
+      return named_after(pairs[i].first, local_refusal(*target.command, value, verdict.error, Units::metres));
   }
   std::stable_partition(work.begin(), work.end(), [](const Assignment& item) {
     const std::string_view mnemonic = item.target.command->mnemonic;
