@@ -32,8 +32,8 @@ const std::vector<Case>& cases() {
       {"capture --out /dev/null --uls /dev/null --duration", "0 to 31536000 seconds"},
       {"demo --seconds", "0 to 31536000 seconds"},
       {"replay /dev/null --speed", "more than 0, up to 1000 times as fast as recorded"},
-      {"uls stream --port /dev/null --max-speed", "more than 0, up to 10000 m/s"},
-      {"ls5 stream --port /dev/null --max-speed", "more than 0, up to 10000 m/s"},
+      {"uls stream --port /dev/null --max-speed", "more than 0, up to 1000000 m/s"},
+      {"ls5 stream --port /dev/null --max-speed", "more than 0, up to 1000000 m/s"},
       {"decode ls5 /dev/null --range-mm", "more than 0, up to 1000000 mm"},
   };
   return all;
