@@ -173,10 +173,13 @@ int run_info(const LinkOptions& link) {
   if (info->address) out.add("address", address_text(*info->address));
   out.add("version", info->version);
   const StatusInfo& s = info->status;
+  // The same words as `get` prints for US (the command table's names, issue 11 point 5).
+  const std::string_view status_name = command_info(CommandId::status).value_name(s.value);
   out.add("status",
-          s.value == 0    ? "error"
-          : s.measuring() ? "measuring"
-                          : "ready",
+          !status_name.empty() ? std::string(status_name)
+          : s.value == 0       ? std::string("error")
+          : s.measuring()      ? std::string("measuring")
+                               : std::string("ready"),
           fmt::format("US={} (active={}, laser_firing={}, averaging_calc={}, binning_calc={})", s.value, s.active,
                       s.laser_firing, s.averaging_calc, s.binning_calc));
   auto units = (*driver)->units();

@@ -95,6 +95,17 @@ TEST(OneVocabulary, InfoAndGetOfBothFamiliesUseKebabNamesWithTheUnitInTheName) {
   EXPECT_EQ(ls5_json.output, "{\"period-ms\":5.2,\"median-points\":5,\"pre-filter\":\"average\"}\n");
   const auto ls5_info = run_cli("ls5 info --json --port " + sims.ls5_port);
   EXPECT_TRUE(std::regex_search(ls5_info.output, std::regex(R"("address":1,.*"range-mm":[0-9])"))) << ls5_info.output;
+
+  // One value, one word: info and get name the ULS status alike (§8 US 1: "ready, not measuring").
+  const auto status_of = [](const std::string& output) {
+    for (const std::string& line : lines_of(output))
+      if (line.rfind("status=", 0) == 0) return line.substr(0, line.find("  #"));
+    return std::string("(no status line)");
+  };
+  const auto uls_info = run_cli("uls info --port " + sims.uls_port);
+  const auto uls_status = run_cli("uls get --port " + sims.uls_port + " status");
+  EXPECT_EQ(status_of(uls_info.output), "status=ready, not measuring") << uls_info.output;
+  EXPECT_EQ(status_of(uls_info.output), status_of(uls_status.output)) << uls_status.output;
 }
 
 // U97, L68: "`get`'s names are accepted by `set`; read-only names are not offered to `set`."
