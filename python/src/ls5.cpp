@@ -87,6 +87,14 @@ void init_ls5(py::module_& parent) {
           "set_many",
           [](Ls5Device& device, const std::vector<std::pair<std::string, std::string>>& pairs) {
             // Every value checked (range, firmware) before the first byte of the first is sent.
+            // Names and table 9.2 ranges first, before even the ID the sensor's own checks need.
+            for (const auto& [name, text] : pairs) {
+              const ls5::HostSetting* setting = ls5::find_host_setting(name);
+              if (setting == nullptr)
+                check(make_error(Errc::unknown_parameter, "no LS5 setting named '" + name + "'"), family);
+              else
+                check(ls5::check_setting_offline(*setting, text), family);
+            }
             check(device.call([&](ls5::Driver& driver) -> Status {
               auto context = driver.context();
               if (!context) return context.error();

@@ -1,6 +1,9 @@
 """rangekit.ls5 against the LS5 emulator (rangekit.sim.ls5): open, get, set, single
 result, stream; refusals before anything is written."""
 
+import os
+import select
+
 import pytest
 
 import rangekit
@@ -46,6 +49,27 @@ def test_out_of_range_value_raises_before_anything_is_written(ls5_unit):
         assert drv.settings["median-points"] == 5  # the factory value, unchanged
         with pytest.raises(rangekit.errors.SettingError):
             drv.get("no-such-setting")
+
+
+def test_out_of_range_value_raises_before_anything_is_sent():
+    # Table 9.2, parameter 08 (thinning n): 01-FF; median points 1-49 odd. A pty with
+    # nothing behind it: any byte the driver sent, even the ID it needs for the sensor's
+    # own checks, would be readable on the master side.
+    master, slave = os.openpty()
+    try:
+        with rangekit.ls5.open(os.ttyname(slave), timeout=0.2) as drv:
+            with pytest.raises(rangekit.errors.SettingError) as raised:
+                drv.settings["thinning"] = 999
+            assert raised.value.code == "out_of_range"
+            with pytest.raises(rangekit.errors.SettingError):
+                drv.set_many([("thinning", 4), ("median-points", 8)])
+            with pytest.raises(rangekit.errors.SettingError):
+                drv.set_many([("thinning", 4), ("no-such-setting", 1)])
+            readable, _, _ = select.select([master], [], [], 0)
+            assert readable == []  # nothing was written
+    finally:
+        os.close(master)
+        os.close(slave)
 
 
 def test_single_result(ls5_unit):

@@ -59,6 +59,11 @@ Status check_setting_available(const HostSetting& setting, const SensorModel& mo
 // the allowed values.
 Result<ParameterWrites> encode_setting(const HostSetting& setting, std::string_view text,
                                        const SettingContext& context);
+// The check that needs no sensor: `text` against table 9.2 as the newest Ethernet model
+// accepts it, before anything is sent (not even ID). A value no LS5 takes is refused with
+// encode_setting's error; a value that depends on the sensor (its range for *-mm
+// settings, its firmware) passes here and is checked by encode_setting once it is known.
+Status check_setting_offline(const HostSetting& setting, std::string_view text);
 // Text for the bytes (in the order of addresses()); numbers without units.
 Result<std::string> format_setting(const HostSetting& setting, std::span<const std::uint8_t> bytes,
                                    const SettingContext& context);

@@ -321,6 +321,15 @@ Result<ParameterWrites> encode_setting(const HostSetting& setting, std::string_v
   return writes;
 }
 
+Status check_setting_offline(const HostSetting& setting, std::string_view text) {
+  SettingContext most_permissive;
+  most_permissive.model.firmware = FirmwareVersion{0xFFFF, 0xFFFF};
+  most_permissive.model.ethernet = true;
+  auto writes = encode_setting(setting, text, most_permissive);
+  if (!writes && writes.error().code != Errc::unsupported) return writes.error();  // unsupported: needs the sensor
+  return ok_status();
+}
+
 Result<std::string> format_setting(const HostSetting& setting, std::span<const std::uint8_t> bytes,
                                    const SettingContext& context) {
   if (!is_value(setting)) {
