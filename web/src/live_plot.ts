@@ -224,6 +224,12 @@ export class LivePlot {
       hooks: {
         // A drag across the plot zooms (uPlot's own select): the live end stops moving under it.
         setSelect: [(plot) => { if (plot.select.width > 0) this.setPaused(true); }],
+        // The x span shown, for the page's tests (a zoom narrows it, Resume gives the window back).
+        setScale: [(plot, key) => {
+          if (key !== 'x') return;
+          this.root.dataset.xMin = String(plot.scales.x.min);
+          this.root.dataset.xMax = String(plot.scales.x.max);
+        }],
       },
     }, this.data(), this.area);
   }

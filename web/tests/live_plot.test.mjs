@@ -67,6 +67,46 @@ test('Pause stops the drawn end while data keeps coming; Resume follows again', 
   await page.waitForFunction((before) => document.querySelector('.live-plot').dataset.drawnEnd !== before, end, WAIT);
 });
 
+test('a drag across the plot zooms into that span and pauses; Resume follows the live end again', async () => {
+  const shown = () => page.evaluate(() => {
+    const plot = document.querySelector('.live-plot');
+    return { paused: plot.dataset.paused, min: Number(plot.dataset.xMin), max: Number(plot.dataset.xMax),
+      end: Number(plot.dataset.drawnEnd) };
+  });
+  await page.waitForFunction(() => document.querySelector('.live-plot').dataset.xMax !== undefined, null, WAIT);
+  const before = await shown();
+  assert.equal(before.paused, 'false');
+  assert.ok(Math.abs(before.max - before.min - 10) < 1e-6, `the 10 s window shows ${before.max - before.min} s`);
+  // uPlot's own drag-select, with the mouse, across the middle half of the plot's area.
+  const over = await page.$('.live-plot .u-over');
+  const box = await over.boundingBox();
+  const y = box.y + box.height / 2;
+  await page.mouse.move(box.x + box.width * 0.25, y);
+  await page.mouse.down();
+  await page.mouse.move(box.x + box.width * 0.5, y, { steps: 5 });
+  await page.mouse.move(box.x + box.width * 0.75, y, { steps: 5 });
+  await page.mouse.up();
+  await page.waitForFunction(() => document.querySelector('.live-plot').dataset.paused === 'true', null, WAIT);
+  const zoomed = await shown();
+  const span = zoomed.max - zoomed.min;
+  // Half the width of the area: about 5 of the 10 s, inside the span shown before.
+  assert.ok(span > 3.5 && span < 6.5, `zoomed to ${span} s`);
+  assert.ok(zoomed.min >= before.min - 0.5 && zoomed.max <= before.max + 0.5, JSON.stringify({ before, zoomed }));
+  assert.equal(await page.getByRole('button', { name: 'Resume' }).count(), 1);
+  // Paused: points keep arriving, the zoomed span stays.
+  await pointsAtLeast(Number(await points()) + 3);
+  const still = await shown();
+  assert.deepEqual([still.min, still.max], [zoomed.min, zoomed.max]);
+  await page.screenshot({ path: path.join(screenshots, 'live-plot-zoomed.png') });
+  // Resume: the whole window again, its end following the newest point.
+  await page.getByRole('button', { name: 'Resume' }).click();
+  await page.waitForFunction((end) => Number(document.querySelector('.live-plot').dataset.drawnEnd) > end, still.end, WAIT);
+  const resumed = await shown();
+  assert.equal(resumed.paused, 'false');
+  assert.ok(Math.abs(resumed.max - resumed.min - 10) < 1e-6, `resumed with ${resumed.max - resumed.min} s`);
+  assert.ok(resumed.max > zoomed.max);
+});
+
 test('binning targets are a scatter; look down an ON/OFF trace', async () => {
   await page.evaluate(() => { location.hash = '#/sensor/bay-A'; });
   await page.waitForFunction(() => document.querySelector('.live-plot')?.dataset.mode === 'binning', null, WAIT);
