@@ -53,6 +53,8 @@ export class LivePlot {
   private values: (number | null)[][] = [];  // one row per series
   private valueCounts: number[] = [];  // values (not gaps) per series, for the page's tests
   private gapRows = 0;  // rows without any value: no signal, a disconnection, lost records, a silence
+  private lastGapTime = NaN;  // the newest row of gaps and the newest row with a value, for the page's tests
+  private lastValueTime = NaN;
   private paused = false;
   private windowS = 60;
   private timer = 0;
@@ -146,7 +148,12 @@ export class LivePlot {
         empty = false;
       }
     });
-    if (empty) this.gapRows++;
+    if (empty) {
+      this.gapRows++;
+      this.lastGapTime = time;
+    } else {
+      this.lastValueTime = time;
+    }
     if (this.times[0] >= time - KEEP_S - TRIM_S) return;
     const oldest = time - KEEP_S;
     let drop = 0;
@@ -171,6 +178,8 @@ export class LivePlot {
       .map(() => []);
     this.valueCounts = this.values.map(() => 0);
     this.gapRows = 0;
+    this.lastGapTime = NaN;
+    this.lastValueTime = NaN;
     this.create();
   }
 
@@ -249,10 +258,13 @@ export class LivePlot {
     this.root.dataset.drawnEnd = String(end);
   }
 
-  // For the page's tests: rows kept, values (not gaps) per series, and rows that are gaps.
+  // For the page's tests: rows kept, values (not gaps) per series, rows that are gaps, and the
+  // times (s) of the newest of each.
   private publishCounts(): void {
     this.root.dataset.points = String(this.times.length);
     this.root.dataset.values = this.valueCounts.join('|');
     this.root.dataset.gaps = String(this.gapRows);
+    this.root.dataset.lastGap = String(this.lastGapTime);
+    this.root.dataset.lastValue = String(this.lastValueTime);
   }
 }

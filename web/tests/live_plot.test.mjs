@@ -6,9 +6,12 @@ import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
-import { WAIT, cli, controlRequest, launch, screenshots, stopped, waitForLine, watchErrors } from './support.mjs';
+import {
+  WAIT, cli, controlRequest, emulatorOn, launch, restartEmulator, screenshots, stopped, waitForLine, watchErrors,
+} from './support.mjs';
 
 let serve;
+let restarted;
 let serviceUrl;
 let demoDir;
 let browser;
@@ -31,6 +34,7 @@ before(async () => {
 
 after(async () => {
   await browser?.close();
+  await stopped(restarted);
   await stopped(serve);
 });
 
@@ -166,6 +170,42 @@ test('L80: an LS5 in derivative mode plots its derivative on a second axis, not 
     method: 'PATCH', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ 'result-type': 'pure' }),
   });
   assert.equal(back.status, 200, await back.text());  // the text only once the status is read
+});
+
+test('a killed ULS emulator leaves a gap in the plot, not a line across; the trace resumes after', async () => {
+  // silo, alone on its pty (averaging, Continuous Output on): kill -9 of its emulator as the
+  // overview test does, then the same emulator again on the same pty link.
+  await page.evaluate(() => { location.hash = '#/sensor/silo'; });
+  await page.waitForFunction(() => document.querySelector('.live-plot')?.dataset.mode === 'averaging', null, WAIT);
+  await page.selectOption('#plot-window', '60');  // the outage and both sides of it in the picture
+  await pointsAtLeast(20);
+  const shown = () => page.evaluate(() => {
+    const plot = document.querySelector('.live-plot');
+    return { values: Number(plot.dataset.values), gaps: Number(plot.dataset.gaps),
+      lastGap: Number(plot.dataset.lastGap), lastValue: Number(plot.dataset.lastValue) };
+  });
+  const emulator = emulatorOn(path.join(demoDir, 'uls'));
+  const killed = Date.now() / 1000;
+  process.kill(emulator.pid, 'SIGKILL');
+  await page.waitForFunction(() => document.querySelector('[data-indicator="connected"]')?.dataset.state === 'off',
+    null, WAIT);
+  // Longer than the plot's 2 s of silence: nothing more comes while the emulator is away.
+  await page.waitForTimeout(2500);
+  const down = await shown();
+  // The disconnection's row of gaps (no value in any series) is the newest row, after the last
+  // distance: with spanGaps off, uPlot draws no line across a null, so nothing joins the two sides.
+  assert.ok(down.lastGap >= killed && down.lastGap > down.lastValue, JSON.stringify({ killed, down }));
+  restarted = restartEmulator(emulator);
+  await page.waitForFunction((had) => Number(document.querySelector('.live-plot').dataset.values) >= had + 20,
+    down.values, WAIT);
+  const after = await shown();
+  // The trace resumes after the gap, which stays where it was (at least one row of gaps between).
+  assert.ok(after.gaps >= down.gaps && after.lastValue > down.lastGap, JSON.stringify({ down, after }));
+  assert.equal(await page.evaluate(() => document.querySelector('.live-plot').dataset.series), 'distance (m)');
+  await page.waitForFunction(() => document.querySelector('[data-indicator="connected"]')?.dataset.state === 'on',
+    null, WAIT);
+  console.log(`silo: back ${(after.lastValue - killed).toFixed(1)} s after kill -9, ${after.gaps} rows of gaps in all`);
+  await page.screenshot({ path: path.join(screenshots, 'live-plot-uls-gap.png') });
 });
 
 test('the page raised no script error or policy violation', () => {
