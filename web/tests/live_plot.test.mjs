@@ -132,6 +132,18 @@ test('L80: an LS5 in derivative mode plots its derivative on a second axis, not 
   await page.selectOption('#plot-window', '10');
   await pointsAtLeast(300);  // 3 s of the demo's 100 results a second: a line to see on the screenshots
   assert.equal(await page.evaluate(() => document.querySelector('.live-plot').dataset.axes), 'distance (mm)');
+  // The 10 s window's time labels on this wide plot have room between them: the widest label
+  // (its first line, measured in the axis font) plus 16 px fits in the spacing of the ticks.
+  const room = await page.evaluate(() => {
+    const plot = document.querySelector('.live-plot');
+    const labels = (plot.dataset.xLabels ?? '').split('|').filter(Boolean);
+    const context = document.createElement('canvas').getContext('2d');
+    context.font = '12px system-ui, -apple-system, "Segoe UI", Roboto, "Helvetica Neue", Arial, "Noto Sans", sans-serif';
+    // The first label carries the date on a line of its own, below the others.
+    const widest = Math.max(...labels.map((label) => context.measureText(label.split('\n')[0]).width));
+    return { labels, widest, spacing: plot.querySelector('.u-over').getBoundingClientRect().width / labels.length };
+  });
+  assert.ok(room.labels.length >= 4 && room.spacing >= room.widest + 16, JSON.stringify(room));
   await page.screenshot({ path: path.join(screenshots, 'live-plot-ls5.png') });
   // Table 9.2 parameter 0E = 01 written to the demo's emulated LS5 through the service (the
   // page is not involved), as `rangekit ls5 set result-type=derivative` writes it.
