@@ -201,8 +201,11 @@ test('a killed ULS emulator leaves a gap in the plot, not a line across; the tra
   process.kill(emulator.pid, 'SIGKILL');
   await page.waitForFunction(() => document.querySelector('[data-indicator="connected"]')?.dataset.state === 'off',
     null, WAIT);
-  // Longer than the plot's 2 s of silence: nothing more comes while the emulator is away.
-  await page.waitForTimeout(2500);
+  // The plot marks a gap once the silence passes its 2 s; wait for that row, not for a time.
+  await page.waitForFunction((since) => {
+    const plot = document.querySelector('.live-plot');
+    return Number(plot.dataset.lastGap) >= since && Number(plot.dataset.lastGap) > Number(plot.dataset.lastValue);
+  }, killed, WAIT).catch(() => {});
   const down = await shown();
   // The disconnection's row of gaps (no value in any series) is the newest row, after the last
   // distance: with spanGaps off, uPlot draws no line across a null, so nothing joins the two sides.
