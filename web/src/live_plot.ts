@@ -14,6 +14,7 @@ const KEEP_S = 3600;
 const TRIM_S = 60;
 const DRAW_MS = 250;
 const SILENCE_S = 2;
+const X_SPACE = 64;  // px at least between two time labels
 const MAX_TARGETS = 15;  // §3: "The maximum number of targets allowed in Binning Mode is 15"
 
 export interface PlotSample {
@@ -53,6 +54,8 @@ export class LivePlot {
   private values: (number | null)[][] = [];  // one row per series
   private valueCounts: number[] = [];  // values (not gaps) per series, for the page's tests
   private gapRows = 0;  // rows without any value: no signal, a disconnection, lost records, a silence
+  private lastGapTime = NaN;  // the newest row of gaps and the newest row with a value, for the page's tests
+  private lastValueTime = NaN;
   private paused = false;
   private windowS = 60;
   private timer = 0;
@@ -146,7 +149,12 @@ export class LivePlot {
         empty = false;
       }
     });
-    if (empty) this.gapRows++;
+    if (empty) {
+      this.gapRows++;
+      this.lastGapTime = time;
+    } else {
+      this.lastValueTime = time;
+    }
     if (this.times[0] >= time - KEEP_S - TRIM_S) return;
     const oldest = time - KEEP_S;
     let drop = 0;
@@ -171,6 +179,8 @@ export class LivePlot {
       .map(() => []);
     this.valueCounts = this.values.map(() => 0);
     this.gapRows = 0;
+    this.lastGapTime = NaN;
+    this.lastValueTime = NaN;
     this.create();
   }
 
@@ -210,6 +220,9 @@ export class LivePlot {
       series = [{ label: 'distance (m)', stroke, width: 1.5, spanGaps: false, points: { show: false } }];
       axes = [{}, { label: 'm' }];
     }
+    // Time labels at least X_SPACE px apart: in the 10 s window uPlot's default (50) gave
+    // half seconds, ":26.500 :27.000", almost touching; whole seconds read clearly.
+    axes[0] = { space: X_SPACE };
     this.root.dataset.axes = axes.slice(1).map((axis) => axis.label ?? '').join('|');
     this.root.dataset.series = series.map((one) => one.label).join('|');
     this.publishCounts();  // the counts that go with these axes
@@ -224,6 +237,17 @@ export class LivePlot {
       hooks: {
         // A drag across the plot zooms (uPlot's own select): the live end stops moving under it.
         setSelect: [(plot) => { if (plot.select.width > 0) this.setPaused(true); }],
+        // The time labels drawn, for the page's tests (uPlot draws them on the canvas only).
+        draw: [(plot) => {
+          const values = (plot.axes[0] as unknown as { _values?: (string | number)[] })._values;
+          if (values) this.root.dataset.xLabels = values.join('|');
+        }],
+        // The x span shown, for the page's tests (a zoom narrows it, Resume gives the window back).
+        setScale: [(plot, key) => {
+          if (key !== 'x') return;
+          this.root.dataset.xMin = String(plot.scales.x.min);
+          this.root.dataset.xMax = String(plot.scales.x.max);
+        }],
       },
     }, this.data(), this.area);
   }
@@ -243,10 +267,13 @@ export class LivePlot {
     this.root.dataset.drawnEnd = String(end);
   }
 
-  // For the page's tests: rows kept, values (not gaps) per series, and rows that are gaps.
+  // For the page's tests: rows kept, values (not gaps) per series, rows that are gaps, and the
+  // times (s) of the newest of each.
   private publishCounts(): void {
     this.root.dataset.points = String(this.times.length);
     this.root.dataset.values = this.valueCounts.join('|');
     this.root.dataset.gaps = String(this.gapRows);
+    this.root.dataset.lastGap = String(this.lastGapTime);
+    this.root.dataset.lastValue = String(this.lastValueTime);
   }
 }

@@ -39,6 +39,15 @@ export const GROUPS: [string, string[]][] = [
     'destination-port', 'source-port', 'udp-auto-stream']],
 ];
 
+// A named value as its select lists it: table 9.2's byte, then its meaning.
+function choiceLabel(value: { byte: string; label: string }): string {
+  return `${value.byte} – ${value.label}`;
+}
+
+// Choices longer than this many characters do not fit a select in a column of the panels' grid
+// (about 170 px at 1400 px: "06 – 230400 baud" fits; browser.ls5_page measures every select).
+const WIDE_CHOICE = 20;
+
 // "LS5.9.0" -> [9, 0]; "LS5.12.x" -> [12, 0].
 function versionParts(text: string | null | undefined): [number, number] | null {
   const match = /^LS5\.(\d+)\.(\d+|x)/.exec(text ?? '');
@@ -94,6 +103,11 @@ export class Ls5Panels {
         .filter((row) => ethernet || !row.ethernet_only);
       if (shown.length === 0) continue;
       const panel = element('fieldset', 'panel');
+      // Long choices ("05 – imparity control, 2 stop bits", the latching modes of 1F) would be cut
+      // in a column: such a group takes the whole row, as the ULS page's Output Setup does.
+      if (shown.some((row) => row.values?.some((value) => choiceLabel(value).length > WIDE_CHOICE))) {
+        panel.classList.add('wide');
+      }
       panel.append(element('legend', undefined, title));
       for (const row of shown) panel.append(this.field(row));
       if (shown.some((row) => row.link)) {
@@ -132,7 +146,7 @@ export class Ls5Panels {
       title: `${row.key} (table 9.2, ${row.addresses.join('/')})`,
       choices: row.values?.map((value) => ({
         value: value.value,
-        label: `${value.byte} – ${value.label}`,
+        label: choiceLabel(value),
         disabled: !hasFirmware(this.identity.version, value.since),
       })),
     });

@@ -6,9 +6,12 @@ import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
-import { WAIT, cli, controlRequest, launch, screenshots, stopped, waitForLine, watchErrors } from './support.mjs';
+import {
+  WAIT, cli, controlRequest, emulatorOn, launch, restartEmulator, screenshots, stopped, waitForLine, watchErrors,
+} from './support.mjs';
 
 let serve;
+let restarted;
 let serviceUrl;
 let demoDir;
 let browser;
@@ -31,6 +34,7 @@ before(async () => {
 
 after(async () => {
   await browser?.close();
+  await stopped(restarted);
   await stopped(serve);
 });
 
@@ -67,6 +71,46 @@ test('Pause stops the drawn end while data keeps coming; Resume follows again', 
   await page.waitForFunction((before) => document.querySelector('.live-plot').dataset.drawnEnd !== before, end, WAIT);
 });
 
+test('a drag across the plot zooms into that span and pauses; Resume follows the live end again', async () => {
+  const shown = () => page.evaluate(() => {
+    const plot = document.querySelector('.live-plot');
+    return { paused: plot.dataset.paused, min: Number(plot.dataset.xMin), max: Number(plot.dataset.xMax),
+      end: Number(plot.dataset.drawnEnd) };
+  });
+  await page.waitForFunction(() => document.querySelector('.live-plot').dataset.xMax !== undefined, null, WAIT);
+  const before = await shown();
+  assert.equal(before.paused, 'false');
+  assert.ok(Math.abs(before.max - before.min - 10) < 1e-6, `the 10 s window shows ${before.max - before.min} s`);
+  // uPlot's own drag-select, with the mouse, across the middle half of the plot's area.
+  const over = await page.$('.live-plot .u-over');
+  const box = await over.boundingBox();
+  const y = box.y + box.height / 2;
+  await page.mouse.move(box.x + box.width * 0.25, y);
+  await page.mouse.down();
+  await page.mouse.move(box.x + box.width * 0.5, y, { steps: 5 });
+  await page.mouse.move(box.x + box.width * 0.75, y, { steps: 5 });
+  await page.mouse.up();
+  await page.waitForFunction(() => document.querySelector('.live-plot').dataset.paused === 'true', null, WAIT);
+  const zoomed = await shown();
+  const span = zoomed.max - zoomed.min;
+  // Half the width of the area: about 5 of the 10 s, inside the span shown before.
+  assert.ok(span > 3.5 && span < 6.5, `zoomed to ${span} s`);
+  assert.ok(zoomed.min >= before.min - 0.5 && zoomed.max <= before.max + 0.5, JSON.stringify({ before, zoomed }));
+  assert.equal(await page.getByRole('button', { name: 'Resume' }).count(), 1);
+  // Paused: points keep arriving, the zoomed span stays.
+  await pointsAtLeast(Number(await points()) + 3);
+  const still = await shown();
+  assert.deepEqual([still.min, still.max], [zoomed.min, zoomed.max]);
+  await page.screenshot({ path: path.join(screenshots, 'live-plot-zoomed.png') });
+  // Resume: the whole window again, its end following the newest point.
+  await page.getByRole('button', { name: 'Resume' }).click();
+  await page.waitForFunction((end) => Number(document.querySelector('.live-plot').dataset.drawnEnd) > end, still.end, WAIT);
+  const resumed = await shown();
+  assert.equal(resumed.paused, 'false');
+  assert.ok(Math.abs(resumed.max - resumed.min - 10) < 1e-6, `resumed with ${resumed.max - resumed.min} s`);
+  assert.ok(resumed.max > zoomed.max);
+});
+
 test('binning targets are a scatter; look down an ON/OFF trace', async () => {
   await page.evaluate(() => { location.hash = '#/sensor/bay-A'; });
   await page.waitForFunction(() => document.querySelector('.live-plot')?.dataset.mode === 'binning', null, WAIT);
@@ -88,6 +132,18 @@ test('L80: an LS5 in derivative mode plots its derivative on a second axis, not 
   await page.selectOption('#plot-window', '10');
   await pointsAtLeast(300);  // 3 s of the demo's 100 results a second: a line to see on the screenshots
   assert.equal(await page.evaluate(() => document.querySelector('.live-plot').dataset.axes), 'distance (mm)');
+  // The 10 s window's time labels on this wide plot have room between them: the widest label
+  // (its first line, measured in the axis font) plus 16 px fits in the spacing of the ticks.
+  const room = await page.evaluate(() => {
+    const plot = document.querySelector('.live-plot');
+    const labels = (plot.dataset.xLabels ?? '').split('|').filter(Boolean);
+    const context = document.createElement('canvas').getContext('2d');
+    context.font = '12px system-ui, -apple-system, "Segoe UI", Roboto, "Helvetica Neue", Arial, "Noto Sans", sans-serif';
+    // The first label carries the date on a line of its own, below the others.
+    const widest = Math.max(...labels.map((label) => context.measureText(label.split('\n')[0]).width));
+    return { labels, widest, spacing: plot.querySelector('.u-over').getBoundingClientRect().width / labels.length };
+  });
+  assert.ok(room.labels.length >= 4 && room.spacing >= room.widest + 16, JSON.stringify(room));
   await page.screenshot({ path: path.join(screenshots, 'live-plot-ls5.png') });
   // Table 9.2 parameter 0E = 01 written to the demo's emulated LS5 through the service (the
   // page is not involved), as `rangekit ls5 set result-type=derivative` writes it.
@@ -126,6 +182,45 @@ test('L80: an LS5 in derivative mode plots its derivative on a second axis, not 
     method: 'PATCH', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ 'result-type': 'pure' }),
   });
   assert.equal(back.status, 200, await back.text());  // the text only once the status is read
+});
+
+test('a killed ULS emulator leaves a gap in the plot, not a line across; the trace resumes after', async () => {
+  // silo, alone on its pty (averaging, Continuous Output on): kill -9 of its emulator as the
+  // overview test does, then the same emulator again on the same pty link.
+  await page.evaluate(() => { location.hash = '#/sensor/silo'; });
+  await page.waitForFunction(() => document.querySelector('.live-plot')?.dataset.mode === 'averaging', null, WAIT);
+  await page.selectOption('#plot-window', '60');  // the outage and both sides of it in the picture
+  await pointsAtLeast(20);
+  const shown = () => page.evaluate(() => {
+    const plot = document.querySelector('.live-plot');
+    return { values: Number(plot.dataset.values), gaps: Number(plot.dataset.gaps),
+      lastGap: Number(plot.dataset.lastGap), lastValue: Number(plot.dataset.lastValue) };
+  });
+  const emulator = emulatorOn(path.join(demoDir, 'uls'));
+  const killed = Date.now() / 1000;
+  process.kill(emulator.pid, 'SIGKILL');
+  await page.waitForFunction(() => document.querySelector('[data-indicator="connected"]')?.dataset.state === 'off',
+    null, WAIT);
+  // The plot marks a gap once the silence passes its 2 s; wait for that row, not for a time.
+  await page.waitForFunction((since) => {
+    const plot = document.querySelector('.live-plot');
+    return Number(plot.dataset.lastGap) >= since && Number(plot.dataset.lastGap) > Number(plot.dataset.lastValue);
+  }, killed, WAIT).catch(() => {});
+  const down = await shown();
+  // The disconnection's row of gaps (no value in any series) is the newest row, after the last
+  // distance: with spanGaps off, uPlot draws no line across a null, so nothing joins the two sides.
+  assert.ok(down.lastGap >= killed && down.lastGap > down.lastValue, JSON.stringify({ killed, down }));
+  restarted = restartEmulator(emulator);
+  await page.waitForFunction((had) => Number(document.querySelector('.live-plot').dataset.values) >= had + 20,
+    down.values, WAIT);
+  const after = await shown();
+  // The trace resumes after the gap, which stays where it was (at least one row of gaps between).
+  assert.ok(after.gaps >= down.gaps && after.lastValue > down.lastGap, JSON.stringify({ down, after }));
+  assert.equal(await page.evaluate(() => document.querySelector('.live-plot').dataset.series), 'distance (m)');
+  await page.waitForFunction(() => document.querySelector('[data-indicator="connected"]')?.dataset.state === 'on',
+    null, WAIT);
+  console.log(`silo: back ${(after.lastValue - killed).toFixed(1)} s after kill -9, ${after.gaps} rows of gaps in all`);
+  await page.screenshot({ path: path.join(screenshots, 'live-plot-uls-gap.png') });
 });
 
 test('the page raised no script error or policy violation', () => {

@@ -82,6 +82,23 @@ test('the decoded ID shows version, lower boundary, range and serial (§9.2)', a
   await page.screenshot({ path: path.join(screenshots, 'ls5-page.png'), fullPage: true });
 });
 
+test('no select of the page is too narrow for its choices', async () => {
+  // As on the ULS page: each select is at least as wide as the browser makes one with the same
+  // choices left to its natural width (a hidden copy, same font), so its longest choice ("05 –
+  // imparity control, 2 stop bits", table 9.2's latching modes) and so the one chosen show whole.
+  const cut = await page.$$eval('.ls5-page select', (selects) => selects.flatMap((select) => {
+    const copy = select.cloneNode(true);
+    copy.removeAttribute('id');
+    copy.style.cssText = 'position: absolute; visibility: hidden; width: auto; min-width: 0; max-width: none;';
+    select.parentElement.append(copy);
+    const natural = copy.getBoundingClientRect().width;
+    copy.remove();
+    const width = select.getBoundingClientRect().width;
+    return width + 0.5 < natural ? [`${select.id}: ${width.toFixed(0)} px < ${natural.toFixed(0)} px`] : [];
+  }));
+  assert.deepEqual(cut, []);
+});
+
 test('the §8 formulas of the page give the numbers of §8 and §9.5', async () => {
   // The page's module, bundled as the page gets it, run here (node) on numbers typed from the manual.
   const bundle = await esbuild.build({ entryPoints: ['src/ls5_outputs.ts'], bundle: true, format: 'esm', write: false });

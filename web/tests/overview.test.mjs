@@ -6,10 +6,9 @@
 // "within 2 s" for a killed emulator.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
-import { readdirSync, readFileSync } from 'node:fs';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
-import { cli, launch, screenshots, stopped, WAIT, waitForLine, watchErrors } from './support.mjs';
+import { cli, emulatorOn, launch, restartEmulator, screenshots, stopped, WAIT, waitForLine, watchErrors } from './support.mjs';
 
 let serve;
 let restarted;
@@ -18,22 +17,6 @@ let demoDir;
 let browser;
 let page;
 let pageErrors;
-
-// The demo's emulator process serving `port` (its pty link), found by its command line.
-function emulatorOn(port) {
-  for (const entry of readdirSync('/proc')) {
-    if (!/^\d+$/.test(entry)) continue;
-    let args;
-    try {
-      args = readFileSync(`/proc/${entry}/cmdline`, 'utf8').split('\0').filter(Boolean);
-    } catch {
-      continue;  // gone meanwhile
-    }
-    const at = args.indexOf('--port');
-    if (args[1] === 'sim' && at > 0 && args[at + 1] === port) return { pid: Number(entry), args };
-  }
-  throw new Error(`no emulator process serves ${port}`);
-}
 
 const card = (name) => `[data-sensor="${name}"]`;
 
@@ -229,11 +212,8 @@ test('a killed emulator turns its card disconnected within 2 s and back when it 
   assert.equal(await page.textContent(`${card('belt')} .state`), 'Disconnected');
   await page.screenshot({ path: path.join(screenshots, 'disconnected.png') });
 
-  // The same emulator again on the same pty link (its control socket left out: the old one's file remains).
-  const args = emulator.args.slice(1);
-  const control = args.indexOf('--control');
-  if (control >= 0) args.splice(control, 2);
-  restarted = spawn(cli, args, { stdio: 'ignore' });
+  // The same emulator again on the same pty link.
+  restarted = restartEmulator(emulator);
   await connectedIs('belt', true);
   await page.waitForFunction((selector) => document.querySelector(selector)?.dataset.reading !== 'stale',
     card('belt'), WAIT);

@@ -1,6 +1,7 @@
 // What the browser tests share: the browser (Debian's chromium, or skip), the rangekit
 // binary, the screenshot folder, and child processes read and stopped.
-import { existsSync, mkdirSync } from 'node:fs';
+import { existsSync, mkdirSync, readdirSync, readFileSync } from 'node:fs';
+import { spawn } from 'node:child_process';
 import net from 'node:net';
 import path from 'node:path';
 import { chromium } from 'playwright-core';
@@ -82,4 +83,29 @@ export function controlRequest(socketPath, request) {
     });
     socket.on('error', reject);
   });
+}
+
+// The demo's emulator process serving `port` (its pty link), found by its command line.
+export function emulatorOn(port) {
+  for (const entry of readdirSync('/proc')) {
+    if (!/^\d+$/.test(entry)) continue;
+    let args;
+    try {
+      args = readFileSync(`/proc/${entry}/cmdline`, 'utf8').split('\0').filter(Boolean);
+    } catch {
+      continue;  // gone meanwhile
+    }
+    const at = args.indexOf('--port');
+    if (args[1] === 'sim' && at > 0 && args[at + 1] === port) return { pid: Number(entry), args };
+  }
+  throw new Error(`no emulator process serves ${port}`);
+}
+
+// The same emulator again on the same pty link, as the service met it before a kill -9 (its
+// control socket left out: the killed one's file remains). Stop it with stopped().
+export function restartEmulator(emulator) {
+  const args = emulator.args.slice(1);
+  const control = args.indexOf('--control');
+  if (control >= 0) args.splice(control, 2);
+  return spawn(cli, args, { stdio: 'ignore' });
 }
