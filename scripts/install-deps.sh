@@ -19,6 +19,7 @@ test_packages=(
   openssl  # the TLS test makes its own certificate
   mosquitto mosquitto-clients  # the MQTT tests start a loopback broker and subscribe (docs/mqtt.md)
   python3-numpy python3-pytest python3-serial  # the Python package's tests and benchmark (/usr/bin/python3)
+  python3-pandas  # Capture.dataframe() is tested, not skipped
   chromium fonts-dejavu-core fonts-liberation  # the dashboard's browser tests (headless, driven by playwright-core)
 )
 
