@@ -42,6 +42,7 @@ class Driver(BaseDriver):
         check_quality: bool = True,
         max_speed: Optional[float] = None,
         drop_suspect: bool = False,
+        queue_capacity: int = 65536,
     ) -> "_rangekit.Stream":
         """Starts the record stream (ST) and returns it.
 
@@ -53,6 +54,9 @@ class Driver(BaseDriver):
         from the running median than ``max_speed`` m/s allows (default: the range a second) gets
         ``suspect`` (and ``FLAG_SUSPECT`` in arrays); ``drop_suspect`` leaves such records out,
         ``check_quality=False`` turns the checks off.
+
+        ``queue_capacity``: records kept for a reader that falls behind (1 or more); beyond it the
+        oldest are dropped and a ``lost_records`` event with their ``count`` comes where they were.
         """
         return self._impl.stream(
             thinning,
@@ -61,6 +65,7 @@ class Driver(BaseDriver):
             check_quality=check_quality,
             max_speed=max_speed,
             drop_suspect=drop_suspect,
+            queue_capacity=queue_capacity,
         )
 
 

@@ -115,8 +115,13 @@ class Stream {
   // the source finished and nothing is left.
   bool take_batch(std::optional<std::chrono::steady_clock::time_point> deadline);
   [[nodiscard]] bool batch_empty() const noexcept { return batch_next_ == batch_.size(); }
+  // Takes the source's next batch without waiting beyond `timeout`; records the queue
+  // dropped before it (counted just before the take) come first as one lost_records event,
+  // since the queue drops its oldest: the gap lies before what it still held.
+  bool take_from_source(std::chrono::milliseconds timeout);
 
   SampleSourcePtr source_;
+  std::uint64_t lost_reported_ = 0;  // of source_->lost(), already handed out as events
   // The source's items taken but not handed out yet, from batch_next_ on: read(n) and the
   // iterator both hand them out before taking more, so every item comes out once, in order.
   std::vector<StreamItem> batch_;

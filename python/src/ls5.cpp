@@ -171,7 +171,7 @@ void init_ls5(py::module_& parent) {
       .def(
           "stream",
           [](Ls5Device& device, std::optional<int> thinning, double reconnect_interval, double silence_timeout,
-             bool check_quality, std::optional<double> max_speed, bool drop_suspect) {
+             bool check_quality, std::optional<double> max_speed, bool drop_suspect, std::size_t queue_capacity) {
             const StreamQuality quality = stream_quality(check_quality, max_speed, drop_suspect);
             ls5::Driver::StreamOptions options;
             if (thinning) {
@@ -181,16 +181,21 @@ void init_ls5(py::module_& parent) {
             options.reconnect_interval = std::chrono::milliseconds(static_cast<long>(reconnect_interval * 1000.0));
             options.silence_timeout = std::chrono::milliseconds(static_cast<long>(silence_timeout * 1000.0));
             options.read_gather = python_read_gather;
+            if (queue_capacity < 1) throw py::value_error("queue_capacity must be 1 or more records");
+            options.queue_capacity = queue_capacity;
             auto stream =
                 unwrap(device.call([&](ls5::Driver& driver) { return driver.start_stream(options); }), family);
             return std::make_unique<Stream>(SampleSourcePtr(std::move(stream)), quality);
           },
           py::arg("thinning") = py::none(), py::arg("reconnect_interval") = 0.5, py::arg("silence_timeout") = 3.0,
           py::kw_only(), py::arg("check_quality") = true, py::arg("max_speed") = py::none(),
-          py::arg("drop_suspect") = false, py::keep_alive<0, 1>(),
+          py::arg("drop_suspect") = false, py::arg("queue_capacity") = ls5::Driver::StreamOptions{}.queue_capacity,
+          py::keep_alive<0, 1>(),
           "Starts the record stream (ST, optionally writing thinning n first, §8.4) and returns the Stream. "
           "Each sample is checked as `rangekit ls5 stream` does: one further from the running median than "
-          "max_speed (m/s; default the range a second) allows is marked suspect, or left out with drop_suspect.");
+          "max_speed (m/s; default the range a second) allows is marked suspect, or left out with drop_suspect. "
+          "queue_capacity records wait for the reader at most; beyond it the oldest are dropped and a "
+          "lost_records event says how many.");
 
   module.def(
       "open",

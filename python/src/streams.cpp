@@ -46,6 +46,20 @@ bool Stream::admit(StreamItem& item) {
   return !(sample->suspect && drop_suspect_);
 }
 
+bool Stream::take_from_source(std::chrono::milliseconds timeout) {
+  const std::uint64_t lost_before = source_->lost();
+  const bool got = source_->next_batch(batch_, timeout);
+  batch_next_ = 0;
+  if (got && lost_before > lost_reported_) {
+    const std::uint64_t count = lost_before - lost_reported_;
+    lost_reported_ = lost_before;
+    batch_.insert(batch_.begin(),
+                  StreamEvent{std::chrono::system_clock::now(), StreamEventKind::lost_records,
+                              std::to_string(count) + " records lost: the stream's queue was full", count});
+  }
+  return got;
+}
+
 bool Stream::take_batch(std::optional<steady_clock::time_point> deadline) {
   while (true) {
     auto slice_end = steady_clock::now() + signal_slice;
@@ -56,11 +70,10 @@ bool Stream::take_batch(std::optional<steady_clock::time_point> deadline) {
     const bool was_finished = source_->finished();
     const bool got = without_gil([&] {
       waiting_ = true;
-      const bool taken = source_->next_batch(batch_, until(slice_end));
+      const bool taken = take_from_source(until(slice_end));
       waiting_ = false;
       return taken;
     });
-    batch_next_ = 0;
     if (got) return true;
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // KeyboardInterrupt
     if (was_finished) return false;
@@ -121,8 +134,7 @@ py::array Stream::read(std::optional<std::size_t> count, std::optional<double> d
       while (want_more()) {
         if (batch_empty()) {
           const bool was_finished = source_->finished();  // before taking: see take_batch
-          const bool got = source_->next_batch(batch_, std::chrono::milliseconds(0));
-          batch_next_ = 0;
+          const bool got = take_from_source(std::chrono::milliseconds(0));
           if (!got) {
             ended = was_finished;
             if (ended || steady_clock::now() >= slice_end) break;

@@ -3,6 +3,7 @@ result, stream; refusals before anything is written."""
 
 import os
 import select
+import threading
 
 import pytest
 
@@ -70,6 +71,29 @@ def test_out_of_range_value_raises_before_anything_is_sent():
     finally:
         os.close(master)
         os.close(slave)
+
+
+def test_a_reader_that_falls_behind_gets_a_lost_records_event_before_what_is_left(ls5_unit):
+    # The emulator's 1 kHz records (§8.4, n = 1) overflow an 8-record queue nobody reads; the
+    # wait is on the stream's own loss count, not on a clock.
+    with rangekit.ls5.open(ls5_unit.port) as drv:
+        with drv.stream(thinning=1, queue_capacity=8) as stream:
+            while stream.lost == 0:
+                threading.Event().wait(0.005)
+            counted = stream.lost
+            first = stream.next(timeout=5)
+            # The oldest were dropped, so the gap comes before everything the queue still held.
+            assert first.is_event and first.kind == "lost_records", first
+            assert counted <= first.count <= stream.lost
+            # Once caught up, every record lost is in some event's count, none twice.
+            reported = first.count
+            for item in [stream.next(timeout=5) for _ in range(200)]:
+                if item.is_event and item.kind == "lost_records":
+                    reported += item.count
+            assert reported <= stream.lost
+    with pytest.raises(ValueError):
+        with rangekit.ls5.open(ls5_unit.port) as drv:
+            drv.stream(queue_capacity=0)
 
 
 def test_single_result(ls5_unit):
