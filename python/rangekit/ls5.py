@@ -15,7 +15,7 @@ from ._driver import BaseDriver
 
 _impl = _rangekit.ls5
 
-__all__ = ["open", "Driver", "parse_udp", "setting_units"]
+__all__ = ["open", "Driver", "setting_ranges", "parse_udp", "setting_units"]
 
 
 class Driver(BaseDriver):
@@ -92,3 +92,14 @@ def parse_udp(packet: bytes) -> Dict[str, Any]:
 def setting_units() -> Dict[str, str]:
     """Every setting name and its unit (``"ms"``, ``"mm"``, ``"code"``, ``""``)."""
     return dict(_impl.setting_units())
+
+
+def setting_ranges() -> Dict[str, str]:
+    """Every setting name and what ``drv.settings[name] = value`` accepts (table 9.2, newest firmware; ``-mm`` values scale with the sensor's range)."""
+    return dict(_impl.setting_ranges())
+
+
+# help(rangekit.ls5) lists every setting with its range, from the same table the CLI uses.
+__doc__ = (__doc__ or "") + "\nSettings (name: what set accepts):\n\n" + "\n".join(
+    f"    {name}: {allowed}" for name, allowed in setting_ranges().items()
+) + "\n"

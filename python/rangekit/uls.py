@@ -16,7 +16,7 @@ from ._driver import BaseDriver
 
 _impl = _rangekit.uls
 
-__all__ = ["open", "Driver", "decode_line", "error_text", "readable_names", "writable_names"]
+__all__ = ["open", "Driver", "setting_ranges", "decode_line", "error_text", "readable_names", "writable_names"]
 
 
 class Driver(BaseDriver):
@@ -93,3 +93,14 @@ def readable_names() -> List[str]:
 def writable_names() -> List[str]:
     """The setting names ``set`` accepts."""
     return [name.strip() for name in _impl.writable_names().split(",")]
+
+
+def setting_ranges() -> Dict[str, str]:
+    """Every setting name and what ``drv.settings[name] = value`` accepts (§8's ranges; distances in metres whatever MU is)."""
+    return dict(_impl.setting_ranges())
+
+
+# help(rangekit.uls) lists every setting with its range, from the same table the CLI uses.
+__doc__ = (__doc__ or "") + "\nSettings (name: what set accepts):\n\n" + "\n".join(
+    f"    {name}: {allowed}" for name, allowed in setting_ranges().items()
+) + "\n"

@@ -262,6 +262,18 @@ void init_ls5(py::module_& parent) {
         return units;
       },
       "Every table 9.2 setting name and its unit ('ms', 'mm', 'code', '' ...)");
+  module.def(
+      "setting_ranges",
+      [] {
+        ls5::SettingContext newest;  // the values of the newest firmware; *-mm ones scale with the sensor's range
+        newest.model.firmware = ls5::FirmwareVersion{0xFFFF, 0xFFFF};
+        newest.model.ethernet = true;
+        py::dict ranges;
+        for (const auto& setting : ls5::host_setting_table())
+          ranges[py::str(std::string(setting.name))] = ls5::describe_setting_values(setting, newest);
+        return ranges;
+      },
+      "Every table 9.2 setting name and the values set accepts (newest firmware; -mm ones need the range)");
 }
 
 }  // namespace rangekit::python

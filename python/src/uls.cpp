@@ -6,6 +6,7 @@
 #include "common.hpp"
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/uls/bus.hpp"
+#include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/measurement.hpp"
@@ -264,6 +265,16 @@ void init_uls(py::module_& parent) {
         return names;
       },
       "The names get accepts, in table order");
+  module.def(
+      "setting_ranges",
+      [] {
+        py::dict ranges;
+        for (const auto& target : uls::named::readable_targets())
+          ranges[py::str(uls::named::setting_key(*target.command))] =
+              target.command->has_set() ? uls::allowed_values(*target.command, uls::Units::metres) : "read only";
+        return ranges;
+      },
+      "Every setting name and what set accepts for it (§8's ranges, distances in metres)");
 }
 
 }  // namespace rangekit::python

@@ -95,3 +95,18 @@ def test_ls5_udp_packet_with_a_wrong_checksum_raises():
         rangekit.ls5.parse_udp(bytes(packet))
     with pytest.raises(rangekit.errors.DecodeError):
         rangekit.ls5.parse_udp(b"\x00" * 100)
+
+
+def test_help_lists_every_setting_with_its_range():
+    # Issue 16 item 3: help() shows the ranges. Typed from the documents: ULS §2 PRF "Values
+    # range from 10 to 5000", §9 1700 m the longest gate; LS5 table 9.2 median filter points
+    # 1-49, odd (parameter 0D: 01h-31h, step 2).
+    import pydoc
+
+    uls_help = pydoc.render_doc(rangekit.uls, renderer=pydoc.plaintext)
+    assert "prf-hz: 10..5000 Hz" in uls_help
+    assert "short-gate-m: 0..1700 metres" in uls_help
+    assert rangekit.uls.setting_ranges()["version"] == "read only"
+    ls5_help = pydoc.render_doc(rangekit.ls5, renderer=pydoc.plaintext)
+    assert "median-points: 1, 3, ..., 49 (odd)" in ls5_help
+    assert set(rangekit.ls5.setting_ranges()) == set(rangekit.ls5.setting_units())
