@@ -20,8 +20,11 @@ for file in /usr/share/man/man1/rangekit.1 /usr/share/bash-completion/completion
   test -e "$file" || { echo "check-package: $file is not installed" >&2; exit 1; }
 done
 grep -q "^\.TH RANGEKIT" /usr/share/man/man1/rangekit.1
-# The Python package, in Debian's dist-packages, importable by the system interpreter.
-if ls /usr/lib/python3/dist-packages/rangekit/_rangekit.*.so >/dev/null 2>&1; then
+# The Python package, in Debian's dist-packages, importable by the system interpreter:
+# required whenever this build made it (a .deb that lost it must not pass).
+if grep -q '^RANGEKIT_PYTHON:BOOL=ON' "$build/CMakeCache.txt"; then
+  ls /usr/lib/python3/dist-packages/rangekit/_rangekit.*.so >/dev/null 2>&1 ||
+    { echo "check-package: the build has the Python package but the .deb does not install it" >&2; exit 1; }
   (cd / && /usr/bin/python3 -c 'import rangekit; print("python: rangekit", rangekit.__version__, rangekit.__file__)')
 fi
 echo "package: ok"
