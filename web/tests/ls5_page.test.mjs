@@ -12,7 +12,9 @@ import { spawn } from 'node:child_process';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
 import * as esbuild from 'esbuild';
-import { WAIT, cli, controlRequest, launch, screenshots, stopped, waitForLine, watchErrors } from './support.mjs';
+import {
+  WAIT, cli, controlRequest, launch, screenshots, selectsTooNarrow, stopped, waitForLine, watchErrors,
+} from './support.mjs';
 
 let serve;
 let demoDir;
@@ -86,16 +88,7 @@ test('no select of the page is too narrow for its choices', async () => {
   // As on the ULS page: each select is at least as wide as the browser makes one with the same
   // choices left to its natural width (a hidden copy, same font), so its longest choice ("05 –
   // imparity control, 2 stop bits", table 9.2's latching modes) and so the one chosen show whole.
-  const cut = await page.$$eval('.ls5-page select', (selects) => selects.flatMap((select) => {
-    const copy = select.cloneNode(true);
-    copy.removeAttribute('id');
-    copy.style.cssText = 'position: absolute; visibility: hidden; width: auto; min-width: 0; max-width: none;';
-    select.parentElement.append(copy);
-    const natural = copy.getBoundingClientRect().width;
-    copy.remove();
-    const width = select.getBoundingClientRect().width;
-    return width + 0.5 < natural ? [`${select.id}: ${width.toFixed(0)} px < ${natural.toFixed(0)} px`] : [];
-  }));
+  const cut = await selectsTooNarrow(page, '.ls5-page select');
   assert.deepEqual(cut, []);
 });
 

@@ -109,3 +109,19 @@ export function restartEmulator(emulator) {
   if (control >= 0) args.splice(control, 2);
   return spawn(cli, args, { stdio: 'ignore' });
 }
+
+// The selects under `selector` narrower than the browser makes one with the same choices left
+// to its natural width (a hidden copy, same font): each as "id: W px < N px". Empty when every
+// select shows its longest choice, and so the one chosen, whole.
+export function selectsTooNarrow(page, selector) {
+  return page.$$eval(selector, (selects) => selects.flatMap((select) => {
+    const copy = select.cloneNode(true);
+    copy.removeAttribute('id');
+    copy.style.cssText = 'position: absolute; visibility: hidden; width: auto; min-width: 0; max-width: none;';
+    select.parentElement.append(copy);
+    const natural = copy.getBoundingClientRect().width;
+    copy.remove();
+    const width = select.getBoundingClientRect().width;
+    return width + 0.5 < natural ? [`${select.id}: ${width.toFixed(0)} px < ${natural.toFixed(0)} px`] : [];
+  }));
+}

@@ -9,7 +9,9 @@ import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
-import { WAIT, cli, controlRequest, launch, screenshots, stopped, waitForLine, watchErrors } from './support.mjs';
+import {
+  WAIT, cli, controlRequest, launch, screenshots, selectsTooNarrow, stopped, waitForLine, watchErrors,
+} from './support.mjs';
 
 let serve;
 let demoDir;
@@ -175,16 +177,7 @@ test('U108: Minimum Pulse Width and current loop calibration are explanations wi
 test('no select of the panels is too narrow for its choices', async () => {
   // Each select is at least as wide as the browser makes one with the same choices left to
   // its natural width (a hidden copy, same font): its longest choice then shows whole.
-  const cut = await page.$$eval('.panels select', (selects) => selects.flatMap((select) => {
-    const copy = select.cloneNode(true);
-    copy.removeAttribute('id');
-    copy.style.cssText = 'position: absolute; visibility: hidden; width: auto; min-width: 0; max-width: none;';
-    select.parentElement.append(copy);
-    const natural = copy.getBoundingClientRect().width;
-    copy.remove();
-    const width = select.getBoundingClientRect().width;
-    return width + 0.5 < natural ? [`${select.id}: ${width.toFixed(0)} px < ${natural.toFixed(0)} px`] : [];
-  }));
+  const cut = await selectsTooNarrow(page, '.panels select');
   assert.deepEqual(cut, []);
 });
 
