@@ -2,9 +2,35 @@
 (the CLI's `rangekit sim`, on ptys in a temporary directory), stopped afterwards.
 Run through ctest (rangekit_python_tests) with PYTHONPATH=build/python."""
 
+import os
+import select
+
 import pytest
 
 import rangekit
+
+
+class SilentLine:
+    """A pty with nothing behind it: `path` for the driver; any byte the driver sent would
+    be readable on the master side, so `written()` tells whether anything was."""
+
+    def __init__(self, master, slave):
+        self.master = master
+        self.path = os.ttyname(slave)
+
+    def written(self):
+        readable, _, _ = select.select([self.master], [], [], 0)
+        return readable != []
+
+
+@pytest.fixture
+def silent_line():
+    master, slave = os.openpty()
+    try:
+        yield SilentLine(master, slave)
+    finally:
+        os.close(master)
+        os.close(slave)
 
 
 @pytest.fixture
