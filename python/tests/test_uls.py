@@ -1,7 +1,6 @@
 """rangekit.uls against the ULS emulator (rangekit.sim.uls): open, get, set, single
 measurement, stream; refusals before anything is sent; errors with §10 numbers."""
 
-
 import pytest
 
 import rangekit
