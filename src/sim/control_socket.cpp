@@ -75,10 +75,9 @@ ControlSocket::~ControlSocket() {
   ::unlink(path_.c_str());
 }
 
-std::vector<int> ControlSocket::poll_fds() const {
-  std::vector<int> fds{listener_};
-  for (const auto& client : clients_) fds.push_back(client.fd);
-  return fds;
+void ControlSocket::add_poll_fds(std::vector<pollfd>& fds) const {
+  fds.push_back(pollfd{listener_, POLLIN, 0});
+  for (const auto& client : clients_) fds.push_back(pollfd{client.fd, POLLIN, 0});
 }
 
 void ControlSocket::service(const Handler& handler) {

@@ -63,8 +63,8 @@ const std::string& EmulatorRuntime::line_path(std::size_t line) const { return l
 
 void EmulatorRuntime::set_noise(std::size_t line, const LineNoise& noise) { lines_.at(line).noise = noise; }
 
-bool EmulatorRuntime::host_matches(const Line& line, const LineAttachment& attachment, const LineByte* sent) const {
-  const auto host = line.pty->peer_settings();
+bool EmulatorRuntime::host_matches(const Result<SerialSettings>& host, const LineAttachment& attachment,
+                                   const LineByte* sent) {
   if (!host) return true;  // cannot tell: assume the host is right
   SerialSettings device = attachment.device->port_settings(attachment.port);
   if (sent != nullptr && sent->baud != 0) device.baud = sent->baud;
@@ -84,14 +84,16 @@ Status EmulatorRuntime::read_input(Nanos now) {
     if (index < poll_fds_.size() && poll_fds_[index].revents == 0) continue;
     auto& line = lines_[index];
     std::uint8_t buffer[512];
+    std::optional<Result<SerialSettings>> host;  // read at the first byte
     while (true) {
       const ssize_t n = ::read(line.pty->native_handle(), buffer, sizeof buffer);
       if (n <= 0) {
         if (n < 0 && errno == EINTR) continue;
         break;  // EAGAIN: nothing more now
       }
+      if (!host) host = line.pty->peer_settings();
       for (const auto& attachment : line.config.attachments) {
-        const bool matches = host_matches(line, attachment);
+        const bool matches = host_matches(*host, attachment);
         for (ssize_t i = 0; i < n; ++i) {
           attachment.device->receive(attachment.port, matches ? buffer[i] : garble(buffer[i]), now);
         }
@@ -132,6 +134,7 @@ Status EmulatorRuntime::flush_output(Nanos now) {
     }
     auto& wire = wire_;
     wire.clear();
+    const auto host = line.pty->peer_settings();
     for (std::size_t i = 0; i < merged.size(); ++i) {
       const auto& attachment = line.config.attachments[merged[i].source];
       std::uint8_t value = merged[i].byte.value;
@@ -142,7 +145,7 @@ Status EmulatorRuntime::flush_output(Nanos now) {
         value = static_cast<std::uint8_t>(value & merged[i + 1].byte.value) ^ 0x5A;
         ++i;
       }
-      if (!host_matches(line, attachment, &merged[i].byte)) value = garble(value);
+      if (!host_matches(host, attachment, &merged[i].byte)) value = garble(value);
       if (wire_log_) (void)std::fputc(value, wire_log_.get());
       if (line.noise.drop_rate > 0 && std::uniform_real_distribution<double>(0, 1)(random_) < line.noise.drop_rate) {
         continue;
@@ -282,9 +285,7 @@ Nanos loop_wait(Nanos until_deadline, Nanos max_wait, Nanos resolution) {
 Status EmulatorRuntime::step(Nanos max_wait) {
   poll_fds_.clear();
   for (const auto& line : lines_) poll_fds_.push_back(pollfd{line.pty->native_handle(), POLLIN, 0});
-  if (control_) {
-    for (const int fd : control_->poll_fds()) poll_fds_.push_back(pollfd{fd, POLLIN, 0});
-  }
+  if (control_) control_->add_poll_fds(poll_fds_);
   Nanos wait = max_wait;
   if (real_clock_) {
     // The deadline is absolute (the device's), so a late wake never accumulates: each
@@ -302,7 +303,12 @@ Status EmulatorRuntime::step(Nanos max_wait) {
   }
   const Nanos current = now();
   if (auto read = read_input(current); !read) return read;
-  if (control_) control_->service([this](const nlohmann::json& request) { return handle_control(request); });
+  // The control socket's fds follow the lines': nothing there costs no accept() or recv().
+  const bool control_ready = std::any_of(poll_fds_.begin() + static_cast<std::ptrdiff_t>(lines_.size()),
+                                         poll_fds_.end(), [](const pollfd& fd) { return fd.revents != 0; });
+  if (control_ && control_ready) {
+    control_->service([this](const nlohmann::json& request) { return handle_control(request); });
+  }
   run_devices(current);
   return flush_output(current);
 }

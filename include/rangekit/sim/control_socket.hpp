@@ -3,6 +3,8 @@
 // target, inject faults, advance a virtual clock, read the analog outputs).
 #pragma once
 
+#include <poll.h>
+
 #include <functional>
 #include <memory>
 #include <optional>
@@ -27,8 +29,8 @@ class ControlSocket {
   ControlSocket(const ControlSocket&) = delete;
   ControlSocket& operator=(const ControlSocket&) = delete;
 
-  // File descriptors to poll for input (listener and clients).
-  [[nodiscard]] std::vector<int> poll_fds() const;
+  // Appends the file descriptors to poll for input (listener and clients), POLLIN.
+  void add_poll_fds(std::vector<pollfd>& fds) const;
   // Accepts new clients and answers every complete line that arrived. A line
   // that is not a JSON object (invalid UTF-8 included) gets {"error": "..."};
   // nothing throws out of here.

@@ -112,10 +112,11 @@ class EmulatorRuntime {
   [[nodiscard]] Nanos next_deadline() const;
   // The real-clock loop's next wake: the devices' next_wake() (whole runs of bytes).
   [[nodiscard]] Nanos next_wake() const;
-  // Whether the host's port reads what the device sends; `sent` carries the speed and
-  // stop bits a byte left with (none: the device's present settings).
-  [[nodiscard]] bool host_matches(const Line& line, const LineAttachment& attachment,
-                                  const LineByte* sent = nullptr) const;
+  // Whether the host's port (`host`: its settings, read once per line and step: one
+  // tcgetattr, not one per byte) reads what the device sends; `sent` carries the speed
+  // and stop bits a byte left with (none: the device's present settings).
+  [[nodiscard]] static bool host_matches(const Result<SerialSettings>& host, const LineAttachment& attachment,
+                                         const LineByte* sent = nullptr);
   std::uint8_t garble(std::uint8_t value);
   nlohmann::json handle_control(const nlohmann::json& request);
 
