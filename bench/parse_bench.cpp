@@ -473,16 +473,20 @@ void add_mqtt_rows(GoalTable& table, const char* name) {
       {path + ", loss", text_of("%.0f of %.0f lost", *lost, *records), "-", 0, "none", *lost == 0 && *records > 0});
 }
 
-// Emulator pacing (issue 17 item 4): against a minimal absolute-deadline writer and the
-// millisecond-rounded loop, same run.
+// Emulator pacing (issue 17 item 4): against a minimal absolute-deadline writer, and its CPU
+// against the loop as the issue found it ("no worse than today"), same run; the present loop
+// rounded to whole milliseconds is shown beside it (bench/emulator_pacing_bench.cpp).
 void add_pacing_rows(GoalTable& table, const char* name) {
   const auto p99 = table.value(name, "emu_p99_us");
   const auto writer_p99 = table.value(name, "writer_p99_us");
   const auto together = table.value(name, "emu_together_pct");
   const auto writer_together = table.value(name, "writer_together_pct");
-  const auto cpu = table.value(name, "emu_cpu_ms_per_s");
+  const auto cpu = table.value(name, "present_cpu_ms_per_s");
+  const auto beside_rounded_cpu = table.value(name, "emu_cpu_ms_per_s");
   const auto rounded_cpu = table.value(name, "ms_emu_cpu_ms_per_s");
-  if (!p99 || !writer_p99 || !together || !writer_together || !cpu || !rounded_cpu) return;
+  const auto filed_cpu = table.value(name, "filed_cpu_ms_per_s");
+  if (!p99 || !writer_p99 || !together || !writer_together || !cpu || !rounded_cpu || !filed_cpu || !beside_rounded_cpu)
+    return;
   const std::string path = "LS5 emulator at 1 kHz";
   const double p99_ratio = *writer_p99 > 0 ? *p99 / *writer_p99 : 0;
   table.add({path + ", p99 of abs(interval - period)", text_of("%.0f us", *p99),
@@ -491,8 +495,10 @@ void add_pacing_rows(GoalTable& table, const char* name) {
   table.add({path + ", records together with the previous", text_of("%.2f %%", *together),
              text_of("minimal writer %.2f %%", *writer_together),
              *writer_together > 0 ? *together / *writer_together : 0, "<= 1 %", *together <= 1.0});
-  table.add({path + ", CPU", text_of("%.1f ms/s", *cpu), text_of("ms-rounded loop %.1f ms/s", *rounded_cpu),
-             *rounded_cpu > 0 ? *cpu / *rounded_cpu : 0, "<= 1x", *cpu <= *rounded_cpu});
+  table.add({path + ", CPU", text_of("%.1f ms/s", *cpu),
+             text_of("loop as filed %.1f ms/s (beside it, rounded to ms: ", *filed_cpu) +
+                 text_of("%.1f ms/s against ", *rounded_cpu) + text_of("%.1f)", *beside_rounded_cpu),
+             *filed_cpu > 0 ? *cpu / *filed_cpu : 0, "<= 1x", *cpu <= *filed_cpu && *filed_cpu > 0});
 }
 
 // Capture of ULS binning bursts (issue 17 item 3): against raw sqlite3 C, same schema and batching.
