@@ -339,6 +339,55 @@ TEST(UlsDriver, StreamDecodesAveragingLinesAndErrors) {
   EXPECT_EQ(rig.device->requests().back(), "$ST");
 }
 
+// read_gather (issue 17): after a read that brought bytes the reader lets the next lines
+// collect for read_gather before reading again, and a stop ends that wait at once.
+TEST(UlsDriver, TheStreamReaderGathersAfterAReadAndAStopEndsTheGather) {
+  ScriptedDevice* device = nullptr;
+  DriverOptions options;
+  options.read_gather = 400ms;
+  Rig rig(
+      [&](const std::string& request) -> std::string {
+        if (request == "$GO") {
+          device->send("$OK\r$BM,12.500,2100\r");
+          return "";
+        }
+        return typical_reply(request);
+      },
+      options);
+  device = rig.device.get();
+  auto stream = rig.driver->start_stream();
+  ASSERT_TRUE(stream) << stream.error().message;
+  ASSERT_EQ(samples_of(take(**stream, 1)).size(), 1U);
+  device->send("$BM,13.000,2200\r");
+  ASSERT_EQ(samples_of(take(**stream, 1)).size(), 1U);  // the reader has just read: it gathers now
+  device->send("$BM,14.000,2300\r");
+  // Without the gather this line would be read and handed over at once.
+  EXPECT_FALSE((*stream)->next(100ms).has_value());
+  const auto third = samples_of(take(**stream, 1));
+  ASSERT_EQ(third.size(), 1U);
+  EXPECT_DOUBLE_EQ(*third[0].distance_m, 14.0);
+
+  options.read_gather = 20s;  // a stop must not wait this out
+  ScriptedDevice* slow_device = nullptr;
+  Rig slow(
+      [&](const std::string& request) -> std::string {
+        if (request == "$GO") {
+          slow_device->send("$OK\r");
+          return "";
+        }
+        return typical_reply(request);
+      },
+      options);
+  slow_device = slow.device.get();
+  auto slow_stream = slow.driver->start_stream();
+  ASSERT_TRUE(slow_stream) << slow_stream.error().message;
+  slow_device->send("$BM,12.500,2100\r");
+  ASSERT_EQ(samples_of(take(**slow_stream, 1)).size(), 1U);  // read: the reader gathers for 20 s
+  const auto asked = std::chrono::steady_clock::now();
+  (*slow_stream)->stop();
+  EXPECT_LT(std::chrono::steady_clock::now() - asked, 10s);
+}
+
 // U85: a unit already measuring (CO on, averaging, DM 2 "range and pulse width") sends
 // `$BM,n,p` lines (§8 Averaging Mode: "Output from ULS depends on selected display output
 // mode: Range, Pulse Width or Both") between the replies to the stream's MM/DM/MU/TB reads.

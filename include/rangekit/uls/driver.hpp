@@ -47,6 +47,10 @@ struct DriverOptions {
   // A stream consumer woken by a sample lets the next ones collect this long before it
   // takes them (the LS5 stream's gather): one wake-up per batch at the fastest outputs.
   std::chrono::microseconds gather{2000};
+  // After a read that brought bytes, a stream's reader lets the next lines collect in the
+  // port this long before it reads again (as the LS5's read_gather): one read and one
+  // hand-over per batch instead of one per line at the fastest outputs (issue 17). 0: none.
+  std::chrono::microseconds read_gather{2000};
   std::string source;  // Sample::source; defaults to the transport's name
 };
 
@@ -256,8 +260,9 @@ class Driver final {
                                             Sample* measurement = nullptr);
   Status check_locally(const CommandInfo& command, std::span<const std::string_view> fields);
   Status write_frame(Bytes bytes);
-  // Reads once (up to `wait`) and dispatches every complete frame.
-  Status pump(std::chrono::milliseconds wait);
+  // Reads once (up to `wait`) and dispatches every complete frame; `bytes_read` gets
+  // how many bytes came.
+  Status pump(std::chrono::milliseconds wait, std::size_t* bytes_read = nullptr);
   // `direct`: the line's measurement as decode_measurements read it under `direct_context`
   // (a good averaging line), used when that is still the unit's context (issue 17).
   void dispatch(Bytes frame, const Measurement* direct = nullptr, const MeasurementContext* direct_context = nullptr);

@@ -186,7 +186,7 @@ Status Driver::write_frame(Bytes bytes) {
   return transport_->write_all(bytes);
 }
 
-Status Driver::pump(std::chrono::milliseconds wait) {
+Status Driver::pump(std::chrono::milliseconds wait, std::size_t* bytes_read) {
   Transport* transport = nullptr;
   {
     std::lock_guard lock(transport_mutex_);
@@ -199,6 +199,7 @@ Status Driver::pump(std::chrono::milliseconds wait) {
     if (got.error().code == Errc::timeout) return ok_status();
     return got.error();
   }
+  if (bytes_read != nullptr) *bytes_read = *got;
   auto on_rejected = [&](const FrameAssembler::Event& event) {
     if (event.reason == nullptr) return;
     {

@@ -5,6 +5,8 @@
 // issue 11): whichever goes first ends the stream, and the reader is always
 // joined before the driver it reads through is destroyed.
 #include <algorithm>
+#include <condition_variable>
+#include <mutex>
 #include <utility>
 
 #include "rangekit/core/stream_queue.hpp"
@@ -41,6 +43,9 @@ struct LiveStream {
   LiveStream(std::size_t capacity, std::chrono::microseconds gather) : queue(capacity, gather) {}
   StreamQueue<StreamItem> queue;
   std::atomic<bool> stop_requested{false};
+  // The reader's read_gather wait, ended early by a stop.
+  std::mutex wake_mutex;
+  std::condition_variable wake;
   std::atomic<bool> finished{false};  // the reader has ended (stopped, or the link lost for good)
   std::atomic<std::uint64_t> records{0};
   std::thread reader;
@@ -56,7 +61,11 @@ void stop_live_stream(LiveStream& live, AfterStream after, bool detach) {
   std::lock_guard stopping(live.stopping);
   if (!live.ended) {
     live.ended = true;
-    live.stop_requested = true;
+    {
+      std::lock_guard lock(live.wake_mutex);  // a reader about to wait sees it, or is woken
+      live.stop_requested = true;
+    }
+    live.wake.notify_all();
     if (live.reader.joinable()) live.reader.join();
     if (live.driver != nullptr) live.driver->end_stream(live, after);
     live.finished = true;
@@ -302,7 +311,13 @@ void Driver::reader_loop(detail::LiveStream& live) {
           active_mode_ == StreamMode::polled
               ? std::clamp(std::chrono::duration_cast<std::chrono::milliseconds>(next_poll - now), 1ms, 50ms)
               : 50ms;
-      step = pump(wait);
+      std::size_t got = 0;
+      step = pump(wait, &got);
+      // Let the next lines collect in the port before reading again (read_gather).
+      if (step && got > 0 && active_mode_ != StreamMode::polled && options_.read_gather.count() > 0) {
+        std::unique_lock lock(live.wake_mutex);
+        live.wake.wait_for(lock, options_.read_gather, [&live] { return live.stop_requested.load(); });
+      }
       // No continuous lines on this port (MO sends them elsewhere): poll instead (U62).
       // Not in look down, which is silent while nothing changes (U87).
       if (step && requested_mode_ == StreamMode::automatic && active_mode_ == StreamMode::continuous &&
