@@ -116,116 +116,119 @@ struct Mark {
   Clock::time_point at;
 };
 
-void report(benchmark::State& state, const Mark& first, const Mark& last, double cpu_s, double stream_s, double lost) {
+void report(rangekit::bench::HostFigures& counters, const Mark& first, const Mark& last, double cpu_s, double stream_s,
+            double lost) {
   const double window_s = std::chrono::duration<double>(last.at - first.at).count();
   const auto sent = static_cast<double>(last.device.measurements - first.device.measurements);
   const auto received = static_cast<double>(last.host_records - first.host_records);
-  state.counters["window_s"] = window_s;
-  state.counters["dev_records"] = sent;  // n = 1: every measurement is streamed
-  state.counters["rate_records"] = records_per_second * window_s;
-  state.counters["host_records"] = received;
-  state.counters["delivered_pct"] = 100.0 * received / sent;
-  state.counters["host_rec_per_s"] = received / window_s;
-  state.counters["wire_pct"] = 100.0 * received * record_bytes / window_s / (fast_baud / 10.0);
-  state.counters["lost"] = lost;
-  state.counters["pty_dropped_B"] =
-      static_cast<double>(last.device.dropped_output_bytes - first.device.dropped_output_bytes);
-  state.counters["host_cpu_pct"] = 100.0 * cpu_s / stream_s;
+  counters["window_s"] = window_s;
+  counters["dev_records"] = sent;  // n = 1: every measurement is streamed
+  counters["rate_records"] = records_per_second * window_s;
+  counters["host_records"] = received;
+  counters["delivered_pct"] = 100.0 * received / sent;
+  counters["host_rec_per_s"] = received / window_s;
+  counters["wire_pct"] = 100.0 * received * record_bytes / window_s / (fast_baud / 10.0);
+  counters["lost"] = lost;
+  counters["pty_dropped_B"] = static_cast<double>(last.device.dropped_output_bytes - first.device.dropped_output_bytes);
+  counters["host_cpu_pct"] = 100.0 * cpu_s / stream_s;
 }
 
-void BM_HostLs5Driver1kHz921600(benchmark::State& state) {
-  Ls5Rig& rig = ls5_rig();  // first use: the emulator starts (outside the timed loop)
-  if (!rig.error.empty()) return state.SkipWithError(rig.error.c_str());
-  for (auto _ : state) {
-    auto port = rangekit::SerialPort::open(rig.link, rangekit::SerialSettings{fast_baud});
-    if (!port) return state.SkipWithError(port.error().describe().c_str());
+std::string run_driver(Ls5Rig& rig, rangekit::bench::HostFigures& counters) {
+  auto port = rangekit::SerialPort::open(rig.link, rangekit::SerialSettings{fast_baud});
+  if (!port) return port.error().describe();
 
-    const auto started = Clock::now();
-    const double cpu_before = rangekit::bench::process_cpu_s();
-    rangekit::ls5::Driver driver(std::move(port).value(), rangekit::ls5::DriverOptions{});
-    auto opened = driver.start_stream({});
-    if (!opened) return state.SkipWithError(opened.error().describe().c_str());
-    auto& stream = **opened;
-    std::uint64_t consumed = 0;
-    std::optional<Mark> first;
-    std::optional<Mark> last;
-    std::vector<rangekit::StreamItem> batch;
-    std::uint64_t allocations_at_first = 0;
-    std::uint64_t allocations_in_window = 0;
-    std::uint64_t records_in_window = 0;
-    while (!last) {
-      if (stream.next_batch(batch, 50ms)) {
-        for (const auto& item : batch) {
-          if (std::holds_alternative<rangekit::Sample>(item)) ++consumed;
-        }
+  const auto started = Clock::now();
+  const double cpu_before = rangekit::bench::process_cpu_s();
+  rangekit::ls5::Driver driver(std::move(port).value(), rangekit::ls5::DriverOptions{});
+  auto opened = driver.start_stream({});
+  if (!opened) return opened.error().describe();
+  auto& stream = **opened;
+  std::uint64_t consumed = 0;
+  std::optional<Mark> first;
+  std::optional<Mark> last;
+  std::vector<rangekit::StreamItem> batch;
+  std::uint64_t allocations_at_first = 0;
+  std::uint64_t allocations_in_window = 0;
+  std::uint64_t records_in_window = 0;
+  while (!last) {
+    if (stream.next_batch(batch, 50ms)) {
+      for (const auto& item : batch) {
+        if (std::holds_alternative<rangekit::Sample>(item)) ++consumed;
       }
-      const auto now = Clock::now();
-      if (first ? now < first->at + window : now < started + settle) continue;
-      if (first) {
-        allocations_in_window = rangekit::bench::allocation_count() - allocations_at_first;
-        records_in_window = stream.records() - first->host_records;
-      }
-      auto count = device_count(rig);
-      if (!count) return state.SkipWithError(count.error().describe().c_str());
-      (first ? last : first) = Mark{*count, stream.records(), Clock::now()};
-      allocations_at_first = rangekit::bench::allocation_count();
     }
-    stream.stop();  // SB
-    while (auto item = stream.next(0ms)) {
-      if (std::holds_alternative<rangekit::Sample>(*item)) ++consumed;
+    const auto now = Clock::now();
+    if (first ? now < first->at + window : now < started + settle) continue;
+    if (first) {
+      allocations_in_window = rangekit::bench::allocation_count() - allocations_at_first;
+      records_in_window = stream.records() - first->host_records;
     }
-    const double stream_s = std::chrono::duration<double>(Clock::now() - started).count();
-    const double cpu_s = rangekit::bench::process_cpu_s() - cpu_before;
-    report(state, *first, *last, cpu_s, stream_s, static_cast<double>(stream.lost()));
-    state.counters["consumed"] = static_cast<double>(consumed);
-    state.counters["records"] = static_cast<double>(stream.records());
-    state.counters["allocs_in_window"] = static_cast<double>(allocations_in_window);
-    state.counters["records_in_window"] = static_cast<double>(records_in_window);
-    state.counters["allocs_per_record"] =
-        static_cast<double>(allocations_in_window) / static_cast<double>(std::max<std::uint64_t>(records_in_window, 1));
+    auto count = device_count(rig);
+    if (!count) return count.error().describe();
+    (first ? last : first) = Mark{*count, stream.records(), Clock::now()};
+    allocations_at_first = rangekit::bench::allocation_count();
   }
+  stream.stop();  // SB
+  while (auto item = stream.next(0ms)) {
+    if (std::holds_alternative<rangekit::Sample>(*item)) ++consumed;
+  }
+  const double stream_s = std::chrono::duration<double>(Clock::now() - started).count();
+  const double cpu_s = rangekit::bench::process_cpu_s() - cpu_before;
+  report(counters, *first, *last, cpu_s, stream_s, static_cast<double>(stream.lost()));
+  counters["consumed"] = static_cast<double>(consumed);
+  counters["records"] = static_cast<double>(stream.records());
+  counters["allocs_in_window"] = static_cast<double>(allocations_in_window);
+  counters["records_in_window"] = static_cast<double>(records_in_window);
+  counters["allocs_per_record"] =
+      static_cast<double>(allocations_in_window) / static_cast<double>(std::max<std::uint64_t>(records_in_window, 1));
+  return {};
 }
 
 // The floor: `cat` of the same pty into a file; ST and SB written to the pty.
-void BM_CatLs5Floor1kHz921600(benchmark::State& state) {
-  Ls5Rig& rig = ls5_rig();  // first use: the emulator starts (outside the timed loop)
+std::string run_cat(Ls5Rig& rig, rangekit::bench::HostFigures& counters) {
+  // Opening the port sets 921600 raw on the pty's shared termios, as the host's stty would.
+  auto port = rangekit::SerialPort::open(rig.link, rangekit::SerialSettings{fast_baud});
+  if (!port) return port.error().describe();
+  const auto out = rig.dir.path() / "cat.out";
+  auto cat = rangekit::bench::CatCopy::start(rig.link, out);
+  if (!cat) return cat.error().describe();
+  (*port)->close();
+
+  const auto started = Clock::now();
+  if (auto sent = (*cat)->send("#01ST\r"); !sent) return sent.error().describe();
+  std::optional<Mark> first;
+  std::optional<Mark> last;
+  while (!last) {
+    const auto due = first ? first->at + window : started + settle;
+    std::this_thread::sleep_until(due);  // the bench's own clock for the window, not synchronisation
+    auto count = device_count(rig);
+    if (!count) return count.error().describe();
+    (first ? last : first) = Mark{*count, (*cat)->file_bytes() / record_bytes, Clock::now()};
+  }
+  if (auto sent = (*cat)->send("#01SB\r"); !sent) return sent.error().describe();
+  const double stream_s = std::chrono::duration<double>(Clock::now() - started).count();
+  const double cpu_s = (*cat)->finish("!01SB\r", 3s);  // the SB echo (table 9.1)
+  const std::string copied = rangekit::bench::read_file(out);
+  std::uint64_t records = 0;
+  for (std::size_t at = copied.find('!'); at != std::string::npos; at = copied.find('!', at + 1)) {
+    const bool digits = at + record_bytes <= copied.size() && copied[at + record_bytes - 1] == '\r' &&
+                        copied.find_first_not_of("0123456789", at + 1) == at + record_bytes - 1;
+    if (digits) ++records;
+  }
+  report(counters, *first, *last, cpu_s, stream_s, 0);
+  counters["records"] = static_cast<double>(records);
+  return {};
+}
+
+void BM_Ls5StreamAndCat1kHz921600(benchmark::State& state) {
+  auto& rig = ls5_rig();  // first use: the emulator starts (outside the timed loop)
   if (!rig.error.empty()) return state.SkipWithError(rig.error.c_str());
   for (auto _ : state) {
-    // Opening the port sets 921600 raw on the pty's shared termios, as the host's stty would.
-    auto port = rangekit::SerialPort::open(rig.link, rangekit::SerialSettings{fast_baud});
-    if (!port) return state.SkipWithError(port.error().describe().c_str());
-    const auto out = rig.dir.path() / "cat.out";
-    auto cat = rangekit::bench::CatCopy::start(rig.link, out);
-    if (!cat) return state.SkipWithError(cat.error().describe().c_str());
-    (*port)->close();
-
-    const auto started = Clock::now();
-    if (auto sent = (*cat)->send("#01ST\r"); !sent) return state.SkipWithError(sent.error().describe().c_str());
-    std::optional<Mark> first;
-    std::optional<Mark> last;
-    while (!last) {
-      const auto due = first ? first->at + window : started + settle;
-      std::this_thread::sleep_until(due);  // the bench's own clock for the window, not synchronisation
-      auto count = device_count(rig);
-      if (!count) return state.SkipWithError(count.error().describe().c_str());
-      (first ? last : first) = Mark{*count, (*cat)->file_bytes() / record_bytes, Clock::now()};
-    }
-    if (auto sent = (*cat)->send("#01SB\r"); !sent) return state.SkipWithError(sent.error().describe().c_str());
-    const double stream_s = std::chrono::duration<double>(Clock::now() - started).count();
-    const double cpu_s = (*cat)->finish("!01SB\r", 3s);  // the SB echo (table 9.1)
-    const std::string copied = rangekit::bench::read_file(out);
-    std::uint64_t records = 0;
-    for (std::size_t at = copied.find('!'); at != std::string::npos; at = copied.find('!', at + 1)) {
-      const bool digits = at + record_bytes <= copied.size() && copied[at + record_bytes - 1] == '\r' &&
-                          copied.find_first_not_of("0123456789", at + 1) == at + record_bytes - 1;
-      if (digits) ++records;
-    }
-    report(state, *first, *last, cpu_s, stream_s, 0);
-    state.counters["records"] = static_cast<double>(records);
+    rangekit::bench::run_paired(
+        state, [&rig](rangekit::bench::HostFigures& figures) { return run_driver(rig, figures); },
+        [&rig](rangekit::bench::HostFigures& figures) { return run_cat(rig, figures); });
   }
 }
 
 }  // namespace
 
-BENCHMARK(BM_HostLs5Driver1kHz921600)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
-BENCHMARK(BM_CatLs5Floor1kHz921600)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(BM_Ls5StreamAndCat1kHz921600)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();

@@ -9,6 +9,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <fstream>
@@ -162,6 +163,36 @@ std::string read_file(const std::filesystem::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+void run_paired(benchmark::State& state, const HostRun& driver, const HostRun& cat, int pairs) {
+  struct Pair {
+    HostFigures driver;
+    HostFigures cat;
+    double ratio = 0;
+  };
+  std::vector<Pair> runs;
+  double lost_all = 0;
+  double allocs_per_record_max = 0;
+  for (int i = 0; i < pairs; ++i) {
+    Pair pair;
+    if (auto error = driver(pair.driver); !error.empty()) return state.SkipWithError(error.c_str());
+    if (auto error = cat(pair.cat); !error.empty()) return state.SkipWithError(error.c_str());
+    const double cat_cpu = pair.cat["host_cpu_pct"];
+    pair.ratio = cat_cpu > 0 ? pair.driver["host_cpu_pct"] / cat_cpu : 0;
+    lost_all += pair.driver["lost"];
+    allocs_per_record_max = std::max(allocs_per_record_max, pair.driver["allocs_per_record"]);
+    runs.push_back(std::move(pair));
+  }
+  std::sort(runs.begin(), runs.end(), [](const Pair& a, const Pair& b) { return a.ratio < b.ratio; });
+  const Pair& median = runs[runs.size() / 2];
+  for (const auto& [name, value] : median.driver) state.counters["drv_" + name] = value;
+  for (const auto& [name, value] : median.cat) state.counters["cat_" + name] = value;
+  state.counters["cpu_ratio"] = median.ratio;
+  state.counters["cpu_ratio_low"] = runs.front().ratio;
+  state.counters["cpu_ratio_high"] = runs.back().ratio;
+  state.counters["lost_all"] = lost_all;
+  state.counters["allocs_per_record_max"] = allocs_per_record_max;
 }
 
 }  // namespace rangekit::bench

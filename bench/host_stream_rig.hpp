@@ -10,10 +10,14 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include <benchmark/benchmark.h>
 
 #include "cli/sim_process.hpp"
 #include "rangekit/core/result.hpp"
@@ -81,6 +85,18 @@ class CatCopy {
 };
 
 std::string read_file(const std::filesystem::path& path);
+
+// One run of a host (the driver or cat) on the emulator's pty: fills the figures, or
+// returns what stopped it (empty when it ran).
+using HostFigures = std::map<std::string, double>;
+using HostRun = std::function<std::string(HostFigures&)>;
+
+// The driver and cat in turn, `pairs` times, on the same emulator: a run's CPU moves by
+// up to 2x on this VM (where its threads land), so one pair can flip a 1.5x goal either
+// way. Counters: the pair with the median CPU ratio (driver/cat) as drv_* and cat_*,
+// cpu_ratio (that median), cpu_ratio_low and _high, and over every driver run the
+// records lost (lost_all) and the most allocations per record (allocs_per_record_max).
+void run_paired(benchmark::State& state, const HostRun& driver, const HostRun& cat, int pairs = 3);
 
 // `rangekit sim <arguments...>` from the CLI this bench was built with.
 Result<cli::SimProcess> start_emulator(const std::vector<std::string>& arguments, const std::string& log_path,

@@ -133,82 +133,79 @@ struct Mark {
   Clock::time_point at;
 };
 
-void report(benchmark::State& state, const Mark& first, const Mark& last, double cpu_s, double stream_s, double lost) {
+void report(rangekit::bench::HostFigures& counters, const Mark& first, const Mark& last, double cpu_s, double stream_s,
+            double lost) {
   const double window_s = std::chrono::duration<double>(last.at - first.at).count();
   const auto sent = static_cast<double>(last.device.bursts_on_wire - first.device.bursts_on_wire);
   const auto bursts = static_cast<double>(last.host_bursts - first.host_bursts);
   const auto bytes = static_cast<double>(last.host_bytes - first.host_bytes);
-  state.counters["window_s"] = window_s;
-  state.counters["dev_bursts"] = sent;
-  state.counters["dev_offered"] = static_cast<double>(last.device.measurements - first.device.measurements);
-  state.counters["host_bursts"] = bursts;
-  state.counters["host_lines"] = static_cast<double>(last.host_lines - first.host_lines);
-  state.counters["delivered_pct"] = 100.0 * bursts / sent;
-  state.counters["host_B_per_s"] = bytes / window_s;
-  state.counters["wire_pct_u19"] = 100.0 * bytes / window_s / u19_chars_per_s;
-  state.counters["wire_pct_8n1"] = 100.0 * bytes / window_s / wire_8n1_bytes_per_s;
-  state.counters["lost"] = lost;
-  state.counters["pty_dropped_B"] =
-      static_cast<double>(last.device.dropped_output_bytes - first.device.dropped_output_bytes);
-  state.counters["host_cpu_pct"] = 100.0 * cpu_s / stream_s;
+  counters["window_s"] = window_s;
+  counters["dev_bursts"] = sent;
+  counters["dev_offered"] = static_cast<double>(last.device.measurements - first.device.measurements);
+  counters["host_bursts"] = bursts;
+  counters["host_lines"] = static_cast<double>(last.host_lines - first.host_lines);
+  counters["delivered_pct"] = 100.0 * bursts / sent;
+  counters["host_B_per_s"] = bytes / window_s;
+  counters["wire_pct_u19"] = 100.0 * bytes / window_s / u19_chars_per_s;
+  counters["wire_pct_8n1"] = 100.0 * bytes / window_s / wire_8n1_bytes_per_s;
+  counters["lost"] = lost;
+  counters["pty_dropped_B"] = static_cast<double>(last.device.dropped_output_bytes - first.device.dropped_output_bytes);
+  counters["host_cpu_pct"] = 100.0 * cpu_s / stream_s;
 }
 
-void BM_HostUlsDriverBinning230400(benchmark::State& state) {
-  UlsRig& rig = uls_rig();  // first use: the emulator starts (outside the timed loop)
-  if (!rig.error.empty()) return state.SkipWithError(rig.error.c_str());
-  for (auto _ : state) {
-    auto port = rangekit::SerialPort::open(rig.link, rangekit::SerialSettings{fast_baud});
-    if (!port) return state.SkipWithError(port.error().describe().c_str());
-    auto bytes = std::make_shared<std::atomic<std::uint64_t>>(0);
+std::string run_driver(UlsRig& rig, rangekit::bench::HostFigures& counters) {
+  auto port = rangekit::SerialPort::open(rig.link, rangekit::SerialSettings{fast_baud});
+  if (!port) return port.error().describe();
+  auto bytes = std::make_shared<std::atomic<std::uint64_t>>(0);
 
-    const auto started = Clock::now();
-    const double cpu_before = rangekit::bench::process_cpu_s();
-    rangekit::uls::Driver uls(std::make_unique<rangekit::bench::CountingTransport>(std::move(port).value(), bytes));
-    auto stream = uls.start_stream(rangekit::uls::StreamMode::continuous);
-    if (!stream) return state.SkipWithError(stream.error().describe().c_str());
-    std::uint64_t bursts = 0;
-    std::uint64_t targets = 0;
-    std::uint64_t short_bursts = 0;
-    std::optional<Mark> first;
-    std::optional<Mark> last;
-    std::vector<rangekit::StreamItem> batch;
-    std::uint64_t allocations_at_first = 0;
-    std::uint64_t allocations_in_window = 0;
-    std::uint64_t bursts_in_window = 0;
-    while (!last) {
-      if ((*stream)->next_batch(batch, 50ms)) {
-        for (const auto& item : batch) {
-          if (const auto* sample = std::get_if<rangekit::Sample>(&item);
-              sample != nullptr && sample->kind == rangekit::SampleKind::uls_binning) {
-            ++bursts;
-            targets += sample->targets.size();
-            if (sample->targets.size() != static_cast<std::size_t>(scene_targets)) ++short_bursts;
-          }
+  const auto started = Clock::now();
+  const double cpu_before = rangekit::bench::process_cpu_s();
+  rangekit::uls::Driver uls(std::make_unique<rangekit::bench::CountingTransport>(std::move(port).value(), bytes));
+  auto stream = uls.start_stream(rangekit::uls::StreamMode::continuous);
+  if (!stream) return stream.error().describe();
+  std::uint64_t bursts = 0;
+  std::uint64_t targets = 0;
+  std::uint64_t short_bursts = 0;
+  std::optional<Mark> first;
+  std::optional<Mark> last;
+  std::vector<rangekit::StreamItem> batch;
+  std::uint64_t allocations_at_first = 0;
+  std::uint64_t allocations_in_window = 0;
+  std::uint64_t bursts_in_window = 0;
+  while (!last) {
+    if ((*stream)->next_batch(batch, 50ms)) {
+      for (const auto& item : batch) {
+        if (const auto* sample = std::get_if<rangekit::Sample>(&item);
+            sample != nullptr && sample->kind == rangekit::SampleKind::uls_binning) {
+          ++bursts;
+          targets += sample->targets.size();
+          if (sample->targets.size() != static_cast<std::size_t>(scene_targets)) ++short_bursts;
         }
       }
-      const auto now = Clock::now();
-      if (first ? now < first->at + window : now < started + settle) continue;
-      if (first) {
-        allocations_in_window = rangekit::bench::allocation_count() - allocations_at_first;
-        bursts_in_window = bursts - first->host_bursts;
-      }
-      auto count = device_count(rig);
-      if (!count) return state.SkipWithError(count.error().describe().c_str());
-      (first ? last : first) = Mark{*count, bursts, uls.counters().measurements, bytes->load(), Clock::now()};
-      allocations_at_first = rangekit::bench::allocation_count();
     }
-    (*stream)->stop(rangekit::uls::AfterStream::stop_measuring);  // ST
-    const double stream_s = std::chrono::duration<double>(Clock::now() - started).count();
-    const double cpu_s = rangekit::bench::process_cpu_s() - cpu_before;
-    report(state, *first, *last, cpu_s, stream_s, static_cast<double>((*stream)->lost()));
-    state.counters["targets_per_burst"] = static_cast<double>(targets) / static_cast<double>(bursts);
-    state.counters["short_bursts"] = static_cast<double>(short_bursts);
-    state.counters["bad_frames"] = static_cast<double>(uls.counters().bad_frames);
-    state.counters["allocs_in_window"] = static_cast<double>(allocations_in_window);
-    state.counters["records_in_window"] = static_cast<double>(bursts_in_window);
-    state.counters["allocs_per_record"] =
-        static_cast<double>(allocations_in_window) / static_cast<double>(std::max<std::uint64_t>(bursts_in_window, 1));
+    const auto now = Clock::now();
+    if (first ? now < first->at + window : now < started + settle) continue;
+    if (first) {
+      allocations_in_window = rangekit::bench::allocation_count() - allocations_at_first;
+      bursts_in_window = bursts - first->host_bursts;
+    }
+    auto count = device_count(rig);
+    if (!count) return count.error().describe();
+    (first ? last : first) = Mark{*count, bursts, uls.counters().measurements, bytes->load(), Clock::now()};
+    allocations_at_first = rangekit::bench::allocation_count();
   }
+  (*stream)->stop(rangekit::uls::AfterStream::stop_measuring);  // ST
+  const double stream_s = std::chrono::duration<double>(Clock::now() - started).count();
+  const double cpu_s = rangekit::bench::process_cpu_s() - cpu_before;
+  report(counters, *first, *last, cpu_s, stream_s, static_cast<double>((*stream)->lost()));
+  counters["targets_per_burst"] = static_cast<double>(targets) / static_cast<double>(bursts);
+  counters["short_bursts"] = static_cast<double>(short_bursts);
+  counters["bad_frames"] = static_cast<double>(uls.counters().bad_frames);
+  counters["allocs_in_window"] = static_cast<double>(allocations_in_window);
+  counters["records_in_window"] = static_cast<double>(bursts_in_window);
+  counters["allocs_per_record"] =
+      static_cast<double>(allocations_in_window) / static_cast<double>(std::max<std::uint64_t>(bursts_in_window, 1));
+  return {};
 }
 
 // Counts `$BM` lines and complete bursts (index = count - 1) whose <CR> lies in [from, to).
@@ -234,44 +231,50 @@ LineCount count_lines(const std::string& text, std::size_t from, std::size_t to)
 }
 
 // The floor: `cat` of the same pty into a file; GO and ST written to the pty.
-void BM_CatUlsFloorBinning230400(benchmark::State& state) {
-  UlsRig& rig = uls_rig();  // first use: the emulator starts (outside the timed loop)
+std::string run_cat(UlsRig& rig, rangekit::bench::HostFigures& counters) {
+  // Opening the port sets 230400 raw on the pty's shared termios, as the host's stty would.
+  auto port = rangekit::SerialPort::open(rig.link, rangekit::SerialSettings{fast_baud});
+  if (!port) return port.error().describe();
+  const auto out = rig.dir.path() / "cat.out";
+  auto cat = rangekit::bench::CatCopy::start(rig.link, out);
+  if (!cat) return cat.error().describe();
+  (*port)->close();
+
+  const auto started = Clock::now();
+  if (auto sent = (*cat)->send("$GO\r"); !sent) return sent.error().describe();
+  std::optional<Mark> first;
+  std::optional<Mark> last;
+  while (!last) {
+    const auto due = first ? first->at + window : started + settle;
+    std::this_thread::sleep_until(due);  // the bench's own clock for the window, not synchronisation
+    auto count = device_count(rig);
+    if (!count) return count.error().describe();
+    (first ? last : first) = Mark{*count, 0, 0, (*cat)->file_bytes(), Clock::now()};
+  }
+  if (auto sent = (*cat)->send("$ST\r"); !sent) return sent.error().describe();
+  const double stream_s = std::chrono::duration<double>(Clock::now() - started).count();
+  const double cpu_s = (*cat)->finish("$OK\r", 3s);
+  const std::string copied = rangekit::bench::read_file(out);
+  const auto in_window = count_lines(copied, first->host_bytes, last->host_bytes);
+  first->host_bursts = 0;
+  last->host_bursts = in_window.bursts;
+  last->host_lines = in_window.lines;
+  report(counters, *first, *last, cpu_s, stream_s, 0);
+  const auto all = count_lines(copied, 0, copied.size());
+  counters["targets_per_burst"] = static_cast<double>(all.lines) / static_cast<double>(all.bursts);
+  return {};
+}
+
+void BM_UlsStreamAndCatBinning230400(benchmark::State& state) {
+  auto& rig = uls_rig();  // first use: the emulator starts (outside the timed loop)
   if (!rig.error.empty()) return state.SkipWithError(rig.error.c_str());
   for (auto _ : state) {
-    // Opening the port sets 230400 raw on the pty's shared termios, as the host's stty would.
-    auto port = rangekit::SerialPort::open(rig.link, rangekit::SerialSettings{fast_baud});
-    if (!port) return state.SkipWithError(port.error().describe().c_str());
-    const auto out = rig.dir.path() / "cat.out";
-    auto cat = rangekit::bench::CatCopy::start(rig.link, out);
-    if (!cat) return state.SkipWithError(cat.error().describe().c_str());
-    (*port)->close();
-
-    const auto started = Clock::now();
-    if (auto sent = (*cat)->send("$GO\r"); !sent) return state.SkipWithError(sent.error().describe().c_str());
-    std::optional<Mark> first;
-    std::optional<Mark> last;
-    while (!last) {
-      const auto due = first ? first->at + window : started + settle;
-      std::this_thread::sleep_until(due);  // the bench's own clock for the window, not synchronisation
-      auto count = device_count(rig);
-      if (!count) return state.SkipWithError(count.error().describe().c_str());
-      (first ? last : first) = Mark{*count, 0, 0, (*cat)->file_bytes(), Clock::now()};
-    }
-    if (auto sent = (*cat)->send("$ST\r"); !sent) return state.SkipWithError(sent.error().describe().c_str());
-    const double stream_s = std::chrono::duration<double>(Clock::now() - started).count();
-    const double cpu_s = (*cat)->finish("$OK\r", 3s);
-    const std::string copied = rangekit::bench::read_file(out);
-    const auto in_window = count_lines(copied, first->host_bytes, last->host_bytes);
-    first->host_bursts = 0;
-    last->host_bursts = in_window.bursts;
-    last->host_lines = in_window.lines;
-    report(state, *first, *last, cpu_s, stream_s, 0);
-    const auto all = count_lines(copied, 0, copied.size());
-    state.counters["targets_per_burst"] = static_cast<double>(all.lines) / static_cast<double>(all.bursts);
+    rangekit::bench::run_paired(
+        state, [&rig](rangekit::bench::HostFigures& figures) { return run_driver(rig, figures); },
+        [&rig](rangekit::bench::HostFigures& figures) { return run_cat(rig, figures); });
   }
 }
 
 }  // namespace
 
-BENCHMARK(BM_HostUlsDriverBinning230400)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
-BENCHMARK(BM_CatUlsFloorBinning230400)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(BM_UlsStreamAndCatBinning230400)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
