@@ -27,6 +27,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -46,6 +47,7 @@ namespace emu = rangekit::ls5::emulator;
 constexpr Nanos period = 1ms;              // LS5 t = 1 ms (parameters 06/07 = 0x0A, 0x00)
 constexpr double run_seconds = 5.0;        // of real time, all sources at once
 constexpr double settle_seconds = 0.3;     // the stream start and the first reads are left out
+constexpr int pacing_repeats = 3;          // of the pacing phase (the median is reported)
 constexpr double together_fraction = 0.1;  // of a period: "arrived together with the previous one"
 
 double thread_cpu_seconds(pthread_t thread) {
@@ -243,37 +245,58 @@ void report(benchmark::State& state, const std::string& prefix, const PacingFigu
   state.counters[prefix + "records"] = static_cast<double>(figures.records);
 }
 
-// Phase one: the present loop, the same loop rounded to whole milliseconds and the minimal
-// writer at once (pacing). Phase two: the present loop and the loop as filed at once (CPU);
+struct PacingPhase {
+  PacingFigures ours;     // the present loop
+  PacingFigures rounded;  // the present loop, its wait rounded up to whole milliseconds
+  PacingFigures floor;    // the minimal writer
+  [[nodiscard]] double p99_ratio() const { return floor.p99_us > 0 ? ours.p99_us / floor.p99_us : 0; }
+};
+
+// The present loop, the same loop rounded to whole milliseconds and the minimal writer at once.
+std::optional<PacingPhase> pacing_phase() {
+  EmulatorRig emulator;
+  EmulatorRig millisecond_emulator;
+  MinimalWriter writer;
+  if (!emulator.start(Nanos{0}) || !millisecond_emulator.start(1ms) ||
+      !writer.start(emulator.firmware->port_settings(0))) {
+    return std::nullopt;
+  }
+  const double start = seconds_now();
+  std::this_thread::sleep_for(std::chrono::duration<double>(run_seconds));
+  const double span = seconds_now() - start;
+  const double emulator_cpu = emulator.cpu_seconds();
+  const double millisecond_cpu = millisecond_emulator.cpu_seconds();
+  const double writer_cpu = writer.cpu_seconds();
+  emulator.halt();
+  millisecond_emulator.halt();
+  writer.halt();
+  const double from = start + settle_seconds;
+  return PacingPhase{figures_of(emulator.recorder->finish(), from, emulator_cpu, span),
+                     figures_of(millisecond_emulator.recorder->finish(), from, millisecond_cpu, span),
+                     figures_of(writer.recorder->finish(), from, writer_cpu, span)};
+}
+
+// Phase one, three times: the present loop, the same loop rounded to whole milliseconds and
+// the minimal writer at once (pacing); the repeat with the median p99 ratio is reported, as
+// one repeat's p99 moves by 2x on this VM. Phase two: the present loop and the loop as filed at once (CPU);
 // apart, so that four loops and their readers do not crowd the two-core VM's timing.
 void BM_EmulatorPacingLs5At1kHz(benchmark::State& state) {
   for (auto _ : state) {
-    PacingFigures ours;
-    PacingFigures rounded;
-    PacingFigures floor;
-    {
-      EmulatorRig emulator;
-      EmulatorRig millisecond_emulator;
-      MinimalWriter writer;
-      if (!emulator.start(Nanos{0}) || !millisecond_emulator.start(1ms) ||
-          !writer.start(emulator.firmware->port_settings(0))) {
+    std::vector<PacingPhase> phases;
+    for (int i = 0; i < pacing_repeats; ++i) {
+      auto phase = pacing_phase();
+      if (!phase) {
         state.SkipWithError("cannot start the emulators or the writer on ptys");
         return;
       }
-      const double start = seconds_now();
-      std::this_thread::sleep_for(std::chrono::duration<double>(run_seconds));
-      const double span = seconds_now() - start;
-      const double emulator_cpu = emulator.cpu_seconds();
-      const double millisecond_cpu = millisecond_emulator.cpu_seconds();
-      const double writer_cpu = writer.cpu_seconds();
-      emulator.halt();
-      millisecond_emulator.halt();
-      writer.halt();
-      const double from = start + settle_seconds;
-      ours = figures_of(emulator.recorder->finish(), from, emulator_cpu, span);
-      rounded = figures_of(millisecond_emulator.recorder->finish(), from, millisecond_cpu, span);
-      floor = figures_of(writer.recorder->finish(), from, writer_cpu, span);
+      phases.push_back(*phase);
     }
+    std::sort(phases.begin(), phases.end(),
+              [](const PacingPhase& a, const PacingPhase& b) { return a.p99_ratio() < b.p99_ratio(); });
+    const PacingPhase& median = phases[phases.size() / 2];
+    const PacingFigures& ours = median.ours;
+    const PacingFigures& rounded = median.rounded;
+    const PacingFigures& floor = median.floor;
     PacingFigures present;
     PacingFigures as_filed;
     {
@@ -306,18 +329,21 @@ void BM_EmulatorPacingLs5At1kHz(benchmark::State& state) {
     const double p99_ratio = floor.p99_us > 0 ? ours.p99_us / floor.p99_us : 0;
     const double cpu_ratio = as_filed.cpu_s_per_s > 0 ? present.cpu_s_per_s / as_filed.cpu_s_per_s : 0;
     state.counters["p99_ratio"] = p99_ratio;
+    state.counters["p99_ratio_low"] = phases.front().p99_ratio();
+    state.counters["p99_ratio_high"] = phases.back().p99_ratio();
     std::printf(
-        "emulator pacing, LS5 at 1 kHz, %.0f s per phase:\n"
-        "  p99 |interval - period|: emulator %.0f us, minimal writer %.0f us, ratio %.2f (goal <= 1.5): %s\n"
+        "emulator pacing, LS5 at 1 kHz, %.0f s per phase (pacing: the median of %d):\n"
+        "  p99 |interval - period|: emulator %.0f us, minimal writer %.0f us, ratio %.2f (%.2f to %.2f; goal <= 1.5): "
+        "%s\n"
         "  arrived together with the previous record: emulator %.2f %%, writer %.2f %% (goal <= 1 %%): %s\n"
         "  CPU per second: emulator %.2f ms, loop as filed %.2f ms; ratio %.2f (goal <= 1): %s\n"
         "  beside them: writer %.2f ms; present loop rounded to ms %.2f ms against the present loop's %.2f "
         "(p99 %.0f us, together %.2f %%)\n",
-        run_seconds, ours.p99_us, floor.p99_us, p99_ratio, p99_ratio <= 1.5 ? "met" : "MISSED", ours.together_pct,
-        floor.together_pct, ours.together_pct <= 1.0 ? "met" : "MISSED", present.cpu_s_per_s * 1e3,
-        as_filed.cpu_s_per_s * 1e3, cpu_ratio, cpu_ratio <= 1.0 && cpu_ratio > 0 ? "met" : "MISSED",
-        floor.cpu_s_per_s * 1e3, rounded.cpu_s_per_s * 1e3, ours.cpu_s_per_s * 1e3, rounded.p99_us,
-        rounded.together_pct);
+        run_seconds, pacing_repeats, ours.p99_us, floor.p99_us, p99_ratio, phases.front().p99_ratio(),
+        phases.back().p99_ratio(), p99_ratio <= 1.5 ? "met" : "MISSED", ours.together_pct, floor.together_pct,
+        ours.together_pct <= 1.0 ? "met" : "MISSED", present.cpu_s_per_s * 1e3, as_filed.cpu_s_per_s * 1e3, cpu_ratio,
+        cpu_ratio <= 1.0 && cpu_ratio > 0 ? "met" : "MISSED", floor.cpu_s_per_s * 1e3, rounded.cpu_s_per_s * 1e3,
+        ours.cpu_s_per_s * 1e3, rounded.p99_us, rounded.together_pct);
   }
 }
 
