@@ -185,36 +185,25 @@ std::string run_driver(Ls5Rig& rig, rangekit::bench::HostFigures& counters) {
 
 // The floor: `cat` of the same pty into a file; ST and SB written to the pty.
 std::string run_cat(Ls5Rig& rig, rangekit::bench::HostFigures& counters) {
-  // Opening the port sets 921600 raw on the pty's shared termios, as the host's stty would.
-  auto port = rangekit::SerialPort::open(rig.link, rangekit::SerialSettings{fast_baud});
-  if (!port) return port.error().describe();
-  const auto out = rig.dir.path() / "cat.out";
-  auto cat = rangekit::bench::CatCopy::start(rig.link, out);
-  if (!cat) return cat.error().describe();
-  (*port)->close();
-
-  const auto started = Clock::now();
-  if (auto sent = (*cat)->send("#01ST\r"); !sent) return sent.error().describe();
   std::optional<Mark> first;
   std::optional<Mark> last;
-  while (!last) {
-    const auto due = first ? first->at + window : started + settle;
-    std::this_thread::sleep_until(due);  // the bench's own clock for the window, not synchronisation
-    auto count = device_count(rig);
-    if (!count) return count.error().describe();
-    (first ? last : first) = Mark{*count, (*cat)->file_bytes() / record_bytes, Clock::now()};
-  }
-  if (auto sent = (*cat)->send("#01SB\r"); !sent) return sent.error().describe();
-  const double stream_s = std::chrono::duration<double>(Clock::now() - started).count();
-  const double cpu_s = (*cat)->finish("!01SB\r", 3s);  // the SB echo (table 9.1)
-  const std::string copied = rangekit::bench::read_file(out);
+  auto ran = rangekit::bench::cat_window(  // SB is answered by its echo (table 9.1)
+      rig.link, rig.dir.path() / "cat.out", fast_baud, "#01ST\r", "#01SB\r", "!01SB\r", settle, window,
+      [&](std::uintmax_t file_bytes) -> rangekit::Status {
+        auto count = device_count(rig);
+        if (!count) return std::move(count).error();
+        (first ? last : first) = Mark{*count, file_bytes / record_bytes, Clock::now()};
+        return rangekit::ok_status();
+      });
+  if (!ran) return ran.error().describe();
+  const std::string& copied = ran->copied;
   std::uint64_t records = 0;
   for (std::size_t at = copied.find('!'); at != std::string::npos; at = copied.find('!', at + 1)) {
     const bool digits = at + record_bytes <= copied.size() && copied[at + record_bytes - 1] == '\r' &&
                         copied.find_first_not_of("0123456789", at + 1) == at + record_bytes - 1;
     if (digits) ++records;
   }
-  report(counters, *first, *last, cpu_s, stream_s, 0);
+  report(counters, *first, *last, ran->cpu_s, ran->stream_s, 0);
   counters["records"] = static_cast<double>(records);
   return {};
 }

@@ -1,5 +1,6 @@
 #include "host_stream_rig.hpp"
 #include "rangekit/core/fd_transport.hpp"
+#include "rangekit/core/serial_port.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -14,6 +15,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <thread>
 #include <utility>
 
 #ifndef RANGEKIT_CLI_PATH
@@ -163,6 +165,29 @@ std::string read_file(const std::filesystem::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+Result<CatWindow> cat_window(const std::string& link, const std::filesystem::path& out, std::uint32_t baud,
+                             std::string_view start, std::string_view stop, std::string_view stopped,
+                             std::chrono::milliseconds settle, std::chrono::milliseconds window,
+                             const std::function<Status(std::uintmax_t file_bytes)>& mark) {
+  auto port = SerialPort::open(link, SerialSettings{baud});
+  if (!port) return std::move(port).error();
+  auto cat = CatCopy::start(link, out);
+  if (!cat) return std::move(cat).error();
+  (*port)->close();
+  const auto started = std::chrono::steady_clock::now();
+  if (auto sent = (*cat)->send(start); !sent) return sent.error();
+  std::this_thread::sleep_until(started + settle);
+  if (auto marked = mark((*cat)->file_bytes()); !marked) return marked.error();
+  std::this_thread::sleep_for(window);
+  if (auto marked = mark((*cat)->file_bytes()); !marked) return marked.error();
+  if (auto sent = (*cat)->send(stop); !sent) return sent.error();
+  CatWindow result;
+  result.stream_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  result.cpu_s = (*cat)->finish(stopped, std::chrono::seconds(3));
+  result.copied = read_file(out);
+  return result;
 }
 
 void run_paired(benchmark::State& state, const HostRun& driver, const HostRun& cat, int pairs) {

@@ -86,6 +86,20 @@ class CatCopy {
 
 std::string read_file(const std::filesystem::path& path);
 
+// One window of `cat` on `link` (the floor of the host streaming benches): sets `baud` raw on
+// the pty's shared termios (as the host's stty would), starts cat into `out`, writes `start`,
+// calls `mark` with cat's file size after `settle` and again `window` after that (the bench's
+// own clock, not synchronisation), writes `stop` and ends cat once its file ends with `stopped`.
+struct CatWindow {
+  double stream_s = 0;  // from `start` to `stop`
+  double cpu_s = 0;     // cat's own (wait4)
+  std::string copied;   // what cat wrote
+};
+Result<CatWindow> cat_window(const std::string& link, const std::filesystem::path& out, std::uint32_t baud,
+                             std::string_view start, std::string_view stop, std::string_view stopped,
+                             std::chrono::milliseconds settle, std::chrono::milliseconds window,
+                             const std::function<Status(std::uintmax_t file_bytes)>& mark);
+
 // One run of a host (the driver or cat) on the emulator's pty: fills the figures, or
 // returns what stopped it (empty when it ran).
 using HostFigures = std::map<std::string, double>;

@@ -232,35 +232,22 @@ LineCount count_lines(const std::string& text, std::size_t from, std::size_t to)
 
 // The floor: `cat` of the same pty into a file; GO and ST written to the pty.
 std::string run_cat(UlsRig& rig, rangekit::bench::HostFigures& counters) {
-  // Opening the port sets 230400 raw on the pty's shared termios, as the host's stty would.
-  auto port = rangekit::SerialPort::open(rig.link, rangekit::SerialSettings{fast_baud});
-  if (!port) return port.error().describe();
-  const auto out = rig.dir.path() / "cat.out";
-  auto cat = rangekit::bench::CatCopy::start(rig.link, out);
-  if (!cat) return cat.error().describe();
-  (*port)->close();
-
-  const auto started = Clock::now();
-  if (auto sent = (*cat)->send("$GO\r"); !sent) return sent.error().describe();
   std::optional<Mark> first;
   std::optional<Mark> last;
-  while (!last) {
-    const auto due = first ? first->at + window : started + settle;
-    std::this_thread::sleep_until(due);  // the bench's own clock for the window, not synchronisation
-    auto count = device_count(rig);
-    if (!count) return count.error().describe();
-    (first ? last : first) = Mark{*count, 0, 0, (*cat)->file_bytes(), Clock::now()};
-  }
-  if (auto sent = (*cat)->send("$ST\r"); !sent) return sent.error().describe();
-  const double stream_s = std::chrono::duration<double>(Clock::now() - started).count();
-  const double cpu_s = (*cat)->finish("$OK\r", 3s);
-  const std::string copied = rangekit::bench::read_file(out);
-  const auto in_window = count_lines(copied, first->host_bytes, last->host_bytes);
+  auto ran = rangekit::bench::cat_window(rig.link, rig.dir.path() / "cat.out", fast_baud, "$GO\r", "$ST\r", "$OK\r",
+                                         settle, window, [&](std::uintmax_t file_bytes) -> rangekit::Status {
+                                           auto count = device_count(rig);
+                                           if (!count) return std::move(count).error();
+                                           (first ? last : first) = Mark{*count, 0, 0, file_bytes, Clock::now()};
+                                           return rangekit::ok_status();
+                                         });
+  if (!ran) return ran.error().describe();
+  const auto in_window = count_lines(ran->copied, first->host_bytes, last->host_bytes);
   first->host_bursts = 0;
   last->host_bursts = in_window.bursts;
   last->host_lines = in_window.lines;
-  report(counters, *first, *last, cpu_s, stream_s, 0);
-  const auto all = count_lines(copied, 0, copied.size());
+  report(counters, *first, *last, ran->cpu_s, ran->stream_s, 0);
+  const auto all = count_lines(ran->copied, 0, ran->copied.size());
   counters["targets_per_burst"] = static_cast<double>(all.lines) / static_cast<double>(all.bursts);
   return {};
 }
