@@ -9,8 +9,10 @@ void family(std::string& out, const char* name, const char* type, const char* he
             const std::vector<hub::SensorSnapshot>& sensors, Value value) {
   out += std::string("# HELP ") + name + " " + help + "\n# TYPE " + name + " " + type + "\n";
   for (const hub::SensorSnapshot& sensor : sensors) {
-    out += std::string(name) + "{sensor=\"" + sensor.config.name + "\",family=\"" +
-           hub::family_name(sensor.config.family) + "\"} " + value(sensor) + "\n";
+    // Appended in place: g++ 12 reports a false -Warray-bounds on the chain of temporaries
+    // that operator+ builds here (GCC bug 105651).
+    out.append(name).append("{sensor=\"").append(sensor.config.name).append("\",family=\"");
+    out.append(hub::family_name(sensor.config.family)).append("\"} ").append(value(sensor)).append("\n");
   }
 }
 
