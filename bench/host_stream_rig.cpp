@@ -1,4 +1,5 @@
 #include "host_stream_rig.hpp"
+#include "build_paths.hpp"
 #include "rangekit/core/fd_transport.hpp"
 #include "rangekit/core/serial_port.hpp"
 
@@ -17,10 +18,6 @@
 #include <sstream>
 #include <thread>
 #include <utility>
-
-#ifndef RANGEKIT_CLI_PATH
-#error "RANGEKIT_CLI_PATH (the rangekit CLI binary) is set by CMakeLists.txt for rangekit_bench"
-#endif
 
 namespace rangekit::bench {
 namespace {
@@ -63,7 +60,7 @@ ScratchDir::~ScratchDir() {
 
 Result<cli::SimProcess> start_emulator(const std::vector<std::string>& arguments, const std::string& log_path,
                                        std::chrono::milliseconds timeout) {
-  return cli::SimProcess::start(arguments, log_path, timeout, RANGEKIT_CLI_PATH);
+  return cli::SimProcess::start(arguments, log_path, timeout, rangekit::test::cli_path());
 }
 
 Result<nlohmann::json> control(const std::string& socket_path, const nlohmann::json& request) {

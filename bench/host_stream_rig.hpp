@@ -1,5 +1,5 @@
 // Shared pieces of the host streaming benches (issue 6): an emulator run as its
-// own process (cli::SimProcess with the CLI at RANGEKIT_CLI_PATH) so its CPU
+// own process (cli::SimProcess with the CLI of this build) so its CPU
 // stays out of the host's figures, its control socket, a transport that counts
 // the bytes the driver reads, and `cat` of a pty into a file as the floor.
 #pragma once

@@ -19,6 +19,7 @@
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include "build_paths.hpp"
 
 #include <array>
 #include <atomic>
@@ -110,8 +111,8 @@ class Pipeline {
   Pipeline(const std::string& port, std::uint16_t broker_port, const std::string& topic, const std::string& log) {
     std::array<int, 2> pipe{-1, -1};
     if (::pipe2(pipe.data(), O_CLOEXEC) != 0) return;
-    std::vector<std::string> stream_args{RANGEKIT_CLI_PATH, "ls5",   "stream", "--port", port,
-                                         "--format",        "jsonl", "--quiet"};
+    std::vector<std::string> stream_args{
+        rangekit::test::cli_path(), "ls5", "stream", "--port", port, "--format", "jsonl", "--quiet"};
     std::vector<std::string> publish_args{"mosquitto_pub", "-h", "127.0.0.1", "-p", std::to_string(broker_port), "-t",
                                           topic,           "-l"};
     stream_ = spawn(stream_args, -1, pipe[1], log);

@@ -7,6 +7,7 @@ set -euo pipefail
 
 build_packages=(
   build-essential cmake make pkg-config
+  ccache mold  # a compiler cache and a fast linker; the build works without them, only slower
   libfmt-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libsqlite3-dev
   libboost1.81-dev libssl-dev  # Beast + asio (+ OpenSSL for HTTPS): the service's HTTP/SSE face (docs/api.md)
   libmosquitto-dev  # the service's MQTT face (docs/mqtt.md)

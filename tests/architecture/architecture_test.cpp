@@ -2,6 +2,7 @@
 // which library may link which (cmake/architecture.cmake, run here on edges it
 // must refuse) and which sources may include which headers.
 #include <gtest/gtest.h>
+#include "build_paths.hpp"
 
 #include <sys/wait.h>
 
@@ -14,7 +15,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-const fs::path root = RANGEKIT_SOURCE_DIR;
+const fs::path root = rangekit::test::source_dir();
 
 // Runs the link rule of cmake/architecture.cmake on one edge list; true when allowed.
 bool link_allowed(const std::string& target, const std::string& links) {

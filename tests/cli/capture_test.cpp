@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <string>
 
+#include "cli/cli_run.hpp"
 #include "ls5_driver/cli_process.hpp"
 
 namespace {
@@ -12,7 +13,7 @@ namespace {
 using ls5_driver_test::Child;
 using ls5_driver_test::run_cli;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using cli_test::contains;
 
 TEST(Capture, BothFamiliesIntoOneFileThatReplays) {
   const ls5_driver_test::TempDir temp;

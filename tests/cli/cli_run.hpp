@@ -4,6 +4,7 @@
 
 #include <sys/wait.h>
 #include <unistd.h>
+#include "build_paths.hpp"
 
 #include <array>
 #include <cstdio>
@@ -24,7 +25,8 @@ inline CliResult run_cli(const std::string& arguments, const std::string& input 
     input_file = std::filesystem::temp_directory_path() / ("rangekit-cli-" + std::to_string(::getpid()));
     std::ofstream(input_file, std::ios::binary) << input;
   }
-  const std::string command = std::string(RANGEKIT_CLI_PATH) + " " + arguments + " < " + input_file.string() + " 2>&1";
+  const std::string command =
+      std::string(rangekit::test::cli_path()) + " " + arguments + " < " + input_file.string() + " 2>&1";
   CliResult run;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe != nullptr) {

@@ -1,5 +1,6 @@
 // End-to-end checks of the rangekit binary: exit codes and decoded output.
 #include <gtest/gtest.h>
+#include "build_paths.hpp"
 
 #include <unistd.h>
 #include <filesystem>
@@ -56,7 +57,8 @@ TEST(Cli, LiveDemoStreamsBothSensorsAndCapturesThem) {
 TEST(Cli, VersionComesFromTheBuild) {
   const auto run = run_cli("--version");
   EXPECT_EQ(run.exit_code, 0) << run.output;
-  EXPECT_NE(run.output.find(std::string("rangekit ") + RANGEKIT_PROJECT_VERSION), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find(std::string("rangekit ") + rangekit::test::project_version()), std::string::npos)
+      << run.output;
 }
 
 TEST(Cli, DecodeUlsBinningLines) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_run.hpp"
 #include "ls5_driver/cli_process.hpp"
 #include "rangekit/sim/control_socket.hpp"
 
@@ -15,7 +16,7 @@ namespace {
 
 using ls5_driver_test::Child;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using cli_test::contains;
 
 struct BadLine {
   std::string line;

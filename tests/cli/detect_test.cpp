@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <string>
 
+#include "cli/cli_run.hpp"
 #include "ls5_driver/cli_process.hpp"
 #include "rangekit/sim/pty.hpp"
 
@@ -14,7 +15,7 @@ using ls5_driver_test::Child;
 using ls5_driver_test::run_cli;
 using ls5_driver_test::TempDir;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using cli_test::contains;
 
 TEST(Detect, FindsBothFamiliesAndAUlsOffTheFactoryBaud) {
   TempDir dir;

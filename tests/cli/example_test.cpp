@@ -1,6 +1,8 @@
 // The library example program (examples/stream_both.cpp) runs against both
 // emulators and prints readings from each.
 #include <gtest/gtest.h>
+#include "build_paths.hpp"
+#include "cli/cli_run.hpp"
 
 #include <filesystem>
 #include <string>
@@ -11,10 +13,10 @@ namespace {
 
 using ls5_driver_test::Child;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using cli_test::contains;
 
 TEST(Example, StreamBothReadsEachEmulator) {
-  const auto example = std::filesystem::path(RANGEKIT_CLI_PATH).parent_path() / "examples" / "stream_both";
+  const auto example = std::filesystem::path(rangekit::test::cli_path()).parent_path() / "examples" / "stream_both";
   if (!std::filesystem::exists(example)) GTEST_SKIP() << "example not built: " << example;
   const ls5_driver_test::TempDir temp;
   const std::filesystem::path& dir = temp.path;

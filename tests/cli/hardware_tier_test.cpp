@@ -3,6 +3,8 @@
 // stream (as a user points it at /dev/ttyUSB0) every test runs and passes; pointed
 // at a port that is not there it fails and names the port.
 #include <gtest/gtest.h>
+#include "build_paths.hpp"
+#include "cli/cli_run.hpp"
 
 #include <sys/wait.h>
 
@@ -17,7 +19,7 @@ namespace {
 
 using ls5_driver_test::Child;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using cli_test::contains;
 
 struct TierRun {
   int exit_code = -1;
@@ -25,7 +27,7 @@ struct TierRun {
 };
 
 TierRun run_tier(const std::string& environment) {
-  const auto binary = std::filesystem::path(RANGEKIT_CLI_PATH).parent_path() / "rangekit_hardware_tests";
+  const auto binary = std::filesystem::path(rangekit::test::cli_path()).parent_path() / "rangekit_hardware_tests";
   // `env -u` first: a developer's own RANGEKIT_* settings must not leak into this test.
   const std::string command =
       "env -u RANGEKIT_ULS_PORT -u RANGEKIT_LS5_PORT -u RANGEKIT_LS5_UDP -u RANGEKIT_HW_WRITE " + environment + " " +

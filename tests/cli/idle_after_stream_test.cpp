@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 
+#include "cli/cli_run.hpp"
 #include "ls5_driver/cli_process.hpp"
 #include "rangekit/sim/control_socket.hpp"
 
@@ -15,7 +16,7 @@ namespace {
 using ls5_driver_test::Child;
 using ls5_driver_test::run_cli;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using cli_test::contains;
 
 // One `outputs` field of the only device behind a control socket.
 nlohmann::json output(const std::string& control, const char* field) {

@@ -20,7 +20,7 @@ using cli_test::contains;
 using cli_test::run_cli;
 
 // Both emulators on ptys in a fresh directory.
-struct Emulators {
+struct VocabularyEmulators {
   ls5_driver_test::TempDir dir;
   std::string uls_port = (dir.path / "uls").string();
   std::string ls5_port = (dir.path / "ls5").string();
@@ -28,7 +28,7 @@ struct Emulators {
   std::unique_ptr<ls5_driver_test::Child> uls;
   std::unique_ptr<ls5_driver_test::Child> ls5;
 
-  Emulators() {
+  VocabularyEmulators() {
     auto probe = rangekit::UdpSocket::bind(rangekit::Endpoint{"127.0.0.1", 0});
     if (probe) udp = "127.0.0.1:" + std::to_string(probe->local_endpoint().port);
     uls = std::make_unique<ls5_driver_test::Child>(std::vector<std::string>{"sim", "uls", "--port", uls_port});
@@ -61,7 +61,7 @@ std::string as_assignments(const std::string& get_output, const std::vector<std:
 // U96, L68: "The same key style in `info` and `get`, with units in the same place" (docs/cli.md):
 // lower-case kebab names, the unit the name's last word, the value a bare number.
 TEST(OneVocabulary, InfoAndGetOfBothFamiliesUseKebabNamesWithTheUnitInTheName) {
-  Emulators sims;
+  VocabularyEmulators sims;
   ASSERT_TRUE(sims.ready());
   const std::regex kebab_line(R"(^[a-z0-9]+(-[a-z0-9]+)*=.*)");
   const std::regex unit_after_number(R"(^[^=]*=-?[0-9.,]+ [A-Za-z]+.*)");
@@ -110,7 +110,7 @@ TEST(OneVocabulary, InfoAndGetOfBothFamiliesUseKebabNamesWithTheUnitInTheName) {
 
 // U97, L68: "`get`'s names are accepted by `set`; read-only names are not offered to `set`."
 TEST(OneVocabulary, EveryNameGetPrintsIsAcceptedBySetAndReadOnlyNamesAreRefusedAsSuch) {
-  Emulators sims;
+  VocabularyEmulators sims;
   ASSERT_TRUE(sims.ready());
   // ID and US are only read (§8); "unassigned" is UA's absence (error 82), not a value to set.
   const auto uls_get = run_cli("uls get --port " + sims.uls_port);
@@ -145,7 +145,7 @@ TEST(OneVocabulary, EveryNameGetPrintsIsAcceptedBySetAndReadOnlyNamesAreRefusedA
 // U96: "The same `config diff` output for `uls config diff` and `ls5 config diff`": one line
 // `name: file=X device=Y` per difference, names as get prints them, a summary line, exit 1.
 TEST(OneVocabulary, ConfigDiffPrintsTheSameLinesForBothFamilies) {
-  Emulators sims;
+  VocabularyEmulators sims;
   ASSERT_TRUE(sims.ready());
   const std::string uls_file = (sims.dir.path / "uls.toml").string();
   const std::string ls5_file = (sims.dir.path / "ls5.toml").string();
@@ -176,7 +176,7 @@ TEST(OneVocabulary, ConfigDiffPrintsTheSameLinesForBothFamilies) {
 // its own network address (from 1 to 255)", §9), as --address takes it; the frame is quoted
 // as sent (#1AID). It was "LS5 at address 1A ... is its --address 26?" in one message.
 TEST(OneVocabulary, AnLs5AddressIsDecimalInEveryMessage) {
-  Emulators sims;
+  VocabularyEmulators sims;
   ASSERT_TRUE(sims.ready());
   const auto silent = run_cli("ls5 info --timeout 100 --address 26 --port " + sims.ls5_port);
   EXPECT_EQ(silent.exit_code, 5) << silent.output;
@@ -196,7 +196,7 @@ TEST(OneVocabulary, AnLs5AddressIsDecimalInEveryMessage) {
 // A refused LS5 value is explained in the user's terms only: the allowed values in
 // decimal, without the parameter byte's hex ("accepted: 01, 03, ..., 31") beside them.
 TEST(OneVocabulary, AnLs5RefusalSpeaksOneBase) {
-  Emulators sims;
+  VocabularyEmulators sims;
   ASSERT_TRUE(sims.ready());
   const auto run = run_cli("ls5 set median-points=99 --port " + sims.ls5_port);
   EXPECT_EQ(run.exit_code, 2) << run.output;
@@ -209,7 +209,7 @@ TEST(OneVocabulary, AnLs5RefusalSpeaksOneBase) {
 // (host-uls.md); the LS5 serial stream and the UDP receiver say the same when their
 // link first comes up.
 TEST(OneVocabulary, BothFamiliesStreamsStartWithAConnectedEvent) {
-  Emulators sims;
+  VocabularyEmulators sims;
   ASSERT_TRUE(sims.ready());
   const auto uls = run_cli("uls stream --count 1 --format jsonl --port " + sims.uls_port);
   EXPECT_EQ(uls.exit_code, 0) << uls.output;

@@ -2,6 +2,7 @@
 // binary has (and the family subcommands), so the packaged help cannot drift
 // from `rangekit --help`.
 #include <gtest/gtest.h>
+#include "build_paths.hpp"
 
 #include <regex>
 #include <set>
@@ -16,7 +17,7 @@ using ls5_driver_test::read_file;
 using ls5_driver_test::run_cli;
 using ls5_driver_test::TempDir;
 
-const std::string root = RANGEKIT_SOURCE_DIR;
+const std::string root = rangekit::test::source_dir();
 
 // The names under "Subcommands:" in CLI11's help text.
 std::set<std::string> subcommands_in_help(const std::vector<std::string>& arguments) {

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "cli/cli_run.hpp"
 #include "cli/commands.hpp"
 #include "ls5_driver/cli_process.hpp"
 
@@ -15,7 +16,7 @@ namespace {
 
 using ls5_driver_test::run_cli;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using cli_test::contains;
 
 struct SceneCase {
   std::string uls_scene;

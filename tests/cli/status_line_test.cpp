@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_run.hpp"
 #include "ls5_driver/cli_process.hpp"
 #include "rangekit/sim/pty.hpp"
 
@@ -19,7 +20,7 @@ namespace {
 
 using ls5_driver_test::Child;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using cli_test::contains;
 
 struct Captured {
   int exit_code = -1;

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "cli/cli_run.hpp"
 #include "ls5_driver/cli_process.hpp"
 
 namespace {
@@ -19,7 +20,7 @@ using ls5_driver_test::Child;
 using ls5_driver_test::run_cli;
 using ls5_driver_test::TempDir;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using cli_test::contains;
 
 struct Counts {
   int samples = 0;

@@ -2,6 +2,7 @@
 // same messages from `rangekit uls` and `rangekit ls5`. Expectations typed from the
 // issue and docs/cli.md.
 #include <gtest/gtest.h>
+#include "build_paths.hpp"
 
 #include <filesystem>
 #include <regex>
@@ -111,7 +112,7 @@ TEST(Vocabulary, HelpNamesOnlyDocsThatExist) {
     const auto help = run_cli(command).output;
     for (std::sregex_iterator it(help.begin(), help.end(), doc_path), end; it != end; ++it) {
       ++named;
-      EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(RANGEKIT_SOURCE_DIR) / it->str()))
+      EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(rangekit::test::source_dir()) / it->str()))
           << command << " names " << it->str();
     }
   }

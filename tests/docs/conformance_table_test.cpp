@@ -2,6 +2,7 @@
 // every table (F, U, L, H, ...), each named file must exist and mention the
 // row's id, so the page cannot drift from the tests that hold it.
 #include <gtest/gtest.h>
+#include "build_paths.hpp"
 
 #include <fstream>
 #include <map>
@@ -24,7 +25,7 @@ bool mentions(const std::string& text, const std::string& id) {
 }
 
 TEST(ConformanceTable, EveryRowNamesExistingTestsThatMentionIt) {
-  const std::string root = RANGEKIT_SOURCE_DIR;
+  const std::string root = rangekit::test::source_dir();
   const std::string doc = read_file(root + "/docs/conformance.md");
   ASSERT_FALSE(doc.empty()) << "docs/conformance.md not found under " << root;
   const std::regex row_pattern(R"(^\| ([A-Z][0-9]+) \|.*$)");

@@ -19,7 +19,7 @@ namespace {
 using namespace std::chrono_literals;
 using hardware_test::env;
 
-std::unique_ptr<rangekit::ls5::Driver> connect() {
+std::unique_ptr<rangekit::ls5::Driver> connect_ls5() {
   auto port = hardware_test::open_port("RANGEKIT_LS5_PORT", "RANGEKIT_LS5_BAUD");
   if (!port) return nullptr;
   rangekit::ls5::DriverOptions options;
@@ -47,7 +47,7 @@ int collect(rangekit::SampleSource& source, int wanted, std::chrono::seconds wit
 
 TEST(Ls5Hardware, IdentifiesTheSensor) {
   RANGEKIT_REQUIRE_ENV("RANGEKIT_LS5_PORT");
-  auto driver = connect();
+  auto driver = connect_ls5();
   ASSERT_TRUE(driver);
   auto info = driver->info();
   ASSERT_TRUE(info) << info.error().describe();
@@ -59,7 +59,7 @@ TEST(Ls5Hardware, IdentifiesTheSensor) {
 
 TEST(Ls5Hardware, ReadsEverySetting) {
   RANGEKIT_REQUIRE_ENV("RANGEKIT_LS5_PORT");
-  auto driver = connect();
+  auto driver = connect_ls5();
   ASSERT_TRUE(driver);
   auto config = rangekit::ls5::read_device_config(*driver);
   ASSERT_TRUE(config) << config.error().describe();
@@ -74,7 +74,7 @@ TEST(Ls5Hardware, ReadsEverySetting) {
 
 TEST(Ls5Hardware, ReadsTheLastAndALatchedResult) {
   RANGEKIT_REQUIRE_ENV("RANGEKIT_LS5_PORT");
-  auto driver = connect();
+  auto driver = connect_ls5();
   ASSERT_TRUE(driver);
   auto last = driver->read_last();
   ASSERT_TRUE(last) << last.error().describe();
@@ -85,7 +85,7 @@ TEST(Ls5Hardware, ReadsTheLastAndALatchedResult) {
 
 TEST(Ls5Hardware, StreamsAHundredRecords) {
   RANGEKIT_REQUIRE_ENV("RANGEKIT_LS5_PORT");
-  auto driver = connect();
+  auto driver = connect_ls5();
   ASSERT_TRUE(driver);
   auto stream = driver->start_stream({});
   ASSERT_TRUE(stream) << stream.error().describe();
@@ -113,7 +113,7 @@ TEST(Ls5Hardware, ReceivesTheEthernetStream) {
 TEST(Ls5Hardware, WritesASettingInRamAndPutsItBack) {
   RANGEKIT_REQUIRE_ENV("RANGEKIT_LS5_PORT");
   RANGEKIT_REQUIRE_WRITES();
-  auto driver = connect();
+  auto driver = connect_ls5();
   ASSERT_TRUE(driver);
   auto before = driver->get("thinning");
   ASSERT_TRUE(before) << before.error().describe();

@@ -16,7 +16,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::unique_ptr<rangekit::uls::Driver> connect() {
+std::unique_ptr<rangekit::uls::Driver> connect_uls() {
   auto port = hardware_test::open_port("RANGEKIT_ULS_PORT", "RANGEKIT_ULS_BAUD");
   if (!port) return nullptr;
   rangekit::uls::DriverOptions options;
@@ -52,7 +52,7 @@ class RestoreMeasuring {
 
 TEST(UlsHardware, IdentifiesTheUnit) {
   RANGEKIT_REQUIRE_ENV("RANGEKIT_ULS_PORT");
-  auto driver = connect();
+  auto driver = connect_uls();
   ASSERT_TRUE(driver);
   auto info = driver->info();
   ASSERT_TRUE(info) << info.error().describe();
@@ -62,7 +62,7 @@ TEST(UlsHardware, IdentifiesTheUnit) {
 
 TEST(UlsHardware, ReadsEverySettingOfTheConfigFile) {
   RANGEKIT_REQUIRE_ENV("RANGEKIT_ULS_PORT");
-  auto driver = connect();
+  auto driver = connect_uls();
   ASSERT_TRUE(driver);
   auto config = rangekit::uls::read_config(*driver);
   ASSERT_TRUE(config) << config.error().describe();
@@ -76,7 +76,7 @@ TEST(UlsHardware, ReadsEverySettingOfTheConfigFile) {
 
 TEST(UlsHardware, TakesOnePolledReading) {
   RANGEKIT_REQUIRE_ENV("RANGEKIT_ULS_PORT");
-  auto driver = connect();
+  auto driver = connect_uls();
   ASSERT_TRUE(driver);
   RestoreMeasuring restore(*driver);
   auto reading = driver->measure();
@@ -86,7 +86,7 @@ TEST(UlsHardware, TakesOnePolledReading) {
 
 TEST(UlsHardware, StreamsTenReadings) {
   RANGEKIT_REQUIRE_ENV("RANGEKIT_ULS_PORT");
-  auto driver = connect();
+  auto driver = connect_uls();
   ASSERT_TRUE(driver);
   RestoreMeasuring restore(*driver);
   auto started = driver->start_stream();
@@ -113,7 +113,7 @@ TEST(UlsHardware, StreamsTenReadings) {
 TEST(UlsHardware, WritesASettingAndPutsItBack) {
   RANGEKIT_REQUIRE_ENV("RANGEKIT_ULS_PORT");
   RANGEKIT_REQUIRE_WRITES();
-  auto driver = connect();
+  auto driver = connect_uls();
   ASSERT_TRUE(driver);
   RestoreMeasuring restore(*driver);
   auto status = driver->status();

@@ -7,6 +7,7 @@
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include "build_paths.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -63,10 +64,10 @@ class Child {
 
   [[noreturn]] static void exec(const std::vector<std::string>& arguments) {
     std::vector<char*> argv;
-    argv.push_back(const_cast<char*>(RANGEKIT_CLI_PATH));
+    argv.push_back(const_cast<char*>(rangekit::test::cli_path()));
     for (const auto& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
-    ::execv(RANGEKIT_CLI_PATH, argv.data());
+    ::execv(rangekit::test::cli_path(), argv.data());
     ::_exit(127);
   }
 

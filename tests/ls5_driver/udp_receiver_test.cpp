@@ -36,10 +36,10 @@ Packet build_packet(std::uint8_t counter, std::uint16_t code = 0x2000, std::uint
   return packet;
 }
 
-struct Rig {
+struct UdpRig {
   std::unique_ptr<UdpReceiver> receiver;
   std::optional<UdpSocket> sender;
-  Rig() {
+  UdpRig() {
     auto started = UdpReceiver::start(Endpoint{"127.0.0.1", 0}, UdpReceiverOptions{65536, 1});
     EXPECT_TRUE(started) << started.error().message;
     if (started) receiver = std::move(*started);
@@ -76,7 +76,7 @@ struct Rig {
 // docs/conformance.md L69: the first packet brings the link up: `connected` comes ahead of
 // its samples, once (the ULS and LS5 serial streams start the same way).
 TEST(Ls5UdpReceiver, TheFirstPacketIsAnnouncedAsConnectedL69) {
-  Rig rig;
+  UdpRig rig;
   ASSERT_TRUE(rig.receiver && rig.sender);
   rig.send(build_packet(1));
   auto first = rig.receiver->next(5000ms);
@@ -93,7 +93,7 @@ TEST(Ls5UdpReceiver, TheFirstPacketIsAnnouncedAsConnectedL69) {
 
 // docs/conformance.md L45
 TEST(Ls5UdpReceiver, RecordsBecomeSamplesWithFormula101) {
-  Rig rig;
+  UdpRig rig;
   ASSERT_TRUE(rig.receiver && rig.sender);
   Packet packet = build_packet(7);
   // Record 2: not measured yet (bit 0 clear); record 3: out of range (bit 2 clear).
@@ -123,7 +123,7 @@ TEST(Ls5UdpReceiver, RecordsBecomeSamplesWithFormula101) {
 
 // docs/conformance.md L46
 TEST(Ls5UdpReceiver, ChecksumErrorsAreCountedAndReportedNotDecoded) {
-  Rig rig;
+  UdpRig rig;
   ASSERT_TRUE(rig.receiver && rig.sender);
   Packet bad = build_packet(1);
   bad[100] ^= 0x10;  // a bit flipped in transit
@@ -146,7 +146,7 @@ TEST(Ls5UdpReceiver, ChecksumErrorsAreCountedAndReportedNotDecoded) {
 }
 
 TEST(Ls5UdpReceiver, CounterGapsAreLostRecordsAndTheWrapIsNotAGap) {
-  Rig rig;
+  UdpRig rig;
   ASSERT_TRUE(rig.receiver && rig.sender);
   rig.send(build_packet(254));
   rig.skip_samples(168);
@@ -170,7 +170,7 @@ TEST(Ls5UdpReceiver, CounterGapsAreLostRecordsAndTheWrapIsNotAGap) {
 // each packet is transmitted and is used to control the packet loss". The network
 // delivered packet 11 twice: nothing was lost, and its 168 records are not new.
 TEST(Ls5UdpReceiver, DuplicatedDatagramIsDroppedAndCountedNotLostL65) {
-  Rig rig;
+  UdpRig rig;
   ASSERT_TRUE(rig.receiver && rig.sender);
   rig.send(build_packet(11, 0x1000));
   rig.skip_samples(168);
@@ -203,7 +203,7 @@ TEST(Ls5UdpReceiver, DuplicatedDatagramIsDroppedAndCountedNotLostL65) {
 // corresponds to the distance derivative": kind derivative, with no value since §10.1
 // gives no scale for it (L19).
 TEST(Ls5UdpReceiver, SamplesCarryTheDiscretenessAndMarkDerivativesL63) {
-  Rig rig;
+  UdpRig rig;
   ASSERT_TRUE(rig.receiver && rig.sender);
   rig.send(build_packet(1, 0x2000, 0x07));
   const Sample distance = rig.next_sample();

@@ -1,4 +1,4 @@
-// Runs the rangekit binary (RANGEKIT_CLI_PATH) as a child with stdout and
+// Runs the rangekit binary (rangekit::test::cli_path()) as a child with stdout and
 // stderr on separate pipes, so tests can see the data apart from messages and
 // signal the child while it streams.
 #pragma once
@@ -8,6 +8,7 @@
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include "build_paths.hpp"
 
 #include <chrono>
 #include <string>
@@ -26,7 +27,7 @@ class CliProcess {
       ::dup2(out[1], STDOUT_FILENO);
       ::dup2(err[1], STDERR_FILENO);
       std::vector<char*> argv;
-      std::string program = RANGEKIT_CLI_PATH;
+      std::string program = rangekit::test::cli_path();
       argv.push_back(program.data());
       std::vector<std::string> copies = arguments;
       for (auto& argument : copies) argv.push_back(argument.data());

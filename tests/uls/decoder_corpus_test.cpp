@@ -135,7 +135,7 @@ std::string describe(const FrameView& view) {
   return text;
 }
 
-constexpr std::array<MeasurementContext, 10> contexts{{
+constexpr std::array<MeasurementContext, 10> corpus_contexts{{
     {Mode::averaging, DisplayMode::range, Units::metres, false},
     {Mode::averaging, DisplayMode::range, Units::feet, false},
     {Mode::averaging, DisplayMode::range_and_intensity, Units::metres, false},
@@ -159,7 +159,7 @@ TEST(UlsDecoderCorpus, OutputsMatchTheRecordedOnes) {
   testing::corpus::frame_in_chunks(stream, &scan_frame, random, framing, [&](Bytes frame) {
     const Result<FrameView> view = parse_frame(frame);
     parsing.add(view ? describe(*view) : describe(view.error()));
-    for (const auto& context : contexts) {
+    for (const auto& context : corpus_contexts) {
       const Result<Measurement> measurement = decode_measurement(frame, context);
       decoding.add(measurement ? describe(measurement->source) + " " + describe(measurement->reading)
                                : describe(measurement.error()));
@@ -184,7 +184,7 @@ TEST(UlsDecoderCorpus, DecodeMeasurementsMatchesNextAndDecodeMeasurement) {
   Random corpus_random(17);
   const std::string stream = testing::corpus::corpus_stream(corpus_random, corpus_lines, random_line);
   std::size_t direct = 0;
-  for (const auto& context : contexts) {
+  for (const auto& context : corpus_contexts) {
     auto describe_decoded = [](const Result<Measurement>& measurement) {
       return measurement ? describe(measurement->source) + " " + describe(measurement->reading)
                          : describe(measurement.error());

@@ -2,6 +2,7 @@
 // `rangekit sim uls`, a bus of 8 units, config save/diff/load, and the driver's
 // stream surviving the emulator being killed and restarted on the same path.
 #include <gtest/gtest.h>
+#include "build_paths.hpp"
 
 #include <signal.h>
 #include <sys/wait.h>
@@ -34,7 +35,7 @@ class Emulator {
     if (pid_ == 0) {
       ::dup2(fds[1], STDOUT_FILENO);
       ::close(fds[0]);
-      const std::string command = "exec " + std::string(RANGEKIT_CLI_PATH) + " sim uls " + arguments;
+      const std::string command = "exec " + std::string(rangekit::test::cli_path()) + " sim uls " + arguments;
       ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
       ::_exit(127);
     }
@@ -68,7 +69,7 @@ struct CliRun {
 };
 
 CliRun cli(const std::string& arguments) {
-  const std::string command = std::string(RANGEKIT_CLI_PATH) + " " + arguments + " 2>&1";
+  const std::string command = std::string(rangekit::test::cli_path()) + " " + arguments + " 2>&1";
   std::FILE* pipe = ::popen(command.c_str(), "r");
   CliRun run;
   if (pipe == nullptr) return run;

@@ -3,6 +3,7 @@
 // return, power cycle, and the pointer/laser outputs. One emulator process per
 // test; a host on the configuration port's pty.
 #include <gtest/gtest.h>
+#include "build_paths.hpp"
 
 #include <signal.h>
 #include <sys/wait.h>
@@ -27,7 +28,7 @@ class SimUls {
     std::filesystem::create_directories(dir_);
     config_ = (dir_ / "config").string();
     control_path_ = (dir_ / "control").string();
-    const std::string command = std::string(RANGEKIT_CLI_PATH) + " sim uls --config-port " + config_ +
+    const std::string command = std::string(rangekit::test::cli_path()) + " sim uls --config-port " + config_ +
                                 " --virtual-clock --seed 5 --control " + control_path_ + " " + extra;
     int fds[2];
     EXPECT_EQ(::pipe(fds), 0);

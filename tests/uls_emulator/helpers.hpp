@@ -3,9 +3,11 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/uls.hpp"
 
 namespace rangekit::uls::emulator::testing {
 
@@ -82,5 +84,14 @@ struct Unit {
   std::vector<LineByte> output[2];
   std::string partial[2];
 };
+
+// The range of a range-only averaging line ("$BM,25.001" or "#QBM,25.001"), -1 if none.
+inline double metres_of(const std::string& line) {
+  const MeasurementContext context{Mode::averaging, DisplayMode::range, Units::metres, false};
+  auto m = decode_measurement(as_bytes(line), context);
+  if (!m) return -1;
+  const auto* reading = std::get_if<AveragingReading>(&m->reading);
+  return reading && reading->range ? reading->range->metres : -1;
+}
 
 }  // namespace rangekit::uls::emulator::testing

@@ -17,11 +17,11 @@ namespace {
 using namespace std::chrono_literals;
 using testing::Unit;
 
-const SceneTarget ground{"ground", Motion::fixed(8.0), 0.5, false};
+const SceneTarget look_down_ground{"ground", Motion::fixed(8.0), 0.5, false};
 
 SceneTarget vehicle_at(double metres) { return SceneTarget{"vehicle", Motion::fixed(metres), 0.5, false}; }
 
-Scene scene_of(std::vector<SceneTarget> targets) {
+Scene look_down_scene(std::vector<SceneTarget> targets) {
   Scene scene;
   scene.targets = std::move(targets);
   scene.ambient_noise = 0;
@@ -30,7 +30,7 @@ Scene scene_of(std::vector<SceneTarget> targets) {
 
 FirmwareOptions looking_at_the_ground() {
   FirmwareOptions options;
-  options.scene = scene_of({ground});
+  options.scene = look_down_scene({look_down_ground});
   options.seed = 11;
   return options;
 }
@@ -56,14 +56,14 @@ TEST(UlsLookDown, U70_PollIsAnsweredAtOnceWithTheTripState) {
   unit.run(1s);
   EXPECT_EQ(unit.ask("$BM"), "$BM,0");  // nothing moving: OFF, one line
   EXPECT_EQ(unit.ask("#QBM"), "#QBM,0");
-  unit.firmware->set_scene(scene_of({ground, vehicle_at(6.5)}), unit.now);
+  unit.firmware->set_scene(look_down_scene({look_down_ground, vehicle_at(6.5)}), unit.now);
   unit.run(1s);
   // Polled: the trip sends nothing by itself (no poll is left waiting for it).
   EXPECT_TRUE(unit.lines(configuration_port).empty());
   EXPECT_TRUE(unit.lines(universal_port).empty());
   EXPECT_EQ(unit.ask("$BM"), "$BM,1");  // §3 "ON is displayed when the system is tripped"
   EXPECT_EQ(unit.ask("$BM"), "$BM,1");  // each poll its own answer
-  unit.firmware->set_scene(scene_of({ground}), unit.now);
+  unit.firmware->set_scene(look_down_scene({look_down_ground}), unit.now);
   unit.run(1s);
   EXPECT_EQ(unit.ask("$BM"), "$BM,0");
   unit.run(1s);
@@ -98,17 +98,17 @@ TEST(UlsLookDown, U72_PollWithTimeBetweenEventsAnswersTheCurrentEvent) {
   EXPECT_EQ(unit.ask("$GO"), "$OK");
   unit.run(1s);
   EXPECT_EQ(unit.ask("$BM"), "$0");  // "n = 0 = OFF = No Presence detected"
-  const Scene car = scene_of({ground, vehicle_at(6.0)});
+  const Scene car = look_down_scene({look_down_ground, vehicle_at(6.0)});
   unit.firmware->set_scene(car, unit.now);
   unit.run(500ms);
-  unit.firmware->set_scene(scene_of({ground}), unit.now);
+  unit.firmware->set_scene(look_down_scene({look_down_ground}), unit.now);
   unit.run(1s);  // §3: "a value of 0BB8 hex (3000 decimal) would be output if the time between
                  // not present edge to present edge was detected that equaled 1 second" (3 kHz)
   unit.firmware->set_scene(car, unit.now);
   unit.run(500ms);
   EXPECT_EQ(unit.ask("$BM"), "$0BB8");
   EXPECT_EQ(unit.ask("$BM"), "$0BB8");  // still the same presence
-  unit.firmware->set_scene(scene_of({ground}), unit.now);
+  unit.firmware->set_scene(look_down_scene({look_down_ground}), unit.now);
   unit.run(500ms);
   EXPECT_EQ(unit.ask("$BM"), "$0");
   EXPECT_TRUE(unit.lines(configuration_port).empty());  // polled: nothing else was sent
@@ -129,7 +129,7 @@ TEST(UlsLookDown, U73_ReReferenceWithTimeBetweenEventsStartsTheNoPresenceTime) {
   EXPECT_EQ(unit.ask("$GO"), "$OK");
   unit.run(1s);
   const SceneTarget parked = vehicle_at(6.0);
-  unit.firmware->set_scene(scene_of({ground, parked}), unit.now);
+  unit.firmware->set_scene(look_down_scene({look_down_ground, parked}), unit.now);
   unit.run(2s);
   const auto tripped = unit.lines(configuration_port);
   ASSERT_EQ(tripped.size(), 1U);
@@ -144,7 +144,7 @@ TEST(UlsLookDown, U73_ReReferenceWithTimeBetweenEventsStartsTheNoPresenceTime) {
   const Nanos release = released[0].done - 300us;
   ASSERT_GT(release + 1s, unit.now);
   unit.run(release + 1s - unit.now);
-  unit.firmware->set_scene(scene_of({ground, parked, vehicle_at(4.0)}), unit.now);
+  unit.firmware->set_scene(look_down_scene({look_down_ground, parked, vehicle_at(4.0)}), unit.now);
   unit.run(500ms);
   const auto next = unit.lines(configuration_port);
   ASSERT_EQ(next.size(), 1U);
@@ -169,9 +169,9 @@ TEST(UlsLookDown, U74_TimeBetweenEventsIsLoggedOnTheConfigurationPortOnly) {
   EXPECT_EQ(unit.ask("$TB,1"), "$OK");
   EXPECT_EQ(unit.ask("$GO"), "$OK");
   unit.run(1s);
-  unit.firmware->set_scene(scene_of({ground, vehicle_at(6.0)}), unit.now);
+  unit.firmware->set_scene(look_down_scene({look_down_ground, vehicle_at(6.0)}), unit.now);
   unit.run(500ms);
-  unit.firmware->set_scene(scene_of({ground}), unit.now);
+  unit.firmware->set_scene(look_down_scene({look_down_ground}), unit.now);
   unit.run(500ms);
   const auto logged = unit.lines(configuration_port);
   ASSERT_EQ(logged.size(), 2U);
@@ -183,7 +183,7 @@ TEST(UlsLookDown, U74_TimeBetweenEventsIsLoggedOnTheConfigurationPortOnly) {
   EXPECT_EQ(unit.ask("$TB,0"), "$OK");
   EXPECT_EQ(unit.ask("$GO"), "$OK");
   unit.run(1s);
-  unit.firmware->set_scene(scene_of({ground, vehicle_at(6.0)}), unit.now);
+  unit.firmware->set_scene(look_down_scene({look_down_ground, vehicle_at(6.0)}), unit.now);
   unit.run(500ms);
   EXPECT_EQ(unit.lines(universal_port), std::vector<std::string>{"$BM,1"});
   EXPECT_TRUE(unit.lines(configuration_port).empty());
@@ -193,10 +193,10 @@ TEST(UlsLookDown, U74_TimeBetweenEventsIsLoggedOnTheConfigurationPortOnly) {
   EXPECT_EQ(unit.ask("$ST"), "$OK");
   EXPECT_EQ(unit.ask("$MO,2"), "$OK");
   EXPECT_EQ(unit.ask("$TB,1"), "$OK");
-  unit.firmware->set_scene(scene_of({ground}), unit.now);
+  unit.firmware->set_scene(look_down_scene({look_down_ground}), unit.now);
   EXPECT_EQ(unit.ask("$GO"), "$OK");
   unit.run(1s);
-  unit.firmware->set_scene(scene_of({ground, vehicle_at(6.0)}), unit.now);
+  unit.firmware->set_scene(look_down_scene({look_down_ground, vehicle_at(6.0)}), unit.now);
   unit.run(500ms);
   const auto addressed = unit.lines(configuration_port);
   ASSERT_EQ(addressed.size(), 1U);

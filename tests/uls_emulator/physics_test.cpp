@@ -40,14 +40,7 @@ std::vector<double> averaging_ranges(Unit& unit, std::size_t count) {
   return ranges;
 }
 
-// The range of a range-only averaging line ("$BM,25.001" or "#QBM,25.001"), -1 if none.
-double metres_of(const std::string& line) {
-  const MeasurementContext context{Mode::averaging, DisplayMode::range, Units::metres, false};
-  auto m = decode_measurement(as_bytes(line), context);
-  if (!m) return -1;
-  const auto* reading = std::get_if<AveragingReading>(&m->reading);
-  return reading && reading->range ? reading->range->metres : -1;
-}
+using testing::metres_of;
 
 void setup_fast_averaging(Unit& unit) {
   EXPECT_EQ(unit.ask("$PF,5000"), "$OK");

@@ -2,6 +2,7 @@
 // `rangekit sim uls` binary, and an 8-unit bus and a baud change through the
 // runtime on the virtual clock (issue 4).
 #include <gtest/gtest.h>
+#include "build_paths.hpp"
 
 #include <signal.h>
 #include <sys/wait.h>
@@ -122,8 +123,8 @@ TEST(UlsPty, CommandSessionThroughTheCli) {
   const std::string port = (dir / "uls").string();
   const std::string config = (dir / "uls-config").string();
   const std::string control = (dir / "control").string();
-  const std::string command =
-      std::string(RANGEKIT_CLI_PATH) + " sim uls --port " + port + " --config-port " + config + " --control " + control;
+  const std::string command = std::string(rangekit::test::cli_path()) + " sim uls --port " + port + " --config-port " +
+                              config + " --control " + control;
   int pipe_fds[2];
   ASSERT_EQ(::pipe(pipe_fds), 0);
   const pid_t child = ::fork();
@@ -183,7 +184,7 @@ TEST(UlsPty, CliRefusesAnExistingPath) {
     std::FILE* f = std::fopen(path.c_str(), "w");
     std::fclose(f);
   }
-  const std::string command = std::string(RANGEKIT_CLI_PATH) + " sim uls --port " + path.string() + " 2>&1";
+  const std::string command = std::string(rangekit::test::cli_path()) + " sim uls --port " + path.string() + " 2>&1";
   std::FILE* out = ::popen(command.c_str(), "r");
   ASSERT_NE(out, nullptr);
   std::string text;

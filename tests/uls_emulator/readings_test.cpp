@@ -33,14 +33,7 @@ void start_fast_averaging(Unit& unit) {
   EXPECT_EQ(unit.ask("$GO"), "$OK");
 }
 
-// The range of a range-only averaging line, -1 if it has none.
-double metres_of(const std::string& line) {
-  const MeasurementContext context{Mode::averaging, DisplayMode::range, Units::metres, false};
-  auto m = decode_measurement(as_bytes(line), context);
-  if (!m) return -1;
-  const auto* reading = std::get_if<AveragingReading>(&m->reading);
-  return reading && reading->range ? reading->range->metres : -1;
-}
+using testing::metres_of;
 
 // docs/conformance.md U75. §9 Averaging Mode, "Maximum Cooperative Range": "1700 m or 5577 ft
 // (High-intensity Reflective Sheet)" in each of the Maximum, Medium and Minimum columns.

@@ -1,5 +1,6 @@
 // docs/openapi.yaml, docs/api.md and the server agree on the paths (no drift).
 #include <gtest/gtest.h>
+#include "build_paths.hpp"
 
 #include <fstream>
 #include <regex>
@@ -19,8 +20,8 @@ std::string read(const std::string& path) {
 }
 
 TEST(WebApiDocs, EveryDocumentedPathIsServedAndDescribed) {
-  const std::string openapi = read(std::string(RANGEKIT_SOURCE_DIR) + "/docs/openapi.yaml");
-  const std::string api = read(std::string(RANGEKIT_SOURCE_DIR) + "/docs/api.md");
+  const std::string openapi = read(std::string(rangekit::test::source_dir()) + "/docs/openapi.yaml");
+  const std::string api = read(std::string(rangekit::test::source_dir()) + "/docs/api.md");
   // A hub with one sensor whose port does not exist: enough to route every path.
   auto site = rangekit::hub::parse_site_config(
       "[[sensor]]\nname = \"x\"\nfamily = \"ls5\"\nport = \"/nonexistent/rangekit-port\"\n", "site.toml");

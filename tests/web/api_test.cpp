@@ -20,13 +20,13 @@ using namespace rangekit;
 using web_test::http;
 using web_test::Reply;
 
-struct Service {
+struct ApiService {
   hub_test::Site site;
   std::unique_ptr<hub::Hub> hub = hub::Hub::start(site.config);
   hub::CaptureManager captures{*hub, (site.temp.path / "captures").string()};
   std::unique_ptr<web::Server> server;
   std::uint16_t port = 0;
-  explicit Service(web::ServerOptions options = {}) {
+  explicit ApiService(web::ServerOptions options = {}) {
     options.listen = "127.0.0.1:0";
     options.captures = &captures;
     auto started = web::Server::start(*hub, options);
@@ -53,7 +53,7 @@ std::string error_field(const Reply& reply) {
 }
 
 TEST(WebApi, ListsEverySensorWithIdentityStatusAndHealth) {
-  Service service;
+  ApiService service;
   ASSERT_TRUE(service.all_live());
   const Reply list = http(service.port, "GET", "/api/sensors");
   ASSERT_EQ(list.status, 200) << list.body;
@@ -81,7 +81,7 @@ TEST(WebApi, ListsEverySensorWithIdentityStatusAndHealth) {
 }
 
 TEST(WebApi, RecentSamplesComeFromTheRing) {
-  Service service;
+  ApiService service;
   ASSERT_TRUE(service.all_live());
   const Reply latest = http(service.port, "GET", "/api/sensors/belt/samples?limit=3");
   ASSERT_EQ(latest.status, 200) << latest.body;
@@ -99,7 +99,7 @@ TEST(WebApi, RecentSamplesComeFromTheRing) {
 // LS5 table 9.2 (L4): the median filter takes an odd number of points, 1-49. The PATCH reaches
 // the sensor: its own control socket reports the value, and a refused one changes nothing.
 TEST(WebApi, PatchIsCheckedByTheTableWrittenAndReadBack) {
-  Service service;
+  ApiService service;
   ASSERT_TRUE(service.all_live());
   Reply refused = http(service.port, "PATCH", "/api/sensors/belt/settings", R"({"median-points": 8})");
   EXPECT_EQ(refused.status, 400) << refused.body;
@@ -127,7 +127,7 @@ TEST(WebApi, PatchIsCheckedByTheTableWrittenAndReadBack) {
 // CLI uses. Expectations typed from §8: "Set/Get PRF ... 10 to 5000 Hz" (error 32 "Invalid
 // PRF"), Short Gate 0-1700 m, Bin Size 0-8 (§2 "2.5 (13)"), Measurement Mode 1-3.
 TEST(WebApi, SettingsSchemaGivesEachSettingsRangeUnitAndError) {
-  Service service;
+  ApiService service;
   const Reply reply = http(service.port, "GET", "/api/sensors/bay-C/settings/schema");
   ASSERT_EQ(reply.status, 200) << reply.body;
   const auto schema = json_of(reply);
@@ -169,7 +169,7 @@ TEST(WebApi, SettingsSchemaGivesEachSettingsRangeUnitAndError) {
 // same for the value 08" (L6: from LS5.9.0); "Network address 01-FF" changes the link (L28).
 // L73: the page's fields and checks come from this schema.
 TEST(WebApi, Ls5SettingsSchemaFollowsTable92) {
-  Service service;
+  ApiService service;
   const Reply reply = http(service.port, "GET", "/api/sensors/belt/settings/schema");
   ASSERT_EQ(reply.status, 200) << reply.body;
   const auto schema = json_of(reply);
@@ -199,7 +199,7 @@ TEST(WebApi, Ls5SettingsSchemaFollowsTable92) {
 }
 
 TEST(WebApi, ActionsRunOnTheSensor) {
-  Service service;
+  ApiService service;
   ASSERT_TRUE(service.all_live());
   const Reply single = http(service.port, "POST", "/api/sensors/bay-A/actions/single");
   ASSERT_EQ(single.status, 200) << single.body;
@@ -229,7 +229,7 @@ TEST(WebApi, EveryBadRequestGetsA4xxThatNamesTheProblem) {
   web::ServerOptions options;
   options.max_body_bytes = 1024;
   options.max_header_bytes = 2048;
-  Service service(options);
+  ApiService service(options);
   const std::uint16_t port = service.port;
   const auto expect = [&](const Reply& reply, int status, const std::string& code, const std::string& field = "") {
     EXPECT_EQ(reply.status, status) << reply.body;
@@ -277,7 +277,7 @@ TEST(WebApi, EveryBadRequestGetsA4xxThatNamesTheProblem) {
 TEST(WebApi, WithATokenWritesAndStreamsNeedIt) {
   web::ServerOptions options;
   options.token = "0123456789abcdef0123456789abcdef";
-  Service service(options);
+  ApiService service(options);
   const std::uint16_t port = service.port;
   EXPECT_EQ(http(port, "GET", "/api/sensors").status, 200);  // reads need none
   const Reply without = http(port, "POST", "/api/sensors/belt/actions/read");
@@ -316,7 +316,7 @@ TEST(WebApi, TokenFilesAreMadeOnceWithMode0600) {
 // §2 File Menu: Start Capture, Stop Capture, View Capture; downloads as SQLite, CSV, JSON lines
 // and the Interface Program's .log layout per mode (U100).
 TEST(WebApi, CapturesStartStopListAndDownloadInEveryFormat) {
-  Service service;
+  ApiService service;
   ASSERT_TRUE(service.all_live());
   const Reply started = http(service.port, "POST", "/api/captures", R"({"sensors": ["bay-A"]})");
   ASSERT_EQ(started.status, 201) << started.body;
@@ -386,7 +386,7 @@ TEST(WebApi, CapturesStartStopListAndDownloadInEveryFormat) {
 
 // The same TOML as `rangekit ls5 config save/load` (§2 File Menu's configuration file).
 TEST(WebApi, ConfigurationExportAndImport) {
-  Service service;
+  ApiService service;
   ASSERT_TRUE(service.all_live());
   const Reply exported = http(service.port, "POST", "/api/sensors/belt/config");
   ASSERT_EQ(exported.status, 200) << exported.body;

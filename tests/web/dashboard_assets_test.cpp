@@ -21,11 +21,11 @@ constexpr std::array<web::StaticAsset, 2> assets{{
     {"/assets/app-AB12.js", "text/javascript; charset=utf-8", "console.log(1)", "\"script-1\"", true},
 }};
 
-struct Service {
+struct AssetsService {
   std::unique_ptr<hub::Hub> hub = hub::Hub::start(hub::SiteConfig{});
   std::unique_ptr<web::Server> server;
   std::uint16_t port = 0;
-  explicit Service(std::span<const web::StaticAsset> served, std::string token = {}) {
+  explicit AssetsService(std::span<const web::StaticAsset> served, std::string token = {}) {
     web::ServerOptions options;
     options.listen = "127.0.0.1:0";
     options.assets = served;
@@ -38,7 +38,7 @@ struct Service {
 };
 
 TEST(WebDashboard, ThePageIsServedAtTheRootWithItsTypeAndIsRevalidated) {
-  Service service(assets);
+  AssetsService service(assets);
   const Reply page = http(service.port, "GET", "/");
   ASSERT_EQ(page.status, 200);
   EXPECT_EQ(page.body, "<!doctype html><title>rangekit</title>");
@@ -57,7 +57,7 @@ TEST(WebDashboard, ThePageIsServedAtTheRootWithItsTypeAndIsRevalidated) {
 }
 
 TEST(WebDashboard, HashedAssetsAreCachedForAYear) {
-  Service service(assets);
+  AssetsService service(assets);
   const Reply script = http(service.port, "GET", "/assets/app-AB12.js");
   ASSERT_EQ(script.status, 200);
   EXPECT_EQ(script.body, "console.log(1)");
@@ -66,7 +66,7 @@ TEST(WebDashboard, HashedAssetsAreCachedForAYear) {
 }
 
 TEST(WebDashboard, OnlyExactPathsAndGetAreAnswered) {
-  Service service(assets);
+  AssetsService service(assets);
   EXPECT_EQ(http(service.port, "GET", "/assets/app-AB13.js").status, 404);
   EXPECT_EQ(http(service.port, "GET", "/assets").status, 404);
   EXPECT_EQ(http(service.port, "GET", "/index.html").status, 404);
@@ -81,13 +81,13 @@ TEST(WebDashboard, OnlyExactPathsAndGetAreAnswered) {
 TEST(WebDashboard, FollowsTheApiReadRulesNoTokenForThePageButForItsStream) {
   // docs/api.md: beyond loopback the token is needed "on every write and every stream";
   // reads (GET of the API, and so of the page that holds no sensor data) need none.
-  Service service(assets, "secret");
+  AssetsService service(assets, "secret");
   EXPECT_EQ(http(service.port, "GET", "/").status, 200);
   EXPECT_EQ(http(service.port, "GET", "/api/events").status, 401);
 }
 
 TEST(WebDashboard, WithoutAssetsTheRootSaysTheDashboardWasNotBuilt) {
-  Service service({});
+  AssetsService service({});
   const Reply root = http(service.port, "GET", "/");
   EXPECT_EQ(root.status, 404);
   EXPECT_NE(root.body.find("RANGEKIT_DASHBOARD=OFF"), std::string::npos) << root.body;

@@ -37,12 +37,12 @@ std::uint64_t cut_off_count(std::uint16_t port) {
   return at == std::string::npos ? 0 : std::stoull(metrics.substr(at + name.size()));
 }
 
-struct Service {
+struct SseService {
   hub_test::Site site;
   std::unique_ptr<hub::Hub> hub;
   std::unique_ptr<web::Server> server;
   std::uint16_t port = 0;
-  explicit Service(web::ServerOptions options = {}, hub::HubOptions hub_options = {})
+  explicit SseService(web::ServerOptions options = {}, hub::HubOptions hub_options = {})
       : hub(hub::Hub::start(site.config, hub_options)) {
     options.listen = "127.0.0.1:0";
     auto started = web::Server::start(*hub, options);
@@ -66,7 +66,7 @@ TEST(WebEvents, TwentyClientsLoseNothingAndAStalledOneIsCutOff) {
   options.stream_queue = 2 * rate_hz;  // 2 s: a loaded machine does not cut off the twenty, the stalled one soon
   hub::HubOptions hub_options;
   hub_options.ring_capacity = 16 * rate_hz;  // what each reader got is still in the ring when it is compared
-  Service service(options, hub_options);
+  SseService service(options, hub_options);
   // LS5 table 9.2: the measurement period in 0.1 ms steps; 1 ms gives 1000 records a second.
   const auto period =
       http(service.port, "PATCH", "/api/sensors/belt/settings", R"({"period-ms": )" + std::to_string(period_ms) + "}");
@@ -129,7 +129,7 @@ TEST(WebEvents, TwentyClientsLoseNothingAndAStalledOneIsCutOff) {
 }
 
 TEST(WebEvents, AStreamResumesAfterLastEventId) {
-  Service service;
+  SseService service;
   EventReader first(service.port, "/api/sensors/belt/events");
   std::size_t count = 0;
   ASSERT_TRUE(first.read_until([&](const Event& event) { return event.type == "sample" && ++count == 5; }));
@@ -143,7 +143,7 @@ TEST(WebEvents, AStreamResumesAfterLastEventId) {
 }
 
 TEST(WebEvents, AKilledEmulatorShowsDisconnectedThenReconnected) {
-  Service service;
+  SseService service;
   EventReader events(service.port, "/api/sensors/belt/events");
   ASSERT_TRUE(events.read_until([](const Event& event) { return event.type == "sample"; }));
   const auto killed = std::chrono::steady_clock::now();
