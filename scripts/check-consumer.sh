@@ -43,7 +43,8 @@ c++ -o "$work/pkg-config-consumer" "$root/tests/consumer/main.cpp" \
 check_output "pkg-config" "$work/pkg-config-consumer"
 
 cmake -S "$root/tests/consumer" -B "$work/subproject" -DRANGEKIT_SOURCE="$root" >/dev/null
-cmake --build "$work/subproject" -j"$jobs" >/dev/null
+# Only what the consumer links (its libraries and theirs), as a user's build of their own target would.
+cmake --build "$work/subproject" -j"$jobs" --target consumer >/dev/null
 # As a subproject rangekit builds its libraries only: no tests, CLI or benchmarks.
 if [ -e "$work/subproject/rangekit/rangekit" ] || ls "$work/subproject/rangekit/"*_tests >/dev/null 2>&1; then
   echo "consumer (add_subdirectory): rangekit built its CLI or tests as a subproject" >&2
