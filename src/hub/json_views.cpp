@@ -117,6 +117,38 @@ SettingsBody settings_from_body(std::string_view body) {
   return parsed;
 }
 
+ActionBody action_from_body(std::string_view body) {
+  ActionBody parsed;
+  const auto fail = [&](std::string field, std::string message) {
+    parsed.error = BodyError{std::move(field), std::move(message)};
+    return parsed;
+  };
+  const nlohmann::json json = nlohmann::json::parse(body, nullptr, false);
+  if (json.is_discarded()) {
+    parsed.action = std::string(body);  // a bare name: start
+    return parsed;
+  }
+  if (json.is_string()) {
+    parsed.action = json.get<std::string>();
+    return parsed;
+  }
+  if (!json.is_object()) {
+    return fail("action", std::string("an action is a name (start) or an object {\"action\": \"pointer\", "
+                                      "\"argument\": \"on\"}, not a JSON ") +
+                              json.type_name());
+  }
+  for (const auto& [key, value] : json.items()) {
+    if (key != "action" && key != "argument") {
+      return fail(key, "'" + key + "' is not a member of an action request (action, argument)");
+    }
+    if (!value.is_string()) return fail(key, "'" + key + "' must be a string, not a " + value.type_name());
+  }
+  if (!json.contains("action")) return fail("action", "the request names no action: {\"action\": \"start\"}");
+  parsed.action = json["action"].get<std::string>();
+  if (json.contains("argument")) parsed.argument = json["argument"].get<std::string>();
+  return parsed;
+}
+
 std::string error_code_name(Errc code) {
   std::string name = errc_name(code);
   for (char& c : name) {

@@ -71,7 +71,12 @@ struct Command {
   std::string payload;
   std::string response_topic;  // MQTT 5
   std::string correlation;     // MQTT 5 correlation data, as bytes
+  nlohmann::json refusal;      // set when the message is answered without being run
 };
+
+// A command is a few settings or one action name; anything longer is refused unread and not queued.
+constexpr std::size_t max_command_bytes = 16 * 1024;
+constexpr std::size_t max_queued_commands = 64;
 
 // The network thread's eventfd. Shared with the hub's listener, which the hub may still be
 // calling while the bridge stops: the fd closes when the last holder lets go, so a late
@@ -147,6 +152,7 @@ struct Bridge::Impl {
   void say_offline_and_disconnect();
   void run_commands();
   void handle(Command& command);
+  nlohmann::json result_of(const Command& command);
   void on_connected(Link& link, int reason);
   void on_subscribed(Link& link, int mid, int count, const int* granted);
   void on_lost(Link& link, int reason);
@@ -325,14 +331,35 @@ void on_message(mosquitto* /*client*/, void* user, const mosquitto_message* mess
   } else {
     return;
   }
-  if (message->payloadlen > 0) {
-    command.payload.assign(static_cast<const char*>(message->payload), static_cast<std::size_t>(message->payloadlen));
+  const auto size = static_cast<std::size_t>(std::max(message->payloadlen, 0));
+  if (message->retain) {
+    // A retained command would run again at every connect of every service that subscribes.
+    command.refusal = hub::error_object("retained",
+                                        "a retained command is not run: publish it without the retain flag, and clear "
+                                        "the retained one with an empty retained message to " +
+                                            topic);
+  } else if (size > max_command_bytes) {
+    command.refusal = hub::error_object("too_large", "a command of " + std::to_string(size) +
+                                                         " bytes is not run: at most " +
+                                                         std::to_string(max_command_bytes) + " bytes");
+  } else if (size > 0) {
+    command.payload.assign(static_cast<const char*>(message->payload), size);
   }
   char* response = nullptr;
   if (mosquitto_property_read_string(props, MQTT_PROP_RESPONSE_TOPIC, &response, false) != nullptr &&
       response != nullptr) {
     command.response_topic = response;
     free(response);  // NOLINT(cppcoreguidelines-no-malloc): libmosquitto allocates it with malloc
+  }
+  // Answers go out under the service's own rights, so only to topics made for them.
+  if (const std::string replies = link->bridge.options.config.base_topic + "/reply/";
+      !command.response_topic.empty() && !command.response_topic.starts_with(replies)) {
+    if (command.refusal.is_null()) {
+      command.refusal = hub::error_object("bad_response_topic", "the response topic '" + command.response_topic +
+                                                                    "' is not under " + replies + ": nothing was run",
+                                          "response_topic");
+    }
+    command.response_topic.clear();
   }
   void* correlation = nullptr;
   std::uint16_t length = 0;
@@ -344,7 +371,7 @@ void on_message(mosquitto* /*client*/, void* user, const mosquitto_message* mess
   Bridge::Impl& bridge = link->bridge;
   {
     const std::lock_guard lock(bridge.command_mutex);
-    if (bridge.commands.size() >= 64) return;  // a flood of commands is not queued without end
+    if (bridge.commands.size() >= max_queued_commands) return;  // a flood of commands is not queued without end
     bridge.commands.push_back(std::move(command));
   }
   bridge.command_ready.notify_one();
@@ -377,8 +404,9 @@ void Bridge::Impl::on_connected(Link& link, int reason) {
   const std::string action_topic = link.topic + "/action";
   std::array<char*, 2> topics{const_cast<char*>(set_topic.c_str()), const_cast<char*>(action_topic.c_str())};
   link.subscribe_mid = -1;
+  // Retained commands are never sent to it (MQTT 5 retain handling 2): they would run at every connect.
   mosquitto_subscribe_multiple(link.client, &link.subscribe_mid, static_cast<int>(topics.size()), topics.data(),
-                               options.config.qos_command, 0, nullptr);
+                               options.config.qos_command, MQTT_SUB_OPT_SEND_RETAIN_NEVER, nullptr);
   if (link.ever_connected) ++link.reconnects;
   link.ever_connected = true;
   link.connected = true;
@@ -761,7 +789,28 @@ void Bridge::Impl::run_commands() {
 
 void Bridge::Impl::handle(Command& command) {
   Link& link = *command.link;
-  const std::string& name = link.config.name;
+  nlohmann::json result;
+  try {
+    result = result_of(command);
+  } catch (const std::exception& e) {
+    // Nothing leaves the command thread: a command that fails this way is answered, and the next one runs.
+    result = hub::error_object("internal", std::string("the command could not be run: ") + e.what());
+  }
+  if (result.contains("error")) result["ok"] = false;
+  ++handled;
+  {
+    const std::lock_guard lock(reply_mutex);
+    replies.push_back(Reply{&link, link.topic + (command.is_set ? "/set/result" : "/action/result"),
+                            result.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
+                            std::move(command.response_topic), std::move(command.correlation)});
+  }
+  link.status_now = true;  // settings may have changed: the status goes out again at once
+  wake();
+}
+
+nlohmann::json Bridge::Impl::result_of(const Command& command) {
+  if (!command.refusal.is_null()) return command.refusal;
+  const std::string& name = command.link->config.name;
   nlohmann::json result;
   if (command.is_set) {
     // The same reading of the body as the HTTP PATCH, then the hub's check against the CLI's tables.
@@ -776,36 +825,20 @@ void Bridge::Impl::handle(Command& command) {
       result = {{"ok", true}, {"settings", snapshot ? hub::sensor_json(*snapshot)["settings"] : nlohmann::json{}}};
     }
   } else {
-    // "start", or {"action": "pointer", "argument": "on"}.
-    std::string action_name = command.payload;
-    std::string argument;
-    const auto json = nlohmann::json::parse(command.payload, nullptr, false);
-    if (!json.is_discarded() && json.is_object()) {
-      action_name = json.value("action", std::string());
-      argument = json.value("argument", std::string());
-    } else if (!json.is_discarded() && json.is_string()) {
-      action_name = json.get<std::string>();
-    }
-    if (const auto action = hub::parse_action(action_name); !action) {
+    const hub::ActionBody body = hub::action_from_body(command.payload);
+    if (body.error) {
+      result = hub::error_object("bad_body", body.error->message, body.error->field);
+    } else if (const auto action = hub::parse_action(body.action); !action) {
       result = hub::error_object(
           "unknown_action",
-          "'" + action_name + "' is not an action (start, stop, single, pointer, save, reset, latch, read)", "action");
-    } else if (auto done = hub.act(name, *action, argument); !done) {
+          "'" + body.action + "' is not an action (start, stop, single, pointer, save, reset, latch, read)", "action");
+    } else if (auto done = hub.act(name, *action, body.argument); !done) {
       result = hub::error_object(hub::error_code_name(done.error().code), done.error().message);
     } else {
       result = {{"ok", true}, {"action", hub::action_name(*action)}, {"result", *done}};
     }
   }
-  if (result.contains("error")) result["ok"] = false;
-  ++handled;
-  {
-    const std::lock_guard lock(reply_mutex);
-    replies.push_back(Reply{&link, link.topic + (command.is_set ? "/set/result" : "/action/result"),
-                            result.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
-                            std::move(command.response_topic), std::move(command.correlation)});
-  }
-  link.status_now = true;  // settings may have changed: the status goes out again at once
-  wake();
+  return result;
 }
 
 // Sessions made by a start() that failed before their threads ran, or stopped ones.

@@ -281,7 +281,7 @@ TEST(MqttBridge, SetReachesTheEmulatorAndAnInvalidOneGetsAnErrorAndNothingReache
   Broker broker;
   Ls5 ls5;
   auto hub = hub::Hub::start(ls5.site);
-  Subscriber client(broker.port(), {"rangekit/belt/set/result", "rangekit/belt/action/result", "test/reply"});
+  Subscriber client(broker.port(), {"rangekit/belt/set/result", "rangekit/belt/action/result", "rangekit/reply/test"});
   ASSERT_TRUE(client.wait_subscribed());
   auto bridge = mqtt::Bridge::start(*hub, options_for(broker, 10));
   ASSERT_TRUE(bridge.ok()) << bridge.error().message;
@@ -298,10 +298,10 @@ TEST(MqttBridge, SetReachesTheEmulatorAndAnInvalidOneGetsAnErrorAndNothingReache
   // Table 9.2 0D, the median filter: an odd number of points (L4). An invalid request names
   // the field and its range, and nothing of it reaches the sensor, not even its valid part.
   client.clear();
-  client.publish("rangekit/belt/set", R"({"analog-output": "enabled", "median-points": 8})", "test/reply",
+  client.publish("rangekit/belt/set", R"({"analog-output": "enabled", "median-points": 8})", "rangekit/reply/test",
                  "request-17");
   ASSERT_TRUE(client.wait_for([](const auto& heard) {
-    return find(heard, "rangekit/belt/set/result") != nullptr && find(heard, "test/reply") != nullptr;
+    return find(heard, "rangekit/belt/set/result") != nullptr && find(heard, "rangekit/reply/test") != nullptr;
   }));
   result = nlohmann::json::parse(find(client.heard(), "rangekit/belt/set/result")->payload);
   EXPECT_EQ(result["ok"], false);
@@ -310,7 +310,7 @@ TEST(MqttBridge, SetReachesTheEmulatorAndAnInvalidOneGetsAnErrorAndNothingReache
   EXPECT_EQ(ls5.outputs()["analog_enabled"], false);
   // MQTT 5: the answer also on the response topic, with the request's correlation data.
   const auto replies = client.heard();
-  const Heard* reply = find(replies, "test/reply");
+  const Heard* reply = find(replies, "rangekit/reply/test");
   EXPECT_EQ(reply->correlation, "request-17");
   EXPECT_EQ(nlohmann::json::parse(reply->payload)["error"]["field"], "median-points");
 
@@ -328,6 +328,93 @@ TEST(MqttBridge, SetReachesTheEmulatorAndAnInvalidOneGetsAnErrorAndNothingReache
   EXPECT_EQ(ls5.outputs()["streaming"], false);
   client.clear();
   client.publish("rangekit/belt/action", R"({"action": "explode"})");
+  ASSERT_TRUE(client.wait_for([](const auto& heard) { return find(heard, "rangekit/belt/action/result") != nullptr; }));
+  EXPECT_EQ(nlohmann::json::parse(find(client.heard(), "rangekit/belt/action/result")->payload)["error"]["code"],
+            "unknown_action");
+  (*bridge)->stop();
+}
+
+// Whatever a command's payload holds, the bridge answers with an error naming the field, and
+// the next command still runs: a JSON type the request does not expect once ended the service.
+TEST(MqttBridge, CommandsOfAnyJsonTypeOrBytesGetAnErrorAndTheServiceGoesOn) {
+  Broker broker;
+  Ls5 ls5;
+  auto hub = hub::Hub::start(ls5.site);
+  Subscriber client(broker.port(), {"rangekit/belt/set/result", "rangekit/belt/action/result", "elsewhere/#"});
+  ASSERT_TRUE(client.wait_subscribed());
+  auto bridge = mqtt::Bridge::start(*hub, options_for(broker, 10));
+  ASSERT_TRUE(bridge.ok()) << bridge.error().message;
+  ASSERT_TRUE(until([&] { return (*bridge)->stats().connected; }));
+  ASSERT_TRUE(until([&] { return ls5.outputs()["streaming"] == true; }));
+  const auto answer = [&](const std::string& topic, const std::string& payload, const std::string& response = {}) {
+    client.clear();
+    client.publish("rangekit/belt/" + topic, payload, response);
+    const std::string result_topic = "rangekit/belt/" + topic + "/result";
+    EXPECT_TRUE(client.wait_for([&](const auto& heard) { return find(heard, result_topic) != nullptr; })) << payload;
+    const auto heard = client.heard();
+    const Heard* result = find(heard, result_topic);
+    return result == nullptr ? nlohmann::json{} : nlohmann::json::parse(result->payload);
+  };
+  struct Case {
+    const char* topic;
+    std::string payload;
+    const char* code;
+    const char* field;
+  };
+  const std::vector<Case> cases{
+      {"action", R"({"action": 1})", "bad_body", "action"},
+      {"action", R"({"action": null})", "bad_body", "action"},
+      {"action", R"({"action": ["start"]})", "bad_body", "action"},
+      {"action", R"({"action": "pointer", "argument": true})", "bad_body", "argument"},
+      {"action", R"({"argument": "on"})", "bad_body", "action"},
+      {"action", R"({"action": "start", "force": "yes"})", "bad_body", "force"},
+      {"action", "[1, 2]", "bad_body", "action"},
+      {"action", "17", "bad_body", "action"},
+      {"action", std::string("\xff\xfe\x00\x01", 4), "unknown_action", "action"},
+      {"set", R"({"analog-output": {"on": 1}})", "bad_body", "analog-output"},
+      {"set", R"({"median-points": [1, "x"]})", "bad_body", "median-points"},
+      {"set", "null", "bad_body", ""},
+      {"set", std::string(20000, '{'), "too_large", ""},
+  };
+  for (const Case& c : cases) {
+    const auto result = answer(c.topic, c.payload);
+    EXPECT_EQ(result["ok"], false) << c.payload.substr(0, 60) << " -> " << result.dump();
+    EXPECT_EQ(result["error"]["code"], c.code) << c.payload.substr(0, 60) << " -> " << result.dump();
+    if (*c.field != 0) {
+      EXPECT_EQ(result["error"]["field"], c.field) << c.payload.substr(0, 60) << " -> " << result.dump();
+    }
+    EXPECT_FALSE(result["error"]["message"].get<std::string>().empty());
+  }
+  // A response topic outside <base>/reply/ is refused: the service would publish anywhere its rights allow.
+  const auto refused = answer("action", "stop", "elsewhere/inbox");
+  EXPECT_EQ(refused["error"]["code"], "bad_response_topic") << refused.dump();
+  EXPECT_EQ(find(client.heard(), "elsewhere/inbox"), nullptr);
+  EXPECT_EQ(ls5.outputs()["streaming"], true);  // and nothing of it ran
+  // The bridge still runs commands: stop reaches the sensor (table 9.1 SB).
+  EXPECT_EQ(answer("action", R"({"action": "stop"})")["ok"], true);
+  EXPECT_EQ(ls5.outputs()["streaming"], false);
+  (*bridge)->stop();
+}
+
+// A command left retained on the broker is not run when the service connects (MQTT 5 retain
+// handling): it would run again at every start.
+TEST(MqttBridge, ARetainedCommandIsNotRunAtConnect) {
+  Broker broker;
+  Ls5 ls5;
+  {
+    Subscriber publisher(broker.port(), {"rangekit/belt/action"});
+    ASSERT_TRUE(publisher.wait_subscribed());
+    publisher.publish("rangekit/belt/action", "stop", {}, {}, true);
+    ASSERT_TRUE(publisher.wait_for([](const auto& heard) { return find(heard, "rangekit/belt/action") != nullptr; }));
+  }
+  auto hub = hub::Hub::start(ls5.site);
+  Subscriber client(broker.port(), {"rangekit/belt/action/result", "rangekit/belt/availability"});
+  ASSERT_TRUE(client.wait_subscribed());
+  auto bridge = mqtt::Bridge::start(*hub, options_for(broker, 10));
+  ASSERT_TRUE(bridge.ok()) << bridge.error().message;
+  ASSERT_TRUE(until([&] { return (*bridge)->stats().connected; }));
+  // A live command after it is answered first: had the retained one run, its result came before.
+  client.publish("rangekit/belt/action", "explode");
   ASSERT_TRUE(client.wait_for([](const auto& heard) { return find(heard, "rangekit/belt/action/result") != nullptr; }));
   EXPECT_EQ(nlohmann::json::parse(find(client.heard(), "rangekit/belt/action/result")->payload)["error"]["code"],
             "unknown_action");

@@ -120,7 +120,7 @@ class Subscriber {
   }
   // Publishes a request; MQTT 5 response topic and correlation data when given.
   void publish(const std::string& topic, const std::string& payload, const std::string& response_topic = {},
-               const std::string& correlation = {}) {
+               const std::string& correlation = {}, bool retain = false) {
     mosquitto_property* props = nullptr;
     if (!response_topic.empty())
       mosquitto_property_add_string(&props, MQTT_PROP_RESPONSE_TOPIC, response_topic.c_str());
@@ -128,7 +128,7 @@ class Subscriber {
       mosquitto_property_add_binary(&props, MQTT_PROP_CORRELATION_DATA, correlation.data(),
                                     static_cast<std::uint16_t>(correlation.size()));
     }
-    mosquitto_publish_v5(client_, nullptr, topic.c_str(), static_cast<int>(payload.size()), payload.data(), 1, false,
+    mosquitto_publish_v5(client_, nullptr, topic.c_str(), static_cast<int>(payload.size()), payload.data(), 1, retain,
                          props);
     mosquitto_property_free_all(&props);
   }

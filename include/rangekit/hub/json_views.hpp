@@ -28,6 +28,15 @@ struct SettingsBody {
 };
 SettingsBody settings_from_body(std::string_view body);
 
+// An action request as MQTT carries it: a bare name (start), a JSON string ("start"), or an
+// object {"action": "pointer", "argument": "on"} whose members are strings. Errors name the field.
+struct ActionBody {
+  std::string action;
+  std::string argument;
+  std::optional<BodyError> error;
+};
+ActionBody action_from_body(std::string_view body);
+
 // "out of range" -> "out_of_range": one word a client can switch on.
 std::string error_code_name(Errc code);
 // {"error":{"code":"out_of_range","message":"...","field":"median-points"}}
