@@ -339,9 +339,9 @@ void on_message(mosquitto* /*client*/, void* user, const mosquitto_message* mess
                                         "the retained one with an empty retained message to " +
                                             topic);
   } else if (size > max_command_bytes) {
-    command.refusal = hub::error_object("too_large", "a command of " + std::to_string(size) +
-                                                         " bytes is not run: at most " +
-                                                         std::to_string(max_command_bytes) + " bytes");
+    command.refusal =
+        hub::error_object("too_large", "a command of " + std::to_string(size) + " bytes is not run: at most " +
+                                           std::to_string(max_command_bytes) + " bytes");
   } else if (size > 0) {
     command.payload.assign(static_cast<const char*>(message->payload), size);
   }
@@ -355,9 +355,10 @@ void on_message(mosquitto* /*client*/, void* user, const mosquitto_message* mess
   if (const std::string replies = link->bridge.options.config.base_topic + "/reply/";
       !command.response_topic.empty() && !command.response_topic.starts_with(replies)) {
     if (command.refusal.is_null()) {
-      command.refusal = hub::error_object("bad_response_topic", "the response topic '" + command.response_topic +
-                                                                    "' is not under " + replies + ": nothing was run",
-                                          "response_topic");
+      command.refusal = hub::error_object(
+          "bad_response_topic",
+          "the response topic '" + command.response_topic + "' is not under " + replies + ": nothing was run",
+          "response_topic");
     }
     command.response_topic.clear();
   }
