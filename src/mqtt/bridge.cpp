@@ -71,11 +71,13 @@ struct Command {
   std::string payload;
   std::string response_topic;  // MQTT 5
   std::string correlation;     // MQTT 5 correlation data, as bytes
-  nlohmann::json refusal;      // set when the message is answered without being run
+  // Set when the message is answered with this error and not run.
+  std::optional<hub::BodyError> refusal;
+  std::string refusal_code;
 };
 
 // A command is a few settings or one action name; anything longer is refused unread and not queued.
-constexpr std::size_t max_command_bytes = 16 * 1024;
+constexpr std::size_t max_command_bytes = std::size_t{16} * 1024;
 constexpr std::size_t max_queued_commands = 64;
 
 // The network thread's eventfd. Shared with the hub's listener, which the hub may still be
@@ -332,16 +334,19 @@ void on_message(mosquitto* /*client*/, void* user, const mosquitto_message* mess
     return;
   }
   const auto size = static_cast<std::size_t>(std::max(message->payloadlen, 0));
+  const auto refuse = [&](std::string code, std::string why, std::string field = {}) {
+    command.refusal_code = std::move(code);
+    command.refusal = hub::BodyError{std::move(field), std::move(why)};
+  };
   if (message->retain) {
     // A retained command would run again at every connect of every service that subscribes.
-    command.refusal = hub::error_object("retained",
-                                        "a retained command is not run: publish it without the retain flag, and clear "
-                                        "the retained one with an empty retained message to " +
-                                            topic);
+    refuse("retained",
+           "a retained command is not run: publish it without the retain flag, and clear the retained one with an "
+           "empty retained message to " +
+               topic);
   } else if (size > max_command_bytes) {
-    command.refusal =
-        hub::error_object("too_large", "a command of " + std::to_string(size) + " bytes is not run: at most " +
-                                           std::to_string(max_command_bytes) + " bytes");
+    refuse("too_large", "a command of " + std::to_string(size) + " bytes is not run: at most " +
+                            std::to_string(max_command_bytes) + " bytes");
   } else if (size > 0) {
     command.payload.assign(static_cast<const char*>(message->payload), size);
   }
@@ -354,11 +359,10 @@ void on_message(mosquitto* /*client*/, void* user, const mosquitto_message* mess
   // Answers go out under the service's own rights, so only to topics made for them.
   if (const std::string replies = link->bridge.options.config.base_topic + "/reply/";
       !command.response_topic.empty() && !command.response_topic.starts_with(replies)) {
-    if (command.refusal.is_null()) {
-      command.refusal = hub::error_object(
-          "bad_response_topic",
-          "the response topic '" + command.response_topic + "' is not under " + replies + ": nothing was run",
-          "response_topic");
+    if (!command.refusal) {
+      refuse("bad_response_topic",
+             "the response topic '" + command.response_topic + "' is not under " + replies + ": nothing was run",
+             "response_topic");
     }
     command.response_topic.clear();
   }
@@ -810,7 +814,7 @@ void Bridge::Impl::handle(Command& command) {
 }
 
 nlohmann::json Bridge::Impl::result_of(const Command& command) {
-  if (!command.refusal.is_null()) return command.refusal;
+  if (command.refusal) return hub::error_object(command.refusal_code, command.refusal->message, command.refusal->field);
   const std::string& name = command.link->config.name;
   nlohmann::json result;
   if (command.is_set) {
