@@ -72,8 +72,12 @@ struct Command {
   std::string response_topic;  // MQTT 5
   std::string correlation;     // MQTT 5 correlation data, as bytes
   // Set when the message is answered with this error and not run.
-  std::optional<hub::BodyError> refusal;
-  std::string refusal_code;
+  struct Refusal {
+    std::string code;
+    std::string message;
+    std::string field;
+  };
+  std::optional<Refusal> refusal;
 };
 
 // A command is a few settings or one action name; anything longer is refused unread and not queued.
@@ -335,8 +339,7 @@ void on_message(mosquitto* /*client*/, void* user, const mosquitto_message* mess
   }
   const auto size = static_cast<std::size_t>(std::max(message->payloadlen, 0));
   const auto refuse = [&](std::string code, std::string why, std::string field = {}) {
-    command.refusal_code = std::move(code);
-    command.refusal = hub::BodyError{std::move(field), std::move(why)};
+    command.refusal = Command::Refusal{std::move(code), std::move(why), std::move(field)};
   };
   if (message->retain) {
     // A retained command would run again at every connect of every service that subscribes.
@@ -814,7 +817,8 @@ void Bridge::Impl::handle(Command& command) {
 }
 
 nlohmann::json Bridge::Impl::result_of(const Command& command) {
-  if (command.refusal) return hub::error_object(command.refusal_code, command.refusal->message, command.refusal->field);
+  if (command.refusal)
+    return hub::error_object(command.refusal->code, command.refusal->message, command.refusal->field);
   const std::string& name = command.link->config.name;
   nlohmann::json result;
   if (command.is_set) {

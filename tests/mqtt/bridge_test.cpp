@@ -91,6 +91,14 @@ const Heard* find(const std::vector<Heard>& heard, const std::string& topic) {
   return nullptr;
 }
 
+// Waits for the first message heard on `topic` and gives it as JSON (null when none came).
+nlohmann::json first_json_on(Subscriber& client, const std::string& topic) {
+  EXPECT_TRUE(client.wait_for([&](const auto& heard) { return find(heard, topic) != nullptr; })) << topic;
+  const auto heard = client.heard();
+  const Heard* message = find(heard, topic);
+  return message == nullptr ? nlohmann::json{} : nlohmann::json::parse(message->payload);
+}
+
 // Polls the bridge's counters (they have no event to wait on); the deadline is a safety net.
 template <class Done>
 bool until(Done done, std::chrono::seconds limit = 90s) {
@@ -328,9 +336,7 @@ TEST(MqttBridge, SetReachesTheEmulatorAndAnInvalidOneGetsAnErrorAndNothingReache
   EXPECT_EQ(ls5.outputs()["streaming"], false);
   client.clear();
   client.publish("rangekit/belt/action", R"({"action": "explode"})");
-  ASSERT_TRUE(client.wait_for([](const auto& heard) { return find(heard, "rangekit/belt/action/result") != nullptr; }));
-  EXPECT_EQ(nlohmann::json::parse(find(client.heard(), "rangekit/belt/action/result")->payload)["error"]["code"],
-            "unknown_action");
+  EXPECT_EQ(first_json_on(client, "rangekit/belt/action/result")["error"]["code"], "unknown_action");
   (*bridge)->stop();
 }
 
@@ -349,11 +355,7 @@ TEST(MqttBridge, CommandsOfAnyJsonTypeOrBytesGetAnErrorAndTheServiceGoesOn) {
   const auto answer = [&](const std::string& topic, const std::string& payload, const std::string& response = {}) {
     client.clear();
     client.publish("rangekit/belt/" + topic, payload, response);
-    const std::string result_topic = "rangekit/belt/" + topic + "/result";
-    EXPECT_TRUE(client.wait_for([&](const auto& heard) { return find(heard, result_topic) != nullptr; })) << payload;
-    const auto heard = client.heard();
-    const Heard* result = find(heard, result_topic);
-    return result == nullptr ? nlohmann::json{} : nlohmann::json::parse(result->payload);
+    return first_json_on(client, "rangekit/belt/" + topic + "/result");
   };
   struct Case {
     const char* topic;
@@ -415,9 +417,7 @@ TEST(MqttBridge, ARetainedCommandIsNotRunAtConnect) {
   ASSERT_TRUE(until([&] { return (*bridge)->stats().connected; }));
   // A live command after it is answered first: had the retained one run, its result came before.
   client.publish("rangekit/belt/action", "explode");
-  ASSERT_TRUE(client.wait_for([](const auto& heard) { return find(heard, "rangekit/belt/action/result") != nullptr; }));
-  EXPECT_EQ(nlohmann::json::parse(find(client.heard(), "rangekit/belt/action/result")->payload)["error"]["code"],
-            "unknown_action");
+  EXPECT_EQ(first_json_on(client, "rangekit/belt/action/result")["error"]["code"], "unknown_action");
   (*bridge)->stop();
 }
 
