@@ -488,10 +488,10 @@ TEST(MqttBridge, MessagesOverTheBrokersMaximumPacketSizeAreDroppedAndCountedAndH
     return std::any_of(heard.begin(), heard.end(),
                        [](const Heard& m) { return m.topic == "rangekit/belt/availability" && m.payload == "online"; });
   })) << log.text();
-  const auto records = hub->sensor("belt")->health.records;
-  ASSERT_TRUE(until([&] { return hub->sensor("belt")->health.records >= records + 200; }));
+  // The bridge counts what it drops as it takes the hub's items, which can be behind the
+  // hub's own count (under ThreadSanitizer it was): wait for its count, not the hub's.
+  ASSERT_TRUE(until([&] { return (*bridge)->stats().dropped > 200; })) << (*bridge)->stats().dropped;
   const auto stats = (*bridge)->stats();
-  EXPECT_GT(stats.dropped, 200u);
   EXPECT_EQ(stats.queued, 0u);
   EXPECT_EQ(stats.reconnects, 0u);
   EXPECT_TRUE(stats.connected);
