@@ -32,6 +32,7 @@
 #include <mutex>
 #include <thread>
 
+#include "mqtt/command_answer.hpp"
 #include "mqtt/packet_outbox.hpp"
 #include "mqtt/reading_window.hpp"
 #include "rangekit/hub/json_views.hpp"
@@ -819,35 +820,8 @@ void Bridge::Impl::handle(Command& command) {
 nlohmann::json Bridge::Impl::result_of(const Command& command) {
   if (command.refusal)
     return hub::error_object(command.refusal->code, command.refusal->message, command.refusal->field);
-  const std::string& name = command.link->config.name;
-  nlohmann::json result;
-  if (command.is_set) {
-    // The same reading of the body as the HTTP PATCH, then the hub's check against the CLI's tables.
-    const hub::SettingsBody body = hub::settings_from_body(command.payload);
-    if (body.error) {
-      result = hub::error_object("bad_body", body.error->message, body.error->field);
-    } else if (auto set = hub.set(name, body.values); !set) {
-      result = hub::error_object(hub::error_code_name(set.error().code), set.error().message,
-                                 hub::field_of(set.error(), body.values));
-    } else {
-      auto snapshot = hub.sensor(name);
-      result = {{"ok", true}, {"settings", snapshot ? hub::sensor_json(*snapshot)["settings"] : nlohmann::json{}}};
-    }
-  } else {
-    const hub::ActionBody body = hub::action_from_body(command.payload);
-    if (body.error) {
-      result = hub::error_object("bad_body", body.error->message, body.error->field);
-    } else if (const auto action = hub::parse_action(body.action); !action) {
-      result = hub::error_object(
-          "unknown_action",
-          "'" + body.action + "' is not an action (start, stop, single, pointer, save, reset, latch, read)", "action");
-    } else if (auto done = hub.act(name, *action, body.argument); !done) {
-      result = hub::error_object(hub::error_code_name(done.error().code), done.error().message);
-    } else {
-      result = {{"ok", true}, {"action", hub::action_name(*action)}, {"result", *done}};
-    }
-  }
-  return result;
+  return answer_command(hub, command.link->config.name, command.is_set ? CommandKind::set : CommandKind::action,
+                        command.payload);
 }
 
 // Sessions made by a start() that failed before their threads ran, or stopped ones.
