@@ -1,5 +1,5 @@
 // One HTTP connection of the server, over either stream: read a request, check its
-// limits, Host/Origin and token, route it, answer. Requests that wait for a sensor
+// limits, then who may ask it (web/access.hpp: Host, Origin, token) before routing it. Requests that wait for a sensor
 // (settings, actions) run on the server's command pool and post their answer back,
 // so the loop never blocks; streams are handed to EventStream. Included only by
 // connection_plain.cpp and connection_tls.cpp, one instantiation each.
@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <charconv>
 
+#include "web/access.hpp"
 #include "web/json_views.hpp"
 #include "web/metrics.hpp"
 #include "web/server_impl.hpp"
@@ -39,23 +40,33 @@ inline http::status status_for(const Error& error) {
 
 template <class Stream>  // PlainStream, or TlsStream when the service has a certificate
 class Connection : public std::enable_shared_from_this<Connection<Stream>> {
+  // Room in the read buffer beside the headers, for the first bytes of a body read with them.
+  static constexpr std::size_t kLineSlack = 4096;
+
  public:
-  Connection(Stream stream, Server::Impl& server) : stream_(std::move(stream)), server_(server) {
+  // The read buffer holds the headers, or one line of a chunked body, and no more: Beast
+  // bounds the headers but not a chunk-size line, which could otherwise grow without end.
+  Connection(Stream stream, Server::Impl& server)
+      : stream_(std::move(stream)), server_(server), buffer_(server.options.max_header_bytes + kLineSlack) {
     ++server_.connections;
   }
-  ~Connection() { --server_.connections; }
+  ~Connection() {
+    if (ticket_) server_.stop_waiting(*ticket_);
+    --server_.connections;
+  }
 
-  // TLS: the handshake first (bounded like a read), then the request.
-  void handshake() {
+  // TLS: the handshake first (bounded like a read), so that even a refusal is spoken in TLS;
+  // then the request, or over the connection limit one answer that says so.
+  void start(bool over_limit) {
     if constexpr (std::is_same_v<Stream, TlsStream>) {
       tcp_of(stream_).expires_after(std::chrono::seconds(30));
       stream_.async_handshake(net::ssl::stream_base::server,
-                              [self = this->shared_from_this()](beast::error_code error) {
+                              [self = this->shared_from_this(), over_limit](beast::error_code error) {
                                 if (error) return self->close();  // not TLS, or a certificate the client refused
-                                self->read();
+                                over_limit ? self->refuse() : self->read();
                               });
     } else {
-      read();
+      over_limit ? refuse() : read();
     }
   }
 
@@ -63,13 +74,19 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     parser_.emplace();
     parser_->body_limit(server_.options.max_body_bytes);
     parser_->header_limit(static_cast<std::uint32_t>(server_.options.max_header_bytes));
-    tcp_of(stream_).expires_after(std::chrono::seconds(60));  // an idle or trickling client is closed
+    tcp_of(stream_).expires_after(server_.options.request_timeout);  // an idle or trickling client is closed
+    // Over the limit, the service may close the oldest waiting connection for a new client.
+    // It is called on the event loop, like this connection's handlers: no read is under way elsewhere.
+    ticket_ = server_.wait_for_request([weak = this->weak_from_this()] {
+      if (auto self = weak.lock()) self->close();
+    });
     http::async_read(stream_, buffer_, *parser_,
                      [self = this->shared_from_this()](beast::error_code error, std::size_t) { self->on_read(error); });
   }
 
   // Over the connection limit: one answer, then closed.
   void refuse() {
+    tcp_of(stream_).expires_after(std::chrono::seconds(10));
     respond(http::status::service_unavailable,
             error_json("too_many_connections", "the service has " + std::to_string(server_.options.max_connections) +
                                                    " connections open; try again later"),
@@ -78,6 +95,8 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
 
  private:
   void on_read(beast::error_code error) {
+    if (ticket_) server_.stop_waiting(*ticket_);
+    ticket_.reset();
     if (error == http::error::end_of_stream || error == beast::error::timeout || error == net::error::eof) {
       return close();
     }
@@ -85,6 +104,12 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
       return respond(http::status::payload_too_large,
                      error_json("body_too_large",
                                 "bodies are limited to " + std::to_string(server_.options.max_body_bytes) + " bytes"),
+                     false);
+    }
+    if (error == http::error::buffer_overflow) {
+      return respond(http::status::bad_request,
+                     error_json("line_too_long", "a chunk-size line is limited to " +
+                                                     std::to_string(server_.options.max_header_bytes) + " bytes"),
                      false);
     }
     if (error == http::error::header_limit) {
@@ -177,43 +202,45 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     tcp_of(stream_).socket().close(ignored);
   }
 
-  // A page on another origin must not make the browser write to the sensors, and a
-  // name resolving to 127.0.0.1 (DNS rebinding) must not pass for this server.
-  bool same_origin() {
+  // Who may ask this (web/access.hpp): a Host naming this service (a name that resolved to
+  // 127.0.0.1 by DNS rebinding does not), for a write no other Origin, then the token. It
+  // runs before routing, so a refused client learns nothing of the paths or sensors.
+  bool admitted(const Target& target, Access access) {
+    if (access == Access::page || access == Access::health) return true;
     const std::string host(request_[http::field::host]);
-    const std::size_t colon = host.rfind(':');
-    const std::string name = host.substr(0, colon);
-    const std::string port = colon == std::string::npos ? "80" : host.substr(colon + 1);
-    const std::string own_port = std::to_string(server_.acceptor.local_endpoint().port());
-    const std::string listen_host = server_.acceptor.local_endpoint().address().to_string();
-    const bool host_ok = port == own_port && (is_loopback_host(name) || name == listen_host ||
-                                              server_.acceptor.local_endpoint().address().is_unspecified());
-    if (!host_ok) {
+    if (!host_names_service(host, server_.local, server_.tls.has_value())) {
       respond(http::status::forbidden,
-              error_json("bad_host", "Host '" + host + "' is not this service (" + listen_host + ":" + own_port + ")"));
+              error_json("bad_host", "Host '" + host + "' does not name this service (" + server_.local_text + ")"));
       return false;
     }
     const std::string origin(request_[http::field::origin]);
-    if (!origin.empty() && origin != "http://" + host && origin != "https://" + host) {
+    if (access == Access::write && !origin.empty() && origin != std::string(scheme()) + "://" + host) {
       respond(http::status::forbidden,
               error_json("bad_origin", "Origin '" + origin + "' may not write to this service"));
       return false;
     }
-    return true;
-  }
-
-  bool authorised(const Target& target) {
-    const std::string& token = server_.options.token;
-    if (token.empty()) return true;
-    const std::string header(request_[http::field::authorization]);
-    const auto query = target.query.find("token");
-    if (header == "Bearer " + token || (query != target.query.end() && query->second == token)) return true;
+    if (has_token(target, access)) return true;
+    const bool in_address = access == Access::write && target.query.count("token") != 0;
     respond(http::status::unauthorized,
-            error_json("unauthorized",
-                       "this service listens beyond loopback: send Authorization: Bearer TOKEN "
-                       "(printed at its first start, kept in its token file)"));
+            error_json("unauthorized", in_address ? "a write takes the token in Authorization: Bearer TOKEN, not in "
+                                                    "the address (?token= is for streams and links)"
+                                                  : "this service listens beyond loopback: send Authorization: "
+                                                    "Bearer TOKEN (printed at its first start, kept in its token "
+                                                    "file), or ?token= on a stream or link"));
     return false;
   }
+
+  // No token set (loopback only), or the right one: in the header, or in the query of a read.
+  bool has_token(const Target& target, Access access) const {
+    const std::string& token = server_.options.token;
+    if (token.empty()) return true;
+    const std::string_view header = request_[http::field::authorization];
+    if (header.rfind("Bearer ", 0) == 0 && same_secret(header.substr(7), token)) return true;
+    const auto query = target.query.find("token");
+    return access != Access::write && query != target.query.end() && same_secret(query->second, token);
+  }
+
+  static constexpr std::string_view scheme() { return std::is_same_v<Stream, TlsStream> ? "https" : "http"; }
 
   void route() {
     const Target target = parse_target(request_.target());
@@ -221,11 +248,16 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     const auto method = request_.method();
     if (!target.valid)
       return respond(http::status::bad_request, error_json("bad_target", "the path or query does not decode"));
-    if (path.size() == 1 && path[0] == "healthz") {
-      if (method != http::verb::get) return wrong_method("GET");
+    const Access access = access_of(target, method);
+    if (!admitted(target, access)) return;
+    if (access == Access::health) {
       const auto faces = server_.options.faces ? server_.options.faces() : std::vector<FaceHealth>{};
-      return respond(http::status::ok, health_json(server_.hub, faces).dump());
+      nlohmann::json health = health_json(server_.hub, faces);
+      // Without the token, which sensors and faces are down is not for everyone to read.
+      if (!has_token(target, Access::read)) health = nlohmann::json{{"status", health["status"]}};
+      return respond(http::status::ok, health.dump());
     }
+    if (path.size() == 1 && path[0] == "healthz") return wrong_method("GET");
     if (path.size() == 1 && path[0] == "metrics") {
       if (method != http::verb::get) return wrong_method("GET");
       const ServerStats stats{server_.connections.load(), server_.streams.open.load(), server_.requests.load(),
@@ -261,7 +293,6 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
         return respond(http::status::ok, settings.dump());
       }
       if (method != http::verb::patch) return wrong_method("GET, PATCH");
-      if (!same_origin() || !authorised(target)) return;
       return patch_settings(name);
     }
     if (what == "settings" && path.size() == 5 && path[4] == "schema") {
@@ -272,13 +303,11 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     }
     if (what == "actions" && path.size() == 5) {
       if (method != http::verb::post) return wrong_method("POST");
-      if (!same_origin() || !authorised(target)) return;
       return act(name, path[4], target);
     }
     if (what == "config" && path.size() == 4) {
       // Reading a whole configuration pauses an LS5 stream, so even the export is a POST.
       if (method != http::verb::post && method != http::verb::put) return wrong_method("POST, PUT");
-      if (!same_origin() || !authorised(target)) return;
       if (method == http::verb::post) {
         return off_loop([&hub = server_.hub, name] { return hub.export_config(name); },
                         [self = this->shared_from_this()](Result<std::string> result) {
@@ -296,7 +325,6 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     if (what == "bus" && path.size() == 5) {
       // Both talk to the bus (a scan holds the poll while it asks), so both are POSTs.
       if (method != http::verb::post) return wrong_method("POST");
-      if (!same_origin() || !authorised(target)) return;
       if (path[4] == "scan") return scan_bus(name);
       if (path[4] == "assign") return assign_address(name);
       return not_found("no such path: /bus/scan or /bus/assign (see docs/api.md)");
@@ -324,7 +352,6 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
         return respond(http::status::ok, nlohmann::json{{"captures", list}}.dump());
       }
       if (method != http::verb::post) return wrong_method("GET, POST");
-      if (!same_origin() || !authorised(target)) return;
       std::vector<std::string> sensors;
       if (!request_.body().empty()) {
         const auto json = nlohmann::json::parse(request_.body(), nullptr, false);
@@ -358,7 +385,6 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     }
     if (path.size() == 4 && path[3] == "stop") {
       if (method != http::verb::post) return wrong_method("POST");
-      if (!same_origin() || !authorised(target)) return;
       return off_loop([manager, id] { return manager->stop(id); },
                       [self = this->shared_from_this()](Result<hub::CaptureInfo> result) {
                         if (!result) return self->fail(result.error());
@@ -395,11 +421,23 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     response->set(http::field::content_disposition, "attachment; filename=\"" + name + "\"");
     response->keep_alive(request_.keep_alive());
     response->prepare_payload();
-    http::async_write(stream_, *response,
-                      [self = this->shared_from_this(), response](beast::error_code failed, std::size_t) {
-                        if (failed || response->need_eof()) return self->close();
-                        self->read();
-                      });
+    auto serializer = std::make_shared<http::response_serializer<http::file_body>>(*response);
+    write_file_part(std::move(response), std::move(serializer));
+  }
+
+  // One piece of a download at a time, the deadline renewed before each: it is cut only when
+  // the client takes nothing for a whole request_timeout, however long it runs.
+  void write_file_part(std::shared_ptr<http::response<http::file_body>> response,
+                       std::shared_ptr<http::response_serializer<http::file_body>> serializer) {
+    tcp_of(stream_).expires_after(server_.options.request_timeout);
+    http::async_write_some(
+        stream_, *serializer,
+        [self = this->shared_from_this(), response, serializer](beast::error_code failed, std::size_t) {
+          if (failed) return self->close();
+          if (!serializer->is_done()) return self->write_file_part(response, serializer);
+          if (response->need_eof()) return self->close();
+          self->read();
+        });
   }
 
   // Runs a call that waits for the sensor on the command pool; answers on the loop.
@@ -571,7 +609,6 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
   }
 
   void open_stream(const Target& target, const std::string& sensor) {
-    if (!authorised(target)) return;
     std::uint64_t after = server_.hub.last_sequence();
     const std::string last_event_id(request_["Last-Event-ID"]);
     std::string resume = last_event_id;
@@ -595,17 +632,33 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
       }
       options.max_rate = rate;
     }
+    if (server_.streams.open.load() >= server_.options.max_streams) {
+      ++server_.refused;
+      return respond(http::status::service_unavailable,
+                     error_json("too_many_streams", "the service has " + std::to_string(server_.options.max_streams) +
+                                                        " streams open; try again later"),
+                     false);
+    }
     // Subscribe first, then read the ring: nothing falls between them (duplicates are skipped by id).
     auto subscription = server_.hub.subscribe(sensor, server_.options.stream_queue, hub::OverflowPolicy::cut_off);
     if (!subscription) return not_found(subscription.error().message);
-    std::vector<hub::HubItemPtr> backlog;
-    if (!resume.empty()) {
+    StreamStart start{after, {}, {}};
+    const std::uint64_t newest = server_.hub.last_sequence();
+    if (!resume.empty() && after > newest) {
+      // Ids begin again at each start: an id this run has not reached is from an earlier one.
+      start.after = newest;
+      start.gap = "id " + resume + " is from an earlier run of the service; the stream starts now";
+    } else if (!resume.empty()) {
       auto since = server_.hub.since(sensor, after);
-      if (since) backlog = std::move(since->items);
+      if (since) {
+        start.backlog = std::move(since->items);
+        if (!since->complete) {
+          start.gap = "items after id " + resume + " are no longer kept; the stream resumes with the oldest kept";
+        }
+      }
     }
-    auto stream =
-        std::make_shared<EventStream<Stream>>(std::move(stream_), std::move(*subscription), std::move(backlog), after,
-                                              options, server_.ticker, server_.streams, server_.frames);
+    auto stream = std::make_shared<EventStream<Stream>>(std::move(stream_), std::move(*subscription), std::move(start),
+                                                        options, server_.ticker, server_.streams, server_.frames);
     stream->start();
   }
 
@@ -614,18 +667,17 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
   Request request_;
+  std::optional<std::uint64_t> ticket_;  // while waiting for a request (Server::Impl::wait_for_request)
 };
 
-// A connection over the limit gets one answer and is closed; the others start.
+// A connection over the limit takes the place of the oldest one still waiting for its
+// request, or gets one answer and is closed; the others start.
 template <class Stream>
 void admit(Stream stream, Server::Impl& server) {
   auto connection = std::make_shared<Connection<Stream>>(std::move(stream), server);
-  if (server.connections.load() > server.options.max_connections) {
-    ++server.refused;
-    connection->refuse();
-  } else {
-    connection->handshake();
-  }
+  const bool over_limit = server.connections.load() > server.options.max_connections && !server.evict_oldest_waiting();
+  if (over_limit) ++server.refused;
+  connection->start(over_limit);
 }
 
 }  // namespace rangekit::web::detail

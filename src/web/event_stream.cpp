@@ -9,13 +9,14 @@
 
 namespace rangekit::web {
 template <class Stream>
-EventStream<Stream>::EventStream(Stream stream, hub::SubscriptionPtr subscription, std::vector<hub::HubItemPtr> backlog,
-                                 std::uint64_t after, EventStreamOptions options, std::shared_ptr<FlushTicker> ticker,
+EventStream<Stream>::EventStream(Stream stream, hub::SubscriptionPtr subscription, StreamStart start,
+                                 EventStreamOptions options, std::shared_ptr<FlushTicker> ticker,
                                  EventStreamCounters& counters, EventCache& cache)
     : stream_(std::move(stream)),
       subscription_(std::move(subscription)),
-      backlog_(std::move(backlog)),
-      last_sent_(after),
+      backlog_(std::move(start.backlog)),
+      gap_(std::move(start.gap)),
+      last_sent_(start.after),
       options_(options),
       ticker_(std::move(ticker)),
       counters_(counters),
@@ -36,6 +37,10 @@ void EventStream<Stream>::start() {
   std::string out =
       "HTTP/1.1 200 OK\r\nContent-Type: text/event-stream\r\nCache-Control: no-cache\r\n"
       "X-Accel-Buffering: no\r\nConnection: keep-alive\r\n\r\n: rangekit\n\n";
+  // No id: the client's Last-Event-ID stays that of the last item it has.
+  if (!gap_.empty()) {
+    out += "event: resume\ndata: " + nlohmann::json{{"complete", false}, {"message", gap_}}.dump() + "\n\n";
+  }
   for (const hub::HubItemPtr& item : backlog_) append(out, *item);
   backlog_.clear();
   // The listener is called on a hub worker: it only asks the server's ticker for a flush,

@@ -33,12 +33,20 @@ struct EventStreamCounters {
   std::atomic<std::uint64_t> cut_off{0};
 };
 
+// Where a stream starts: after `after`, with the items kept since then. A resume that could not
+// be honoured in full (items no longer kept, or an id of an earlier run of the service) says
+// why in `gap`, which the client receives first as `event: resume`.
+struct StreamStart {
+  std::uint64_t after = 0;
+  std::vector<hub::HubItemPtr> backlog;
+  std::string gap;
+};
+
 template <class Stream>  // PlainStream or TlsStream (instantiated in event_stream.cpp)
 class EventStream : public std::enable_shared_from_this<EventStream<Stream>> {
  public:
-  EventStream(Stream stream, hub::SubscriptionPtr subscription, std::vector<hub::HubItemPtr> backlog,
-              std::uint64_t after, EventStreamOptions options, std::shared_ptr<FlushTicker> ticker,
-              EventStreamCounters& counters, EventCache& cache);
+  EventStream(Stream stream, hub::SubscriptionPtr subscription, StreamStart start, EventStreamOptions options,
+              std::shared_ptr<FlushTicker> ticker, EventStreamCounters& counters, EventCache& cache);
   ~EventStream();
   void start();
 
@@ -55,6 +63,7 @@ class EventStream : public std::enable_shared_from_this<EventStream<Stream>> {
   Stream stream_;
   hub::SubscriptionPtr subscription_;
   std::vector<hub::HubItemPtr> backlog_;
+  std::string gap_;
   std::uint64_t last_sent_;
   EventStreamOptions options_;
   std::shared_ptr<FlushTicker> ticker_;

@@ -10,6 +10,15 @@ namespace rangekit::web {
 
 void Server::Impl::accept() {
   acceptor.async_accept(net::make_strand(context), [this](beast::error_code error, tcp::socket socket) {
+    if (error == net::error::no_descriptors || error == boost::system::errc::too_many_files_open_in_system) {
+      // Accepting again at once would spin while the descriptors stay gone; the client waits in the backlog.
+      if (stopped) return;
+      backoff.expires_after(std::chrono::milliseconds(100));
+      backoff.async_wait([this](beast::error_code waited) {
+        if (!waited) accept();
+      });
+      return;
+    }
     if (error) {
       if (!stopped && error != net::error::operation_aborted) accept();
       return;
@@ -26,6 +35,29 @@ void Server::Impl::accept() {
     }
     accept();
   });
+}
+
+std::uint64_t Server::Impl::wait_for_request(std::function<void()> close) {
+  std::lock_guard lock(waiting_mutex);
+  waiting.emplace(next_ticket, std::make_pair(Clock::now(), std::move(close)));
+  return next_ticket++;
+}
+
+void Server::Impl::stop_waiting(std::uint64_t ticket) {
+  std::lock_guard lock(waiting_mutex);
+  waiting.erase(ticket);
+}
+
+bool Server::Impl::evict_oldest_waiting() {
+  std::function<void()> close;
+  {
+    std::lock_guard lock(waiting_mutex);
+    if (waiting.empty() || Clock::now() - waiting.begin()->second.first < kEvictAfter) return false;
+    close = std::move(waiting.begin()->second.second);
+    waiting.erase(waiting.begin());
+  }
+  close();  // outside the lock: closing ends the connection's read, which stops waiting itself
+  return true;
 }
 
 Server::Server(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -61,7 +93,11 @@ Result<std::unique_ptr<Server>> Server::start(hub::Hub& hub, ServerOptions optio
   if (!error) impl->acceptor.set_option(net::socket_base::reuse_address(true), error);
   if (!error) impl->acceptor.bind(local, error);
   if (!error) impl->acceptor.listen(net::socket_base::max_listen_connections, error);
+  if (!error) impl->local = impl->acceptor.local_endpoint(error);
   if (error) return make_error(Errc::io, "cannot listen on " + impl->options.listen + ": " + error.message());
+  const std::string address_text = impl->local.address().to_string();
+  impl->local_text = (impl->local.address().is_v6() ? "[" + address_text + "]" : address_text) + ":" +
+                     std::to_string(impl->local.port());
   impl->accept();
   Impl* raw = impl.get();
   impl->thread = std::thread([raw] { raw->context.run(); });
@@ -73,6 +109,7 @@ void Server::stop() {
   net::post(impl_->context, [impl = impl_.get()] {
     beast::error_code ignored;
     impl->acceptor.close(ignored);
+    impl->backoff.cancel();
   });
   impl_->commands.join();  // settings and actions in progress finish (within the hub's command timeout)
   impl_->poster->shut();
@@ -80,11 +117,7 @@ void Server::stop() {
   if (impl_->thread.joinable()) impl_->thread.join();
 }
 
-Endpoint Server::local_endpoint() const {
-  beast::error_code error;
-  const auto endpoint = impl_->acceptor.local_endpoint(error);
-  return Endpoint{endpoint.address().to_string(), endpoint.port()};
-}
+Endpoint Server::local_endpoint() const { return Endpoint{impl_->local.address().to_string(), impl_->local.port()}; }
 
 ServerStats Server::stats() const {
   return ServerStats{impl_->connections.load(), impl_->streams.open.load(), impl_->requests.load(),

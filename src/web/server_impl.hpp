@@ -4,6 +4,9 @@
 #include <boost/asio/thread_pool.hpp>
 
 #include <atomic>
+#include <functional>
+#include <map>
+#include <mutex>
 #include <optional>
 #include <thread>
 
@@ -23,10 +26,18 @@ struct Server::Impl {
   std::atomic<std::uint64_t> requests{0};
   std::atomic<std::uint64_t> refused{0};
   EventStreamCounters streams;
+  // The connections waiting for a request (wait_for_request below), before the loop too.
+  std::mutex waiting_mutex;
+  std::uint64_t next_ticket = 0;
+  std::map<std::uint64_t, std::pair<std::chrono::steady_clock::time_point, std::function<void()>>> waiting;
   EventCache frames;                     // before the loop too: the streams it holds use it until they go
   std::optional<net::ssl::context> tls;  // the certificate and key, when the service has them
   net::io_context context{1};
   tcp::acceptor acceptor{context};
+  // Where it listens, kept from the start: the acceptor's own answer throws once it is closed.
+  tcp::endpoint local;
+  std::string local_text;              // "127.0.0.1:8080", for messages
+  net::steady_timer backoff{context};  // out of descriptors: accept again a little later
   std::shared_ptr<Poster> poster = std::make_shared<Poster>(context);
   std::shared_ptr<FlushTicker> ticker = std::make_shared<FlushTicker>(context, poster, options.stream_tick);
   net::thread_pool commands;
@@ -35,6 +46,15 @@ struct Server::Impl {
 
   Impl(hub::Hub& h, ServerOptions o) : hub(h), options(std::move(o)), commands(options.command_threads) {}
   void accept();
+
+  // Connections waiting for a request (kept alive and idle, or with one still arriving),
+  // oldest first. At the limit a new client takes the place of the oldest that has waited
+  // longer than kEvictAfter, so clients that trickle (slowloris) cannot keep others out.
+  using Clock = std::chrono::steady_clock;
+  static constexpr std::chrono::seconds kEvictAfter{1};
+  std::uint64_t wait_for_request(std::function<void()> close);
+  void stop_waiting(std::uint64_t ticket);
+  bool evict_oldest_waiting();
 };
 
 // One accepted client, served until it closes: the plain and the TLS connection are

@@ -11,10 +11,6 @@
 
 namespace rangekit::web {
 
-bool is_loopback_host(const std::string& host) {
-  return host == "localhost" || host == "::1" || host == "[::1]" || host.rfind("127.", 0) == 0;
-}
-
 Result<Token> load_or_create_token(const std::string& path) {
   struct stat info {};
   if (::stat(path.c_str(), &info) == 0) {

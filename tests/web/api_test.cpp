@@ -272,14 +272,15 @@ TEST(WebApi, EveryBadRequestGetsA4xxThatNamesTheProblem) {
   EXPECT_TRUE(json_of(http(port, "GET", "/api/sensors/belt"))["streaming"].get<bool>());
 }
 
-// Beyond loopback a token is needed for every write and stream (the service sets it then;
-// here it is set on a loopback server, since tests use no other address).
-TEST(WebApi, WithATokenWritesAndStreamsNeedIt) {
+// Beyond loopback a token is needed for every read, write and stream (the service sets it
+// then; here it is set on a loopback server; tests/web/access_test.cpp walks every route).
+TEST(WebApi, WithATokenReadsWritesAndStreamsNeedIt) {
   web::ServerOptions options;
   options.token = "0123456789abcdef0123456789abcdef";
   ApiService service(options);
   const std::uint16_t port = service.port;
-  EXPECT_EQ(http(port, "GET", "/api/sensors").status, 200);  // reads need none
+  EXPECT_EQ(http(port, "GET", "/api/sensors").status, 401);
+  EXPECT_EQ(http(port, "GET", "/api/sensors", "", {"Authorization: Bearer " + options.token}).status, 200);
   const Reply without = http(port, "POST", "/api/sensors/belt/actions/read");
   EXPECT_EQ(without.status, 401) << without.body;
   EXPECT_EQ(http(port, "POST", "/api/sensors/belt/actions/read", "", {"Authorization: Bearer wrong"}).status, 401);

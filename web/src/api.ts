@@ -54,7 +54,7 @@ export interface Item<T> {
   data: T;
 }
 
-// Beyond loopback the service wants its token on streams and writes (docs/api.md, "Token").
+// Beyond loopback the service wants its token on every read, stream and write (docs/security.md).
 // The page takes it from its address (#token=... or ?token=) and keeps it for the tab.
 export function token(): string {
   const fromHash = new URLSearchParams(location.hash.replace(/^#/, '')).get('token');
@@ -68,9 +68,16 @@ export function setToken(value: string): void {
   sessionStorage.setItem('rangekit-token', value);
 }
 
+// A refused read: the status tells the page whether to ask for the token.
+export class ReadError extends Error {
+  constructor(readonly status: number, message: string) {
+    super(message);
+  }
+}
+
 export async function listSensors(): Promise<Sensor[]> {
-  const response = await fetch('/api/sensors', { cache: 'no-store' });
-  if (!response.ok) throw new Error(`GET /api/sensors: ${response.status} ${response.statusText}`);
+  const response = await authorisedFetch('/api/sensors');
+  if (!response.ok) throw new ReadError(response.status, `GET /api/sensors: ${response.status} ${response.statusText}`);
   const body = (await response.json()) as { sensors: Sensor[] };
   return body.sensors;
 }
@@ -103,7 +110,14 @@ export async function streamRefusal(url: string): Promise<number | null> {
   }
 }
 
-// A write (docs/api.md): same origin, and the token when the service wants one.
+// A link the browser follows by itself (a download): the token in its query, as for a stream.
+export function withToken(url: string): string {
+  const value = token();
+  if (!value) return url;
+  return `${url}${url.includes('?') ? '&' : '?'}token=${encodeURIComponent(value)}`;
+}
+
+// A read or a write (docs/api.md): same origin, and the token when the service wants one.
 export function authorisedFetch(url: string, init: RequestInit = {}): Promise<Response> {
   const headers = new Headers(init.headers);
   const value = token();

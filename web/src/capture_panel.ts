@@ -2,7 +2,7 @@
 // the service's captures (docs/api.md, "Captures"): the file is kept by the service, and the
 // page offers it in the §2 `.log` layout of each mode (U100), as CSV, JSON lines and, once
 // stopped, SQLite.
-import { authorisedFetch } from './api';
+import { authorisedFetch, withToken } from './api';
 
 interface CaptureInfo {
   id: string;
@@ -76,7 +76,7 @@ export class CapturePanel {
 
   private async refresh(): Promise<void> {
     if (!this.capture) return;
-    const response = await fetch(`/api/captures/${encodeURIComponent(this.capture.id)}`, { cache: 'no-store' });
+    const response = await authorisedFetch(`/api/captures/${encodeURIComponent(this.capture.id)}`);
     if (response.ok) this.show_((await response.json()) as CaptureInfo);
   }
 
@@ -95,7 +95,7 @@ export class CapturePanel {
   // View Capture: the `.log` as the Interface Program writes it, on the page.
   private async show(): Promise<void> {
     if (!this.capture) return;
-    const response = await fetch(this.capture.download.log, { cache: 'no-store' });
+    const response = await authorisedFetch(this.capture.download.log);
     const text = await response.text();
     this.view.hidden = false;
     if (!response.ok) {
@@ -118,7 +118,7 @@ export class CapturePanel {
     for (const [format, label] of FORMATS) {
       if (format === 'sqlite' && capture.active) continue;  // offered once stopped (docs/api.md)
       const link = element('a', 'download', label);
-      link.href = capture.download[format];
+      link.href = withToken(capture.download[format]);
       link.dataset.format = format;
       link.setAttribute('download', '');
       this.links.append(link, ' ');

@@ -224,6 +224,8 @@ export class Ls5Page {
       const item = JSON.parse((message as MessageEvent<string>).data) as { data: { event: string } };
       if (item.data.event === 'disconnected' || item.data.event === 'lost_records') this.plot.gap(Date.now() / 1000);
     });
+    // A resume that skipped items (the service restarted, or kept no more of them): nothing is drawn across it.
+    this.source.addEventListener('resume', () => this.plot.gap(Date.now() / 1000));
     this.plot.start();
   }
 
@@ -354,7 +356,7 @@ export class Ls5Page {
         this.message.textContent = `Read refused: ${body.error?.message ?? response.status}`;
         return;
       }
-      const settings = await fetch(`/api/sensors/${encodeURIComponent(this.name)}/settings`, { cache: 'no-store' });
+      const settings = await authorisedFetch(`/api/sensors/${encodeURIComponent(this.name)}/settings`);
       if (settings.ok) this.panels.update((await settings.json()) as Record<string, unknown>, true);
       this.message.textContent = 'Parameters read.';
       // The fields show the sensor's values again: a refusal of edits now gone no longer applies.

@@ -3,6 +3,7 @@
 // uses), with table 9.2's name, the unit and the range, and checked here before anything is
 // sent (the same fields and checks as the ULS panels: settings_fields.ts). Upload sends only
 // the fields that changed, as one PATCH; the service checks again and reads every byte back.
+import { authorisedFetch } from './api';
 import { buildField, element, numberProblem, patchSettings } from './settings_fields';
 import type { FieldView } from './settings_fields';
 import { distanceMm, MAX_CODE } from './ls5_outputs';
@@ -93,7 +94,7 @@ export class Ls5Panels {
 
   async load(identity: Ls5Identity): Promise<void> {
     this.identity = identity;
-    const response = await fetch(`/api/sensors/${encodeURIComponent(this.name)}/settings/schema`, { cache: 'no-store' });
+    const response = await authorisedFetch(`/api/sensors/${encodeURIComponent(this.name)}/settings/schema`);
     if (!response.ok) throw new Error(`settings schema: ${response.status}`);
     const schema = (await response.json()) as { settings: Ls5SchemaRow[] };
     const rows = new Map(schema.settings.map((row) => [row.key, row]));

@@ -4,7 +4,7 @@
 // the counters from GET /api/sensors every POLL_MS.
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
-import { eventsUrl, listSensors, setToken, streamRefusal, token } from './api';
+import { eventsUrl, listSensors, ReadError, setToken, streamRefusal, token } from './api';
 import type { Aggregate, Item, LinkEvent, Sensor } from './api';
 import { Card } from './card';
 import { Ls5Page } from './ls5_page';
@@ -97,7 +97,11 @@ async function poll(): Promise<void> {
     if (shown) sensorPage!.update(shown);
     if (streamState !== 'interrupted') showNotice(null);
   } catch (error) {
-    showNotice(`The service does not answer (${(error as Error).message}); trying again.`);
+    if (error instanceof ReadError && error.status === 401) {
+      if (!document.querySelector('.token-form')) showNotice(tokenForm());
+    } else {
+      showNotice(`The service does not answer (${(error as Error).message}); trying again.`);
+    }
   }
   applyFilter();
 }
@@ -107,7 +111,7 @@ function tokenForm(): HTMLElement {
   form.className = 'token-form';
   const text = document.createElement('p');
   text.textContent =
-    'This service listens beyond loopback, so its live stream needs the token it printed at its first start.';
+    'This service listens beyond loopback, so reading it needs the token it printed at its first start.';
   const label = document.createElement('label');
   label.htmlFor = 'token';
   label.textContent = 'Service token';
@@ -124,6 +128,7 @@ function tokenForm(): HTMLElement {
     setToken(input.value.trim());
     showNotice(null);
     openStream();
+    void poll();
   });
   return form;
 }

@@ -161,6 +161,8 @@ export class UlsPage {
       if (item.data.event === 'lost_records') this.plot.gap(Date.now() / 1000);
       if (item.data.event === 'connected' || item.data.event === 'reconnected') this.set('connected', true);
     });
+    // A resume that skipped items (the service restarted, or kept no more of them): nothing is drawn across it.
+    this.source.addEventListener('resume', () => this.plot.gap(Date.now() / 1000));
     this.tick = window.setInterval(() => this.updateBasic(), 500);
     this.plot.start();
   }
@@ -255,7 +257,7 @@ export class UlsPage {
       const body = await response.json();
       this.message.textContent = response.ok ? 'Settings read.' : `Read refused: ${body.error?.message ?? response.status}`;
       if (response.ok) {
-        const settings = await fetch(`/api/sensors/${encodeURIComponent(this.name)}/settings`, { cache: 'no-store' });
+        const settings = await authorisedFetch(`/api/sensors/${encodeURIComponent(this.name)}/settings`);
         if (settings.ok) this.panels.update((await settings.json()) as Record<string, unknown>, true);
       }
     } catch (error) {

@@ -3,6 +3,7 @@
 // checks by), shown with its range and unit, and checked here before anything is sent.
 // Upload Settings sends only the fields that changed, as one PATCH; a refusal of the unit
 // shows the API's message, which carries the §10 number and its Interface text.
+import { authorisedFetch } from './api';
 import { buildField, element, numberProblem, patchSettings } from './settings_fields';
 
 export interface SchemaRow {
@@ -106,7 +107,7 @@ export class UlsPanels {
   }
 
   async load(): Promise<void> {
-    const response = await fetch(`/api/sensors/${encodeURIComponent(this.name)}/settings/schema`, { cache: 'no-store' });
+    const response = await authorisedFetch(`/api/sensors/${encodeURIComponent(this.name)}/settings/schema`);
     if (!response.ok) throw new Error(`settings schema: ${response.status}`);
     const schema = (await response.json()) as { settings: SchemaRow[]; errors?: { number: number; display: string }[] };
     for (const error of schema.errors ?? []) this.errorDisplay.set(error.number, error.display);

@@ -46,9 +46,15 @@ struct ServerOptions {
   // Required (Authorization: Bearer, or ?token= for EventSource) on every write and
   // every stream when not empty. The service sets it whenever it listens beyond loopback.
   std::string token;
+  // Connections serving requests, and open streams: each limit its own, so that streams
+  // cannot keep requests (/healthz among them) out, and both bound the descriptors held.
   std::size_t max_connections = 256;
+  std::size_t max_streams = 256;
   std::size_t max_body_bytes = std::size_t{64} * 1024;
   std::size_t max_header_bytes = std::size_t{8} * 1024;
+  // How long one request may take to arrive, and how long a download may go without the
+  // client taking any of it (a download that keeps moving is never cut).
+  std::chrono::milliseconds request_timeout{60000};
   // Items a stream client may fall behind before it is cut off (it resumes with Last-Event-ID).
   std::size_t stream_queue = 4096;
   // How long the SSE streams gather items before they write (one wake-up and one write per
@@ -95,7 +101,8 @@ class Server {
   std::unique_ptr<Impl> impl_;
 };
 
-// True for 127.0.0.0/8, ::1 and "localhost".
+// True for "localhost" and the literal loopback addresses (127.0.0.0/8 dotted, ::1, [::1]);
+// not for a name that merely starts with "127.".
 bool is_loopback_host(const std::string& host);
 
 // The token of a service listening beyond loopback: read from `path`, or made (32
