@@ -245,6 +245,7 @@ int serve_demo(const ServeOptions& options) {
       broker_dir = pattern;
       mqtt::LocalBrokerOptions broker_options;
       broker_options.dir = broker_dir;
+      // Started on the main thread, which lives as long as the service: the broker dies with it.
       auto started = mqtt::LocalBroker::start(broker_options);
       if (started) {
         broker = std::move(*started);

@@ -50,15 +50,26 @@ Result<SimProcess> SimProcess::start(const std::vector<std::string>& arguments, 
 
   const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
-  if (pid < 0) return make_error(Errc::io, errno_text("fork", errno));
+  if (pid < 0) {
+    const int error_number = errno;
+    ::close(ready_pipe[0]);
+    ::close(ready_pipe[1]);
+    ::close(log_fd);
+    return make_error(Errc::io, errno_text("fork", error_number));
+  }
   if (pid == 0) {
     // Its own process group, so that Ctrl-C on the terminal reaches the parent only and
     // the parent stops it after ending its streams; SIGTERM when the parent dies anyway.
     ::setpgid(0, 0);
     ::prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (::getppid() != parent) ::_exit(127);
+    sigset_t none;  // a mask inherited from the forking thread would hold the death signal back
+    ::sigemptyset(&none);
+    ::sigprocmask(SIG_SETMASK, &none, nullptr);
     ::dup2(ready_pipe[1], STDOUT_FILENO);
     ::dup2(log_fd, STDERR_FILENO);
+    // None of the parent's descriptors (a service's listening sockets among them) stay open in it.
+    ::close_range(3, ~0U, 0);
     ::execv(executable.c_str(), argv.data());
     ::_exit(127);
   }

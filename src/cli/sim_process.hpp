@@ -2,7 +2,8 @@
 // same binary), for `rangekit demo` and the streaming bench: waits for its ready
 // line instead of sleeping and stops it (SIGTERM, then SIGKILL) when destroyed.
 // The child runs in its own process group (Ctrl-C goes to the parent, which stops
-// it) and gets SIGTERM if the parent dies without stopping it.
+// it) and gets SIGTERM if the parent dies without stopping it, or rather when the
+// thread that called start() ends: call it from one that outlives the child.
 #pragma once
 
 #include <sys/types.h>

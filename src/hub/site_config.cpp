@@ -2,11 +2,16 @@
 // below so an unknown or misspelt key stops the service before it opens a port.
 #include "rangekit/hub/site_config.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <array>
+#include <cerrno>
 #include <charconv>
-#include <fstream>
+#include <cstdio>
 #include <map>
-#include <sstream>
 
 #include "core/toml.hpp"  // private: toml++ is no part of the public API
 #include "rangekit/core/udp.hpp"
@@ -325,6 +330,7 @@ Status check_mqtt(std::string_view file, const toml::table& table, MqttConfig& m
         mqtt.username = *text;
       } else if (k == "password") {
         mqtt.password = *text;
+        mqtt.password_line = node.source().begin.line;
       } else {
         mqtt.ca_file = *text;
       }
@@ -483,12 +489,33 @@ Result<SiteConfig> parse_site_config(std::string_view text, std::string_view fil
 }
 
 Result<SiteConfig> load_site_config(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return make_error(Errc::io, "cannot read site file " + path);
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) return make_error(Errc::io, "cannot read site file " + path);
-  return parse_site_config(text.str(), path);
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOCTTY | O_CLOEXEC);
+  if (fd < 0) return make_error(Errc::io, "cannot read site file " + path);
+  struct stat info {};
+  std::string text;
+  bool read_all = ::fstat(fd, &info) == 0;
+  std::array<char, 8192> buffer{};
+  while (read_all) {
+    const ssize_t got = ::read(fd, buffer.data(), buffer.size());
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) {
+      read_all = got == 0;
+      break;
+    }
+    text.append(buffer.data(), static_cast<std::size_t>(got));
+  }
+  ::close(fd);
+  if (!read_all) return make_error(Errc::io, "cannot read site file " + path);
+  auto site = parse_site_config(text, path);
+  // The mode of the file read (fstat of its descriptor), not of whatever the path names now.
+  if (site && !site->mqtt.password.empty() && (info.st_mode & (S_IRGRP | S_IROTH)) != 0) {
+    std::array<char, 8> mode{};
+    std::snprintf(mode.data(), mode.size(), "%04o", static_cast<unsigned>(info.st_mode & 07777));
+    return make_error(Errc::io, path + ":" + std::to_string(site->mqtt.password_line) +
+                                    ": [mqtt] password in a file group or others may read (mode " + mode.data() +
+                                    "): chmod 600 " + path);
+  }
+  return site;
 }
 
 }  // namespace rangekit::hub

@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <netinet/in.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -107,20 +108,31 @@ Status LocalBroker::launch() {
     config << options_.extra_config;
     if (!config.flush()) return make_error(Errc::io, "cannot write " + config_path.string());
   }
+  // Made before fork: the child of a threaded process may call async-signal-safe functions only.
   const std::string log = log_path();
+  const std::string config = config_path.string();
+  const char* const executable = options_.executable.c_str();
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) return make_error(Errc::io, "cannot start mosquitto: fork failed");
   if (pid == 0) {
     // Its own process group: a Ctrl-C in the terminal reaches the service, which stops the broker last.
     ::setpgid(0, 0);
-    const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0600);
-    const int null = ::open("/dev/null", O_RDONLY);
+    // A service that dies without stopping it (kill -9, a crash) takes the broker along; the
+    // signal comes when the forking thread ends, hence start() and restart() on a lasting thread.
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (::getppid() != parent) ::_exit(127);  // the service died before the prctl: no signal would come
+    sigset_t none;  // a mask inherited from the forking thread would hold the death signal back
+    ::sigemptyset(&none);
+    ::sigprocmask(SIG_SETMASK, &none, nullptr);
+    const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0600);
+    const int null = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
     ::dup2(null, STDIN_FILENO);
     ::dup2(out, STDOUT_FILENO);
     ::dup2(out, STDERR_FILENO);
-    const std::string config = config_path.string();
-    ::execl(options_.executable.c_str(), options_.executable.c_str(), "-c", config.c_str(),
-            static_cast<char*>(nullptr));
+    // None of the service's descriptors (its listening sockets among them) stay open in the broker.
+    ::close_range(3, ~0U, 0);
+    ::execl(executable, executable, "-c", config.c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }
   pid_ = pid;

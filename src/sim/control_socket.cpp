@@ -6,6 +6,9 @@
 #include <sys/stat.h>
 #include <sys/un.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -60,10 +63,17 @@ Result<std::unique_ptr<ControlSocket>> ControlSocket::listen(const std::string& 
   }
   const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
   if (fd < 0) return make_error(Errc::io, errno_text("socket", errno));
-  if (::bind(fd, reinterpret_cast<const sockaddr*>(&address.value()), sizeof(sockaddr_un)) != 0 ||
-      ::listen(fd, 8) != 0) {
+  if (::bind(fd, reinterpret_cast<const sockaddr*>(&address.value()), sizeof(sockaddr_un)) != 0) {
     const int error_number = errno;
     ::close(fd);
+    return make_error(Errc::io, errno_text("cannot listen on " + path, error_number));
+  }
+  // Owner only whatever the umask: no peer can connect before listen(), and umask() would be
+  // process-wide, racing with other threads that create files.
+  if (::chmod(path.c_str(), 0600) != 0 || ::listen(fd, 8) != 0) {
+    const int error_number = errno;
+    ::close(fd);
+    ::unlink(path.c_str());
     return make_error(Errc::io, errno_text("cannot listen on " + path, error_number));
   }
   return std::unique_ptr<ControlSocket>(new ControlSocket(fd, path));
@@ -87,36 +97,47 @@ void ControlSocket::service(const Handler& handler) {
     clients_.push_back(Client{fd, {}});
   }
   for (auto& client : clients_) {
-    char buffer[4096];
-    while (true) {
-      const ssize_t n = ::recv(client.fd, buffer, sizeof buffer, 0);
-      if (n > 0) {
-        client.pending.append(buffer, static_cast<std::size_t>(n));
-        continue;
+    // Reads stop one byte past the limit, where the connection ends, so no more than that is
+    // ever held for a peer; the budget keeps one busy peer from holding up the loop (poll
+    // reports the rest again).
+    std::array<char, 4096> buffer{};
+    std::size_t budget = max_line;
+    while (client.fd >= 0 && budget > 0) {
+      const std::size_t room = max_line + 1 - client.pending.size();
+      const ssize_t n = ::recv(client.fd, buffer.data(), std::min({buffer.size(), budget, room}), 0);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        if (n == 0 || (errno != EAGAIN && errno != EWOULDBLOCK)) close_client(client);
+        break;
       }
-      if (n == 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
-        ::close(client.fd);
-        client.fd = -1;
+      budget -= static_cast<std::size_t>(n);
+      client.pending.append(buffer.data(), static_cast<std::size_t>(n));
+      peak_pending_ = std::max(peak_pending_, client.pending.size());
+      answer_lines(handler, client);
+      if (client.fd >= 0 && client.pending.size() > max_line) {
+        (void)write_line(client.fd, nlohmann::json{{"error", "request line longer than 64 KiB"}}.dump() + "\n");
+        close_client(client);
       }
-      break;
-    }
-    std::size_t newline = 0;
-    while (client.fd >= 0 && (newline = client.pending.find('\n')) != std::string::npos) {
-      const std::string line = client.pending.substr(0, newline);
-      client.pending.erase(0, newline + 1);
-      if (line.empty()) continue;
-      if (!write_line(client.fd, answer_control_line(handler, line) + "\n")) {
-        ::close(client.fd);
-        client.fd = -1;
-      }
-    }
-    if (client.fd >= 0 && client.pending.size() > max_line) {
-      (void)write_line(client.fd, nlohmann::json{{"error", "request line longer than 64 KiB"}}.dump() + "\n");
-      ::close(client.fd);
-      client.fd = -1;
     }
   }
   std::erase_if(clients_, [](const Client& client) { return client.fd < 0; });
+}
+
+void ControlSocket::close_client(Client& client) {
+  ::close(client.fd);
+  client.fd = -1;
+  client.pending.clear();
+  client.pending.shrink_to_fit();
+}
+
+void ControlSocket::answer_lines(const Handler& handler, Client& client) {
+  std::size_t newline = 0;
+  while (client.fd >= 0 && (newline = client.pending.find('\n')) != std::string::npos) {
+    const std::string line = client.pending.substr(0, newline);
+    client.pending.erase(0, newline + 1);
+    if (line.empty()) continue;
+    if (!write_line(client.fd, answer_control_line(handler, line) + "\n")) close_client(client);
+  }
 }
 
 Result<ControlClient> ControlClient::connect(const std::string& path) {

@@ -3,7 +3,17 @@
 // (noise bit_error_rate 2, drop_rate -1, move_target position_mm -1e308) were taken. Every
 // such line now gets one {"error": ...} line naming the problem, and the emulator keeps serving.
 #include <gtest/gtest.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -105,3 +115,74 @@ TEST(ControlSocket, Ls5AnswersInvalidUtf8AndOutOfRangeValuesWithErrorsAndKeepsRu
 }
 
 }  // namespace
+
+namespace control_socket_limits {
+
+using namespace std::chrono_literals;
+
+nlohmann::json answer_ok(const nlohmann::json& /*request*/) { return {{"ok", true}}; }
+
+// Anyone who may connect can steer the emulator, so only its owner may, whatever umask the
+// process was started with.
+TEST(ControlSocketLimits, TheSocketIsOwnerOnlyWhateverTheUmask) {
+  const ls5_driver_test::TempDir temp;
+  const std::string path = (temp.path / "open.control").string();
+  const mode_t previous = ::umask(0);
+  auto control = rangekit::ControlSocket::listen(path);
+  ::umask(previous);
+  ASSERT_TRUE(control) << control.error().message;
+  struct stat info {};
+  ASSERT_EQ(::lstat(path.c_str(), &info), 0);
+  EXPECT_TRUE(S_ISSOCK(info.st_mode));
+  EXPECT_EQ(info.st_mode & 07777, 0600u) << "mode " << std::oct << (info.st_mode & 07777);
+  EXPECT_TRUE(rangekit::ControlClient::connect(path).ok());
+}
+
+// A peer that sends megabytes without a newline is refused once it passes 64 KiB; the
+// emulator never holds more than that (and the byte that passes it) for it.
+TEST(ControlSocketLimits, APeerSendingMegabytesWithoutANewlineIsCutOffAt64KiB) {
+  const ls5_driver_test::TempDir temp;
+  const std::string path = (temp.path / "flood.control").string();
+  auto control = rangekit::ControlSocket::listen(path);
+  ASSERT_TRUE(control) << control.error().message;
+  const int peer = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+  ASSERT_GE(peer, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::memcpy(address.sun_path, path.c_str(), path.size() + 1);
+  ASSERT_EQ(::connect(peer, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
+  const std::size_t total = std::size_t{10} << 20;
+  const std::string chunk(std::size_t{64} << 10, 'x');
+  std::size_t sent = 0;
+  bool cut_off = false;
+  const auto deadline = std::chrono::steady_clock::now() + 30s;
+  while (!cut_off && sent < total && std::chrono::steady_clock::now() < deadline) {
+    // As much as the kernel takes now, then one turn of the emulator's loop.
+    while (sent < total) {
+      const ssize_t n = ::send(peer, chunk.data(), std::min(chunk.size(), total - sent), MSG_NOSIGNAL);
+      if (n > 0) {
+        sent += static_cast<std::size_t>(n);
+        continue;
+      }
+      cut_off = n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR;  // EPIPE: closed on us
+      break;
+    }
+    (*control)->service(answer_ok);
+  }
+  EXPECT_TRUE(cut_off) << "the connection took " << sent << " bytes without a newline";
+  EXPECT_LE((*control)->peak_pending(), (std::size_t{64} << 10) + 1);
+  // The refusal says why, before the close.
+  std::string reply;
+  while (reply.find('\n') == std::string::npos && std::chrono::steady_clock::now() < deadline) {
+    pollfd readable{peer, POLLIN, 0};
+    if (::poll(&readable, 1, 1000) <= 0) continue;
+    std::array<char, 512> buffer{};
+    const ssize_t n = ::recv(peer, buffer.data(), buffer.size(), 0);
+    if (n <= 0) break;
+    reply.append(buffer.data(), static_cast<std::size_t>(n));
+  }
+  ::close(peer);
+  EXPECT_NE(reply.find("request line longer than 64 KiB"), std::string::npos) << reply;
+}
+
+}  // namespace control_socket_limits

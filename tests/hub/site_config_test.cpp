@@ -2,8 +2,14 @@
 #include "rangekit/hub/site_config.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
+#include <array>
+#include <cstdio>
+#include <fstream>
 #include <string>
+
+#include "ls5_driver/cli_process.hpp"
 
 namespace {
 
@@ -177,3 +183,48 @@ TEST(SiteConfig, AnUnreadableFileIsNamed) {
 }
 
 }  // namespace
+
+namespace site_file_password {
+
+using rangekit::Errc;
+using rangekit::hub::load_site_config;
+
+std::string write_site(const std::filesystem::path& dir, const std::string& text, mode_t mode) {
+  const std::string path = (dir / "site.toml").string();
+  std::ofstream(path) << text;
+  EXPECT_EQ(::chmod(path.c_str(), mode), 0);
+  return path;
+}
+
+const std::string with_password =
+    "[mqtt]\nbroker = \"mqtt://10.0.0.5\"\nusername = \"plant\"\npassword = \"secret\"\n"
+    "[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"/dev/x\"\n";
+
+// The broker password in a site file anyone on the host may read is no secret: refused,
+// naming the line and the remedy.
+TEST(SiteFilePassword, AnInlinePasswordInAFileOthersMayReadIsRefused) {
+  const ls5_driver_test::TempDir dir;
+  for (const mode_t mode : {0644, 0640, 0604}) {
+    const std::string path = write_site(dir.path, with_password, mode);
+    auto site = load_site_config(path);
+    ASSERT_FALSE(site.ok()) << std::oct << mode << ": accepted";
+    EXPECT_EQ(site.error().code, Errc::io);
+    std::array<char, 8> octal{};
+    std::snprintf(octal.data(), octal.size(), "%04o", static_cast<unsigned>(mode));
+    EXPECT_EQ(site.error().message, path + ":4: [mqtt] password in a file group or others may read (mode " +
+                                        octal.data() + "): chmod 600 " + path);
+  }
+}
+
+TEST(SiteFilePassword, AnOwnerOnlyFileOrOneWithoutAPasswordIsTaken) {
+  const ls5_driver_test::TempDir dir;
+  auto owner_only = load_site_config(write_site(dir.path, with_password, 0600));
+  ASSERT_TRUE(owner_only.ok()) << owner_only.error().message;
+  EXPECT_EQ(owner_only->mqtt.password, "secret");
+  EXPECT_EQ(owner_only->mqtt.password_line, 4u);
+  auto no_password = load_site_config(
+      write_site(dir.path, "[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"/dev/x\"\n", 0644));
+  EXPECT_TRUE(no_password.ok()) << no_password.error().message;
+}
+
+}  // namespace site_file_password

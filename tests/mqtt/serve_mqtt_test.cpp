@@ -21,9 +21,11 @@ using mqtt_test::Heard;
 using mqtt_test::Subscriber;
 using namespace std::chrono_literals;
 
+// Owner only, as a site file holding a broker password must be.
 std::string write_site(const TempDir& dir, const std::string& text) {
   const auto path = (dir.path / "site.toml").string();
   std::ofstream(path) << text;
+  std::filesystem::permissions(path, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
   return path;
 }
 

@@ -1,7 +1,10 @@
 // The HTTP API end to end (issue 13 point 4, docs/api.md): the hub serving an LS5, a
 // ULS alone and a bus of four ULS units on ptys, the server on a loopback port, and
 // every kind of bad request answered with a 4xx JSON error that names the field.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -407,3 +410,66 @@ TEST(WebApi, ConfigurationExportAndImport) {
 }
 
 }  // namespace
+
+namespace token_file_test {
+
+using rangekit::web::load_or_create_token;
+
+std::string refusal(const std::string& path) {
+  auto token = load_or_create_token(path);
+  EXPECT_FALSE(token.ok()) << path << " was taken: " << (token.ok() ? token->value : "");
+  return token.ok() ? std::string() : token.error().message;
+}
+
+bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// Someone who may write the folder could plant a link to a file they cannot read; the
+// token the service takes must be the file itself.
+TEST(TokenFile, ASymbolicLinkIsRefusedNotFollowed) {
+  hub_test::TempDir dir;
+  const std::string target = (dir.path / "elsewhere").string();
+  ASSERT_TRUE(load_or_create_token(target).ok());
+  const std::string link = (dir.path / "token").string();
+  std::filesystem::create_symlink(target, link);
+  const std::string message = refusal(link);
+  EXPECT_TRUE(mentions(message, link) && mentions(message, "symbolic link")) << message;
+}
+
+TEST(TokenFile, AFileThatIsNotRegularIsRefused) {
+  hub_test::TempDir dir;
+  const std::string path = (dir.path / "token").string();
+  ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0);
+  // A writer holds it open with a token-like line waiting, so a read would not block.
+  const int writer = ::open(path.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
+  ASSERT_GE(writer, 0);
+  const std::string line = "0123456789abcdef0123456789abcdef\n";
+  ASSERT_EQ(::write(writer, line.data(), line.size()), static_cast<ssize_t>(line.size()));
+  const std::string message = refusal(path);
+  ::close(writer);
+  EXPECT_TRUE(mentions(message, path) && mentions(message, "not a regular file")) << message;
+}
+
+TEST(TokenFile, AModeOpenToGroupOrOthersIsRefusedSayingChmod600) {
+  hub_test::TempDir dir;
+  const std::string path = (dir.path / "token").string();
+  ASSERT_TRUE(load_or_create_token(path).ok());
+  for (const mode_t mode : {0640, 0620, 0604, 0602}) {
+    ASSERT_EQ(::chmod(path.c_str(), mode), 0);
+    const std::string message = refusal(path);
+    EXPECT_TRUE(mentions(message, path) && mentions(message, "chmod 600")) << std::oct << mode << ": " << message;
+  }
+  ASSERT_EQ(::chmod(path.c_str(), 0600), 0);
+  EXPECT_TRUE(load_or_create_token(path).ok());
+}
+
+TEST(TokenFile, AFileOfAnotherUserIsRefused) {
+  if (::geteuid() != 0) GTEST_SKIP() << "giving a file to another user needs root";
+  hub_test::TempDir dir;
+  const std::string path = (dir.path / "token").string();
+  ASSERT_TRUE(load_or_create_token(path).ok());
+  ASSERT_EQ(::chown(path.c_str(), 65534, 65534), 0);  // nobody
+  const std::string message = refusal(path);
+  EXPECT_TRUE(mentions(message, path) && mentions(message, "uid 65534") && mentions(message, "chown")) << message;
+}
+
+}  // namespace token_file_test

@@ -50,11 +50,12 @@ struct MqttConfig {
   std::string client_id = "rangekit";
   std::string base_topic = "rangekit";
   std::string username;
-  std::string password;
-  std::string ca_file;  // mqtts: the CA that signed the broker's certificate (system store when empty)
-  int qos_reading = 0;  // reading messages
-  int qos_state = 1;    // status, availability, discovery (all retained)
-  int qos_command = 1;  // set/action subscriptions and their results
+  std::string password;           // inline: load_site_config refuses a file group or others may read
+  std::size_t password_line = 0;  // where it was given
+  std::string ca_file;            // mqtts: the CA that signed the broker's certificate (system store when empty)
+  int qos_reading = 0;            // reading messages
+  int qos_state = 1;              // status, availability, discovery (all retained)
+  int qos_command = 1;            // set/action subscriptions and their results
   double max_rate_hz =
       10;  // reading messages a second per sensor; above it, one window message each 1/rate s; 0: every sample
   bool discovery = true;  // Home Assistant discovery under discovery_prefix
@@ -93,7 +94,8 @@ std::vector<PortGroup> port_groups(const SiteConfig& site);
 // Parses and checks the text; errors are Errc::invalid_frame (syntax, unknown
 // keys, wrong types) or Errc::out_of_range (values), each "FILE:LINE: reason".
 Result<SiteConfig> parse_site_config(std::string_view text, std::string_view file_name);
-// Reads the file first; an unreadable file is Errc::io naming it.
+// Reads the file first; an unreadable file is Errc::io naming it, and so is an inline
+// [mqtt] password in a file group or others may read ("FILE:LINE: ... chmod 600 FILE").
 Result<SiteConfig> load_site_config(const std::string& path);
 
 }  // namespace rangekit::hub

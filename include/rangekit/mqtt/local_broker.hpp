@@ -1,6 +1,8 @@
 // A mosquitto of its own on a free loopback port: what `rangekit serve --demo` starts
 // when no broker is given, and what the MQTT tests run against (a real broker, no mock).
-// The broker runs as a child process with a generated configuration in `dir`.
+// The broker runs as a child process with a generated configuration in `dir`. It gets
+// SIGTERM when the thread that started (or restarted) it ends, the service crashing
+// included: call start() and restart() from a thread that lives as long as the broker.
 #pragma once
 
 #include <sys/types.h>

@@ -22,8 +22,8 @@ class ControlSocket {
  public:
   using Handler = std::function<nlohmann::json(const nlohmann::json& request)>;
 
-  // Listens at `path`; fails if something already exists there. Removes the
-  // socket file when destroyed.
+  // Listens at `path` (mode 0600 whatever the umask); fails if something already
+  // exists there. Removes the socket file when destroyed.
   static Result<std::unique_ptr<ControlSocket>> listen(const std::string& path);
   ~ControlSocket();
   ControlSocket(const ControlSocket&) = delete;
@@ -36,6 +36,9 @@ class ControlSocket {
   // nothing throws out of here.
   void service(const Handler& handler);
   [[nodiscard]] const std::string& path() const noexcept { return path_; }
+  // The most bytes ever held for one peer's unanswered request: reading stops one byte past
+  // 64 KiB, where the request is refused and the connection closed.
+  [[nodiscard]] std::size_t peak_pending() const noexcept { return peak_pending_; }
 
  private:
   struct Client {
@@ -43,9 +46,12 @@ class ControlSocket {
     std::string pending;
   };
   ControlSocket(int fd, std::string path) : listener_(fd), path_(std::move(path)) {}
+  static void close_client(Client& client);
+  static void answer_lines(const Handler& handler, Client& client);
   int listener_;
   std::string path_;
   std::vector<Client> clients_;
+  std::size_t peak_pending_ = 0;
 };
 
 // Client side, for tests and the CLI: one request, one reply.

@@ -1,0 +1,78 @@
+// The mosquitto `rangekit serve --demo` starts ends with the service, also when the service
+// dies without stopping it (kill -9, a crash): no orphaned broker is left holding its port.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
+
+#include "ls5_driver/cli_process.hpp"
+#include "rangekit/mqtt/local_broker.hpp"
+
+namespace local_broker_test {
+
+using namespace std::chrono_literals;
+
+// For the test's length orphans below this process come to it rather than to init, so that
+// the end of a broker whose parent died can be waited for with waitpid.
+struct OrphanReaper {
+  OrphanReaper() { ::prctl(PR_SET_CHILD_SUBREAPER, 1); }
+  ~OrphanReaper() { ::prctl(PR_SET_CHILD_SUBREAPER, 0); }
+  OrphanReaper(const OrphanReaper&) = delete;
+  OrphanReaper& operator=(const OrphanReaper&) = delete;
+};
+
+bool reaped_within(pid_t pid, std::chrono::milliseconds limit) {
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  while (true) {
+    if (::waitpid(pid, nullptr, WNOHANG) == pid) return true;
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    ::poll(nullptr, 0, 10);  // waitpid has no timeout: poll on nothing between checks
+  }
+}
+
+TEST(LocalBroker, EndsWhenTheProcessThatStartedItIsKilled) {
+  if (rangekit::mqtt::LocalBroker::find_executable().empty()) GTEST_SKIP() << "no mosquitto installed";
+  const ls5_driver_test::TempDir dir;
+  const OrphanReaper reaper;
+  std::array<int, 2> pid_pipe{};
+  ASSERT_EQ(::pipe2(pid_pipe.data(), O_CLOEXEC), 0);
+  const pid_t service = ::fork();
+  ASSERT_GE(service, 0);
+  if (service == 0) {
+    // The service's stand-in: starts the broker from its main thread as serve --demo does,
+    // tells its pid and dies without a word.
+    ::close(pid_pipe[0]);
+    rangekit::mqtt::LocalBrokerOptions options;
+    options.dir = dir.path;
+    auto broker = rangekit::mqtt::LocalBroker::start(options);
+    const pid_t pid = broker ? (*broker)->pid() : -1;
+    (void)!::write(pid_pipe[1], &pid, sizeof pid);
+    ::raise(SIGKILL);
+    ::_exit(1);
+  }
+  ::close(pid_pipe[1]);
+  pid_t broker = -1;
+  pollfd told{pid_pipe[0], POLLIN, 0};
+  // LocalBroker::start gives up after 20 s; the rest is a margin for slow machines.
+  const bool heard = ::poll(&told, 1, 60000) == 1 && ::read(pid_pipe[0], &broker, sizeof broker) == sizeof broker;
+  ::close(pid_pipe[0]);
+  if (!heard) ::kill(service, SIGKILL);
+  int status = 0;
+  ASSERT_EQ(::waitpid(service, &status, 0), service);
+  ASSERT_TRUE(heard && broker > 0) << "the stand-in did not start a broker";
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+  const bool ended = reaped_within(broker, 10s);
+  if (!ended) {  // left running: stopped here, so that the test leaves nothing behind
+    ::kill(broker, SIGKILL);
+    ::waitpid(broker, nullptr, 0);
+  }
+  EXPECT_TRUE(ended) << "mosquitto (pid " << broker << ") outlived the process that started it";
+}
+
+}  // namespace local_broker_test
