@@ -1,8 +1,14 @@
 #include "rangekit/hub/captures.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <array>
 #include <atomic>
+#include <cerrno>
+#include <cstdlib>
 #include <filesystem>
-#include <fstream>
+#include <system_error>
 #include <thread>
 #include <variant>
 
@@ -20,6 +26,7 @@ struct CaptureManager::Running {
   std::unique_ptr<record::CaptureSink> sink;
   std::atomic<bool> stopping{false};
   std::thread writer;
+  std::array<std::mutex, 4> converting;  // per DownloadFormat: one conversion of a stopped capture at a time
 
   void run() {
     // One subscription per sensor (or one for all); each drained in turn.
@@ -84,6 +91,103 @@ struct CaptureManager::Running {
   }
 };
 
+namespace {
+
+constexpr std::array<const char*, 4> extensions = {"sqlite", "csv", "jsonl", "log"};
+
+std::string reason(int error) { return std::error_code(error, std::generic_category()).message(); }
+
+// "<id>.csv.part-XXXXXX" (mkostemp's six characters), or "<id>.csv.part" as written before.
+bool is_export_temporary(const std::string& name) {
+  std::string_view rest = name;
+  if (const auto at = rest.rfind(".part-"); at != std::string_view::npos && rest.size() == at + 12) {
+    rest = rest.substr(0, at + 5);
+  }
+  if (!rest.ends_with(".part")) return false;
+  rest.remove_suffix(5);
+  return rest.ends_with(".csv") || rest.ends_with(".jsonl") || rest.ends_with(".log");
+}
+
+// A conversion is reused while nothing wrote the capture after it: its database, nor the WAL
+// its commits go to while the sink holds it open. Equal times count as current: nothing
+// writes a stopped capture, and a clock tick (a few ms on ext4) would otherwise miss it.
+bool is_current(const std::string& converted, const std::string& capture) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(converted, error)) return false;
+  const auto made = std::filesystem::last_write_time(converted, error);
+  if (error) return false;
+  for (const std::string& written : {capture, capture + "-wal"}) {
+    const auto changed = std::filesystem::last_write_time(written, error);
+    if (error) {
+      if (written == capture || error != std::errc::no_such_file_or_directory) return false;
+      continue;
+    }
+    if (changed > made) return false;
+  }
+  return true;
+}
+
+Status write_all(int fd, std::string_view text, const std::string& path) {
+  while (!text.empty()) {
+    const ssize_t wrote = ::write(fd, text.data(), text.size());
+    if (wrote < 0 && errno == EINTR) continue;
+    if (wrote < 0) return make_error(Errc::io, "cannot write " + path + ": " + reason(errno));
+    text.remove_prefix(static_cast<std::size_t>(wrote));
+  }
+  return ok_status();
+}
+
+Status write_converted(SampleSource& source, DownloadFormat format, int fd, const std::string& path) {
+  std::string text;
+  if (format == DownloadFormat::csv) text = record::csv_header();
+  record::InterfaceLogWriter log;
+  for (;;) {
+    auto item = source.next(std::chrono::milliseconds(100));
+    if (!item) {
+      if (source.finished()) break;
+      continue;
+    }
+    if (const auto* sample = std::get_if<Sample>(&*item)) {
+      if (format == DownloadFormat::csv) record::append_csv(text, *sample);
+      if (format == DownloadFormat::jsonl) record::append_jsonl(text, *sample);
+      if (format == DownloadFormat::log) {
+        if (Status appended = log.append(text, *sample); !appended) return appended;
+      }
+    } else if (format == DownloadFormat::jsonl) {
+      record::append_jsonl(text, std::get<StreamEvent>(*item));
+    }
+    if (text.size() > (1u << 20)) {
+      if (Status written = write_all(fd, text, path); !written) return written;
+      text.clear();
+    }
+  }
+  return write_all(fd, text, path);
+}
+
+// Each conversion writes a file of its own (O_EXCL) and renames it onto `path`: a reader
+// that opened the previous file keeps it whole. No fsync: a file is only served by the run
+// that made it.
+Result<std::string> convert(const std::string& capture, DownloadFormat format, const std::string& path) {
+  auto source = record::open_replay(capture, record::ReplayOptions{0, {}});  // committed batches, full speed
+  if (!source) return source.error();
+  std::string temporary = path + ".part-XXXXXX";
+  const int fd = ::mkostemp(temporary.data(), O_CLOEXEC);
+  if (fd < 0) return make_error(Errc::io, "cannot create a temporary file for " + path + ": " + reason(errno));
+  Status written = write_converted(**source, format, fd, temporary);
+  if (::close(fd) != 0 && written) written = make_error(Errc::io, "cannot write " + temporary + ": " + reason(errno));
+  if (written) {
+    std::error_code renamed;
+    std::filesystem::rename(temporary, path, renamed);
+    if (!renamed) return path;
+    written = make_error(Errc::io, "cannot rename " + temporary + " to " + path + ": " + renamed.message());
+  }
+  std::error_code ignored;
+  std::filesystem::remove(temporary, ignored);
+  return written.error();
+}
+
+}  // namespace
+
 Result<DownloadFormat> parse_download_format(std::string_view name) {
   if (name == "sqlite") return DownloadFormat::sqlite;
   if (name == "csv") return DownloadFormat::csv;
@@ -92,7 +196,15 @@ Result<DownloadFormat> parse_download_format(std::string_view name) {
   return make_error(Errc::out_of_range, "format '" + std::string(name) + "': sqlite, csv, jsonl or log");
 }
 
-CaptureManager::CaptureManager(Hub& hub, std::string directory) : hub_(hub), directory_(std::move(directory)) {}
+CaptureManager::CaptureManager(Hub& hub, std::string directory) : hub_(hub), directory_(std::move(directory)) {
+  // An export cut short by a crash leaves its temporary file; no other run uses it.
+  std::error_code error;
+  for (std::filesystem::directory_iterator entry(directory_, error), end; !error && entry != end;
+       entry.increment(error)) {
+    std::error_code ignored;
+    if (is_export_temporary(entry->path().filename().string())) std::filesystem::remove(entry->path(), ignored);
+  }
+}
 
 CaptureManager::~CaptureManager() { stop_all(); }
 
@@ -176,54 +288,31 @@ void CaptureManager::stop_all() {
 }
 
 Result<std::string> CaptureManager::export_file(const std::string& id, DownloadFormat format) {
-  auto capture = info(id);
-  if (!capture) return capture.error();
+  Running* running = nullptr;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& capture : captures_) {
+      if (capture->info.id == id) running = capture.get();
+    }
+  }
+  if (running == nullptr) return make_error(Errc::unknown_parameter, "no capture '" + id + "'");
+  const CaptureInfo capture = running->snapshot();
   if (format == DownloadFormat::sqlite) {
-    if (capture->active) {
+    if (capture.active) {
       return make_error(Errc::unsupported,
                         "capture " + id + " is still running: stop it first, or download csv/jsonl/log");
     }
-    return capture->path;
+    return capture.path;
   }
-  static constexpr const char* extensions[] = {"sqlite", "csv", "jsonl", "log"};
+  const std::string extension = extensions[static_cast<int>(format)];
+  // A running capture's conversion lacks what comes next: it never takes the name a stopped one reuses.
   const std::string path =
-      (std::filesystem::path(directory_) / (id + "." + extensions[static_cast<int>(format)] + ".part")).string();
-  auto source = record::open_replay(capture->path, record::ReplayOptions{0, {}});  // committed batches, full speed
-  if (!source) return source.error();
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) return make_error(Errc::io, "cannot write " + path);
-  std::string text;
-  if (format == DownloadFormat::csv) text = record::csv_header();
-  record::InterfaceLogWriter log;
-  for (;;) {
-    auto item = (*source)->next(std::chrono::milliseconds(100));
-    if (!item) {
-      if ((*source)->finished()) break;
-      continue;
-    }
-    if (const auto* sample = std::get_if<Sample>(&*item)) {
-      if (format == DownloadFormat::csv) record::append_csv(text, *sample);
-      if (format == DownloadFormat::jsonl) record::append_jsonl(text, *sample);
-      if (format == DownloadFormat::log) {
-        if (Status appended = log.append(text, *sample); !appended) {
-          std::filesystem::remove(path);
-          return appended.error();
-        }
-      }
-    } else if (format == DownloadFormat::jsonl) {
-      record::append_jsonl(text, std::get<StreamEvent>(*item));
-    }
-    if (text.size() > (1u << 20)) {
-      out << text;
-      text.clear();
-    }
-  }
-  out << text;
-  out.close();
-  if (!out) return make_error(Errc::io, "cannot write " + path);
-  const std::string final_path = path.substr(0, path.size() - 5);
-  std::filesystem::rename(path, final_path);
-  return final_path;
+      (std::filesystem::path(directory_) / (id + (capture.active ? ".active." : ".") + extension)).string();
+  if (capture.active) return convert(capture.path, format, path);
+  // Concurrent downloads of a stopped capture wait for one conversion, then share its file.
+  std::lock_guard converting(running->converting[static_cast<int>(format)]);
+  if (is_current(path, capture.path)) return path;
+  return convert(capture.path, format, path);
 }
 
 }  // namespace rangekit::hub

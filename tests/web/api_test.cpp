@@ -8,9 +8,12 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <latch>
 #include <map>
 #include <regex>
+#include <set>
 #include <sstream>
+#include <thread>
 
 #include "hub/site_fixture.hpp"
 #include "rangekit/sim/control_socket.hpp"
@@ -386,6 +389,79 @@ TEST(WebApi, CapturesStartStopListAndDownloadInEveryFormat) {
   EXPECT_EQ(error_field(http(service.port, "GET", "/api/captures/" + id + "/download?format=xls")), "format");
   EXPECT_EQ(error_field(http(service.port, "POST", "/api/captures", R"({"sensors": ["nope"]})")), "sensors");
   EXPECT_EQ(http(service.port, "GET", "/api/captures/none").status, 404);
+}
+
+// Downloads of one stopped capture at once: six of one format, for each format, then four of
+// every format together. Each is answered with the whole file, the same for every download of
+// a format, and the service goes on answering.
+TEST(WebApi, ParallelDownloadsOfOneCaptureAreWholeAndTheSame) {
+  ApiService service;
+  const std::set<std::string> ulses = {"silo", "bay-A", "bay-B", "bay-C", "bay-D"};  // .log is a ULS layout
+  const Reply started =
+      http(service.port, "POST", "/api/captures", R"({"sensors": ["silo", "bay-A", "bay-B", "bay-C", "bay-D"]})");
+  ASSERT_EQ(started.status, 201) << started.body;
+  const std::string id = json_of(started)["id"];
+  // The capture subscribed first: what this stream shows, it holds once stopped.
+  web_test::EventReader events(service.port, "/api/events");
+  std::size_t seen = 0;
+  ASSERT_TRUE(events.read_until(
+      [&](const web_test::Event& event) {
+        if (event.type == "sample" &&
+            ulses.count(nlohmann::json::parse(event.data)["sensor"].get<std::string>()) != 0) {
+          ++seen;
+        }
+        return seen >= 150;
+      },
+      std::chrono::seconds(60)));
+  events.close();
+  const Reply stopped = http(service.port, "POST", "/api/captures/" + id + "/stop");
+  ASSERT_EQ(stopped.status, 200) << stopped.body;
+  const auto samples = json_of(stopped)["samples"].get<std::size_t>();
+  ASSERT_GE(samples, 150u);
+
+  const auto download_at_once = [&](const std::vector<std::string>& formats) {
+    std::vector<Reply> replies(formats.size());
+    std::latch go(static_cast<std::ptrdiff_t>(formats.size()));
+    std::vector<std::thread> clients;
+    for (std::size_t i = 0; i < formats.size(); ++i) {
+      clients.emplace_back([&, i] {
+        go.arrive_and_wait();
+        replies[i] = http(service.port, "GET", "/api/captures/" + id + "/download?format=" + formats[i]);
+      });
+    }
+    for (std::thread& client : clients) client.join();
+    return replies;
+  };
+  std::map<std::string, std::string> bodies;
+  const auto check = [&](const std::vector<std::string>& formats, const std::vector<Reply>& replies) {
+    for (std::size_t i = 0; i < formats.size(); ++i) {
+      ASSERT_EQ(replies[i].status, 200) << formats[i] << ": " << replies[i].body;
+      EXPECT_EQ(replies[i].headers.at("content-length"), std::to_string(replies[i].body.size())) << formats[i];
+      const std::string& body = bodies.try_emplace(formats[i], replies[i].body).first->second;
+      EXPECT_TRUE(replies[i].body == body)
+          << formats[i] << ": " << replies[i].body.size() << " bytes, not " << body.size();
+    }
+  };
+  const std::vector<std::string> all = {"csv", "jsonl", "log", "sqlite"};
+  for (const std::string& format : all) {
+    const std::vector<std::string> same(6, format);
+    check(same, download_at_once(same));
+  }
+  std::vector<std::string> mixed;
+  for (int round = 0; round < 4; ++round) mixed.insert(mixed.end(), all.begin(), all.end());
+  check(mixed, download_at_once(mixed));
+  if (HasFatalFailure()) return;
+
+  const std::string& csv = bodies["csv"];
+  EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), samples + 1);
+  EXPECT_NE(bodies["jsonl"].find("\"source\":\"bay-A\""), std::string::npos);
+  EXPECT_NE(bodies["log"].find("Time (H:M:S:mS)"), std::string::npos);
+  EXPECT_EQ(bodies["sqlite"].substr(0, 16), std::string("SQLite format 3\0", 16));
+  // Still answering, and a later download is the same file.
+  EXPECT_EQ(http(service.port, "GET", "/healthz").status, 200);
+  const Reply later = http(service.port, "GET", "/api/captures/" + id + "/download?format=csv");
+  ASSERT_EQ(later.status, 200);
+  EXPECT_TRUE(later.body == csv);
 }
 
 // The same TOML as `rangekit ls5 config save/load` (§2 File Menu's configuration file).

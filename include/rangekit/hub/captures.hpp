@@ -49,7 +49,8 @@ class CaptureManager {
   // Stops every capture, each committed and closed (SIGTERM).
   void stop_all();
   // Writes the capture in `format` to a file beside it and returns that file's path
-  // (sqlite: the capture itself, once stopped).
+  // (sqlite: the capture itself, once stopped). A stopped capture is converted once and
+  // the file reused; concurrent calls each get a complete file.
   Result<std::string> export_file(const std::string& id, DownloadFormat format);
 
  private:
