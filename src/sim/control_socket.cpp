@@ -102,7 +102,7 @@ void ControlSocket::service(const Handler& handler) {
     // reports the rest again).
     std::array<char, 4096> buffer{};
     std::size_t budget = max_line;
-    while (client.fd >= 0 && budget > 0) {
+    while (client.fd >= 0 && budget > 0 && client.pending.size() <= max_line) {
       const std::size_t room = max_line + 1 - client.pending.size();
       const ssize_t n = ::recv(client.fd, buffer.data(), std::min({buffer.size(), budget, room}), 0);
       if (n < 0 && errno == EINTR) continue;
@@ -113,11 +113,14 @@ void ControlSocket::service(const Handler& handler) {
       budget -= static_cast<std::size_t>(n);
       client.pending.append(buffer.data(), static_cast<std::size_t>(n));
       peak_pending_ = std::max(peak_pending_, client.pending.size());
-      answer_lines(handler, client);
-      if (client.fd >= 0 && client.pending.size() > max_line) {
-        (void)write_line(client.fd, nlohmann::json{{"error", "request line longer than 64 KiB"}}.dump() + "\n");
-        close_client(client);
-      }
+    }
+    // Answered after reading, not between reads: a request that comes in after an answer waits
+    // for the next turn of the loop, which polls the serial lines first (the tests' "status"
+    // request relies on that order).
+    answer_lines(handler, client);
+    if (client.fd >= 0 && client.pending.size() > max_line) {
+      (void)write_line(client.fd, nlohmann::json{{"error", "request line longer than 64 KiB"}}.dump() + "\n");
+      close_client(client);
     }
   }
   std::erase_if(clients_, [](const Client& client) { return client.fd < 0; });
