@@ -43,6 +43,9 @@ struct CaptureManager::Running {
       write(subscription->take(SIZE_MAX, std::chrono::milliseconds(0)));  // what was queued still goes in
     }
     Status flushed = sink->flush();
+    // Closed here, not at the service's exit: closing folds SQLite's write-ahead log into the
+    // .sqlite file and marks the session ended, so a download of the stopped capture is whole.
+    sink.reset();
     std::lock_guard lock(mutex);
     for (const SubscriptionPtr& subscription : subscriptions) info.lost = subscription->lost();
     if (!flushed && info.error.empty()) info.error = flushed.error().message;

@@ -16,6 +16,7 @@
 #include "hub/site_fixture.hpp"
 #include "rangekit/hub/captures.hpp"
 #include "rangekit/hub/hub.hpp"
+#include "rangekit/record/replay.hpp"
 
 namespace capture_export_test {
 
@@ -228,6 +229,33 @@ TEST(CaptureExport, TemporaryFilesLeftByACrashAreRemovedAtStart) {
   EXPECT_TRUE(std::filesystem::exists(*csv));
   EXPECT_TRUE(std::filesystem::exists(folder / (capture.id + ".sqlite")));
   EXPECT_TRUE(next_run.list().empty());
+}
+
+// The .sqlite of a stopped capture is whole on its own: the download is that one file, so
+// nothing may be left in SQLite's write-ahead log beside it.
+TEST(CaptureExport, AStoppedCapturesSqliteFileHoldsEverySampleWithoutItsLog) {
+  Capturing capturing(40);
+  const hub::CaptureInfo stopped = capturing.stop();
+  auto file = capturing.captures.export_file(capturing.id, DownloadFormat::sqlite);
+  ASSERT_TRUE(file.ok()) << file.error().message;
+  EXPECT_FALSE(std::filesystem::exists(*file + "-wal"))
+      << "left in the log: " << std::filesystem::file_size(*file + "-wal");
+  // Only the file a download sends, in a folder of its own.
+  const std::filesystem::path alone = capturing.site.temp.path / "downloaded.sqlite";
+  std::filesystem::copy_file(*file, alone);
+  auto replay = record::open_replay(alone.string(), record::ReplayOptions{0, {}});
+  ASSERT_TRUE(replay.ok()) << replay.error().message;
+  std::uint64_t samples = 0;
+  for (;;) {
+    auto item = (*replay)->next(std::chrono::milliseconds(100));
+    if (!item) {
+      if ((*replay)->finished()) break;
+      continue;
+    }
+    if (std::holds_alternative<Sample>(*item)) ++samples;
+  }
+  EXPECT_EQ(samples, stopped.samples);
+  EXPECT_GE(samples, 40u);
 }
 
 }  // namespace capture_export_test
