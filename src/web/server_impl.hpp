@@ -49,9 +49,10 @@ struct Server::Impl {
 
   // Connections waiting for a request (kept alive and idle, or with one still arriving),
   // oldest first. At the limit a new client takes the place of the oldest that has waited
-  // longer than kEvictAfter, so clients that trickle (slowloris) cannot keep others out.
+  // longer than kEvictAfter, so clients that trickle (slowloris) cannot keep others out; a
+  // client on a plant's network sends its request within milliseconds.
   using Clock = std::chrono::steady_clock;
-  static constexpr std::chrono::seconds kEvictAfter{1};
+  static constexpr std::chrono::milliseconds kEvictAfter{500};
   std::uint64_t wait_for_request(std::function<void()> close);
   void stop_waiting(std::uint64_t ticket);
   bool evict_oldest_waiting();
