@@ -171,7 +171,7 @@ export class Ls5Page {
   }
 
   // From GET /api/sensors: the ID (decoded by the service from the 35 characters), link state.
-  update(sensor: Sensor): void {
+  update(sensor: Sensor, requestedAt = Infinity): void {
     this.connection.textContent = sensor.health.connected ? 'connected' : 'disconnected';
     this.connection.dataset.connected = String(sensor.health.connected);
     const identity = sensor.identity as Record<string, unknown>;
@@ -180,7 +180,7 @@ export class Ls5Page {
       this.showIdentity(sensor);
     }
     const settings = (sensor as Sensor & { settings?: Record<string, unknown> }).settings ?? {};
-    if (Object.keys(settings).length > 0) this.panels.update(settings);
+    if (Object.keys(settings).length > 0) this.panels.update(settings, false, requestedAt);
   }
 
   private showIdentity(sensor: Sensor): void {

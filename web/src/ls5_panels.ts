@@ -76,6 +76,7 @@ export interface Ls5Identity {
 }
 
 export class Ls5Panels {
+  private forcedAt = -Infinity;
   readonly root = element('div', 'panels');
   readonly message = element('p', 'panel-message');
   readonly fields = new Map<string, Field>();
@@ -164,8 +165,12 @@ export class Ls5Panels {
   }
 
   // The settings as last read (GET /api/sensors): every field shows them, except one being edited.
-  update(settings: Record<string, unknown>, force = false): void {
+  // `requestedAt`: when the snapshot was asked for (performance.now()). One asked before the
+  // last forced update (a read, an upload, a set's answer) is older than what is shown: skipped.
+  update(settings: Record<string, unknown>, force = false, requestedAt = Infinity): void {
     if (Object.keys(settings).length === 0) return;
+    if (force) this.forcedAt = performance.now();
+    else if (requestedAt < this.forcedAt) return;
     this.settings = settings;
     this.onSettings(settings);
     if (!this.schemaLoaded) return;

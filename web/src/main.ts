@@ -90,11 +90,12 @@ function cardFor(sensor: Pick<Sensor, 'name' | 'family'>): Card {
 
 async function poll(): Promise<void> {
   try {
+    const requestedAt = performance.now();
     const sensors = await listSensors();
     families = new Map(sensors.map((sensor) => [sensor.name, sensor.family]));
     for (const sensor of sensors) cardFor(sensor).update(sensor);
     const shown = sensorPage && sensors.find((sensor) => sensor.name === sensorPage!.name);
-    if (shown) sensorPage!.update(shown);
+    if (shown) sensorPage!.update(shown, requestedAt);
     if (streamState !== 'interrupted') showNotice(null);
   } catch (error) {
     if (error instanceof ReadError && error.status === 401) {

@@ -126,14 +126,14 @@ export class UlsPage {
   }
 
   // From GET /api/sensors: link state, US status (§8), settings as last read.
-  update(sensor: Sensor): void {
+  update(sensor: Sensor, requestedAt = Infinity): void {
     this.set('connected', sensor.health.connected);
     this.network.update(sensor);
     const status = sensor.status as Record<string, unknown>;
     this.set('laser', status['laser-firing'] === undefined ? undefined : status['laser-firing'] === 'yes');
     const settings = (sensor as Sensor & { settings: Record<string, unknown> }).settings ?? {};
     const known = Object.keys(settings).length > 0;
-    this.panels.update(settings);
+    this.panels.update(settings, false, requestedAt);
     this.singleButton.hidden = !(known && settings.continuous === 'off');
     // U114: G when a gate is not 0 (U44: "0 = off"), CT when the cooperative filter is on, O when the offset is not 0.
     this.set('gates', known ? Number(settings['short-gate-m']) !== 0 || Number(settings['long-gate-m']) !== 0 : undefined);

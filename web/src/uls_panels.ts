@@ -94,6 +94,7 @@ interface Field {
 }
 
 export class UlsPanels {
+  private forcedAt = -Infinity;
   readonly root = element('div', 'panels');
   readonly message = element('p', 'panel-message');
   private readonly fields = new Map<string, Field>();
@@ -184,8 +185,12 @@ export class UlsPanels {
   }
 
   // The settings as last read (GET /api/sensors): every field shows them, except one being edited.
-  update(settings: Record<string, unknown>, force = false): void {
+  // `requestedAt`: when the snapshot was asked for (performance.now()). One asked before the
+  // last forced update (a read, an upload, a set's answer) is older than what is shown: skipped.
+  update(settings: Record<string, unknown>, force = false, requestedAt = Infinity): void {
     if (!this.schemaLoaded || Object.keys(settings).length === 0) return;
+    if (force) this.forcedAt = performance.now();
+    else if (requestedAt < this.forcedAt) return;
     for (const field of this.fields.values()) {
       const raw = settings[field.row.key];
       if (raw === undefined) continue;
