@@ -76,12 +76,10 @@ asan:
 TSAN_TESTS = cli core hub ls5_driver mqtt record sim uls_driver uls_emulator web
 empty :=
 TSAN_LABELS = $(subst $(empty) $(empty),|,$(strip $(TSAN_TESTS)))
-# -O1, as ThreadSanitizer's documentation suggests: it compiles faster than -O2 and the
-# tests, which mostly wait on serial lines, run as fast.
 tsan:
 	@bash scripts/install-deps.sh test
 	@bash scripts/configure.sh build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 $(DEBUG_INFO) -DNDEBUG" -DRANGEKIT_TSAN=ON -DRANGEKIT_BENCH=OFF $(CMAKE_FLAGS)
+	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 $(DEBUG_INFO) -DNDEBUG" -DRANGEKIT_TSAN=ON -DRANGEKIT_BENCH=OFF $(CMAKE_FLAGS)
 	@cmake --build build-tsan -j$(JOBS) --target rangekit $(TSAN_TESTS:%=rangekit_%_tests)
 	@ctest --test-dir build-tsan --output-on-failure -j$(SANITIZER_TEST_JOBS) -L '^binary\.($(TSAN_LABELS))$$'
 
