@@ -41,9 +41,11 @@ bool host_names_service(std::string_view host, const tcp::endpoint& local, bool 
   if (name.empty() || port != local.port()) return false;
   if (is_loopback_host(std::string(name))) return local.address().is_loopback() || local.address().is_unspecified();
   if (local.address().is_unspecified()) return true;
-  std::string own = local.address().to_string();
-  if (local.address().is_v6()) own = "[" + own + "]";
-  return name == own;
+  return name == host_text(local.address());
+}
+
+std::string host_text(const net::ip::address& address) {
+  return address.is_v6() ? "[" + address.to_string() + "]" : address.to_string();
 }
 
 bool same_secret(std::string_view given, std::string_view secret) {

@@ -3,6 +3,7 @@
 // is this table in words; tests/web/access_test.cpp walks it against a running service.
 #pragma once
 
+#include <string>
 #include <string_view>
 
 #include "web/http.hpp"
@@ -23,6 +24,9 @@ Access access_of(const Target& target, http::verb method);
 // given), and a loopback literal or `localhost`, the address it is bound to, or any name
 // when it is bound to every address (then the token guards it).
 bool host_names_service(std::string_view host, const tcp::endpoint& local, bool tls);
+
+// An address as a Host header names it: "127.0.0.1", "[::1]".
+std::string host_text(const net::ip::address& address);
 
 // Equal, in time that depends on the lengths only.
 bool same_secret(std::string_view given, std::string_view secret);

@@ -4,6 +4,7 @@
 // for the token.
 #include "rangekit/web/server.hpp"
 
+#include "web/access.hpp"
 #include "web/server_impl.hpp"
 
 namespace rangekit::web {
@@ -95,9 +96,7 @@ Result<std::unique_ptr<Server>> Server::start(hub::Hub& hub, ServerOptions optio
   if (!error) impl->acceptor.listen(net::socket_base::max_listen_connections, error);
   if (!error) impl->local = impl->acceptor.local_endpoint(error);
   if (error) return make_error(Errc::io, "cannot listen on " + impl->options.listen + ": " + error.message());
-  const std::string address_text = impl->local.address().to_string();
-  impl->local_text = (impl->local.address().is_v6() ? "[" + address_text + "]" : address_text) + ":" +
-                     std::to_string(impl->local.port());
+  impl->local_text = host_text(impl->local.address()) + ":" + std::to_string(impl->local.port());
   impl->accept();
   Impl* raw = impl.get();
   impl->thread = std::thread([raw] { raw->context.run(); });
