@@ -92,7 +92,8 @@ TEST(HostileClient, AWriteDuringShutdownNeverEndsTheProcess) {
   stopper.join();
   ::close(kept);
   ::close(scan);
-  SUCCEED() << "still running; answered: " << answer.substr(0, answer.find("\r\n"));
+  // Still running; the write got an HTTP answer, or the connection was closed without one.
+  EXPECT_TRUE(answer.empty() || answer.rfind("HTTP/1.1 ", 0) == 0) << answer.substr(0, 200);
 }
 
 // The request deadline covers reading the request; a download is cut only when it stalls.
