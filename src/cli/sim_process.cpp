@@ -65,7 +65,7 @@ Result<SimProcess> SimProcess::start(const std::vector<std::string>& arguments, 
     if (::getppid() != parent) ::_exit(127);
     sigset_t none;  // a mask inherited from the forking thread would hold the death signal back
     ::sigemptyset(&none);
-    ::sigprocmask(SIG_SETMASK, &none, nullptr);
+    ::pthread_sigmask(SIG_SETMASK, &none, nullptr);
     ::dup2(ready_pipe[1], STDOUT_FILENO);
     ::dup2(log_fd, STDERR_FILENO);
     // None of the parent's descriptors (a service's listening sockets among them) stay open in it.

@@ -124,7 +124,7 @@ Status LocalBroker::launch() {
     if (::getppid() != parent) ::_exit(127);  // the service died before the prctl: no signal would come
     sigset_t none;  // a mask inherited from the forking thread would hold the death signal back
     ::sigemptyset(&none);
-    ::sigprocmask(SIG_SETMASK, &none, nullptr);
+    ::pthread_sigmask(SIG_SETMASK, &none, nullptr);
     const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0600);
     const int null = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
     ::dup2(null, STDIN_FILENO);
