@@ -12,6 +12,7 @@
 #include <thread>
 #include <type_traits>
 
+#include "rangekit/uls/bus.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/errors.hpp"
 #include "uls_driver/scripted_device.hpp"
@@ -255,7 +256,32 @@ TEST(UlsDriver, AddressedProtocolFramesAndMatchesByAddress) {
   ASSERT_TRUE(mode) << mode.error().message;
   EXPECT_EQ(*mode, Mode::binning);
   EXPECT_TRUE(rig.driver->set_mode(Mode::look_down));
-  EXPECT_EQ(rig.driver->counters().unexpected, 1U);
+  EXPECT_EQ(rig.driver->counters().other_units, 1U);
+  EXPECT_EQ(rig.driver->counters().unexpected, 0U);
+}
+
+// A unit asked before that answers late, while the scan asks the next address, is not a unit
+// there and no collision (§8: a reply names its unit, "#aCCCC").
+TEST(UlsBus, ALateReplyFromAnotherAddressIsNeitherAUnitNorACollision) {
+  auto pair = make_loopback_pair("host", "device");
+  BusOptions options;
+  options.timeout = 300ms;
+  Bus bus(std::move(pair.a), options);
+  ScriptedDevice device(std::move(pair.b), [](const std::string& request) -> std::string {
+    if (request == "#AID") return "#AID,ULS 1.0,2026\r";
+    if (request == "#AUS") return "#AUS,1\r";
+    if (request == "#BID") return "#AUS,1\r";  // A again, late; B is silent
+    if (request == "#CID") return "#CID,ULS 1.0,2026\r";
+    if (request == "#CUS") return "#CUS,1\r";
+    return "";
+  });
+  const auto found = bus.scan({'A', 'B', 'C'});
+  ASSERT_EQ(found.size(), 2U);
+  EXPECT_EQ(found[0].address, 'A');
+  EXPECT_FALSE(found[0].duplicate);
+  EXPECT_EQ(found[1].address, 'C');
+  EXPECT_FALSE(found[1].duplicate);
+  EXPECT_GE(bus.driver().counters().other_units, 1U);
 }
 
 TEST(UlsDriver, DistancesAreMetresWhateverTheUnitsSetting) {

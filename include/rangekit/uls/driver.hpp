@@ -75,6 +75,8 @@ struct DriverCounters {
   std::uint64_t rejected_bytes = 0;
   std::uint64_t bad_frames = 0;  // framer rejections and lines that did not decode
   std::uint64_t unexpected = 0;  // replies nobody asked for
+  // Replies from another unit's address: on a shared bus, one asked earlier that answered late.
+  std::uint64_t other_units = 0;
   std::uint64_t retries = 0;
   std::uint64_t echoes = 0;  // our own request read back (RS-485 adapters that echo, U67)
   // Measurement lines that arrived before MM/DM/MU/TB were read: never decoded with a guess (U85).

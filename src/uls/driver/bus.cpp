@@ -60,7 +60,8 @@ std::vector<BusUnit> Bus::scan(const std::vector<std::uint8_t>& addresses) {
     const auto before = driver_.counters();
     auto version = driver_.version();
     const auto after = driver_.counters();
-    // Garbled bytes while waiting at this address: two units answered at once (U66).
+    // Garbled bytes, or a second reply from this address: two units answered at once (U66). A
+    // whole reply from another address is a unit asked earlier answering late, not a unit here.
     const bool garbled = after.bad_frames > before.bad_frames || after.unexpected > before.unexpected;
     if (version) {
       unit.answered = true;

@@ -318,7 +318,7 @@ void Driver::dispatch(Bytes frame_bytes, const Measurement* direct, const Measur
   }
 
   if (pending == nullptr) {
-    ++counters_.unexpected;
+    ++(ours ? counters_.unexpected : counters_.other_units);
     return;
   }
   if (error_number != 0) {
