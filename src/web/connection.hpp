@@ -422,6 +422,7 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     response->keep_alive(request_.keep_alive());
     response->prepare_payload();
     auto serializer = std::make_shared<http::response_serializer<http::file_body>>(*response);
+    bound_send_buffer(tcp_of(stream_));  // the file waits on disk for a slow client, not in the kernel
     write_file_part(std::move(response), std::move(serializer));
   }
 

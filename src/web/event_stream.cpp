@@ -57,10 +57,7 @@ void EventStream<Stream>::start() {
     });
   });
   tcp_of(stream_).expires_never();
-  // A bounded kernel buffer per client: a client that stops reading fills it and then its
-  // queue, and is cut off, instead of the system holding megabytes for it.
-  beast::error_code ignored;
-  tcp_of(stream_).socket().set_option(net::socket_base::send_buffer_size(64 * 1024), ignored);
+  bound_send_buffer(tcp_of(stream_));  // a client that stops reading fills it, then its queue, and is cut off
   arm_keepalive();
   if (options_.max_rate) arm_bucket_timer();
   write(std::move(out));

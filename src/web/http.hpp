@@ -25,6 +25,14 @@ using TlsStream = beast::ssl_stream<beast::tcp_stream>;  // [service] tls_certif
 inline beast::tcp_stream& tcp_of(PlainStream& stream) { return stream; }
 inline beast::tcp_stream& tcp_of(TlsStream& stream) { return stream.next_layer(); }
 
+// A bounded kernel buffer for a client that takes a stream or a download: a client that stops
+// reading fills it and then waits, instead of the system holding megabytes for it (on loopback,
+// Linux starts a socket's buffer at over a megabyte).
+inline void bound_send_buffer(beast::tcp_stream& stream) {
+  beast::error_code ignored;
+  stream.socket().set_option(net::socket_base::send_buffer_size(64 * 1024), ignored);
+}
+
 using Request = http::request<http::string_body>;
 using Response = http::response<http::string_body>;
 
