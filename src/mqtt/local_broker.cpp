@@ -105,6 +105,7 @@ Status LocalBroker::launch() {
     } else {
       config << "allow_anonymous false\npassword_file " << options_.password_file << "\n";
     }
+    if (options_.max_packet_size > 0) config << "max_packet_size " << options_.max_packet_size << "\n";
     config << options_.extra_config;
     if (!config.flush()) return make_error(Errc::io, "cannot write " + config_path.string());
   }

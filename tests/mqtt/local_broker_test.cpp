@@ -10,6 +10,10 @@
 
 #include <array>
 #include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <string>
 
 #include "ls5_driver/cli_process.hpp"
 #include "rangekit/mqtt/local_broker.hpp"
@@ -73,6 +77,42 @@ TEST(LocalBroker, EndsWhenTheProcessThatStartedItIsKilled) {
     ::waitpid(broker, nullptr, 0);
   }
   EXPECT_TRUE(ended) << "mosquitto (pid " << broker << ") outlived the process that started it";
+}
+
+// The bridge cannot announce a Maximum Packet Size (libmosquitto 2.0 sends CONNECT properties
+// only on a blocking connect, and none on its reconnects): the broker it starts bounds what any
+// client publishes instead, so a command far over the bridge's 16 KiB never reaches a subscriber.
+TEST(LocalBroker, DropsPublicationsOverItsMaximumPacketSize) {
+  if (rangekit::mqtt::LocalBroker::find_executable().empty()) GTEST_SKIP() << "no mosquitto installed";
+  const ls5_driver_test::TempDir dir;
+  rangekit::mqtt::LocalBrokerOptions options;
+  options.dir = dir.path;
+  auto broker = rangekit::mqtt::LocalBroker::start(options);
+  ASSERT_TRUE(broker.ok()) << broker.error().message;
+  const std::string at = " -V 5 -h 127.0.0.1 -p " + std::to_string((*broker)->port()) + " -t rangekit/belt/set ";
+  // NOLINTBEGIN(concurrency-mt-unsafe): std::system from the test's only thread
+  const auto publish = [&](const std::string& what) {
+    return std::system(("mosquitto_pub -q 1" + at + what + " >/dev/null 2>&1").c_str());
+  };
+  const auto received = dir.path / "received";
+  ASSERT_EQ(std::system(("timeout 60 mosquitto_sub" + at + "> " + received.string() + " 2>&1 &").c_str()), 0);
+  const auto heard = [&](const std::string& text) {
+    std::ifstream file(received);
+    return std::string(std::istreambuf_iterator<char>(file), {}).find(text) != std::string::npos;
+  };
+  // Until the subscriber is there: it hears a ping.
+  const auto deadline = std::chrono::steady_clock::now() + 20s;
+  while (!heard("ping") && std::chrono::steady_clock::now() < deadline) publish("-m ping");
+  ASSERT_TRUE(heard("ping"));
+  const auto big = dir.path / "big";
+  std::ofstream(big) << std::string(64 * 1024, 'x');
+  publish("-f " + big.string());  // QoS 1: the broker has dealt with it when this returns
+  publish("-m end");
+  while (!heard("end") && std::chrono::steady_clock::now() < deadline) ::poll(nullptr, 0, 20);
+  std::system(("pkill -f 'mosquitto_sub" + at + "'").c_str());
+  // NOLINTEND(concurrency-mt-unsafe)
+  EXPECT_TRUE(heard("end"));
+  EXPECT_FALSE(heard(std::string(1000, 'x'))) << "a 64 KiB publication got through";
 }
 
 }  // namespace local_broker_test

@@ -21,7 +21,10 @@ struct LocalBrokerOptions {
   std::uint16_t port = 0;     // 0: a free one
   std::string password_file;  // mosquitto_passwd file: anonymous clients refused; empty: anonymous allowed
   std::string executable;     // empty: found on PATH or in /usr/sbin
-  std::string extra_config;   // lines appended to the generated mosquitto.conf (e.g. "max_packet_size 200\n")
+  // mosquitto's max_packet_size: what any client may publish (the bridge takes commands of up
+  // to 16 KiB). The bridge cannot announce a maximum of its own (docs/security.md); 0: none.
+  std::uint32_t max_packet_size = 20 * 1024;
+  std::string extra_config;  // lines appended to the generated mosquitto.conf (e.g. "max_packet_size 200\n")
 };
 
 class LocalBroker {
