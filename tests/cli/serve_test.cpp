@@ -4,11 +4,14 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "ls5_driver/cli_process.hpp"
 #include "rangekit/sim/control_socket.hpp"
@@ -152,9 +155,24 @@ TEST(ServeDemo, ServesSevenLiveSensorsAndStopsItsEmulators) {
   EXPECT_FALSE(std::filesystem::exists(dir)) << dir;
 }
 
-// Issue 13, done means: "SIGTERM closes the captures cleanly and releases the ports." U86: the
-// stream the service started is ended (table 9.1 "SB: Stop the stream") before it exits.
-// Issue 13: "SIGTERM closes the captures cleanly and releases the ports."
+// The service's "capture ...: N samples, 0 lost → FILE" line: the capture was committed and
+// closed, it replays, and holds what the service said it wrote.
+void expect_capture_whole(const TempDir& dir, const std::string& capture_line) {
+  ASSERT_NE(capture_line.find(" samples, 0 lost → "), std::string::npos) << capture_line;
+  std::string file = capture_line.substr(capture_line.find("→ ") + std::string("→ ").size());
+  while (!file.empty() && (file.back() == '\n' || file.back() == '\r')) file.pop_back();
+  const auto samples = std::stoul(capture_line.substr(capture_line.find(": ") + 2));
+  EXPECT_GT(samples, 0u);
+  const auto replay = run_cli(dir.path, {"replay", file, "--full-speed", "--format", "jsonl"});
+  EXPECT_EQ(replay.exit_code, 0) << replay.err;
+  std::istringstream lines(replay.out);
+  unsigned long replayed = 0;
+  for (std::string each; std::getline(lines, each);) replayed += each.find("\"device\":\"ls5\"") != std::string::npos;
+  EXPECT_EQ(replayed, samples);
+}
+
+// SIGTERM closes the captures cleanly and releases the ports. U86: the stream the service
+// started is ended (table 9.1 "SB: Stop the stream") before it exits.
 TEST(Serve, U86_SigtermClosesTheCaptureReleasesThePortAndLeavesTheLs5NotStreaming) {
   TempDir dir;
   const auto port = (dir.path / "ls5").string();
@@ -184,17 +202,62 @@ TEST(Serve, U86_SigtermClosesTheCaptureReleasesThePortAndLeavesTheLs5NotStreamin
   EXPECT_EQ(info.exit_code, 0) << info.err;
   // The capture (capture = true, in captures/ beside the site file) was committed and closed:
   // it replays, and holds what the service said it wrote.
-  ASSERT_NE(capture_line.find(" samples, 0 lost → "), std::string::npos) << capture_line;
-  std::string file = capture_line.substr(capture_line.find("→ ") + std::string("→ ").size());
-  while (!file.empty() && (file.back() == '\n' || file.back() == '\r')) file.pop_back();
-  const auto samples = std::stoul(capture_line.substr(capture_line.find(": ") + 2));
-  EXPECT_GT(samples, 0u);
-  const auto replay = run_cli(dir.path, {"replay", file, "--full-speed", "--format", "jsonl"});
-  EXPECT_EQ(replay.exit_code, 0) << replay.err;
-  std::istringstream lines(replay.out);
-  unsigned long replayed = 0;
-  for (std::string each; std::getline(lines, each);) replayed += each.find("\"device\":\"ls5\"") != std::string::npos;
-  EXPECT_EQ(replayed, samples);
+  expect_capture_whole(dir, capture_line);
+}
+
+// A SIGTERM while writes arrive: each write is answered or its connection closed (none hangs,
+// none gets a 500), the process ends as it does when idle, and the capture holds every sample
+// it said it wrote.
+TEST(Serve, SigtermWhileWritesArriveEndsCleanlyWithTheCaptureWhole) {
+  TempDir dir;
+  const auto port = (dir.path / "ls5").string();
+  Child sim({"sim", "ls5", "--port", port});
+  ASSERT_NE(sim.read_line().find("ready"), std::string::npos);
+  const auto site =
+      write_site(dir, "[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"" + port + "\"\ncapture = true\n");
+  Child service({"serve", "--config", site, "--listen", "127.0.0.1:0"});
+  const std::uint16_t api = api_port(service);
+  ASSERT_NE(api, 0);
+  std::atomic<bool> stopping{false};
+  std::atomic<int> answered{0};
+  std::atomic<int> closed{0};
+  std::mutex mutex;
+  std::vector<std::string> wrong;  // answers that are neither a status below 500 nor a close
+  const auto writer = [&](const std::string& method, const std::string& target, const std::string& body) {
+    while (!stopping) {
+      const auto reply = web_test::http(api, method, target, body);
+      if (reply.status == 0) {
+        ++closed;
+        continue;
+      }
+      ++answered;
+      // 503: refused while stopping; 409/400: the sensor busy or not streaming any more.
+      if (reply.status >= 500 && reply.status != 503) {
+        std::lock_guard lock(mutex);
+        wrong.push_back(std::to_string(reply.status) + " " + reply.body);
+      }
+    }
+  };
+  std::vector<std::thread> writers;
+  writers.emplace_back(writer, "POST", "/api/sensors/belt/actions/single", "{}");
+  writers.emplace_back(writer, "PATCH", "/api/sensors/belt/settings", R"({"median-points": 7})");
+  writers.emplace_back(writer, "POST", "/api/sensors/belt/actions/single", "{}");
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (answered < 6 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));  // polls a count, with a deadline
+  }
+  ASSERT_GE(answered.load(), 6) << "the writes were not being answered";
+  service.terminate();
+  std::string capture_line;
+  for (std::string line = service.read_line(); !line.empty(); line = service.read_line()) {
+    if (line.rfind("capture ", 0) == 0) capture_line = line;
+  }
+  EXPECT_EQ(service.wait(), 130);
+  stopping = true;
+  for (auto& thread : writers) thread.join();
+  EXPECT_TRUE(wrong.empty()) << wrong.front();
+  EXPECT_GT(closed.load(), 0) << "no write met the stopped service";
+  expect_capture_whole(dir, capture_line);
 }
 
 }  // namespace

@@ -28,7 +28,7 @@ TEST(HostileClient, AChunkSizeLineThatNeverEndsIsRefused) {
   const Reply reply = http(service.port, "POST", "/", {}, {}, head + std::string(16 * 1024, 'a'));
   EXPECT_EQ(reply.status, 400) << reply.body;
   EXPECT_EQ(error_code(reply), "line_too_long");
-  EXPECT_EQ(http(service.port, "GET", "/healthz").status, 200);
+  service.expect_unharmed();
 }
 
 // Streams have a limit of their own, so that they cannot keep requests out.
@@ -52,6 +52,7 @@ TEST(HostileClient, StreamsHaveALimitAndRequestsStillGetIn) {
     status = web_test::stream_status(service.port, "/api/events");
   }
   EXPECT_EQ(status, 200);
+  service.expect_unharmed();
 }
 
 // A stream resumed with an id of an earlier run (ids begin again at each start) is told so
@@ -63,6 +64,7 @@ TEST(HostileClient, AResumeFromAnEarlierRunIsToldAndStartsNow) {
   ASSERT_FALSE(reader.events.empty());
   EXPECT_EQ(reader.events.front().type, "resume");
   EXPECT_FALSE(nlohmann::json::parse(reader.events.front().data)["complete"].get<bool>());
+  service.expect_unharmed();
 }
 
 // A write on a kept-alive connection while the service stops is answered or closed; before,
@@ -127,16 +129,17 @@ TEST(HostileClient, ADownloadLongerThanTheRequestDeadlineIsNotCutWhileItMoves) {
   const std::size_t length = std::stoul(all.substr(length_at + 16));
   EXPECT_EQ(all.size() - head_end - 4, length) << "cut after " << seconds << " s";
   EXPECT_GT(seconds, 1.0) << "the download was too quick to show anything: " << length << " bytes";
+  service.expect_unharmed();
 }
 
-// Slowloris: headers trickled a byte a second from more sockets than the service takes. A
+// Slowloris: headers trickled a byte a second from 300 sockets, more than the service takes. A
 // new client takes the place of the oldest that has waited over half a second, so it is answered.
 TEST(HostileClient, TricklingClientsDoNotKeepOthersOut) {
   web::ServerOptions options;
   options.max_connections = 64;
   Service service("127.0.0.1:0", options);
   std::vector<int> trickling;
-  for (int i = 0; i < 80; ++i) {
+  for (int i = 0; i < 300; ++i) {
     const int fd = web_test::connect_to(service.port);
     ASSERT_GE(fd, 0);
     web_test::send_all(fd, "G");
@@ -157,6 +160,7 @@ TEST(HostileClient, TricklingClientsDoNotKeepOthersOut) {
   }
   EXPECT_EQ(answered, 3);
   for (const int fd : trickling) ::close(fd);
+  service.expect_unharmed();
 }
 
 // A Content-Length of 2 GB is refused from the headers, before any of the body is read.
@@ -168,6 +172,7 @@ TEST(HostileClient, AHugeContentLengthIsRefusedAtOnce) {
                "\r\nContent-Length: 2147483648\r\n\r\n{");
   EXPECT_EQ(reply.status, 413) << reply.body;
   EXPECT_EQ(error_code(reply), "body_too_large");
+  service.expect_unharmed();
 }
 
 // Streams that never read: each fills its socket, then its queue, and is cut off; the sensors
@@ -177,7 +182,7 @@ TEST(HostileClient, StreamsThatNeverReadAreCutOffAndTheServiceGoesOn) {
   options.stream_queue = 256;
   Service service("127.0.0.1:0", options);
   std::vector<std::unique_ptr<web_test::EventReader>> idle;
-  for (int i = 0; i < 300; ++i) {
+  for (int i = 0; i < 500; ++i) {
     idle.push_back(
         std::make_unique<web_test::EventReader>(service.port, "/api/events", std::vector<std::string>{}, 4096));
   }
@@ -188,13 +193,10 @@ TEST(HostileClient, StreamsThatNeverReadAreCutOffAndTheServiceGoesOn) {
   }
   EXPECT_GE(service.server->stats().streams_cut_off, 200u);
   EXPECT_LE(service.server->stats().streams, 256u);
-  // The LS5 went on streaming into the capture without a lost record.
-  const auto capture = service.captures.info(service.capture);
-  ASSERT_TRUE(capture.ok());
-  EXPECT_EQ(capture->lost, 0u);
   web_test::EventReader reader(service.port, "/api/sensors/belt/events");
   idle.clear();
   EXPECT_TRUE(reader.read_until([](const web_test::Event& event) { return event.type == "sample"; }));
+  service.expect_unharmed();
 }
 
 double cpu_seconds() {
@@ -256,6 +258,7 @@ TEST(HostileClient, OutOfDescriptorsTheListenerWaitsInsteadOfSpinning) {
   while (health != 200 && std::chrono::steady_clock::now() < again)
     health = http(service.port, "GET", "/healthz").status;
   EXPECT_EQ(health, 200);
+  service.expect_unharmed();
 }
 
 }  // namespace hostile_test

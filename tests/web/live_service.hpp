@@ -2,9 +2,15 @@
 // a capture of the LS5 running, and requests with any Host: for the access and hostile-client tests.
 #pragma once
 
+#include <sqlite3.h>
+#include <sys/resource.h>
 #include <nlohmann/json.hpp>
 
+#include <fstream>
+#include <optional>
 #include <regex>
+#include <string>
+#include <thread>
 
 #include "hub/site_fixture.hpp"
 #include "rangekit/web/server.hpp"
@@ -14,7 +20,46 @@ namespace web_test {
 
 inline constexpr const char* kToken = "0123456789abcdef0123456789abcdef";
 
+// As `rangekit serve` does at its start: the soft descriptor limit raised to the hard one, so
+// that hundreds of clients and the service can share this process.
+inline bool raise_descriptor_limit() {
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_NOFILE, &limit) != 0) return false;
+  limit.rlim_cur = limit.rlim_max;
+  return ::setrlimit(RLIMIT_NOFILE, &limit) == 0;
+}
+
+// The most memory this process has held (the service and its hostile clients together), in
+// MiB; none under a sanitizer, whose shadow memory says nothing of the service's.
+inline std::optional<double> peak_rss_mib() {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  return std::nullopt;
+#else
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  }
+  return std::nullopt;
+#endif
+}
+
+inline std::string integrity_of(const std::string& sqlite_file) {
+  sqlite3* db = nullptr;
+  std::string result = "cannot open " + sqlite_file;
+  if (sqlite3_open_v2(sqlite_file.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
+    sqlite3_stmt* statement = nullptr;
+    if (sqlite3_prepare_v2(db, "PRAGMA integrity_check", -1, &statement, nullptr) == SQLITE_OK &&
+        sqlite3_step(statement) == SQLITE_ROW) {
+      result = reinterpret_cast<const char*>(sqlite3_column_text(statement, 0));
+    }
+    sqlite3_finalize(statement);
+  }
+  sqlite3_close(db);
+  return result;
+}
+
 struct LiveService {
+  bool descriptors_raised = raise_descriptor_limit();
   hub_test::Site site;
   std::unique_ptr<rangekit::hub::Hub> hub = rangekit::hub::Hub::start(site.config);
   rangekit::hub::CaptureManager captures{*hub, (site.temp.path / "captures").string()};
@@ -31,6 +76,34 @@ struct LiveService {
     auto made = captures.start({"belt"});
     EXPECT_TRUE(made.ok());
     if (made) capture = made->id;
+  }
+  // What a hostile client must leave as it was (docs/security.md, "Limits"): /healthz answered
+  // within 1 s, no record lost by a sensor or the capture, the capture intact, and this
+  // process's peak memory under 128 MiB.
+  void expect_unharmed() {
+    // The LS5 streams into the capture all along: its first records are there within seconds.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (captures.info(capture).ok() && captures.info(capture)->samples == 0 &&
+           std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));  // polls a count, with a deadline
+    }
+    const auto asked = std::chrono::steady_clock::now();
+    const Reply health = http(port, "GET", "/healthz");
+    const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - asked).count();
+    EXPECT_EQ(health.status, 200) << health.body;
+    EXPECT_LT(took, 1.0) << "/healthz took " << took << " s";
+    for (const auto& sensor : hub->sensors()) EXPECT_EQ(sensor.health.lost, 0u) << sensor.config.name;
+    (void)captures.stop(capture);  // a running capture downloads as csv, jsonl or log only
+    const auto info = captures.info(capture);
+    ASSERT_TRUE(info.ok());
+    EXPECT_EQ(info->lost, 0u);
+    EXPECT_GT(info->samples, 0u);
+    const auto file = captures.export_file(capture, rangekit::hub::DownloadFormat::sqlite);
+    ASSERT_TRUE(file.ok()) << file.error().message;
+    EXPECT_EQ(integrity_of(*file), "ok");
+    if (const auto peak = peak_rss_mib()) {
+      EXPECT_LT(*peak, 128.0) << "peak RSS " << *peak << " MiB";
+    }
   }
   // A path of docs/security.md with this service's capture for CAPTURE.
   std::string target_of(const std::string& path) const {
