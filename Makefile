@@ -4,6 +4,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 FUZZ_SECONDS ?= 30
 FUZZ_RUNS ?= 10000000
+FUZZ_LONG_SECONDS ?= 3600
 CMAKE_FLAGS ?=
 
 # `make build` and `make demo` need only the build dependencies and build no
@@ -90,8 +91,9 @@ hardware: build
 	@./$(BUILD)/rangekit_hardware_tests
 
 # libFuzzer targets (clang 14). `make fuzz`: each runs FUZZ_SECONDS on its seed corpus
-# (the short run). `make fuzz-long`: each to FUZZ_RUNS (10^7) executions, hours in all
-# (docs/reliability.md has the rates). FUZZ_TARGETS="a b" runs only those.
+# (the short run). `make fuzz-long`: each to FUZZ_RUNS (10^7) executions or for
+# FUZZ_LONG_SECONDS (an hour), whichever ends first: hours in all (docs/reliability.md has
+# the rates). FUZZ_TARGETS="a b" runs only those.
 fuzz-build:
 	@bash scripts/install-deps.sh test
 	@cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++-14 -DRANGEKIT_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
@@ -101,7 +103,7 @@ fuzz: fuzz-build
 	@bash scripts/run-fuzz.sh build-fuzz/fuzzers $(FUZZ_SECONDS)
 
 fuzz-long: fuzz-build
-	@bash scripts/run-fuzz.sh build-fuzz/fuzzers 0 $(FUZZ_RUNS)
+	@bash scripts/run-fuzz.sh build-fuzz/fuzzers $(FUZZ_LONG_SECONDS) $(FUZZ_RUNS)
 
 bench: build
 	@./$(BUILD)/rangekit_bench

@@ -2,7 +2,9 @@
 # Runs every libFuzzer binary in DIR (or those named in FUZZ_TARGETS) starting from
 # its seed corpus in fuzz/corpus/<name>/ (never modified: new inputs go to a work copy):
 #   run-fuzz.sh DIR SECONDS        each for SECONDS (`make fuzz`, the short run)
-#   run-fuzz.sh DIR 0 RUNS         each to RUNS executions (`make fuzz-long`: 10^7)
+#   run-fuzz.sh DIR 0 RUNS         each to RUNS executions
+#   run-fuzz.sh DIR SECONDS RUNS   each to RUNS executions or for SECONDS, whichever ends first
+#                                  (`make fuzz-long`: 10^7 or an hour)
 # fuzz/<name>.options holds a target's own flags. After each target: executions, exec/s, coverage (libFuzzer's cov: and ft: of its last line).
 set -euo pipefail
 dir=${1:?usage: run-fuzz.sh FUZZER_DIR SECONDS [RUNS]}
@@ -18,7 +20,10 @@ for fuzzer in "$dir"/*; do
   mkdir -p "$work/$name"
   seeds="fuzz/corpus/$name"
   [ -d "$seeds" ] || seeds=""
-  if [ -n "$runs" ]; then
+  if [ -n "$runs" ] && [ "$seconds" -gt 0 ]; then
+    limit=(-runs="$runs" -max_total_time="$seconds")
+    echo "== $name ($runs executions or $seconds s)"
+  elif [ -n "$runs" ]; then
     limit=(-runs="$runs")
     echo "== $name ($runs executions)"
   else
