@@ -10,6 +10,12 @@ and compares every printed value with what the emulator sent before the noise
 the few after it, when lines were lost on the way), wrong otherwise.
 
     /usr/bin/python3 bench/noise_bench.py [--build build] [--seconds 60] [--family uls|ls5|both] [--top-speed]
+                                          [--still]
+
+With --still the target stands still (ULS at 50 m, LS5 100/200 at 200 mm, code 25000), and each
+printed distance is also judged against the truth: of the values further from it than the
+document's stated accuracy (ULS §9 ±4 cm; LS5 table 3.1 ±0.15 % of the range, 75 codes), and of
+those further than ten times it, how many were flagged.
 
 Only the Python standard library; needs the built CLI (build/rangekit).
 """
@@ -52,6 +58,22 @@ reflectivity = 0.8
 """
 
 
+# Still targets, their true readings (ULS mm, LS5 code) and the stated accuracy in those units.
+ULS_STILL_SCENE = """
+[[targets]]
+name = "wall"
+reflectivity = 0.9
+distance_m = 50.0
+"""
+LS5_STILL_SCENE = """
+[target]
+position_mm = 200.0
+reflectivity = 0.8
+"""
+STILL_TRUTH = {"uls": 50000, "ls5": 25000}
+ACCURACY = {"uls": 40, "ls5": 75}
+
+
 def control(path, request):
     with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as sock:
         sock.settimeout(10)
@@ -69,10 +91,13 @@ def control(path, request):
     return answer
 
 
-def start_emulator(cli, family, work, seed):
+def start_emulator(cli, family, work, seed, still):
     scene = os.path.join(work, "scene.toml")
     with open(scene, "w") as f:
-        f.write(ULS_SCENE if family == "uls" else LS5_SCENE)
+        if still:
+            f.write(ULS_STILL_SCENE if family == "uls" else LS5_STILL_SCENE)
+        else:
+            f.write(ULS_SCENE if family == "uls" else LS5_SCENE)
     port = os.path.join(work, family)
     ctl = os.path.join(work, "control")
     wire = os.path.join(work, "wire.bin")
@@ -130,6 +155,26 @@ def find_run(truth, run, start, end):
     return None
 
 
+def judge_against_truth(family, printed, result):
+    """Still target: printed distances further from the truth than the accuracy (and ten times it)."""
+    truth, accuracy = STILL_TRUTH[family], ACCURACY[family]
+    for key in ("over_accuracy", "over_accuracy_flagged", "over_ten", "over_ten_flagged"):
+        result[key] = 0
+    for value, suspect, reason in printed:
+        distance = value[0] if isinstance(value, tuple) else value
+        error = abs(distance - truth)
+        if error > accuracy:
+            result["over_accuracy"] += 1
+            result["over_accuracy_flagged"] += 1 if suspect else 0
+            if not suspect:
+                result.setdefault("missed_errors", []).append(error)
+            if not suspect and len(result["examples"]) < 9:
+                result["examples"].append(f"unflagged {distance} ({error} from the truth {truth})")
+        if error > 10 * accuracy:
+            result["over_ten"] += 1
+            result["over_ten_flagged"] += 1 if suspect else 0
+
+
 def compare(truth, printed):
     """Counts right/wrong printed values against the sent sequence."""
     # Anchor: the first three printed values found in a row in what was sent.
@@ -179,7 +224,7 @@ def compare(truth, printed):
         else:
             result["wrong"] += 1
             result["wrong_flagged"] += 1 if suspect else 0
-            sent = truth[position - 1]
+            sent = truth[position - 1] if 0 < position <= len(truth) else None
             if isinstance(value, tuple) and isinstance(sent, tuple):
                 # ULS: which field was wrong, taking the line it stood for as the one sent.
                 for index, field in ((0, "distance"), (1, "pulse_width")):
@@ -188,13 +233,13 @@ def compare(truth, printed):
                         result[f"wrong_{field}_flagged"] = result.get(f"wrong_{field}_flagged", 0) + (
                             1 if suspect else 0)
             if not suspect and len(result["examples"]) < 6:
-                result["examples"].append(f"unflagged {value} (sent {truth[position - 1]})")
+                result["examples"].append(f"unflagged {value} (sent {sent})")
     return result
 
 
-def run_one(cli, family, name, noise, seconds, seed, max_speed):
+def run_one(cli, family, name, noise, seconds, seed, max_speed, still):
     with tempfile.TemporaryDirectory(prefix="noise-bench-") as work:
-        proc, port, ctl, wire = start_emulator(cli, family, work, seed)
+        proc, port, ctl, wire = start_emulator(cli, family, work, seed, still)
         try:
             if family == "uls":
                 # 100 measurements a second (PRF 2000 / PPM 20), range and pulse width (DM 2).
@@ -223,6 +268,8 @@ def run_one(cli, family, name, noise, seconds, seed, max_speed):
         truth = truth_values(family, wire)
         printed, events = printed_values(family, out)
         result = compare(truth, printed)
+        if still:
+            judge_against_truth(family, printed, result)
         result["bad_frames"] = events.get("bad_frame", 0)
         return result
 
@@ -236,11 +283,14 @@ def main():
     parser.add_argument("--top-speed", action="store_true",
                         help="stream with --max-speed at the scenes' top speeds (ULS 2 m/s, LS5 0.016 m/s) "
                              "instead of the defaults")
+    parser.add_argument("--still", action="store_true",
+                        help="a still target, each value also judged against the truth and the stated accuracy")
     args = parser.parse_args()
     max_speed = SCENE_TOP_SPEED if args.top_speed else None
     cli = os.path.abspath(os.path.join(args.build, "rangekit"))
     families = ["uls", "ls5"] if args.family == "both" else [args.family]
-    print(f"noise bench: {args.seconds:g} s per run, seed {args.seed}, max_speed "
+    print(f"noise bench: {args.seconds:g} s per run, seed {args.seed}, "
+          + ("a still target, " if args.still else "a moving target, ") + "max_speed "
           + ("the scenes' top speeds " + str(SCENE_TOP_SPEED) if max_speed else "the defaults"))
     print(f"{'family':6} {'condition':24} {'printed':>8} {'wrong':>6} {'flagged':>8} {'share':>7} "
           f"{'false flags':>11} {'bad frames':>10}")
@@ -249,7 +299,7 @@ def main():
         for name, noise in CONDITIONS:
             started = time.monotonic()
             try:
-                r = run_one(cli, family, name, noise, args.seconds, args.seed, max_speed)
+                r = run_one(cli, family, name, noise, args.seconds, args.seed, max_speed, args.still)
             except (RuntimeError, subprocess.SubprocessError, OSError) as error:
                 print(f"{family:6} {name:24} failed: {error}")
                 failed = True
@@ -263,6 +313,14 @@ def main():
                 if r.get(f"wrong_{field}"):
                     print(f"       of which {field} wrong: {r[f'wrong_{field}']}, "
                           f"flagged {r[f'wrong_{field}_flagged']}")
+            if "over_accuracy" in r:
+                def share_of(flagged, total):
+                    return f"{flagged} of {total} ({100.0 * flagged / total:.1f}%)" if total else "none"
+                print(f"       beyond the accuracy ({ACCURACY[family]}): flagged "
+                      f"{share_of(r['over_accuracy_flagged'], r['over_accuracy'])}; beyond ten times it: "
+                      f"{share_of(r['over_ten_flagged'], r['over_ten'])}")
+                if r.get("missed_errors"):
+                    print(f"       missed, their errors: {sorted(r['missed_errors'])}")
             if r["resyncs"]:
                 print(f"       {r['resyncs']} resynchronisations (more than {LOOKAHEAD} lines lost at once)")
             for example in r["examples"]:

@@ -74,14 +74,40 @@ struct Hub::Impl final : Publisher {
     if (sample != nullptr) sample->source = session.source;
     std::lock_guard order(publish_mutex);
     // Quality (issue 18 item 2): flagged here, so the ring, the streams, the captures and
-    // the health all see the same flag; a sensor with drop_suspect never shows them.
-    if (sample != nullptr) {
-      session.checker.check(*sample);
-      if (sample->suspect && session.config.drop_suspect) {
-        std::lock_guard lock(session.mutex);
-        session.health.record_dropped_suspect();
-        return;
-      }
+    // the health all see the same flag. A distance is held until the next reading tells
+    // whether it was a spike (core/spike_check.hpp), events keep their place behind it.
+    session.released.clear();
+    if (sample != nullptr) session.checker.check(*sample);
+    session.spikes.push(std::move(item), now, session.released);
+    for (StreamItem& released : session.released) publish_now(session, std::move(released), now);
+  }
+
+  void release_due(Session& session) override {
+    const auto now = std::chrono::steady_clock::now();
+    std::lock_guard order(publish_mutex);
+    if (!session.spikes.holding()) return;
+    session.released.clear();
+    session.spikes.release_due(now, session.released);
+    for (StreamItem& released : session.released) publish_now(session, std::move(released), now);
+  }
+
+  void release_all() {
+    const auto now = std::chrono::steady_clock::now();
+    std::lock_guard order(publish_mutex);
+    for (const auto& session : sessions) {
+      session->released.clear();
+      session->spikes.release_all(session->released);
+      for (StreamItem& released : session->released) publish_now(*session, std::move(released), now);
+    }
+  }
+
+  // Numbers, rings, counts and fans out one item; called under publish_mutex.
+  void publish_now(Session& session, StreamItem item, std::chrono::steady_clock::time_point now) {
+    const auto* sample = std::get_if<Sample>(&item);
+    if (sample != nullptr && sample->suspect && session.config.drop_suspect) {
+      std::lock_guard lock(session.mutex);
+      session.health.record_dropped_suspect();
+      return;
     }
     auto shared = std::make_shared<const HubItem>(HubItem{++sequence, session.config.name, std::move(item)});
     {
@@ -150,6 +176,7 @@ std::unique_ptr<Hub> Hub::start(const SiteConfig& site, HubOptions options) {
 void Hub::stop() {
   if (impl_->stopped.exchange(true)) return;
   for (const auto& worker : impl_->workers) worker->stop();
+  impl_->release_all();  // the readings the spike check still held reach the captures before they close
 }
 
 std::vector<std::string> Hub::sensor_names() const {

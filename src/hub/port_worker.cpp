@@ -102,6 +102,7 @@ void PortWorker::loop() {
       connected = try_connect(was_connected, last_failure);
     }
     run_jobs(connected);
+    for (Session* session : sessions_) publisher_.release_due(*session);
     if (connected && backend_->pump(std::chrono::milliseconds(20))) continue;
     // Nothing to do now: sleep until a command comes, the next paced poll is due, or it is
     // time to retry the port.

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rangekit/core/sample_quality.hpp"
+#include "rangekit/core/spike_check.hpp"
 #include "rangekit/hub/hub.hpp"
 
 namespace rangekit::hub {
@@ -24,7 +25,10 @@ struct Session {
   const SensorConfig config;
   const SharedName source;  // config.name as every sample's source: shared, so no allocation per sample
   SampleRing ring;
-  SampleChecker checker;  // used under the hub's publish order (a serial and a UDP worker may share a session)
+  // Both used under the hub's publish order (a serial and a UDP worker may share a session).
+  SampleChecker checker;
+  SpikeCheck spikes;
+  std::vector<StreamItem> released;  // what the spike check let go, reused
 
   mutable std::mutex mutex;  // guards what follows
   HealthTracker health;
@@ -40,6 +44,8 @@ struct Session {
 class Publisher {
  public:
   virtual void publish(Session& session, StreamItem item) = 0;
+  // Publishes the readings the spike check has held past its limit (a stream that paused).
+  virtual void release_due(Session& session) = 0;
 
  protected:
   ~Publisher() = default;

@@ -5,6 +5,7 @@
 #include <variant>
 #include <vector>
 
+#include "rangekit/core/spike_check.hpp"
 #include "rangekit/record/text_sink.hpp"
 
 namespace rangekit::record {
@@ -17,7 +18,10 @@ class StreamLoop {
   StreamLoop(SampleSource& source, const StreamLoopOptions& options, const std::atomic<bool>& stop_requested,
              const StreamObserver& observer)
       : source_(source), options_(options), stop_requested_(stop_requested), observer_(observer) {
-    if (options_.quality) checker_.emplace(*options_.quality);
+    if (options_.quality) {
+      checker_.emplace(*options_.quality);
+      spikes_.emplace();
+    }
   }
 
   StreamOutcome run() {
@@ -43,14 +47,23 @@ class StreamLoop {
       // One wake-up for everything the reader queued meanwhile (issue 17): the items
       // are handled in order, exactly as if they had been taken one by one.
       if (source_.next_batch(batch_, timeout)) {
+        const auto arrived = Clock::now();
         for (StreamItem& item : batch_) {
-          if (auto written = std::visit([this](auto& value) { return handle(value); }, item); !written) {
+          if (auto written = std::visit([this, arrived](auto& value) { return handle(value, arrived); }, item);
+              !written) {
             return finish(StopReason::write_failed, std::move(written).error());
           }
           if (options_.count && stats_.samples >= *options_.count) return finish(StopReason::count_reached);
         }
       } else if (was_finished) {
         return finish(StopReason::source_finished);
+      }
+      if (spikes_ && spikes_->holding()) {
+        released_.clear();
+        spikes_->release_due(Clock::now(), released_);
+        if (auto written = emit_released(); !written)
+          return finish(StopReason::write_failed, std::move(written).error());
+        if (options_.count && stats_.samples >= *options_.count) return finish(StopReason::count_reached);
       }
       if (auto flushed = flush_if_due(); !flushed) return finish(StopReason::write_failed, std::move(flushed).error());
       report_status_if_due();
@@ -72,9 +85,37 @@ class StreamLoop {
     return ok_status();
   }
 
-  // The sample is the loop's own (taken from the batch): checked in place, not copied.
-  Status handle(Sample& sample) {
-    if (checker_) checker_->check(sample);
+  // The sample is the loop's own (taken from the batch): checked in place, then handed to the
+  // spike check, which may hold it until the next reading (core/spike_check.hpp).
+  Status handle(Sample& sample, Clock::time_point arrived) {
+    if (!checker_) return write(sample);
+    checker_->check(sample);
+    released_.clear();
+    spikes_->push(std::move(sample), arrived, released_);
+    return emit_released();
+  }
+
+  Status handle(StreamEvent& event, Clock::time_point arrived) {
+    if (!spikes_) return write(event);
+    released_.clear();
+    spikes_->push(std::move(event), arrived, released_);
+    return emit_released();
+  }
+
+  // Writes what the spike check let go, in its order, stopping at the count.
+  Status emit_released() {
+    for (StreamItem& item : released_) {
+      if (auto* sample = std::get_if<Sample>(&item)) {
+        if (options_.count && stats_.samples >= *options_.count) break;
+        if (auto written = write(*sample); !written) return written;
+      } else if (auto written = write(std::get<StreamEvent>(item)); !written) {
+        return written;
+      }
+    }
+    return ok_status();
+  }
+
+  Status write(Sample& sample) {
     if (sample.suspect) {
       ++stats_.suspect;
       if (options_.drop_suspect) {
@@ -91,7 +132,7 @@ class StreamLoop {
     return ok_status();
   }
 
-  Status handle(const StreamEvent& event) {
+  Status write(const StreamEvent& event) {
     ++stats_.events;
     switch (event.kind) {
       case StreamEventKind::disconnected:
@@ -158,6 +199,14 @@ class StreamLoop {
 
   StreamOutcome finish(StopReason reason, std::optional<Error> error = std::nullopt) {
     if (reason != StopReason::source_finished) source_.stop();
+    if (reason != StopReason::open_failed && reason != StopReason::write_failed && spikes_) {
+      released_.clear();
+      spikes_->release_all(released_);
+      if (auto written = emit_released(); !written && !error) {
+        reason = StopReason::write_failed;
+        error = std::move(written).error();
+      }
+    }
     if (reason != StopReason::open_failed) {
       auto flushed = flush_all();
       if (!flushed && !error) {
@@ -180,7 +229,9 @@ class StreamLoop {
   std::unique_ptr<CaptureSink> capture_;
   StreamStats stats_;
   std::optional<SampleChecker> checker_;
-  std::vector<StreamItem> batch_;  // what the source handed over last; its storage is reused
+  std::optional<SpikeCheck> spikes_;
+  std::vector<StreamItem> released_;  // what the spike check let go, reused
+  std::vector<StreamItem> batch_;     // what the source handed over last; its storage is reused
   std::uint64_t lost_from_events_ = 0;
   Clock::time_point start_;
   Clock::time_point last_flush_;

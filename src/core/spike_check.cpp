@@ -1,0 +1,199 @@
+#include "rangekit/core/spike_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "rangekit/core/sample_quality.hpp"
+
+namespace rangekit {
+namespace {
+
+constexpr double ls5_codes_per_range = 50000.0;  // LS5 formula 8.1: code = distance / range × 50000
+constexpr double uls_resolution_m = 0.001;       // ULS §9 xxxx.xxx
+
+// The distance a spike is judged on, and the sensor's stated accuracy and resolution there.
+struct Reading {
+  double value_m = 0;
+  double accuracy_m = 0;
+  double resolution_m = 0;
+};
+
+std::optional<Reading> reading_of(const Sample& sample) {
+  if (sample.kind == SampleKind::uls_averaging && sample.distance_m && std::isfinite(*sample.distance_m)) {
+    return Reading{*sample.distance_m, uls_accuracy_m, uls_resolution_m};
+  }
+  if (sample.kind == SampleKind::ls5_result && sample.distance_mm && std::isfinite(*sample.distance_mm)) {
+    if (const auto range = ls5_range_mm(sample)) {
+      return Reading{*sample.distance_mm / 1000.0, ls5_accuracy_m(*range), *range / 1000.0 / ls5_codes_per_range};
+    }
+  }
+  return std::nullopt;  // binning targets come and go; look down, errors and no-signal carry no distance
+}
+
+// The median of the first `size` values (reordered); on the stack, as it runs for every reading.
+double median_of(std::array<double, SpikeCheck::window>& values, std::size_t size) {
+  const auto end = values.begin() + static_cast<std::ptrdiff_t>(size);
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(size / 2);
+  std::nth_element(values.begin(), middle, end);
+  if (size % 2 == 1) return *middle;
+  return (*middle + *std::max_element(values.begin(), middle)) / 2;
+}
+
+}  // namespace
+
+double ls5_accuracy_m(double range_mm) noexcept { return 0.0015 * range_mm / 1000.0; }
+
+void SpikeCheck::Level::push(double value) {
+  if (size >= min_level) {
+    std::array<double, window> copy = values;
+    const double deviation = std::abs(value - median_of(copy, size));
+    mean_deviation += (deviation - mean_deviation) / 128;
+  } else if (size > 0) {
+    mean_deviation += (std::abs(value - values[(next + window - 1) % window]) / std::sqrt(2.0) - mean_deviation) /
+                      static_cast<double>(size + 1);  // until the level is known: from successive readings
+  }
+  values[next] = value;
+  next = (next + 1) % window;
+  size = std::min(size + 1, window);
+}
+
+// `held` is a spike when it is further than the allowance from the level of the readings
+// before it and the one after it did not stay with it. The allowance is the sensor's stated
+// accuracy plus three standard errors of the level (a median of up to 101 readings, their
+// spread learnt from about the last 128) plus one step of resolution: an honest reading of a
+// still target is within the accuracy of the truth, and the level within those errors of it.
+void SpikeCheck::judge(Stream& stream, Sample& held, const Sample& next) const {
+  const auto p = reading_of(held);
+  const auto n = reading_of(next);
+  if (!p || !n || held.kind != next.kind || stream.level.size < min_level || held.suspect) return;
+  const std::size_t size = stream.level.size;
+  std::array<double, window> values = stream.level.values;
+  const double level = median_of(values, size);
+  const double sigma = 1.2533 * stream.level.mean_deviation;  // a mean absolute deviation, as a standard deviation
+  const double level_error = 1.2533 * sigma / std::sqrt(static_cast<double>(size));
+  const double allowed = p->accuracy_m + 3 * level_error + p->resolution_m;
+  if (std::abs(p->value_m - level) <= allowed) return;
+  const bool back = std::abs(n->value_m - level) <= allowed;
+  const bool next_apart = std::abs(p->value_m - n->value_m) > allowed / 2;
+  // A still target (the newest quarter of the window has the level of the whole): the next
+  // reading only has to be far from this one, and not further out on the same side (then this
+  // one is a step on its way, a reading between two targets), so that a spike beside a second
+  // corrupted reading is still seen. A moving one needs the next back at the level, and this
+  // reading apart from the one before too: two readings of a target crossing the allowance's
+  // edge lie close together on either side of it.
+  std::array<double, window> recent{};
+  const std::size_t quarter = size / 4;
+  for (std::size_t i = 0; i < quarter; ++i) {
+    recent[i] = stream.level.values[(stream.level.next + window - 1 - i) % window];
+  }
+  const bool still = std::abs(median_of(recent, quarter) - level) <= allowed / 4;
+  const double p_off = p->value_m - level;
+  const double n_off = n->value_m - level;
+  const bool stepping = (p_off > 0) == (n_off > 0) && std::abs(n_off) >= std::abs(p_off);
+  const bool spike = still ? (back && next_apart) || (std::abs(p->value_m - n->value_m) > allowed && !stepping)
+                           : back && next_apart && (!stream.last || std::abs(p->value_m - *stream.last) > allowed / 2);
+  if (!spike) return;
+  held.suspect = true;
+  std::array<char, 200> text{};
+  std::snprintf(text.data(), text.size(),
+                "spike: %.6f m, %.6f m from the level %.6f m of the last readings, and the next not with it "
+                "(%.6f m); at most %.6f m",
+                p->value_m, p->value_m - level, level, n->value_m, allowed);
+  held.suspect_reason = text.data();
+}
+
+void SpikeCheck::release(Stream& stream, std::vector<StreamItem>& out) {
+  if (!stream.held) return;
+  if (const auto reading = reading_of(*stream.held); reading && !stream.held->suspect) {
+    stream.level.push(reading->value_m);
+    stream.last = reading->value_m;
+  } else if (reading && stream.held->suspect_reason.rfind("spike", 0) != 0) {
+    stream.level.push(reading->value_m);  // a jump the other check flagged may be a real step: the level follows
+  }
+  out.emplace_back(std::move(*stream.held));
+  stream.held.reset();
+  for (StreamEvent& event : stream.waiting) out.emplace_back(std::move(event));
+  stream.waiting.clear();
+  --held_count_;
+}
+
+namespace {
+
+bool is_link_event(StreamEventKind kind) {
+  return kind == StreamEventKind::connected || kind == StreamEventKind::disconnected ||
+         kind == StreamEventKind::reconnected || kind == StreamEventKind::polling;
+}
+
+}  // namespace
+
+void SpikeCheck::push(StreamItem item, std::chrono::steady_clock::time_point now, std::vector<StreamItem>& out) {
+  if (auto* sample = std::get_if<Sample>(&item)) return push_sample(std::move(*sample), now, out);
+  auto& event = std::get<StreamEvent>(item);
+  if (held_count_ == 0) {
+    out.push_back(std::move(item));
+    return;
+  }
+  if (is_link_event(event.kind)) {
+    release_all(out);
+    out.push_back(std::move(item));
+    return;
+  }
+  // Behind the newest held reading, so that a bad frame after a spike does not let the spike
+  // go unjudged; a storm of them lets it go.
+  Stream* newest = nullptr;
+  for (auto& [key, stream] : streams_) {
+    if (stream.held && (newest == nullptr || stream.held_order > newest->held_order)) newest = &stream;
+  }
+  newest->waiting.push_back(std::move(event));
+  if (newest->waiting.size() >= max_waiting) release(*newest, out);
+}
+
+void SpikeCheck::push_sample(Sample sample, std::chrono::steady_clock::time_point now, std::vector<StreamItem>& out) {
+  Stream& stream = streams_[Key{sample.device, sample.source, sample.address}];
+  if (stream.held) {
+    judge(stream, *stream.held, sample);
+    release(stream, out);
+  }
+  if (!stream.first_arrival) stream.first_arrival = now;
+  stream.last_arrival = now;
+  ++stream.arrivals;
+  const auto period = stream.arrivals < 3 ? std::chrono::steady_clock::duration::max()
+                                          : (stream.last_arrival - *stream.first_arrival) /
+                                                static_cast<std::int64_t>(stream.arrivals - 1);
+  if (!reading_of(sample) || period > settings_.hold_limit) {
+    // Not held: it joins the level at once (a slow stream is never judged, but keeps a level).
+    if (const auto reading = reading_of(sample)) {
+      stream.level.push(reading->value_m);
+      if (!sample.suspect) stream.last = reading->value_m;
+    }
+    out.emplace_back(std::move(sample));
+    return;
+  }
+  stream.held = std::move(sample);
+  stream.held_at = now;
+  stream.held_order = ++order_;
+  ++held_count_;
+}
+
+void SpikeCheck::release_all(std::vector<StreamItem>& out) {
+  std::vector<Stream*> holding;
+  for (auto& [key, stream] : streams_) {
+    if (stream.held) holding.push_back(&stream);
+  }
+  std::sort(holding.begin(), holding.end(),
+            [](const Stream* a, const Stream* b) { return a->held_order < b->held_order; });
+  for (Stream* stream : holding) release(*stream, out);
+}
+
+void SpikeCheck::release_due(std::chrono::steady_clock::time_point now, std::vector<StreamItem>& out) {
+  if (held_count_ == 0) return;
+  std::vector<Stream*> due;
+  for (auto& [key, stream] : streams_) {
+    if (stream.held && now - stream.held_at > settings_.hold_limit) due.push_back(&stream);
+  }
+  std::sort(due.begin(), due.end(), [](const Stream* a, const Stream* b) { return a->held_order < b->held_order; });
+  for (Stream* stream : due) release(*stream, out);
+}
+
+}  // namespace rangekit
