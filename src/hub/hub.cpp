@@ -73,7 +73,7 @@ struct Hub::Impl final : Publisher {
     auto* sample = std::get_if<Sample>(&item);
     if (sample != nullptr) sample->source = session.source;
     std::lock_guard order(publish_mutex);
-    // Quality (issue 18 item 2): flagged here, so the ring, the streams, the captures and
+    // Quality (docs/reliability.md): flagged here, so the ring, the streams, the captures and
     // the health all see the same flag. A distance is held until the next reading tells
     // whether it was a spike (core/spike_check.hpp), events keep their place behind it.
     session.released.clear();

@@ -99,7 +99,8 @@ TEST(SpikeCheck, ARealStepIsNoSpike) {
   auto readings = still_ls5(30, random);
   for (int i = 0; i < 30; ++i) readings.push_back(ls5_reading(26000 + (i % 3)));
   SpikeCheck check;
-  for (const Sample& sample : run(check, readings, milliseconds(1))) EXPECT_FALSE(spike(sample)) << sample.suspect_reason;
+  for (const Sample& sample : run(check, readings, milliseconds(1)))
+    EXPECT_FALSE(spike(sample)) << sample.suspect_reason;
 }
 
 // Moving targets as fast as the noise bench's scenes: ULS 2 m/s at 100 readings a second,
@@ -110,9 +111,11 @@ TEST(SpikeCheck, MovingTargetsAreNoSpikes) {
   std::vector<Sample> ls5;
   for (int i = 0; i < 2000; ++i) ls5.push_back(ls5_reading(20000 + 8 * (i < 1000 ? i : 2000 - i) + (i * 7) % 5));
   SpikeCheck uls_check;
-  for (const Sample& sample : run(uls_check, uls, milliseconds(10))) EXPECT_FALSE(sample.suspect) << sample.suspect_reason;
+  for (const Sample& sample : run(uls_check, uls, milliseconds(10)))
+    EXPECT_FALSE(sample.suspect) << sample.suspect_reason;
   SpikeCheck ls5_check;
-  for (const Sample& sample : run(ls5_check, ls5, milliseconds(1))) EXPECT_FALSE(sample.suspect) << sample.suspect_reason;
+  for (const Sample& sample : run(ls5_check, ls5, milliseconds(1)))
+    EXPECT_FALSE(sample.suspect) << sample.suspect_reason;
 }
 
 // The ULS factory rate (PPM 1024 / PRF 2000: 512 ms) is slower than the hold limit: nothing

@@ -33,8 +33,8 @@ struct SpikeSettings {
 
 class SpikeCheck {
  public:
-  static constexpr std::size_t window = 101;    // readings the level is the median of
-  static constexpr std::size_t min_level = 25;  // readings before anything is judged
+  static constexpr std::size_t window = 101;      // readings the level is the median of
+  static constexpr std::size_t min_level = 25;    // readings before anything is judged
   static constexpr std::size_t max_waiting = 64;  // line events held behind a reading
 
   explicit SpikeCheck(SpikeSettings settings = {}) : settings_(settings) {}
