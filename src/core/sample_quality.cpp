@@ -7,8 +7,7 @@
 namespace rangekit {
 namespace {
 
-constexpr double ls5_codes_per_range = 50000.0;  // LS5 formula 8.1/8.5: code = distance / range × 50000
-constexpr double ls5_error_fraction = 0.0015;    // LS5 §3 table 3.1: ±0.15 % of the range (digital)
+constexpr double ls5_error_fraction = 0.0015;  // LS5 §3 table 3.1: ±0.15 % of the range (digital)
 
 template <class... Args>
 std::string format_reason(const char* format, Args... args) {
@@ -21,7 +20,9 @@ std::string format_reason(const char* format, Args... args) {
 
 double ls5_default_max_speed_mps(double range_mm) noexcept { return range_mm / 1000.0; }
 
-double ls5_noise_allowance_m(double range_mm) noexcept { return 2 * ls5_error_fraction * range_mm / 1000.0; }
+double ls5_accuracy_m(double range_mm) noexcept { return ls5_error_fraction * range_mm / 1000.0; }
+
+double ls5_noise_allowance_m(double range_mm) noexcept { return 2 * ls5_accuracy_m(range_mm); }
 
 std::optional<double> ls5_range_mm(const Sample& sample) noexcept {
   if (!sample.code || *sample.code == 0 || !sample.distance_mm || !std::isfinite(*sample.distance_mm)) {

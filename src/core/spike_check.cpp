@@ -9,8 +9,7 @@
 namespace rangekit {
 namespace {
 
-constexpr double ls5_codes_per_range = 50000.0;  // LS5 formula 8.1: code = distance / range × 50000
-constexpr double uls_resolution_m = 0.001;       // ULS §9 xxxx.xxx
+constexpr double uls_resolution_m = 0.001;  // ULS §9 xxxx.xxx
 
 // The distance a spike is judged on, and the sensor's stated accuracy and resolution there.
 struct Reading {
@@ -42,13 +41,17 @@ double median_of(std::array<double, SpikeCheck::window>& values, std::size_t siz
 
 }  // namespace
 
-double ls5_accuracy_m(double range_mm) noexcept { return 0.0015 * range_mm / 1000.0; }
+double SpikeCheck::Level::median() const {
+  if (!median_) {
+    std::array<double, window> copy = values;
+    median_ = median_of(copy, size);
+  }
+  return *median_;
+}
 
 void SpikeCheck::Level::push(double value) {
   if (size >= min_level) {
-    std::array<double, window> copy = values;
-    const double deviation = std::abs(value - median_of(copy, size));
-    mean_deviation += (deviation - mean_deviation) / 128;
+    mean_deviation += (std::abs(value - median()) - mean_deviation) / 128;
   } else if (size > 0) {
     mean_deviation += (std::abs(value - values[(next + window - 1) % window]) / std::sqrt(2.0) - mean_deviation) /
                       static_cast<double>(size + 1);  // until the level is known: from successive readings
@@ -56,6 +59,7 @@ void SpikeCheck::Level::push(double value) {
   values[next] = value;
   next = (next + 1) % window;
   size = std::min(size + 1, window);
+  median_.reset();
 }
 
 // `held` is a spike when it is further than the allowance from the level of the readings
@@ -68,8 +72,7 @@ void SpikeCheck::judge(Stream& stream, Sample& held, const Sample& next) const {
   const auto n = reading_of(next);
   if (!p || !n || held.kind != next.kind || stream.level.size < min_level || held.suspect) return;
   const std::size_t size = stream.level.size;
-  std::array<double, window> values = stream.level.values;
-  const double level = median_of(values, size);
+  const double level = stream.level.median();
   const double sigma = 1.2533 * stream.level.mean_deviation;  // a mean absolute deviation, as a standard deviation
   const double level_error = 1.2533 * sigma / std::sqrt(static_cast<double>(size));
   const double allowed = p->accuracy_m + 3 * level_error + p->resolution_m;

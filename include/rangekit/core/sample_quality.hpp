@@ -34,10 +34,15 @@ struct QualitySettings {
 inline constexpr double uls_default_max_speed_mps = 25.0;
 double ls5_default_max_speed_mps(double range_mm) noexcept;
 
-// The spread two honest readings of the same still target may show, in metres:
-// ULS ±4 cm typical in averaging (§9), LS5 ±0.15 % of the range (§3 table 3.1). Twice
-// the error limit, since the median and the new reading may err in opposite directions.
-inline constexpr double uls_noise_allowance_m = 2 * 0.04;
+// The stated accuracy, in metres: ULS ±4 cm typical for a non-cooperative target in every
+// mode (§9); LS5 ±0.15 % of the range (§3 table 3.1), one code being range / 50000 (formula 8.1).
+inline constexpr double uls_accuracy_m = 0.04;
+double ls5_accuracy_m(double range_mm) noexcept;
+inline constexpr double ls5_codes_per_range = 50000.0;
+
+// The spread two honest readings of the same still target may show, in metres: twice the
+// accuracy, since the median and the new reading may err in opposite directions.
+inline constexpr double uls_noise_allowance_m = 2 * uls_accuracy_m;
 double ls5_noise_allowance_m(double range_mm) noexcept;
 
 // The LS5's range from a record: formula 8.1 (distance = code / 50000 × range) read

@@ -20,11 +20,6 @@
 
 namespace rangekit {
 
-// ±4 cm typical for a non-cooperative target in every mode (ULS §9); the LS5's ±0.15 % of the
-// range (table 3.1) comes from each record's range.
-inline constexpr double uls_accuracy_m = 0.04;
-double ls5_accuracy_m(double range_mm) noexcept;
-
 struct SpikeSettings {
   // Streams whose readings come further apart than this are not held, and not checked: the
   // wait for the next reading would cost more than a reading is worth late.
@@ -60,6 +55,11 @@ class SpikeCheck {
     // 128 readings (a spread taken from the window alone is too often far too small).
     double mean_deviation = 0;
     void push(double value);
+    // The median of the window: judging a reading and pushing it both need it, once a reading.
+    [[nodiscard]] double median() const;
+
+   private:
+    mutable std::optional<double> median_;  // until the next push
   };
   struct Stream {
     Level level;
