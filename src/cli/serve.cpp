@@ -3,7 +3,6 @@
 // through the hub and prints a one-line summary per sensor each second; `--demo`
 // does the same for a site of emulators it starts itself (cli/demo_site.hpp).
 #include <fmt/core.h>
-#include <sys/resource.h>
 
 #include <chrono>
 #include <cstdlib>
@@ -14,6 +13,7 @@
 #include "cli/dashboard.hpp"
 #include "cli/demo_site.hpp"
 #include "cli/stop_signals.hpp"
+#include "rangekit/core/descriptor_limit.hpp"
 #include "rangekit/hub/captures.hpp"
 #include "rangekit/hub/hub.hpp"
 #include "rangekit/mqtt/bridge.hpp"
@@ -94,17 +94,8 @@ Result<std::string> token_for(const hub::SiteConfig& site, const std::string& li
   return token->value;
 }
 
-// Every client, stream, sensor port, capture and broker session holds a descriptor: the soft
-// limit (often 1024) is raised to the hard one, so that the HTTP limits run out first.
-void raise_descriptor_limit() {
-  rlimit limit{};
-  if (::getrlimit(RLIMIT_NOFILE, &limit) != 0 || limit.rlim_cur >= limit.rlim_max) return;
-  limit.rlim_cur = limit.rlim_max;
-  (void)::setrlimit(RLIMIT_NOFILE, &limit);
-}
-
 int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, const StopSignals& signals) {
-  raise_descriptor_limit();
+  (void)raise_descriptor_limit();  // the HTTP limits then run out first
   const hub::SiteConfig* site = &site_config;
   web::ServerOptions server_options;
   server_options.listen = options.listen.empty() ? site->service.listen : options.listen;

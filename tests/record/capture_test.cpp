@@ -12,6 +12,7 @@
 #include "rangekit/record/replay.hpp"
 #include "record/fake_source.hpp"
 #include "record/temp_dir.hpp"
+#include "sqlite_query.hpp"
 
 namespace rangekit::record {
 namespace {
@@ -29,22 +30,7 @@ std::vector<StreamItem> replay_all(const std::string& path, ReplayOptions option
   return items;
 }
 
-// Runs one query returning a single value as text.
-std::string query(const std::string& path, const std::string& sql) {
-  sqlite3* database = nullptr;
-  std::string result = "<error>";
-  if (sqlite3_open_v2(path.c_str(), &database, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
-    sqlite3_stmt* statement = nullptr;
-    if (sqlite3_prepare_v2(database, sql.c_str(), -1, &statement, nullptr) == SQLITE_OK &&
-        sqlite3_step(statement) == SQLITE_ROW) {
-      const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(statement, 0));
-      result = text != nullptr ? text : "<null>";
-    }
-    sqlite3_finalize(statement);
-  }
-  sqlite3_close(database);
-  return result;
-}
+using sqlite_test::query;
 
 std::vector<StreamItem> every_kind() {
   return {uls_averaging(),

@@ -2,8 +2,6 @@
 // a capture of the LS5 running, and requests with any Host: for the access and hostile-client tests.
 #pragma once
 
-#include <sqlite3.h>
-#include <sys/resource.h>
 #include <nlohmann/json.hpp>
 
 #include <fstream>
@@ -13,21 +11,14 @@
 #include <thread>
 
 #include "hub/site_fixture.hpp"
+#include "rangekit/core/descriptor_limit.hpp"
 #include "rangekit/web/server.hpp"
+#include "sqlite_query.hpp"
 #include "web/http_client.hpp"
 
 namespace web_test {
 
 inline constexpr const char* kToken = "0123456789abcdef0123456789abcdef";
-
-// As `rangekit serve` does at its start: the soft descriptor limit raised to the hard one, so
-// that hundreds of clients and the service can share this process.
-inline bool raise_descriptor_limit() {
-  rlimit limit{};
-  if (::getrlimit(RLIMIT_NOFILE, &limit) != 0) return false;
-  limit.rlim_cur = limit.rlim_max;
-  return ::setrlimit(RLIMIT_NOFILE, &limit) == 0;
-}
 
 // The most memory this process has held (the service and its hostile clients together), in
 // MiB; none under a sanitizer, whose shadow memory says nothing of the service's.
@@ -43,23 +34,8 @@ inline std::optional<double> peak_rss_mib() {
 #endif
 }
 
-inline std::string integrity_of(const std::string& sqlite_file) {
-  sqlite3* db = nullptr;
-  std::string result = "cannot open " + sqlite_file;
-  if (sqlite3_open_v2(sqlite_file.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
-    sqlite3_stmt* statement = nullptr;
-    if (sqlite3_prepare_v2(db, "PRAGMA integrity_check", -1, &statement, nullptr) == SQLITE_OK &&
-        sqlite3_step(statement) == SQLITE_ROW) {
-      result = reinterpret_cast<const char*>(sqlite3_column_text(statement, 0));
-    }
-    sqlite3_finalize(statement);
-  }
-  sqlite3_close(db);
-  return result;
-}
-
 struct LiveService {
-  bool descriptors_raised = raise_descriptor_limit();
+  bool descriptors_raised = rangekit::raise_descriptor_limit();  // as `rangekit serve` does, before the site
   hub_test::Site site;
   std::unique_ptr<rangekit::hub::Hub> hub = rangekit::hub::Hub::start(site.config);
   rangekit::hub::CaptureManager captures{*hub, (site.temp.path / "captures").string()};
@@ -100,7 +76,7 @@ struct LiveService {
     EXPECT_GT(info->samples, 0u);
     const auto file = captures.export_file(capture, rangekit::hub::DownloadFormat::sqlite);
     ASSERT_TRUE(file.ok()) << file.error().message;
-    EXPECT_EQ(integrity_of(*file), "ok");
+    EXPECT_EQ(sqlite_test::query(*file, "PRAGMA integrity_check"), "ok");
     if (const auto peak = peak_rss_mib()) {
       EXPECT_LT(*peak, 128.0) << "peak RSS " << *peak << " MiB";
     }
