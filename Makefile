@@ -40,7 +40,7 @@ build: configure
 # used 94 s of CPU in 318 s), but the emulators must answer within the drivers' deadlines:
 # at three and four per core, with the service's hostile-client tests added, loaded runs
 # missed them (a bus scan heard a unit twice, a bus unit did not answer in 1 s). So ctest
-# runs two per core, as the sanitizer runs do; the browser tests run two at a time.
+# runs two per core, as the sanitizer runs do; a browser test runs alone.
 TEST_JOBS ?= $(shell echo $$(( $(JOBS) * 2 )))
 
 test: build
