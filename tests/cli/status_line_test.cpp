@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "child_process.hpp"
 #include "cli/cli_run.hpp"
 #include "ls5_driver/cli_process.hpp"
 #include "rangekit/sim/pty.hpp"
@@ -45,7 +46,7 @@ Captured run_on_terminal(const std::vector<std::string>& arguments, bool stdout_
   if (!terminal) return result;
   int pipe_fds[2];
   if (::pipe2(pipe_fds, O_CLOEXEC) != 0) return result;
-  const pid_t pid = ::fork();
+  const pid_t pid = rangekit::test::fork_child();
   if (pid == 0) {
     ::setsid();
     const int slave = ::open((*terminal)->slave_path().c_str(), O_RDWR);

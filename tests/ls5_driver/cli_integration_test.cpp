@@ -9,6 +9,7 @@
 
 #include <algorithm>
 
+#include "child_process.hpp"
 #include "cli/commands.hpp"
 #include "cli_process.hpp"
 #include "rangekit/core/udp.hpp"
@@ -191,7 +192,7 @@ TEST(Ls5Cli, UdpWithNothingArrivingHintsAtTheDestination) {
 
   int err[2];
   ASSERT_EQ(::pipe2(err, O_CLOEXEC), 0);
-  const pid_t pid = ::fork();
+  const pid_t pid = rangekit::test::fork_child();
   if (pid == 0) {
     ::dup2(err[1], STDERR_FILENO);
     Child::exec({"ls5", "udp", "--udp-listen", "127.0.0.1:" + port, "--duration", "600"});

@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include "build_paths.hpp"
+#include "child_process.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -24,7 +25,7 @@ class Child {
   explicit Child(const std::vector<std::string>& arguments) {
     int out[2];
     if (::pipe2(out, O_CLOEXEC) != 0) return;
-    pid_ = ::fork();
+    pid_ = rangekit::test::fork_child();
     if (pid_ == 0) {
       ::dup2(out[1], STDOUT_FILENO);
       exec(arguments);
@@ -110,7 +111,7 @@ inline std::string read_file(const std::filesystem::path& path) {
 inline CliRun run_cli(const std::filesystem::path& dir, const std::vector<std::string>& arguments) {
   const auto out_path = dir / "cli.out";
   const auto err_path = dir / "cli.err";
-  const pid_t pid = ::fork();
+  const pid_t pid = rangekit::test::fork_child();
   if (pid == 0) {
     const int out = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
     const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);

@@ -15,6 +15,7 @@
 #include <iterator>
 #include <string>
 
+#include "child_process.hpp"
 #include "ls5_driver/cli_process.hpp"
 #include "rangekit/mqtt/local_broker.hpp"
 
@@ -46,7 +47,7 @@ TEST(LocalBroker, EndsWhenTheProcessThatStartedItIsKilled) {
   const OrphanReaper reaper;
   std::array<int, 2> pid_pipe{};
   ASSERT_EQ(::pipe2(pid_pipe.data(), O_CLOEXEC), 0);
-  const pid_t service = ::fork();
+  const pid_t service = rangekit::test::fork_child();
   ASSERT_GE(service, 0);
   if (service == 0) {
     // The service's stand-in: starts the broker from its main thread as serve --demo does,

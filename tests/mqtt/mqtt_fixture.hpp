@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "child_process.hpp"
 #include "ls5_driver/cli_process.hpp"
 #include "rangekit/mqtt/local_broker.hpp"
 
@@ -41,7 +42,7 @@ struct Broker {
     options.max_packet_size = 0;  // unbounded unless a test sets one (extra_config): some send megabytes
     if (!user.empty()) {
       options.password_file = (dir.path / "passwords").string();
-      const pid_t pid = ::fork();
+      const pid_t pid = rangekit::test::fork_child();
       if (pid == 0) {
         ::execlp("mosquitto_passwd", "mosquitto_passwd", "-b", "-c", options.password_file.c_str(), user.c_str(),
                  password.c_str(), static_cast<char*>(nullptr));

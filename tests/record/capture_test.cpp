@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <variant>
 
+#include "child_process.hpp"
 #include "rangekit/record/capture.hpp"
 #include "rangekit/record/replay.hpp"
 #include "record/fake_source.hpp"
@@ -325,7 +326,7 @@ TEST(Capture, KillNineLosesAtMostTheOpenBatch) {
   const auto path = dir.file("killed.sqlite");
   int report[2];
   ASSERT_EQ(::pipe(report), 0);
-  const pid_t child = ::fork();
+  const pid_t child = rangekit::test::fork_child();
   ASSERT_GE(child, 0);
   if (child == 0) {
     ::close(report[0]);

@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include "build_paths.hpp"
+#include "child_process.hpp"
 
 #include <chrono>
 #include <string>
@@ -22,7 +23,7 @@ class CliProcess {
     int out[2];
     int err[2];
     if (::pipe2(out, O_CLOEXEC) != 0 || ::pipe2(err, O_CLOEXEC) != 0) return;
-    pid_ = ::fork();
+    pid_ = rangekit::test::fork_child();
     if (pid_ == 0) {
       ::dup2(out[1], STDOUT_FILENO);
       ::dup2(err[1], STDERR_FILENO);

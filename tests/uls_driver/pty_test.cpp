@@ -3,6 +3,7 @@
 // stream surviving the emulator being killed and restarted on the same path.
 #include <gtest/gtest.h>
 #include "build_paths.hpp"
+#include "child_process.hpp"
 
 #include <signal.h>
 #include <sys/wait.h>
@@ -31,7 +32,7 @@ class Emulator {
   explicit Emulator(const std::string& arguments) {
     int fds[2];
     EXPECT_EQ(::pipe(fds), 0);
-    pid_ = ::fork();
+    pid_ = rangekit::test::fork_child();
     if (pid_ == 0) {
       ::dup2(fds[1], STDOUT_FILENO);
       ::close(fds[0]);

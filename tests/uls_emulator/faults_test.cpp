@@ -4,6 +4,7 @@
 // test; a host on the configuration port's pty.
 #include <gtest/gtest.h>
 #include "build_paths.hpp"
+#include "child_process.hpp"
 
 #include <signal.h>
 #include <sys/wait.h>
@@ -32,7 +33,7 @@ class SimUls {
                                 " --virtual-clock --seed 5 --control " + control_path_ + " " + extra;
     int fds[2];
     EXPECT_EQ(::pipe(fds), 0);
-    child_ = ::fork();
+    child_ = rangekit::test::fork_child();
     if (child_ == 0) {
       ::dup2(fds[1], STDOUT_FILENO);
       ::close(fds[0]);

@@ -3,6 +3,7 @@
 // runtime on the virtual clock (issue 4).
 #include <gtest/gtest.h>
 #include "build_paths.hpp"
+#include "child_process.hpp"
 
 #include <signal.h>
 #include <sys/wait.h>
@@ -127,7 +128,7 @@ TEST(UlsPty, CommandSessionThroughTheCli) {
                               config + " --control " + control;
   int pipe_fds[2];
   ASSERT_EQ(::pipe(pipe_fds), 0);
-  const pid_t child = ::fork();
+  const pid_t child = rangekit::test::fork_child();
   ASSERT_GE(child, 0);
   if (child == 0) {
     ::dup2(pipe_fds[1], STDOUT_FILENO);

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "child_process.hpp"
 #include "web/live_service.hpp"
 
 namespace hostile_test {
@@ -224,7 +225,7 @@ TEST(HostileClient, OutOfDescriptorsTheListenerWaitsInsteadOfSpinning) {
   const double idle = cpu_seconds() - idle_before;
   int gate[2];
   ASSERT_EQ(::pipe(gate), 0);
-  const pid_t clients = ::fork();
+  const pid_t clients = rangekit::test::fork_child();
   if (clients == 0) {  // a process of its own, so its sockets do not count against the service's limit
     ::close(gate[1]);
     for (int i = 0; i < 200; ++i) web_test::connect_to(service.port);
