@@ -67,11 +67,13 @@ test-quick: WITH_TESTS = ON
 # longer), so they run two per core.
 SANITIZER_TEST_JOBS ?= $(shell echo $$(( $(JOBS) * 2 )))
 
-# Same tests with AddressSanitizer + UndefinedBehaviorSanitizer (CI runs this too).
+# Same tests with AddressSanitizer + UndefinedBehaviorSanitizer (CI runs this too). The
+# sanitizer builds compile the libraries in unity batches as well: 28 % less compiler time
+# for the ASan libraries (291 s of CPU instead of 404 s).
 asan:
 	@bash scripts/install-deps.sh test
 	@bash scripts/configure.sh build-asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="$(DEBUG_INFO)" \
-	  -DRANGEKIT_SANITIZE=ON -DRANGEKIT_BENCH=OFF $(CMAKE_FLAGS)
+	  -DRANGEKIT_SANITIZE=ON -DRANGEKIT_BENCH=OFF -DRANGEKIT_UNITY_SOURCES=ON $(CMAKE_FLAGS)
 	@cmake --build build-asan -j$(JOBS)
 	@$(CTEST) --test-dir build-asan -j$(SANITIZER_TEST_JOBS)
 
@@ -79,13 +81,16 @@ asan:
 # emulator runtimes. Only the test binaries whose code runs threads are built and run; these
 # test single-threaded code (codecs, firmware models run by hand, file checks), where TSan
 # has nothing to look at: uls, ls5, ls5_emulator, docs, architecture, alloc, hardware.
+# -O1, the least ThreadSanitizer's manual asks for: g++ compiled src/hub/hub.cpp in 24 %
+# less time than at -O2.
 TSAN_TESTS = cli core hub ls5_driver mqtt record sim uls_driver uls_emulator web
 empty :=
 TSAN_LABELS = $(subst $(empty) $(empty),|,$(strip $(TSAN_TESTS)))
 tsan:
 	@bash scripts/install-deps.sh test
 	@bash scripts/configure.sh build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 $(DEBUG_INFO) -DNDEBUG" -DRANGEKIT_TSAN=ON -DRANGEKIT_BENCH=OFF $(CMAKE_FLAGS)
+	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 $(DEBUG_INFO) -DNDEBUG" -DRANGEKIT_TSAN=ON -DRANGEKIT_BENCH=OFF \
+	  -DRANGEKIT_UNITY_SOURCES=ON $(CMAKE_FLAGS)
 	@cmake --build build-tsan -j$(JOBS) --target rangekit $(TSAN_TESTS:%=rangekit_%_tests)
 	@$(CTEST) --test-dir build-tsan -j$(SANITIZER_TEST_JOBS) -L '^binary\.($(TSAN_LABELS))$$'
 

@@ -6,6 +6,9 @@ option(RANGEKIT_CCACHE "Compile through ccache when it is installed" ${PROJECT_I
 option(RANGEKIT_MOLD "Link with mold when it is installed" ${PROJECT_IS_TOP_LEVEL})
 option(RANGEKIT_PCH "Precompile the heavy third-party headers of each target" ${PROJECT_IS_TOP_LEVEL})
 option(RANGEKIT_UNITY "Compile the test binaries in unity batches" ${PROJECT_IS_TOP_LEVEL})
+# The libraries in batches too: only where no tool reads the compile database
+# file by file (clang-tidy reads build/'s), so the sanitizer builds turn it on.
+option(RANGEKIT_UNITY_SOURCES "Compile the libraries in unity batches too" OFF)
 set(RANGEKIT_UNITY_BATCH 8 CACHE STRING "Source files per unity batch")
 
 if(RANGEKIT_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
@@ -57,5 +60,11 @@ endfunction()
 function(rangekit_unity target)
   if(RANGEKIT_UNITY)
     set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE ${RANGEKIT_UNITY_BATCH})
+  endif()
+endfunction()
+# rangekit_unity_sources(target): the same, for a library, when RANGEKIT_UNITY_SOURCES is on.
+function(rangekit_unity_sources target)
+  if(RANGEKIT_UNITY_SOURCES)
+    rangekit_unity(${target})
   endif()
 endfunction()

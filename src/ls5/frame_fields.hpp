@@ -28,4 +28,7 @@ Status check_argument_length(std::string_view frame, const CommandInfo& command,
 void append_hex_byte(FrameText& out, std::uint8_t value) noexcept;
 void append_result_code(FrameText& out, std::uint16_t code) noexcept;
 
+// A CommandId inside the command table (an id cast from a number may not be).
+inline bool valid_command(CommandId id) noexcept { return static_cast<std::size_t>(id) < command_count; }
+
 }  // namespace rangekit::ls5::detail

@@ -14,7 +14,7 @@ using D = DefaultSource;
 constexpr ValueSpan any_byte[] = {{0x00, 0xFF}};
 constexpr ValueSpan nonzero_byte[] = {{0x01, 0xFF}};
 constexpr ValueSpan zero_or_one[] = {{0x00, 0x01}};
-constexpr ValueSpan byte_formats[] = {{0x00, 0x05}};
+constexpr ValueSpan byte_format_codes[] = {{0x00, 0x05}};
 constexpr ValueSpan baud_codes[] = {{0x01, 0x05}, {0x06, 0x08, 1, firmware_6_0}};  // note 2
 constexpr ValueSpan median_points[] = {{0x01, 0x31, 2}};                           // L4: odd, hex
 constexpr ValueSpan high_byte_of_code[] = {{0x00, 0xC3}};                          // codes 0-50000
@@ -85,8 +85,8 @@ constexpr ParameterInfo parameters[] = {
      false, power_on_names},
     {0x03, "Analog output is enabled/disabled", "analog-output", zero_or_one, 0x01, D::fixed, L::none, 0, any, false,
      enabled_names},
-    {0x04, "Byte format at work with serial protocols", "byte-format", byte_formats, 0x00, D::fixed, L::none, 0, any,
-     false, byte_format_names},
+    {0x04, "Byte format at work with serial protocols", "byte-format", byte_format_codes, 0x00, D::fixed, L::none, 0,
+     any, false, byte_format_names},
     {0x05, "Baud rate", "baud-rate", baud_codes, 0x05, D::fixed, L::none, 0, any, false, baud_names},
     {0x06, "Measurement period, low byte", "period.low", any_byte, 0x64, D::fixed, L::measurement_period, 0},
     {0x07, "Measurement period, high byte", "period.high", any_byte, 0x00, D::fixed, L::measurement_period, 1},

@@ -15,8 +15,6 @@ using detail::quote;
 constexpr std::size_t result_digits = 5;
 constexpr std::size_t identification_frame_length = 3 + identification_field_length;  // '%' AA field
 
-bool valid_command(CommandId id) noexcept { return static_cast<std::size_t>(id) < command_count; }
-
 bool valid_code(std::uint16_t code) noexcept {
   return code <= max_result_code || code == code_no_measurement_yet || code == code_no_signal;
 }
@@ -235,7 +233,7 @@ Result<FrameText> encode_reply(const Reply& reply) {
     return out;
   }
   if (Status from = check_reply_address(reply.address); !from) return std::move(from).error();
-  if (!valid_command(reply.command)) return frame_error(Errc::unknown_command, "no such command id");
+  if (!detail::valid_command(reply.command)) return frame_error(Errc::unknown_command, "no such command id");
   const CommandInfo& info = command_info(reply.command);
 
   if (reply.kind == ReplyKind::identification) {
@@ -275,7 +273,7 @@ Result<FrameText> encode_reply(const Reply& reply) {
 }
 
 Status check_reply_answers(const Request& request, const Reply& reply) {
-  if (!valid_command(request.command)) return frame_error(Errc::unknown_command, "no such command id");
+  if (!detail::valid_command(request.command)) return frame_error(Errc::unknown_command, "no such command id");
   const CommandInfo& info = command_info(request.command);
   if (!request.expects_reply()) {
     return frame_error(Errc::wrong_form, std::string(info.code) + " sent to 00 gets no reply (table 9.1 note 2)");

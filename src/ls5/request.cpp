@@ -20,8 +20,6 @@ const char* argument_description(RequestForm form) noexcept {
   return "";
 }
 
-bool valid_command(CommandId id) noexcept { return static_cast<std::size_t>(id) < command_count; }
-
 // Table 9.1 note 1 (conformance L15).
 Status check_broadcast(std::uint8_t address, const CommandInfo& command) {
   if (address == broadcast_address && !command.broadcast_allowed) {
@@ -34,7 +32,7 @@ Status check_broadcast(std::uint8_t address, const CommandInfo& command) {
 }  // namespace
 
 bool Request::expects_reply() const noexcept {
-  return !(is_broadcast() && valid_command(command) && command_info(command).silent_on_broadcast);
+  return !(is_broadcast() && detail::valid_command(command) && command_info(command).silent_on_broadcast);
 }
 
 Result<Request> parse_request(Bytes frame_bytes) {
@@ -86,7 +84,7 @@ Result<Request> parse_request_line(Bytes line) {
 }
 
 Result<FrameText> encode_request(const Request& request) {
-  if (!valid_command(request.command)) return detail::frame_error(Errc::unknown_command, "no such command id");
+  if (!detail::valid_command(request.command)) return detail::frame_error(Errc::unknown_command, "no such command id");
   const CommandInfo& info = command_info(request.command);
   if (Status broadcast = check_broadcast(request.address, info); !broadcast) return std::move(broadcast).error();
   FrameText out;

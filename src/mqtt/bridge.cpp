@@ -38,16 +38,18 @@
 #include "rangekit/hub/json_views.hpp"
 
 namespace rangekit::mqtt {
-namespace {
 
-using namespace std::chrono_literals;
-
+// A publication waiting in a link's queue (outside the anonymous namespace, as Link is).
 struct Message {
   std::string topic;
   std::string payload;
   int qos = 0;
   bool retain = false;
 };
+
+namespace {
+
+using namespace std::chrono_literals;
 
 // MQTT 5 CONNACK reason codes (and their MQTT 3.1.1 counterparts 4 and 5) that retrying will not fix.
 bool refused_credentials(int reason) {

@@ -12,8 +12,6 @@ namespace {
 
 Error encode_error(Errc code, const std::string& what) { return make_error(code, "ULS encode: " + what); }
 
-bool is_letter(char c) noexcept { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); }
-
 bool looks_like_event(std::string_view upper_mnemonic) noexcept {
   if (upper_mnemonic.size() != 4) return false;
   for (const char c : upper_mnemonic) {
@@ -88,7 +86,7 @@ Result<FrameText> encode_frame(Address address, std::string_view mnemonic, std::
   }
   char upper[max_mnemonic_length];
   for (std::size_t i = 0; i < mnemonic.size(); ++i) {
-    if (!is_letter(mnemonic[i])) {
+    if (!detail::is_letter(mnemonic[i])) {
       return encode_error(Errc::invalid_frame, "mnemonic " + detail::quoted(mnemonic) + " holds a non-letter");
     }
     upper[i] = text::to_upper(mnemonic[i]);
