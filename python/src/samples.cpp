@@ -34,6 +34,8 @@ const char* exception_name(Errc code) noexcept {
       return "DecodeError";
     case Errc::unsupported:
       return "UnsupportedError";
+    case Errc::limit:
+      return "RangekitError";
   }
   return "RangekitError";
 }

@@ -27,6 +27,7 @@ int exit_code_for(const Error& error) {
     case Errc::unknown_command:
     case Errc::unknown_parameter:
     case Errc::unsupported:
+    case Errc::limit:
       return exit_usage;
     // Bytes, replies, files or values that do not decode.
     case Errc::invalid_frame:

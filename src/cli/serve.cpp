@@ -153,7 +153,9 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   if (capture_dir.is_relative() && !site->file.empty()) {
     capture_dir = std::filesystem::path(site->file).parent_path() / capture_dir;
   }
-  hub::CaptureManager captures(*hub, capture_dir.string());
+  hub::CaptureLimits capture_limits;
+  capture_limits.running = site->service.max_captures;
+  hub::CaptureManager captures(*hub, capture_dir.string(), capture_limits);
   server_options.captures = &captures;
   server_options.assets = dashboard_assets();
   auto server = web::Server::start(*hub, server_options);

@@ -34,6 +34,8 @@ const char* errc_name(Errc code) noexcept {
       return "closed";
     case Errc::unsupported:
       return "unsupported";
+    case Errc::limit:
+      return "limit";
   }
   return "unknown error";
 }

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cerrno>
@@ -199,7 +200,8 @@ Result<DownloadFormat> parse_download_format(std::string_view name) {
   return make_error(Errc::out_of_range, "format '" + std::string(name) + "': sqlite, csv, jsonl or log");
 }
 
-CaptureManager::CaptureManager(Hub& hub, std::string directory) : hub_(hub), directory_(std::move(directory)) {
+CaptureManager::CaptureManager(Hub& hub, std::string directory, CaptureLimits limits)
+    : hub_(hub), directory_(std::move(directory)), limits_(limits) {
   // An export cut short by a crash leaves its temporary file; no other run uses it.
   std::error_code error;
   for (std::filesystem::directory_iterator entry(directory_, error), end; !error && entry != end;
@@ -218,8 +220,22 @@ Result<CaptureInfo> CaptureManager::start(const std::vector<std::string>& sensor
   std::error_code made;
   std::filesystem::create_directories(directory_, made);
   if (made) return make_error(Errc::io, "cannot make the capture folder " + directory_ + ": " + made.message());
+  std::error_code asked;
+  const auto space = std::filesystem::space(directory_, asked);
+  if (!asked && space.available < limits_.min_free_bytes) {
+    return make_error(Errc::limit, "the capture folder " + directory_ + " has " +
+                                       std::to_string(space.available >> 20) +
+                                       " MiB free, and a capture starts only with " +
+                                       std::to_string(limits_.min_free_bytes >> 20) + " MiB free or more");
+  }
   auto running = std::make_unique<Running>();
   std::lock_guard lock(mutex_);
+  const auto active = std::count_if(captures_.begin(), captures_.end(),
+                                    [](const std::unique_ptr<Running>& capture) { return !capture->stopping.load(); });
+  if (static_cast<std::size_t>(active) >= limits_.running) {
+    return make_error(Errc::limit, std::to_string(active) +
+                                       " captures are running, as many as the service runs at once: stop one first");
+  }
   const auto now = std::chrono::system_clock::now();
   const std::time_t seconds = std::chrono::system_clock::to_time_t(now);
   std::tm utc{};

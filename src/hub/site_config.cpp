@@ -204,15 +204,25 @@ Result<SensorConfig> sensor_from(std::string_view file, const toml::table& table
 }
 
 Status check_service(std::string_view file, const toml::table& table, ServiceConfig& service) {
-  if (auto checked =
-          only_keys(file, table, "[service]", {"listen", "token_file", "capture_dir", "tls_certificate", "tls_key"});
+  if (auto checked = only_keys(file, table, "[service]",
+                               {"listen", "token_file", "capture_dir", "max_captures", "tls_certificate", "tls_key"});
       !checked) {
     return checked;
   }
   for (const auto& [key, node] : table) {
+    const std::string_view k = key.str();
+    if (k == "max_captures") {
+      auto count = integer_of(file, node, k);
+      if (!count) return std::move(count).error();
+      if (*count < 1 || *count > 1024) {
+        return at(file, node, Errc::out_of_range,
+                  "max_captures = " + std::to_string(*count) + ": captures running at once, 1 to 1024");
+      }
+      service.max_captures = static_cast<std::size_t>(*count);
+      continue;
+    }
     auto text = text_of(file, node, key.str());
     if (!text) return std::move(text).error();
-    const std::string_view k = key.str();
     if (k == "listen") {
       if (auto endpoint = parse_endpoint(*text); !endpoint) {
         return at(file, node, Errc::out_of_range, "listen '" + *text + "': " + endpoint.error().message);

@@ -27,6 +27,7 @@ inline http::status status_for(const Error& error) {
     case Errc::invalid_frame:
       return http::status::bad_request;
     case Errc::unsupported:
+    case Errc::limit:
       return http::status::conflict;
     case Errc::timeout:
       return http::status::gateway_timeout;

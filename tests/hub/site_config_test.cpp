@@ -132,6 +132,18 @@ TEST(SiteConfig, RefusesWithFileLineAndReason) {
   EXPECT_NE(refusal("[[sensor]]\nname = \n").find("site.toml:2:"), std::string::npos);  // TOML syntax
 }
 
+// How many captures run at once: 16 unless [service] says, from 1 to 1024.
+TEST(SiteConfig, MaxCapturesIsCheckedAndDefaultsTo16) {
+  const std::string sensor = "[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\n";
+  EXPECT_EQ(parse_ok(sensor).service.max_captures, 16u);
+  EXPECT_EQ(parse_ok("[service]\nmax_captures = 40\n" + sensor).service.max_captures, 40u);
+  EXPECT_EQ(refusal("[service]\nmax_captures = 0\n" + sensor),
+            "site.toml:2: max_captures = 0: captures running at once, 1 to 1024");
+  EXPECT_EQ(refusal("[service]\nmax_captures = 5000\n" + sensor),
+            "site.toml:2: max_captures = 5000: captures running at once, 1 to 1024");
+  EXPECT_NE(refusal("[service]\nmax_captures = \"many\"\n" + sensor).find("site.toml:2:"), std::string::npos);
+}
+
 // Issue 18 item 2 (U102, L71): per sensor, the fastest its target moves and whether suspect
 // samples are left out; unset, the family default and kept.
 TEST(SiteConfig, U102_L71_MaxSpeedAndDropSuspectPerSensor) {

@@ -176,6 +176,27 @@ TEST(HostileClient, AHugeContentLengthIsRefusedAtOnce) {
   service.expect_unharmed();
 }
 
+// A client that starts captures without end: each has a thread and open files, so the service
+// runs at most 16 at once (one is the fixture's) and refuses the rest, saying what to do.
+TEST(HostileClient, CapturesStartedWithoutEndStopAtTheLimit) {
+  Service service("127.0.0.1:0");
+  int started = 0;
+  int refused = 0;
+  std::string refusal;
+  for (int i = 0; i < 40; ++i) {
+    const Reply reply = http(service.port, "POST", "/api/captures", R"({"sensors": ["silo"]})");
+    if (reply.status == 201) ++started;
+    if (reply.status == 409 && error_code(reply) == "limit") {
+      ++refused;
+      refusal = reply.body;
+    }
+  }
+  EXPECT_EQ(started, 15);
+  EXPECT_EQ(refused, 25);
+  EXPECT_NE(refusal.find("stop one first"), std::string::npos) << refusal;
+  service.expect_unharmed();
+}
+
 // Streams that never read: each fills its socket, then its queue, and is cut off; the sensors
 // go on, other clients are answered, and what the service holds stays bounded.
 TEST(HostileClient, StreamsThatNeverReadAreCutOffAndTheServiceGoesOn) {

@@ -26,6 +26,7 @@ enum class Errc {
   io,                 // operating-system I/O failure
   closed,             // the other end went away
   unsupported,        // feature not available (firmware version, platform)
+  limit,              // a bound of this program reached (running captures, free disk): end something first
 };
 
 const char* errc_name(Errc code) noexcept;

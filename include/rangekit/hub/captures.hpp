@@ -6,6 +6,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -33,14 +34,23 @@ struct CaptureInfo {
 enum class DownloadFormat : std::uint8_t { sqlite, csv, jsonl, log };
 Result<DownloadFormat> parse_download_format(std::string_view name);
 
+// What one client may not exhaust: each running capture has a thread, three files open and
+// a queue of up to a minute of readings, and each start leaves a file behind.
+struct CaptureLimits {
+  std::size_t running = 16;                                  // captures running at once
+  std::uintmax_t min_free_bytes = std::uintmax_t{64} << 20;  // free space the folder's file system needs for a start
+};
+
 class CaptureManager {
  public:
   // Captures go into `directory` (made if missing).
-  CaptureManager(Hub& hub, std::string directory);
+  CaptureManager(Hub& hub, std::string directory, CaptureLimits limits = {});
   ~CaptureManager();  // stop_all()
   CaptureManager(const CaptureManager&) = delete;
   CaptureManager& operator=(const CaptureManager&) = delete;
 
+  // Errc::limit when `limits.running` captures run already or the folder's file system has
+  // less than `limits.min_free_bytes` free.
   Result<CaptureInfo> start(const std::vector<std::string>& sensors);
   Result<CaptureInfo> stop(const std::string& id);
   // Every capture of this run, oldest first.
@@ -57,6 +67,7 @@ class CaptureManager {
   struct Running;
   Hub& hub_;
   std::string directory_;
+  CaptureLimits limits_;
   mutable std::mutex mutex_;
   std::vector<std::unique_ptr<Running>> captures_;
   std::uint64_t counter_ = 0;

@@ -39,7 +39,8 @@ struct ServiceConfig {
   std::string listen = "127.0.0.1:8080";
   std::string token_file;  // for a non-loopback listen address; default beside the site file
   std::string capture_dir = "captures";
-  std::string tls_certificate;  // both or neither
+  std::size_t max_captures = 16;  // running at once
+  std::string tls_certificate;    // both or neither
   std::string tls_key;
 };
 
