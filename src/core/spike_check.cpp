@@ -82,9 +82,9 @@ void SpikeCheck::judge(Stream& stream, Sample& held, const Sample& next) const {
   // A still target (the newest quarter of the window has the level of the whole): the next
   // reading only has to be far from this one, and not further out on the same side (then this
   // one is a step on its way, a reading between two targets), so that a spike beside a second
-  // corrupted reading is still seen. A moving one needs the next back at the level, and this
-  // reading apart from the one before too: two readings of a target crossing the allowance's
-  // edge lie close together on either side of it.
+  // corrupted reading is still seen. A moving target's level lags it by half a window of its
+  // travel, so a moving reading is judged by its neighbours instead: far from the midpoint of
+  // the one before and the one after, which lie close together.
   std::array<double, window> recent{};
   const std::size_t quarter = size / 4;
   for (std::size_t i = 0; i < quarter; ++i) {
@@ -94,15 +94,27 @@ void SpikeCheck::judge(Stream& stream, Sample& held, const Sample& next) const {
   const double p_off = p->value_m - level;
   const double n_off = n->value_m - level;
   const bool stepping = (p_off > 0) == (n_off > 0) && std::abs(n_off) >= std::abs(p_off);
-  const bool spike = still ? (back && next_apart) || (std::abs(p->value_m - n->value_m) > allowed && !stepping)
-                           : back && next_apart && (!stream.last || std::abs(p->value_m - *stream.last) > allowed / 2);
+  // The midpoint carries its readings' error as well as this one its own: twice the accuracy.
+  const double from_neighbours = allowed + p->accuracy_m;
+  const bool between_neighbours = stream.last && std::abs(*stream.last - n->value_m) <= allowed &&
+                                  std::abs(p->value_m - (*stream.last + n->value_m) / 2) > from_neighbours;
+  const bool spike =
+      still ? (back && next_apart) || (std::abs(p->value_m - n->value_m) > allowed && !stepping) : between_neighbours;
   if (!spike) return;
   held.suspect = true;
   std::array<char, 200> text{};
-  std::snprintf(text.data(), text.size(),
-                "spike: %.6f m, %.6f m from the level %.6f m of the last readings, and the next not with it "
-                "(%.6f m); at most %.6f m",
-                p->value_m, p->value_m - level, level, n->value_m, allowed);
+  if (still) {
+    std::snprintf(text.data(), text.size(),
+                  "spike: %.6f m, %.6f m from the level %.6f m of the last readings, and the next not with it "
+                  "(%.6f m); at most %.6f m",
+                  p->value_m, p->value_m - level, level, n->value_m, allowed);
+  } else {
+    const double midpoint = (*stream.last + n->value_m) / 2;
+    std::snprintf(text.data(), text.size(),
+                  "spike: %.6f m, %.6f m from the midpoint of the readings before (%.6f m) and after (%.6f m); "
+                  "at most %.6f m",
+                  p->value_m, p->value_m - midpoint, *stream.last, n->value_m, from_neighbours);
+  }
   held.suspect_reason = text.data();
 }
 

@@ -118,6 +118,23 @@ TEST(SpikeCheck, MovingTargetsAreNoSpikes) {
     EXPECT_FALSE(sample.suspect) << sample.suspect_reason;
 }
 
+// A moving target whose level (the median of the last readings) lags it by about the
+// allowance, with the scatter of the stated accuracy: LS5 100 mm, 1.6 codes a reading (80
+// codes behind), ±60 of the 75 codes of table 3.1. Readings near the allowance's edge, on
+// either side of it, are no spikes.
+TEST(SpikeCheck, AMovingTargetWhoseLevelLagsByTheAllowanceIsNoSpike) {
+  std::mt19937 random(3);
+  std::uniform_int_distribution<int> scatter(-60, 60);
+  std::vector<Sample> readings;
+  for (int i = 0; i < 6000; ++i) readings.push_back(ls5_reading(20000 + (i * 16) / 10 + scatter(random)));
+  readings[3000] = ls5_reading(*readings[3000].code + 400);  // a changed digit still is one
+  SpikeCheck check;
+  const auto out = run(check, readings, milliseconds(1));
+  ASSERT_EQ(out.size(), readings.size());
+  for (std::size_t i = 0; i < out.size(); ++i)
+    EXPECT_EQ(spike(out[i]), i == 3000) << i << ": " << out[i].suspect_reason;
+}
+
 // The ULS factory rate (PPM 1024 / PRF 2000: 512 ms) is slower than the hold limit: nothing
 // waits, every reading leaves as it comes.
 TEST(SpikeCheck, ASlowStreamIsNeverHeld) {
