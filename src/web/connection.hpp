@@ -57,12 +57,15 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
   }
 
   // TLS: the handshake first (bounded like a read), so that even a refusal is spoken in TLS;
-  // then the request, or over the connection limit one answer that says so.
+  // then the request, or over the connection limit one answer that says so. A handshake
+  // waits like a request does: a client that never finishes one can be closed for a new one.
   void start(bool over_limit) {
     if constexpr (std::is_same_v<Stream, TlsStream>) {
       tcp_of(stream_).expires_after(std::chrono::seconds(30));
+      if (!over_limit) ticket_ = server_.wait_for_request(close_when_evicted());
       stream_.async_handshake(net::ssl::stream_base::server,
                               [self = this->shared_from_this(), over_limit](beast::error_code error) {
+                                self->stop_waiting();
                                 if (error) return self->close();  // not TLS, or a certificate the client refused
                                 over_limit ? self->refuse() : self->read();
                               });
@@ -78,9 +81,7 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     tcp_of(stream_).expires_after(server_.options.request_timeout);  // an idle or trickling client is closed
     // Over the limit, the service may close the oldest waiting connection for a new client.
     // It is called on the event loop, like this connection's handlers: no read is under way elsewhere.
-    ticket_ = server_.wait_for_request([weak = this->weak_from_this()] {
-      if (auto self = weak.lock()) self->close();
-    });
+    ticket_ = server_.wait_for_request(close_when_evicted());
     http::async_read(stream_, buffer_, *parser_,
                      [self = this->shared_from_this()](beast::error_code error, std::size_t) { self->on_read(error); });
   }
@@ -95,9 +96,18 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
   }
 
  private:
-  void on_read(beast::error_code error) {
+  std::function<void()> close_when_evicted() {
+    return [weak = this->weak_from_this()] {
+      if (auto self = weak.lock()) self->close();
+    };
+  }
+  void stop_waiting() {
     if (ticket_) server_.stop_waiting(*ticket_);
     ticket_.reset();
+  }
+
+  void on_read(beast::error_code error) {
+    stop_waiting();
     if (error == http::error::end_of_stream || error == beast::error::timeout || error == net::error::eof) {
       return close();
     }

@@ -7,7 +7,14 @@
 #include <boost/beast/http.hpp>
 #include <boost/beast/ssl.hpp>
 
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
 #include <cstdlib>
+#include <memory>
+#include <string>
+#include <thread>
 
 #include "hub/site_fixture.hpp"
 #include "rangekit/web/server.hpp"
@@ -51,21 +58,48 @@ struct TlsClient {
   }
 };
 
-TEST(WebTls, TheApiAndItsStreamsGoOverTlsOnly) {
+// The service over TLS, on one sensor at a port that does not exist: its "disconnected"
+// event is in the ring at once.
+struct TlsService {
   Certificate certificate;
-  ASSERT_TRUE(certificate.made) << "openssl could not make a certificate";
-  // One sensor on a port that does not exist: its "disconnected" event is in the ring at once.
-  auto site = rangekit::hub::parse_site_config(
-      "[[sensor]]\nname = \"x\"\nfamily = \"ls5\"\nport = \"/nonexistent/rangekit-port\"\n", "site.toml");
-  ASSERT_TRUE(site.ok());
-  auto hub = rangekit::hub::Hub::start(*site);
+  std::unique_ptr<rangekit::hub::Hub> hub;
   rangekit::web::ServerOptions options;
-  options.listen = "127.0.0.1:0";
-  options.tls_certificate = certificate.certificate;
-  options.tls_key = certificate.key;
-  auto server = rangekit::web::Server::start(*hub, options);
-  ASSERT_TRUE(server.ok()) << server.error().message;
-  const auto port = (*server)->local_endpoint().port;
+  std::unique_ptr<rangekit::web::Server> server;
+  std::uint16_t port = 0;
+  explicit TlsService(std::size_t max_connections = 256) {
+    EXPECT_TRUE(certificate.made) << "openssl could not make a certificate";
+    auto site = rangekit::hub::parse_site_config(
+        "[[sensor]]\nname = \"x\"\nfamily = \"ls5\"\nport = \"/nonexistent/rangekit-port\"\n", "site.toml");
+    EXPECT_TRUE(site.ok());
+    if (!site) return;
+    hub = rangekit::hub::Hub::start(*site);
+    options.listen = "127.0.0.1:0";
+    options.tls_certificate = certificate.certificate;
+    options.tls_key = certificate.key;
+    options.max_connections = max_connections;
+    auto started = rangekit::web::Server::start(*hub, options);
+    EXPECT_TRUE(started.ok()) << (started ? "" : started.error().message);
+    if (!started) return;
+    server = std::move(*started);
+    port = server->local_endpoint().port;
+  }
+};
+
+std::string read_all(TlsClient& client) {
+  std::string received;
+  std::array<char, 4096> chunk{};
+  beast::error_code error;
+  while (!error) received.append(chunk.data(), client.stream.read_some(net::buffer(chunk), error));
+  return received;
+}
+
+TEST(WebTls, TheApiAndItsStreamsGoOverTlsOnly) {
+  TlsService service;
+  ASSERT_TRUE(service.server);
+  const auto port = service.port;
+  const Certificate& certificate = service.certificate;
+  auto& hub = service.hub;
+  const auto& options = service.options;
 
   TlsClient api(port, certificate.certificate);
   api.send("/healthz", port);
@@ -101,6 +135,34 @@ TEST(WebTls, TheApiAndItsStreamsGoOverTlsOnly) {
   const auto refused = rangekit::web::Server::start(*hub, missing);
   ASSERT_FALSE(refused.ok());
   EXPECT_NE(refused.error().message.find("absent.pem"), std::string::npos) << refused.error().message;
+}
+
+// Over the connection limit the one answer is spoken in TLS, after the handshake: a plain
+// HTTP refusal would be garbage to a TLS client.
+TEST(WebTls, OverTheConnectionLimitTheRefusalIsSpokenInTls) {
+  TlsService service(0);  // every client is over the limit
+  ASSERT_TRUE(service.server);
+  TlsClient client(service.port, service.certificate.certificate);
+  client.send("/healthz", service.port);
+  const std::string answer = read_all(client);
+  EXPECT_EQ(answer.rfind("HTTP/1.1 503", 0), 0u) << answer;
+  EXPECT_NE(answer.find("too_many_connections"), std::string::npos) << answer;
+}
+
+// Clients that connect and never begin the handshake (slowloris on TLS) wait like a request
+// that never comes: past half a second the oldest gives its place to a new client.
+TEST(WebTls, ClientsThatNeverShakeHandsCannotKeepOthersOut) {
+  TlsService service(2);
+  ASSERT_TRUE(service.server);
+  const int first = web_test::connect_to(service.port);
+  const int second = web_test::connect_to(service.port);
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));  // past the 500 ms a waiting client keeps its place
+  TlsClient client(service.port, service.certificate.certificate);
+  client.send("/healthz", service.port);
+  const std::string answer = read_all(client);
+  EXPECT_EQ(answer.rfind("HTTP/1.1 200", 0), 0u) << answer;
+  ::close(first);
+  ::close(second);
 }
 
 }  // namespace tls_test
