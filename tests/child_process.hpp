@@ -2,9 +2,13 @@
 // The processes a test starts end with it. A test that ctest kills at its timeout, or that
 // crashes, takes its emulators and services along instead of leaving them to hold ctest's
 // output open, which would keep ctest waiting for ever.
+#include <poll.h>
 #include <sys/prctl.h>
 #include <sys/types.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <chrono>
 #include <csignal>
 
 namespace rangekit::test {
@@ -19,6 +23,25 @@ inline pid_t fork_child() {
     if (::getppid() != parent) ::_exit(127);  // the test died before the prctl: no signal would come
   }
   return pid;
+}
+
+// For its length, orphans below this process come to it rather than to init, so that the end
+// of a grandchild whose parent died can be waited for with waitpid.
+struct OrphanReaper {
+  OrphanReaper() { ::prctl(PR_SET_CHILD_SUBREAPER, 1); }
+  ~OrphanReaper() { ::prctl(PR_SET_CHILD_SUBREAPER, 0); }
+  OrphanReaper(const OrphanReaper&) = delete;
+  OrphanReaper& operator=(const OrphanReaper&) = delete;
+};
+
+// Whether `pid`, a child or an orphan come to an OrphanReaper, ended within `limit`.
+inline bool reaped_within(pid_t pid, std::chrono::milliseconds limit) {
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  while (true) {
+    if (::waitpid(pid, nullptr, WNOHANG) == pid) return true;
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    ::poll(nullptr, 0, 10);  // waitpid has no timeout: poll on nothing between checks
+  }
 }
 
 }  // namespace rangekit::test

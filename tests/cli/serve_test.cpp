@@ -13,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "child_process.hpp"
 #include "ls5_driver/cli_process.hpp"
 #include "rangekit/sim/control_socket.hpp"
 #include "web/http_client.hpp"
@@ -153,6 +154,24 @@ TEST(ServeDemo, ServesSevenLiveSensorsAndStopsItsEmulators) {
     EXPECT_TRUE(::kill(emulator, 0) != 0 && errno == ESRCH) << "emulator " << emulator << " still there";
   }
   EXPECT_FALSE(std::filesystem::exists(dir)) << dir;
+}
+
+// A service killed outright (SIGKILL, a crash) takes its emulators along: each has the
+// kernel's parent-death signal, so none is left holding a pseudo-terminal (docs/security.md).
+TEST(ServeDemo, AKilledServiceTakesItsEmulatorsAlong) {
+  const rangekit::test::OrphanReaper reaper;  // the orphaned emulators come here, to be waited for
+  Child service({"serve", "--demo", "--duration", "120", "--listen", "127.0.0.1:0"});
+  std::string head;
+  ASSERT_NE(api_port(service, &head), 0) << head;
+  const auto dir_at = head.find(" in /");
+  ASSERT_NE(dir_at, std::string::npos) << head;
+  const std::set<pid_t> emulators = processes_naming(head.substr(dir_at + 4, head.find('\n', dir_at) - dir_at - 4));
+  ASSERT_EQ(emulators.size(), 3u) << head;
+  service.kill_hard();
+  for (const pid_t emulator : emulators) {
+    EXPECT_TRUE(rangekit::test::reaped_within(emulator, std::chrono::seconds(10)))
+        << "emulator " << emulator << " outlived the service";
+  }
 }
 
 // The service's "capture ...: N samples, 0 lost → FILE" line: the capture was committed and

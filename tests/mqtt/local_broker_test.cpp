@@ -23,23 +23,8 @@ namespace local_broker_test {
 
 using namespace std::chrono_literals;
 
-// For the test's length orphans below this process come to it rather than to init, so that
-// the end of a broker whose parent died can be waited for with waitpid.
-struct OrphanReaper {
-  OrphanReaper() { ::prctl(PR_SET_CHILD_SUBREAPER, 1); }
-  ~OrphanReaper() { ::prctl(PR_SET_CHILD_SUBREAPER, 0); }
-  OrphanReaper(const OrphanReaper&) = delete;
-  OrphanReaper& operator=(const OrphanReaper&) = delete;
-};
-
-bool reaped_within(pid_t pid, std::chrono::milliseconds limit) {
-  const auto deadline = std::chrono::steady_clock::now() + limit;
-  while (true) {
-    if (::waitpid(pid, nullptr, WNOHANG) == pid) return true;
-    if (std::chrono::steady_clock::now() >= deadline) return false;
-    ::poll(nullptr, 0, 10);  // waitpid has no timeout: poll on nothing between checks
-  }
-}
+using rangekit::test::OrphanReaper;
+using rangekit::test::reaped_within;
 
 TEST(LocalBroker, EndsWhenTheProcessThatStartedItIsKilled) {
   if (rangekit::mqtt::LocalBroker::find_executable().empty()) GTEST_SKIP() << "no mosquitto installed";
