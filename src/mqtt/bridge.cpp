@@ -85,7 +85,6 @@ struct Command {
 
 // A command is a few settings or one action name; anything longer is refused unread and not queued.
 constexpr std::size_t max_command_bytes = std::size_t{16} * 1024;
-constexpr std::size_t max_queued_commands = 64;
 
 // The network thread's eventfd. Shared with the hub's listener, which the hub may still be
 // calling while the bridge stops: the fd closes when the last holder lets go, so a late
@@ -139,6 +138,7 @@ struct Bridge::Impl {
   std::atomic<int> connected_links{0};
   std::atomic<std::uint64_t> hub_lost{0};
   std::atomic<std::uint64_t> handled{0};
+  std::atomic<std::uint64_t> busy{0};
   std::atomic<std::uint64_t> refusals{0};
 
   Impl(hub::Hub& h, BridgeOptions o) : hub(h), options(std::move(o)) {}
@@ -161,6 +161,9 @@ struct Bridge::Impl {
   void say_offline_and_disconnect();
   void run_commands();
   void handle(Command& command);
+  // Queues the command's answer for the network thread: on its result topic, and on its
+  // response topic when it named one.
+  void answer(Command& command, nlohmann::json result);
   nlohmann::json result_of(const Command& command);
   void on_connected(Link& link, int reason);
   void on_subscribed(Link& link, int mid, int count, const int* granted);
@@ -380,12 +383,23 @@ void on_message(mosquitto* /*client*/, void* user, const mosquitto_message* mess
     free(correlation);  // NOLINT(cppcoreguidelines-no-malloc)
   }
   Bridge::Impl& bridge = link->bridge;
+  bool queued = false;
   {
     const std::lock_guard lock(bridge.command_mutex);
-    if (bridge.commands.size() >= max_queued_commands) return;  // a flood of commands is not queued without end
-    bridge.commands.push_back(std::move(command));
+    if (bridge.commands.size() < bridge.options.max_queued_commands) {
+      bridge.commands.push_back(std::move(command));
+      queued = true;
+    }
   }
-  bridge.command_ready.notify_one();
+  if (queued) {
+    bridge.command_ready.notify_one();
+    return;
+  }
+  // A flood of commands is not queued without end: the one over the bound is answered now.
+  ++bridge.busy;
+  bridge.answer(command, hub::error_object("busy", std::to_string(bridge.options.max_queued_commands) +
+                                                       " commands are waiting already: this one was not run; "
+                                                       "send it again once they are answered"));
 }
 
 }  // namespace
@@ -799,7 +813,6 @@ void Bridge::Impl::run_commands() {
 }
 
 void Bridge::Impl::handle(Command& command) {
-  Link& link = *command.link;
   nlohmann::json result;
   try {
     result = result_of(command);
@@ -807,8 +820,13 @@ void Bridge::Impl::handle(Command& command) {
     // Nothing leaves the command thread: a command that fails this way is answered, and the next one runs.
     result = hub::error_object("internal", std::string("the command could not be run: ") + e.what());
   }
-  if (result.contains("error")) result["ok"] = false;
   ++handled;
+  answer(command, std::move(result));
+}
+
+void Bridge::Impl::answer(Command& command, nlohmann::json result) {
+  Link& link = *command.link;
+  if (result.contains("error")) result["ok"] = false;
   {
     const std::lock_guard lock(reply_mutex);
     replies.push_back(Reply{&link, link.topic + (command.is_set ? "/set/result" : "/action/result"),
@@ -910,6 +928,7 @@ BridgeStats Bridge::stats() const {
   }
   stats.dropped = impl_->hub_lost.load();
   stats.commands = impl_->handled.load();
+  stats.busy = impl_->busy.load();
   stats.refusals = impl_->refusals.load();
   for (const auto& link : impl_->links) {
     stats.published += link->published.load();

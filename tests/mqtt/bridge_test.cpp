@@ -398,6 +398,46 @@ TEST(MqttBridge, CommandsOfAnyJsonTypeOrBytesGetAnErrorAndTheServiceGoesOn) {
   (*bridge)->stop();
 }
 
+// A flood of commands: max_queued_commands (64; 4 here) wait to run at most, and each one over
+// that is answered `busy` at once, not run and not queued; every command gets an answer, and
+// the bridge runs the next.
+TEST(MqttBridge, AFloodOfCommandsIsAnsweredAndNoMoreThanTheBoundWait) {
+  Broker broker;
+  Ls5 ls5;
+  auto hub = hub::Hub::start(ls5.site);
+  Subscriber client(broker.port(), {"rangekit/belt/set/result"});
+  ASSERT_TRUE(client.wait_subscribed());
+  auto options = options_for(broker, 10);
+  options.max_queued_commands = 4;
+  auto bridge = mqtt::Bridge::start(*hub, options);
+  ASSERT_TRUE(bridge.ok()) << bridge.error().message;
+  ASSERT_TRUE(until([&] { return (*bridge)->stats().connected; }));
+  ASSERT_TRUE(until([&] { return ls5.outputs()["streaming"] == true; }));
+  // Each set pauses the sensor's stream to write (about a second); 40 arrive far faster.
+  constexpr std::size_t flood = 40;
+  for (std::size_t i = 0; i < flood; ++i) client.publish("rangekit/belt/set", R"({"analog-output": "disabled"})");
+  ASSERT_TRUE(client.wait_for([&](const auto& heard) { return heard.size() >= flood; }))
+      << client.heard().size() << " of " << flood << " answered";
+  std::size_t done = 0;
+  std::size_t busy = 0;
+  for (const Heard& answer : client.heard()) {
+    const auto result = nlohmann::json::parse(answer.payload);
+    if (result.value("ok", false)) ++done;
+    if (result.contains("error") && result["error"]["code"] == "busy") ++busy;
+  }
+  EXPECT_EQ(done + busy, flood);
+  EXPECT_GT(busy, 0u) << "the flood never filled the queue";
+  EXPECT_GE(done, 4u) << "the 4 queued were not all run";
+  const auto stats = (*bridge)->stats();
+  EXPECT_EQ(stats.busy, busy);
+  EXPECT_EQ(stats.commands, done);
+  client.clear();
+  client.publish("rangekit/belt/set", R"({"analog-output": "enabled"})");
+  EXPECT_EQ(first_json_on(client, "rangekit/belt/set/result")["ok"], true);
+  EXPECT_EQ(ls5.outputs()["analog_enabled"], true);
+  (*bridge)->stop();
+}
+
 // A command left retained on the broker is not run when the service connects (MQTT 5 retain
 // handling): it would run again at every start.
 TEST(MqttBridge, ARetainedCommandIsNotRunAtConnect) {

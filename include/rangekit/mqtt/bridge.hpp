@@ -27,6 +27,8 @@ struct BridgeOptions {
   // Hub items are taken at most this often: a drain then carries several readings per
   // sensor, written in one send() (docs/mqtt.md), for at most this much added latency.
   std::chrono::microseconds drain_gather{3000};
+  // Commands waiting to run, at most: one more is answered `busy` at once and not run.
+  std::size_t max_queued_commands = 64;
   // One line per event worth telling (connected, lost, refused credentials); the service prints them.
   std::function<void(const std::string&)> log;
 };
@@ -40,6 +42,7 @@ struct BridgeStats {
   std::uint64_t queued = 0;      // messages waiting for the broker now
   std::uint64_t reconnects = 0;  // sessions that came back after a loss
   std::uint64_t commands = 0;    // set/action requests handled
+  std::uint64_t busy = 0;        // set/action requests answered `busy`: max_queued_commands were waiting
   std::uint64_t refusals = 0;    // connection attempts the broker refused (CONNACK with a reason)
 };
 
