@@ -201,9 +201,7 @@ TEST(Ls5Cli, UdpWithNothingArrivingHintsAtTheDestination) {
   FILE* stderr_of_udp = ::fdopen(err[0], "r");
   char buffer[1024];
   const char* got = std::fgets(buffer, sizeof buffer, stderr_of_udp);
-  ::kill(pid, SIGTERM);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
+  rangekit::test::end_child(pid);
   std::fclose(stderr_of_udp);
   ASSERT_NE(got, nullptr);
   const std::string hint = buffer;

@@ -34,10 +34,7 @@ class Child {
     stdout_ = ::fdopen(out[0], "r");
   }
   ~Child() {
-    if (pid_ > 0 && !exited_) {
-      ::kill(pid_, SIGTERM);
-      (void)wait();
-    }
+    if (pid_ > 0 && !exited_) rangekit::test::end_child(pid_);
     if (stdout_ != nullptr) std::fclose(stdout_);
   }
   Child(const Child&) = delete;

@@ -51,9 +51,7 @@ class Emulator {
   Emulator& operator=(const Emulator&) = delete;
   void stop() {
     if (pid_ <= 0) return;
-    ::kill(pid_, SIGTERM);
-    int status = 0;
-    ::waitpid(pid_, &status, 0);
+    rangekit::test::end_child(pid_);
     ::close(out_);
     pid_ = -1;
   }

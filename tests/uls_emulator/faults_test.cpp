@@ -56,9 +56,7 @@ class SimUls {
   ~SimUls() {
     host_.reset();
     control_.reset();
-    ::kill(child_, SIGTERM);
-    int status = 0;
-    ::waitpid(child_, &status, 0);
+    rangekit::test::end_child(child_);
     ::close(ready_pipe_);
     std::filesystem::remove_all(dir_);
   }

@@ -169,9 +169,7 @@ TEST(UlsPty, CommandSessionThroughTheCli) {
     EXPECT_TRUE(unknown->contains("error")) << unknown->dump();
     ASSERT_TRUE((*host)->write_all(as_bytes("$ST\r")));
   }
-  ::kill(child, SIGTERM);
-  int status = 0;
-  ::waitpid(child, &status, 0);
+  const int status = rangekit::test::end_child(child);
   ::close(pipe_fds[0]);
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
   EXPECT_FALSE(std::filesystem::exists(port));  // symlinks removed on SIGTERM
