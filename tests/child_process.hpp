@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <csignal>
+#include <optional>
 
 namespace rangekit::test {
 
@@ -34,14 +35,22 @@ struct OrphanReaper {
   OrphanReaper& operator=(const OrphanReaper&) = delete;
 };
 
-// Whether `pid`, a child or an orphan come to an OrphanReaper, ended within `limit`.
-inline bool reaped_within(pid_t pid, std::chrono::milliseconds limit) {
+// The wait status of `pid`, a child or an orphan come to an OrphanReaper, once it ended
+// within `limit` (-1 when it is no child of this process); nothing while it still runs.
+inline std::optional<int> waited_within(pid_t pid, std::chrono::milliseconds limit) {
   const auto deadline = std::chrono::steady_clock::now() + limit;
+  int status = 0;
   while (true) {
-    if (::waitpid(pid, nullptr, WNOHANG) == pid) return true;
-    if (std::chrono::steady_clock::now() >= deadline) return false;
+    const pid_t got = ::waitpid(pid, &status, WNOHANG);
+    if (got != 0) return got == pid ? status : -1;
+    if (std::chrono::steady_clock::now() >= deadline) return std::nullopt;
     ::poll(nullptr, 0, 10);  // waitpid has no timeout: poll on nothing between checks
   }
+}
+
+inline bool reaped_within(pid_t pid, std::chrono::milliseconds limit) {
+  const auto status = waited_within(pid, limit);
+  return status.has_value() && *status != -1;
 }
 
 // Asks a child to end (SIGTERM) and waits for it; one still there after `grace` is killed
@@ -49,18 +58,11 @@ inline bool reaped_within(pid_t pid, std::chrono::milliseconds limit) {
 // never run its SIGTERM handler: that costs a test `grace`, not ctest's timeout.
 inline int end_child(pid_t pid, std::chrono::milliseconds grace = std::chrono::seconds(10)) {
   ::kill(pid, SIGTERM);
-  const auto deadline = std::chrono::steady_clock::now() + grace;
+  if (const auto status = waited_within(pid, grace)) return *status;
+  ::kill(pid, SIGKILL);
   int status = 0;
-  while (true) {
-    const pid_t got = ::waitpid(pid, &status, WNOHANG);
-    if (got != 0) return got == pid ? status : -1;
-    if (std::chrono::steady_clock::now() >= deadline) {
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, &status, 0);
-      return status;
-    }
-    ::poll(nullptr, 0, 10);  // waitpid has no timeout: poll on nothing between checks
-  }
+  ::waitpid(pid, &status, 0);
+  return status;
 }
 
 }  // namespace rangekit::test

@@ -101,6 +101,14 @@ nlohmann::json emulator_outputs(const std::string& control) {
   return reply ? *reply : nlohmann::json{};
 }
 
+// The emulators' folder from the demo's first lines ("starting the emulators on
+// pseudo-terminals in DIR"); empty when they do not name one.
+std::string demo_folder(const std::string& head) {
+  const auto at = head.find(" in /");
+  if (at == std::string::npos) return {};
+  return head.substr(at + 4, head.find('\n', at) - at - 4);
+}
+
 // Issue 13 point 2: "`rangekit serve --demo`: the embedded default. It starts the two emulators
 // plus an RS-485 bus of four ULS units as child processes, with moving targets (one ULS in binning
 // with two targets, one in look-down with a target that passes), and serves them."
@@ -110,10 +118,9 @@ TEST(ServeDemo, ServesSevenLiveSensorsAndStopsItsEmulators) {
   Child service({"serve", "--demo", "--duration", "120", "--listen", "127.0.0.1:0"});
   std::string head;
   const std::uint16_t port = api_port(service, &head);
-  ASSERT_NE(port, 0) << head;              // port 0 asked: the printed line names the port it got
-  const auto dir_at = head.find(" in /");  // "starting the emulators on pseudo-terminals in DIR"
-  ASSERT_NE(dir_at, std::string::npos) << head;
-  const std::string dir = head.substr(dir_at + 4, head.find('\n', dir_at) - dir_at - 4);
+  ASSERT_NE(port, 0) << head;  // port 0 asked: the printed line names the port it got
+  const std::string dir = demo_folder(head);
+  ASSERT_FALSE(dir.empty()) << head;
   const std::set<pid_t> emulators = processes_naming(dir);
   EXPECT_EQ(emulators.size(), 3u) << head;  // the LS5, the ULS, the bus of four
 
@@ -163,9 +170,9 @@ TEST(ServeDemo, AKilledServiceTakesItsEmulatorsAlong) {
   Child service({"serve", "--demo", "--duration", "120", "--listen", "127.0.0.1:0"});
   std::string head;
   ASSERT_NE(api_port(service, &head), 0) << head;
-  const auto dir_at = head.find(" in /");
-  ASSERT_NE(dir_at, std::string::npos) << head;
-  const std::set<pid_t> emulators = processes_naming(head.substr(dir_at + 4, head.find('\n', dir_at) - dir_at - 4));
+  const std::string dir = demo_folder(head);
+  ASSERT_FALSE(dir.empty()) << head;
+  const std::set<pid_t> emulators = processes_naming(dir);
   ASSERT_EQ(emulators.size(), 3u) << head;
   service.kill_hard();
   for (const pid_t emulator : emulators) {
