@@ -10,7 +10,10 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <fstream>
+#include <optional>
+#include <set>
 #include <sstream>
 #include <thread>
 #include <vector>
@@ -48,6 +51,35 @@ bool accepts(std::uint16_t port) {
   const bool connected = ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0;
   ::close(fd);
   return connected;
+}
+
+// Whether process `pid` itself listens on 127.0.0.1:port. A connect() alone would also be
+// answered by another broker that took the port first (tests start many at once), while
+// ours exits with "address in use"; the socket's inode in /proc tells whose it is.
+// nullopt: /proc cannot say (then a connect() is all there is).
+std::optional<bool> listens(pid_t pid, std::uint16_t port) {
+  std::ifstream table("/proc/net/tcp");
+  const std::filesystem::path fds = "/proc/" + std::to_string(pid) + "/fd";
+  std::error_code error;
+  std::filesystem::directory_iterator entries(fds, error);
+  if (!table || error) return std::nullopt;
+  char wanted[16];
+  std::snprintf(wanted, sizeof wanted, "0100007F:%04X", port);
+  std::set<std::string> sockets;
+  std::string line;
+  std::getline(table, line);  // the heading
+  while (std::getline(table, line)) {
+    std::istringstream fields(line);
+    std::string slot, local, remote, state, queues, timer, retransmits, uid, timeout, inode;
+    fields >> slot >> local >> remote >> state >> queues >> timer >> retransmits >> uid >> timeout >> inode;
+    if (local == wanted && state == "0A") sockets.insert("socket:[" + inode + "]");
+  }
+  if (sockets.empty()) return false;
+  for (const auto& entry : entries) {
+    const auto target = std::filesystem::read_symlink(entry.path(), error);
+    if (!error && sockets.contains(target.string())) return true;
+  }
+  return false;
 }
 
 std::string read_text(const std::filesystem::path& path) {
@@ -139,7 +171,8 @@ Status LocalBroker::launch() {
   pid_ = pid;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (std::chrono::steady_clock::now() < deadline) {
-    if (accepts(options_.port)) return ok_status();
+    const std::optional<bool> ours = listens(pid_, options_.port);
+    if (ours ? *ours : accepts(options_.port)) return ok_status();
     int status = 0;
     if (::waitpid(pid_, &status, WNOHANG) == pid_) {
       pid_ = -1;

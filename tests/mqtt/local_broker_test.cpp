@@ -1,10 +1,13 @@
 // The mosquitto `rangekit serve --demo` starts ends with the service, also when the service
 // dies without stopping it (kill -9, a crash): no orphaned broker is left holding its port.
+#include <arpa/inet.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/prctl.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -99,6 +102,30 @@ TEST(LocalBroker, DropsPublicationsOverItsMaximumPacketSize) {
   // NOLINTEND(concurrency-mt-unsafe)
   EXPECT_TRUE(heard("end"));
   EXPECT_FALSE(heard(std::string(1000, 'x'))) << "a 64 KiB publication got through";
+}
+
+// Tests start brokers in parallel on ports picked a moment before; when another listener took
+// the port first, a connect() to it is answered, but not by the broker just started (which
+// exits: address in use). Start must say so, not hand out a port that leads to someone else.
+TEST(LocalBroker, APortAnotherProcessListensOnIsNotTakenForTheBrokers) {
+  if (rangekit::mqtt::LocalBroker::find_executable().empty()) GTEST_SKIP() << "no mosquitto installed";
+  const ls5_driver_test::TempDir dir;
+  const int other = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  ASSERT_GE(other, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t length = sizeof address;
+  ASSERT_EQ(::bind(other, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+  ASSERT_EQ(::listen(other, 8), 0);
+  ASSERT_EQ(::getsockname(other, reinterpret_cast<sockaddr*>(&address), &length), 0);
+  rangekit::mqtt::LocalBrokerOptions options;
+  options.dir = dir.path;
+  options.port = ntohs(address.sin_port);
+  auto broker = rangekit::mqtt::LocalBroker::start(options);
+  ::close(other);
+  ASSERT_FALSE(broker.ok()) << "started on port " << options.port << ", which this test listens on";
+  EXPECT_NE(broker.error().message.find("exited at start"), std::string::npos) << broker.error().message;
 }
 
 }  // namespace local_broker_test
