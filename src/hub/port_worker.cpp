@@ -55,7 +55,10 @@ bool PortWorker::try_connect(bool& was_connected, std::string& last_failure) {
     return false;
   }
   last_failure.clear();
-  announce(was_connected ? StreamEventKind::reconnected : StreamEventKind::connected, "connected");
+  const StreamEventKind kind = was_connected ? StreamEventKind::reconnected : StreamEventKind::connected;
+  for (Session* session : sessions_) {
+    if (backend_->answering(*session)) publisher_.publish(*session, make_event(kind, "connected"));
+  }
   was_connected = true;
   for (Session* session : sessions_) {
     bool wanted = false;

@@ -59,6 +59,9 @@ class Backend {
   // Opens the port and reads the identity of its sensors into their sessions.
   virtual Status connect() = 0;
   [[nodiscard]] virtual bool connected() const = 0;
+  // Whether this session's sensor answered when the port connected: on a bus the port can be
+  // up while a unit is silent, and that unit is not announced as connected.
+  [[nodiscard]] virtual bool answering(const Session& /*session*/) const { return true; }
   // Reads or polls for up to `wait`, publishing what arrives. False when there
   // was nothing to do (no stream): the worker then waits for a command instead.
   virtual bool pump(std::chrono::milliseconds wait) = 0;

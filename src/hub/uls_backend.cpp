@@ -2,6 +2,7 @@
 // Output), or several on an RS-485 bus (§7: the network poll, one unit after
 // another). Settings go through the config-file table and load_config, which
 // stops a measuring unit, uploads, reads back and restarts it (U24).
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <memory>
@@ -312,7 +313,14 @@ class UlsBusBackend final : public Backend {
     auto bus = std::make_unique<uls::Bus>(std::move(link).value(), options);
     std::vector<std::uint8_t> addresses;
     for (const Session* session : sessions_) addresses.push_back(static_cast<std::uint8_t>(*session->config.address));
-    const auto units = bus->scan(addresses);
+    // The scan lists the units that answered, in the order asked: a silent one is not in it,
+    // so each answer is matched to its session by address.
+    std::vector<uls::BusUnit> units(sessions_.size());
+    for (std::size_t i = 0; i < sessions_.size(); ++i) units[i].address = addresses[i];
+    for (uls::BusUnit& unit : bus->scan(addresses)) {
+      const auto at = std::find(addresses.begin(), addresses.end(), unit.address);
+      if (at != addresses.end()) units[static_cast<std::size_t>(at - addresses.begin())] = std::move(unit);
+    }
     for (std::size_t i = 0; i < sessions_.size(); ++i) {
       Session& session = *sessions_[i];
       const uls::BusUnit& unit = units[i];
@@ -346,6 +354,10 @@ class UlsBusBackend final : public Backend {
   }
 
   [[nodiscard]] bool connected() const override { return bus_ != nullptr; }
+  [[nodiscard]] bool answering(const Session& session) const override {
+    const auto at = std::find(sessions_.begin(), sessions_.end(), &session);
+    return at != sessions_.end() && answering_[static_cast<std::size_t>(at - sessions_.begin())];
+  }
 
   bool pump(std::chrono::milliseconds /*wait*/) override {
     // The next unit due after the last one polled: every unit gets its turn.

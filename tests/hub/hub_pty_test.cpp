@@ -211,3 +211,49 @@ TEST(HubPty, U110_TheBusPollsEachUnitOncePerOutputPeriod) {
   }
   EXPECT_EQ(look_down_samples, 1u);
 }
+
+namespace {
+
+// A bus whose site file names a unit that is not there (C): the scan hears A, B and D only.
+// Each answer belongs to the sensor at its own address: D's is not given to bay-C, bay-C is
+// reported silent, and bay-D is served as D.
+TEST(HubPty, AUnitMissingFromTheBusIsReportedAndTheOthersKeepTheirOwnAddresses) {
+  TempDir temp;
+  const std::string port = (temp.path / "bus").string();
+  Child bus{{"sim", "uls", "--bus", port, "--address", "A", "--address", "B", "--address", "D"}};
+  ASSERT_TRUE(ready(bus));
+  std::string site;
+  for (const char* unit : {"A", "B", "D"}) {
+    const auto run =
+        ls5_driver_test::run_cli(temp.path, {"uls", "set", "--port", port, "--address", unit, "continuous=off"});  // §7
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+  }
+  for (const char* unit : {"A", "B", "C", "D"}) {
+    site += "[[sensor]]\nname = \"bay-" + std::string(unit) + "\"\nfamily = \"uls\"\nport = \"" + port +
+            "\"\naddress = \"" + unit + "\"\n";
+  }
+  auto config = parse_site_config(site, "site.toml");
+  ASSERT_TRUE(config.ok()) << config.error().message;
+  auto hub = Hub::start(*config);
+  auto all = hub->subscribe("", 100000, OverflowPolicy::drop_oldest);
+  ASSERT_TRUE(all.ok());
+  // The scan may be over before the subscription: what it said is read from the ring.
+  const auto said_to_bay_c = [&] {
+    const auto ring = hub->since("bay-C", 0);
+    if (!ring) return std::string();
+    for (const HubItemPtr& item : ring->items) {
+      const auto* event = std::get_if<StreamEvent>(&item->item);
+      if (event != nullptr && event->kind == StreamEventKind::disconnected) return event->message;
+    }
+    return std::string();
+  };
+  ASSERT_TRUE(take_until(**all, [&](const HubItem& /*item*/) { return !said_to_bay_c().empty(); }));
+  EXPECT_EQ(said_to_bay_c().rfind("no answer at address C", 0), 0u) << said_to_bay_c();
+  ASSERT_TRUE(take_until(
+      **all, [](const HubItem& item) { return item.sensor == "bay-D" && std::holds_alternative<Sample>(item.item); }));
+  EXPECT_EQ(value_of(hub->sensor("bay-D")->identity, "address"), "D");
+  EXPECT_EQ(value_of(hub->sensor("bay-B")->identity, "address"), "B");
+  EXPECT_FALSE(hub->sensor("bay-C")->health.connected);
+}
+
+}  // namespace
