@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 
+#include <pthread.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -11,6 +12,7 @@
 #include <cerrno>
 #include <csignal>
 #include <cstring>
+#include <thread>
 
 #include "cli/commands.hpp"
 #include "rangekit/sim/pty.hpp"
@@ -20,15 +22,21 @@ namespace {
 
 std::atomic<bool> stop_requested{false};
 
-extern "C" void request_stop(int /*signal*/) { stop_requested.store(true); }
-
+// SIGINT and SIGTERM are taken by a thread of their own in sigwait(), not by a handler: under
+// ThreadSanitizer, which defers a handler to a safe point, an emulator once never ran its
+// handler and served on. The runtime sees the flag within its poll timeout.
 void install_signal_handlers() {
-  struct sigaction action {};
-  action.sa_handler = request_stop;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
   std::signal(SIGPIPE, SIG_IGN);
+  sigset_t stops;
+  sigemptyset(&stops);
+  sigaddset(&stops, SIGINT);
+  sigaddset(&stops, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stops, nullptr);  // before any other thread: each inherits the mask
+  std::thread([stops] {
+    int taken = 0;
+    sigwait(&stops, &taken);
+    stop_requested.store(true);
+  }).detach();
 }
 
 // An emulator killed with kill -9 leaves its pty symlink (pointing at a /dev/pts
@@ -86,6 +94,7 @@ int run_emulator(std::vector<LineConfig> lines, const SimCommonOptions& options,
     fmt::print(stderr, "rangekit sim: --virtual-clock needs --control (time only moves on request)\n");
     return exit_usage;
   }
+  install_signal_handlers();
   for (const LineConfig& line : lines)
     if (line.link_path) remove_if_stale_link(*line.link_path);
   if (!options.control.empty()) remove_if_stale_socket(options.control);
@@ -101,7 +110,6 @@ int run_emulator(std::vector<LineConfig> lines, const SimCommonOptions& options,
     return exit_io;
   }
   (*runtime)->set_control_extension(std::move(extension));
-  install_signal_handlers();
   std::string ready = title + " ready:";
   for (std::size_t i = 0; i < (*runtime)->line_count(); ++i) ready += fmt::format(" {}", (*runtime)->line_path(i));
   if (!options.control.empty()) ready += " control " + options.control;
