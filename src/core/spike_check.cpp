@@ -160,6 +160,10 @@ void SpikeCheck::push(StreamItem item, std::chrono::steady_clock::time_point now
   for (auto& [key, stream] : streams_) {
     if (stream.held && (newest == nullptr || stream.held_order > newest->held_order)) newest = &stream;
   }
+  if (newest == nullptr) {  // held_count_ out of step with the streams: pass it on, never lose it
+    out.push_back(std::move(item));
+    return;
+  }
   newest->waiting.push_back(std::move(event));
   if (newest->waiting.size() >= max_waiting) release(*newest, out);
 }
