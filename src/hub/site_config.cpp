@@ -14,6 +14,7 @@
 #include <map>
 
 #include "core/toml.hpp"  // private: toml++ is no part of the public API
+#include "rangekit/core/text.hpp"
 #include "rangekit/core/udp.hpp"
 #include "rangekit/ls5/settings.hpp"
 #include "rangekit/uls/bus.hpp"
@@ -27,9 +28,8 @@ Error at(std::string_view file, const toml::node& node, Errc code, const std::st
 
 bool valid_name(std::string_view name) {
   if (name.empty() || name.size() > 64) return false;
-  return std::all_of(name.begin(), name.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_';
-  });
+  return std::all_of(name.begin(), name.end(),
+                     [](char c) { return text::is_letter(c) || text::is_digit(c) || c == '-' || c == '_'; });
 }
 
 // The keys a table may hold; anything else is refused naming the allowed ones.
@@ -60,6 +60,18 @@ Result<std::int64_t> integer_of(std::string_view file, const toml::node& node, s
   const auto* value = node.as_integer();
   if (value == nullptr) return at(file, node, Errc::invalid_frame, std::string(key) + " must be an integer");
   return value->get();
+}
+
+// An integer from `lowest` to `highest`; out of range: "key = N: <range>".
+Result<std::int64_t> integer_in(std::string_view file, const toml::node& node, std::string_view key,
+                                std::int64_t lowest, std::int64_t highest, std::string_view range) {
+  auto value = integer_of(file, node, key);
+  if (!value) return value;
+  if (*value < lowest || *value > highest) {
+    return at(file, node, Errc::out_of_range,
+              std::string(key) + " = " + std::to_string(*value) + ": " + std::string(range));
+  }
+  return value;
 }
 
 // ULS: a unit address as §8's UA table writes it ("A", "0x41" or 65); LS5: 1-255.
@@ -212,12 +224,8 @@ Status check_service(std::string_view file, const toml::table& table, ServiceCon
   for (const auto& [key, node] : table) {
     const std::string_view k = key.str();
     if (k == "max_captures") {
-      auto count = integer_of(file, node, k);
+      auto count = integer_in(file, node, k, 1, 1024, "captures running at once, 1 to 1024");
       if (!count) return std::move(count).error();
-      if (*count < 1 || *count > 1024) {
-        return at(file, node, Errc::out_of_range,
-                  "max_captures = " + std::to_string(*count) + ": captures running at once, 1 to 1024");
-      }
       service.max_captures = static_cast<std::size_t>(*count);
       continue;
     }
@@ -245,12 +253,8 @@ Status check_service(std::string_view file, const toml::table& table, ServiceCon
 }
 
 Status check_qos(std::string_view file, const toml::node& node, std::string_view key, int& qos) {
-  auto value = integer_of(file, node, key);
+  auto value = integer_in(file, node, key, 0, 2, "a QoS is 0, 1 or 2");
   if (!value) return std::move(value).error();
-  if (*value < 0 || *value > 2) {
-    return at(file, node, Errc::out_of_range,
-              std::string(key) + " = " + std::to_string(*value) + ": a QoS is 0, 1 or 2");
-  }
   qos = static_cast<int>(*value);
   return ok_status();
 }
@@ -301,20 +305,12 @@ Status check_mqtt(std::string_view file, const toml::table& table, MqttConfig& m
       }
       mqtt.max_rate_hz = value;
     } else if (k == "reconnect_max_s") {
-      auto value = integer_of(file, node, k);
+      auto value = integer_in(file, node, k, 1, 3600, "1 to 3600 seconds");
       if (!value) return std::move(value).error();
-      if (*value < 1 || *value > 3600) {
-        return at(file, node, Errc::out_of_range,
-                  "reconnect_max_s = " + std::to_string(*value) + ": 1 to 3600 seconds");
-      }
       mqtt.reconnect_max_s = static_cast<int>(*value);
     } else if (k == "queue_limit") {
-      auto value = integer_of(file, node, k);
+      auto value = integer_in(file, node, k, 1, 10000000, "1 to 10000000 messages per sensor");
       if (!value) return std::move(value).error();
-      if (*value < 1 || *value > 10000000) {
-        return at(file, node, Errc::out_of_range,
-                  "queue_limit = " + std::to_string(*value) + ": 1 to 10000000 messages per sensor");
-      }
       mqtt.queue_limit = static_cast<std::size_t>(*value);
     } else {
       auto text = text_of(file, node, k);

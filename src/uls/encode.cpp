@@ -86,7 +86,7 @@ Result<FrameText> encode_frame(Address address, std::string_view mnemonic, std::
   }
   char upper[max_mnemonic_length];
   for (std::size_t i = 0; i < mnemonic.size(); ++i) {
-    if (!detail::is_letter(mnemonic[i])) {
+    if (!text::is_letter(mnemonic[i])) {
       return encode_error(Errc::invalid_frame, "mnemonic " + detail::quoted(mnemonic) + " holds a non-letter");
     }
     upper[i] = text::to_upper(mnemonic[i]);

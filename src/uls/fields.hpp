@@ -62,6 +62,4 @@ std::string hex_byte(std::uint8_t byte);
 inline constexpr std::size_t max_quoted_bytes = 96;
 std::string quoted(std::string_view text);
 
-inline bool is_letter(char c) noexcept { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); }
-
 }  // namespace rangekit::uls::detail

@@ -63,7 +63,7 @@ Status parse_body(FrameView& view, std::string_view body, std::size_t body_offse
                        "time between events " + detail::quoted(body) + " is not '0' or 4 upper-case hex digits");
   }
   for (const char c : mnemonic) {
-    if (!detail::is_letter(c)) {
+    if (!text::is_letter(c)) {
       return frame_error(Errc::invalid_frame, "mnemonic " + detail::quoted(mnemonic) + " holds a non-letter");
     }
   }
@@ -105,7 +105,7 @@ bool detail::parse_common_frame(std::string_view frame, CommonFrame& out) noexce
   }
   out.text = frame;
   out.mnemonic_at = at;
-  while (at < frame.size() && detail::is_letter(frame[at])) ++at;
+  while (at < frame.size() && text::is_letter(frame[at])) ++at;
   out.mnemonic_size = at - out.mnemonic_at;
   if (out.mnemonic_size < min_mnemonic_length || out.mnemonic_size > max_mnemonic_length || at == frame.size() ||
       frame[at] != ',') {
