@@ -68,6 +68,18 @@ def cache_key(entry, salt):
     return digest.hexdigest()
 
 
+def run_tidy(database, file):
+    """clang-tidy on one file: its output, exit status and the CPU seconds it used (user +
+    system, so that a run beside other work still says what each file costs)."""
+    child = subprocess.Popen(["clang-tidy", "-p", database, "--quiet", file], stdout=subprocess.PIPE,
+                             stderr=subprocess.STDOUT, text=True)
+    output = child.stdout.read()
+    child.stdout.close()
+    _, status, usage = os.wait4(child.pid, 0)
+    child.returncode = os.waitstatus_to_exitcode(status)  # reaped here: Popen must not wait again
+    return output, child.returncode, usage.ru_utime + usage.ru_stime
+
+
 def main():
     build, jobs = sys.argv[1], int(sys.argv[2])
     entries = tidy_database(build)
@@ -76,19 +88,20 @@ def main():
     with open(os.path.join(SOURCE, ".clang-tidy"), "rb") as f:
         salt = version + f.read()
     database = os.path.join(build, "tidy")
+    seconds = {}
 
     def check(entry):
         key = cache_key(entry, salt) if use_cache else None
         if key and os.path.exists(os.path.join(CACHE, key)):
             return "", "unchanged"
-        run = subprocess.run(["clang-tidy", "-p", database, "--quiet", entry["file"]], capture_output=True, text=True)
-        findings = "\n".join(line for line in (run.stdout + run.stderr).splitlines()
-                             if re.search(r"(warning|error):", line))
-        clean = run.returncode == 0 and not findings
+        output, returncode, cpu = run_tidy(database, entry["file"])
+        seconds[entry["file"]] = cpu
+        findings = "\n".join(line for line in output.splitlines() if re.search(r"(warning|error):", line))
+        clean = returncode == 0 and not findings
         if clean and key:
             os.makedirs(CACHE, exist_ok=True)
             open(os.path.join(CACHE, key), "w").close()
-        return (findings or run.stdout + run.stderr), ("clean" if clean else "failed")
+        return (findings or output), ("clean" if clean else "failed")
 
     failed, unchanged = [], 0
     with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
@@ -100,6 +113,11 @@ def main():
         print("\n".join(sorted(set("\n".join(failed).splitlines()))))
         sys.exit(1)
     print(f"clang-tidy: clean ({len(entries)} files of src/, {unchanged} unchanged since a clean check)")
+    if seconds:
+        slowest = sorted(seconds.items(), key=lambda item: -item[1])
+        print(f"clang-tidy: {sum(seconds.values()):.0f} s of CPU for {len(seconds)} files; the slowest:")
+        for file, cpu in slowest[:10]:
+            print(f"  {cpu:6.1f} s  {os.path.relpath(file, SOURCE)}")
 
 
 if __name__ == "__main__":
