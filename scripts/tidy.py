@@ -28,9 +28,12 @@ def tidy_database(build):
     with open(os.path.join(build, "compile_commands.json"), encoding="utf-8") as f:
         entries = json.load(f)
     kept = []
+    seen = set()
     for entry in entries:
-        if not entry["file"].startswith(os.path.join(SOURCE, "src") + os.sep):
+        # A file two targets compile (the CLI's sim_process.cpp, in the benchmarks too) is checked once.
+        if not entry["file"].startswith(os.path.join(SOURCE, "src") + os.sep) or entry["file"] in seen:
             continue
+        seen.add(entry["file"])
         words = shlex.split(entry["command"]) if "command" in entry else entry["arguments"]
         arguments = []
         i = 0
