@@ -52,6 +52,14 @@ std::string emulator_state(const std::string& control, const char* field, const 
   return value->get<bool>() ? std::string("still ") + field : std::string(idle_text);
 }
 
+// This binary as the user can type it from where they stand: its absolute path, since
+// "build/rangekit" only exists from the source folder.
+std::string this_binary() {
+  std::error_code error;
+  const fs::path self = fs::read_symlink("/proc/self/exe", error);
+  return error ? std::string("rangekit") : self.string();
+}
+
 int fail(const std::string& message) {
   fmt::print(stderr, "rangekit demo: {}\n", message);
   return exit_io;
@@ -127,8 +135,11 @@ int run_live_demo(const DemoOptions& options) {
   fmt::print("\nLeft as found: ULS {}, LS5 {}\n", emulator_state(uls_control, "measuring", "not measuring"),
              emulator_state(ls5_control, "streaming", "not streaming"));
   fmt::print("Captured {} samples from both sensors into {}\n", stats.samples, options.capture);
-  fmt::print("Replay it:  build/rangekit replay {} --format jsonl\n", options.capture);
-  fmt::print("Emulators:  build/rangekit sim uls --help, build/rangekit sim ls5 --help\n");
+  const std::string binary = this_binary();
+  std::error_code ignored_error;
+  fmt::print("Replay it:  {} replay {} --format jsonl\n", binary,
+             fs::absolute(options.capture, ignored_error).string());
+  fmt::print("Emulators:  {} sim uls --help, {} sim ls5 --help\n", binary, binary);
   std::error_code ignored;
   uls_sim->stop();
   ls5_sim->stop();

@@ -19,14 +19,8 @@ struct CliResult {
   std::string output;
 };
 
-inline CliResult run_cli(const std::string& arguments, const std::string& input = "") {
-  std::filesystem::path input_file = "/dev/null";
-  if (!input.empty()) {
-    input_file = std::filesystem::temp_directory_path() / ("rangekit-cli-" + std::to_string(::getpid()));
-    std::ofstream(input_file, std::ios::binary) << input;
-  }
-  const std::string command =
-      std::string(rangekit::test::cli_path()) + " " + arguments + " < " + input_file.string() + " 2>&1";
+// Runs a shell command line to its end, stderr merged into the output.
+inline CliResult run_shell(const std::string& command) {
   CliResult run;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe != nullptr) {
@@ -36,6 +30,17 @@ inline CliResult run_cli(const std::string& arguments, const std::string& input 
     const int status = ::pclose(pipe);
     run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }
+  return run;
+}
+
+inline CliResult run_cli(const std::string& arguments, const std::string& input = "") {
+  std::filesystem::path input_file = "/dev/null";
+  if (!input.empty()) {
+    input_file = std::filesystem::temp_directory_path() / ("rangekit-cli-" + std::to_string(::getpid()));
+    std::ofstream(input_file, std::ios::binary) << input;
+  }
+  CliResult run =
+      run_shell(std::string(rangekit::test::cli_path()) + " " + arguments + " < " + input_file.string() + " 2>&1");
   if (!input.empty()) std::filesystem::remove(input_file);
   return run;
 }

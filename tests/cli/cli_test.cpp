@@ -54,6 +54,26 @@ TEST(Cli, LiveDemoStreamsBothSensorsAndCapturesThem) {
   for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(capture.string() + suffix);
 }
 
+// The replay command the demo prints works as printed from any folder: the binary and the
+// capture by absolute path, although the capture was named relative to the demo's folder.
+TEST(Cli, TheDemosReplayHintRunsFromAnyFolder) {
+  const auto dir = std::filesystem::temp_directory_path() / ("rangekit-demo-hint-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto demo = cli_test::run_shell("cd " + dir.string() + " && " + rangekit::test::cli_path() +
+                                        " demo --seconds 2 --format jsonl --capture hint.sqlite < /dev/null 2>&1");
+  ASSERT_EQ(demo.exit_code, 0) << demo.output;
+  const std::string label = "Replay it:  ";
+  const auto at = demo.output.find(label);
+  ASSERT_NE(at, std::string::npos) << demo.output;
+  const auto end = demo.output.find('\n', at);
+  const std::string hint = demo.output.substr(at + label.size(), end - at - label.size());
+  EXPECT_NE(hint.find((dir / "hint.sqlite").string()), std::string::npos) << hint;
+  const auto replay = cli_test::run_shell("cd / && " + hint + " < /dev/null 2>&1");
+  EXPECT_EQ(replay.exit_code, 0) << hint << "\n" << replay.output;
+  EXPECT_NE(replay.output.find("\"device\":\"uls\""), std::string::npos) << replay.output;
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Cli, VersionComesFromTheBuild) {
   const auto run = run_cli("--version");
   EXPECT_EQ(run.exit_code, 0) << run.output;

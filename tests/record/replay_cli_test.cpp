@@ -124,14 +124,31 @@ TEST(ReplayCli, FullSpeedAndSpeedTogetherIsAUsageError) {
   TempDir dir;
   const auto capture = make_capture(dir, {uls_averaging()});
   EXPECT_EQ(run({"replay", capture, "--full-speed", "--speed", "2"}).exit_code, 2);
+  EXPECT_EQ(run({"replay", capture, "--full-speed", "--pace"}).exit_code, 2);
+  EXPECT_EQ(run({"replay", capture, "--pace", "--speed", "2"}).exit_code, 2);
   EXPECT_EQ(run({"replay", capture, "--format", "xml"}).exit_code, 2);
+}
+
+// Into a pipe or a file, a replay is an export: it does not wait the recording's length
+// (an hour here) unless --pace or --speed asks for it.
+TEST(ReplayCli, IntoAPipeOrAFileItRunsAtFullSpeed) {
+  TempDir dir;
+  const auto capture = make_capture(dir, {uls_averaging(0ms), uls_averaging(3600s)});
+  const auto piped = run({"replay", capture, "--format", "jsonl"});
+  EXPECT_EQ(piped.exit_code, 0) << piped.err;
+  EXPECT_EQ(count_of(piped.out, "\"pulse_width\":18000}\n"), 2u) << piped.out;
+  const auto out = dir.file("export.csv");
+  const auto exported = run({"replay", capture, "--format", "csv", "--out", out});
+  EXPECT_EQ(exported.exit_code, 0) << exported.err;
+  EXPECT_EQ(count_of(read_file(out), ",averaging,"), 2u) << read_file(out);
 }
 
 TEST(ReplayCli, SigintClosesCleanlyWithExit130) {
   TempDir dir;
   const auto capture = make_capture(dir, {uls_averaging(0ms), uls_averaging(3600s)});  // an hour apart
   const auto copy = dir.file("copy.sqlite");
-  CliProcess process({"replay", capture, "--format", "jsonl", "--capture", copy});
+  // --pace: into a pipe, replay would otherwise not wait the hour.
+  CliProcess process({"replay", capture, "--format", "jsonl", "--pace", "--capture", copy});
   ASSERT_TRUE(process.wait_for_stdout("\"pulse_width\":18000}\n", 10s)) << process.err();
   process.signal(SIGINT);
   EXPECT_EQ(process.finish(), 130);
