@@ -136,11 +136,9 @@ int run_live_demo(const DemoOptions& options) {
              emulator_state(ls5_control, "streaming", "not streaming"));
   fmt::print("Captured {} samples from both sensors into {}\n", stats.samples, options.capture);
   const std::string binary = this_binary();
-  std::error_code ignored_error;
-  fmt::print("Replay it:  {} replay {} --format jsonl\n", binary,
-             fs::absolute(options.capture, ignored_error).string());
-  fmt::print("Emulators:  {} sim uls --help, {} sim ls5 --help\n", binary, binary);
   std::error_code ignored;
+  fmt::print("Replay it:  {} replay {} --format jsonl\n", binary, fs::absolute(options.capture, ignored).string());
+  fmt::print("Emulators:  {} sim uls --help, {} sim ls5 --help\n", binary, binary);
   uls_sim->stop();
   ls5_sim->stop();
   fs::remove_all(dir, ignored);
