@@ -41,8 +41,11 @@ bool PortWorker::post(Job job) {
   return true;
 }
 
-void PortWorker::announce(StreamEventKind kind, const std::string& message) {
-  for (Session* session : sessions_) publisher_.publish(*session, make_event(kind, message));
+void PortWorker::announce(StreamEventKind kind, const std::string& message, Audience audience) {
+  for (Session* session : sessions_) {
+    if (audience == Audience::answering_sensors && !backend_->answering(*session)) continue;
+    publisher_.publish(*session, make_event(kind, message));
+  }
 }
 
 bool PortWorker::try_connect(bool& was_connected, std::string& last_failure) {
@@ -55,10 +58,8 @@ bool PortWorker::try_connect(bool& was_connected, std::string& last_failure) {
     return false;
   }
   last_failure.clear();
-  const StreamEventKind kind = was_connected ? StreamEventKind::reconnected : StreamEventKind::connected;
-  for (Session* session : sessions_) {
-    if (backend_->answering(*session)) publisher_.publish(*session, make_event(kind, "connected"));
-  }
+  announce(was_connected ? StreamEventKind::reconnected : StreamEventKind::connected, "connected",
+           Audience::answering_sensors);
   was_connected = true;
   for (Session* session : sessions_) {
     bool wanted = false;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <condition_variable>
+#include <cstdint>
 #include <deque>
 #include <functional>
 #include <future>
@@ -52,7 +53,10 @@ class PortWorker {
   void loop();
   bool try_connect(bool& was_connected, std::string& last_failure);
   void run_jobs(bool connected);
-  void announce(StreamEventKind kind, const std::string& message);
+  // Who hears an announcement: every sensor of the port, or only those whose sensor answered
+  // when it connected (Backend::answering: a silent unit on a bus is not "connected").
+  enum class Audience : std::uint8_t { every_sensor, answering_sensors };
+  void announce(StreamEventKind kind, const std::string& message, Audience audience = Audience::every_sensor);
 
   std::unique_ptr<Backend> backend_;
   std::vector<Session*> sessions_;

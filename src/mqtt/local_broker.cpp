@@ -56,16 +56,16 @@ bool accepts(std::uint16_t port) {
 // Whether process `pid` itself listens on 127.0.0.1:port. A connect() alone would also be
 // answered by another broker that took the port first (tests start many at once), while
 // ours exits with "address in use"; the socket's inode in /proc tells whose it is.
-// Until the child has become `executable`, it holds copies of the forking process's
+// Until the child has become `executable` (a canonical path), it holds copies of the forking process's
 // descriptors (a listener of the caller's among them), so it does not count as listening.
 // nullopt: /proc cannot say (then a connect() is all there is).
-std::optional<bool> listens(pid_t pid, std::uint16_t port, const std::string& executable) {
+std::optional<bool> listens(pid_t pid, std::uint16_t port, const std::filesystem::path& executable) {
   const std::filesystem::path process = "/proc/" + std::to_string(pid);
   std::error_code error;
   const auto running = std::filesystem::read_symlink(process / "exe", error);
   // An exited child (a zombie) has no executable to read: not listening, if /proc works at all.
   if (error) return std::filesystem::exists("/proc/self/exe", error) ? std::optional<bool>(false) : std::nullopt;
-  if (running != std::filesystem::weakly_canonical(executable, error)) return false;
+  if (running != executable) return false;
   std::ifstream table("/proc/net/tcp");
   std::filesystem::directory_iterator entries(process / "fd", error);
   if (!table || error) return std::nullopt;
@@ -151,6 +151,9 @@ Status LocalBroker::launch() {
   const std::string log = log_path();
   const std::string config = config_path.string();
   const char* const executable = options_.executable.c_str();
+  // Once, not at each poll: what /proc/PID/exe reads once the child runs mosquitto.
+  std::error_code unresolved;
+  const std::filesystem::path running_executable = std::filesystem::weakly_canonical(executable, unresolved);
   const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) return make_error(Errc::io, "cannot start mosquitto: fork failed");
@@ -177,7 +180,7 @@ Status LocalBroker::launch() {
   pid_ = pid;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (std::chrono::steady_clock::now() < deadline) {
-    const std::optional<bool> ours = listens(pid_, options_.port, options_.executable);
+    const std::optional<bool> ours = listens(pid_, options_.port, running_executable);
     if (ours ? *ours : accepts(options_.port)) return ok_status();
     int status = 0;
     if (::waitpid(pid_, &status, WNOHANG) == pid_) {
