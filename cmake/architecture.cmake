@@ -7,7 +7,7 @@
 set(rangekit_allowed_links_rangekit_core "")
 set(rangekit_allowed_links_rangekit_uls rangekit_core)
 set(rangekit_allowed_links_rangekit_ls5 rangekit_core)
-set(rangekit_allowed_links_rangekit_record rangekit_core rangekit_uls)  # ULS §10 error texts in the formats
+set(rangekit_allowed_links_rangekit_record rangekit_core)
 set(rangekit_allowed_links_rangekit_sim rangekit_core rangekit_uls rangekit_ls5)
 set(rangekit_allowed_links_rangekit_hub rangekit_core rangekit_uls rangekit_ls5 rangekit_record)  # never sim: a site's real sensors
 # A face reaches the sensors only through the hub: never a driver (uls, ls5) itself.

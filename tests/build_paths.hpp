@@ -11,5 +11,9 @@ const char* source_dir();
 const char* cli_path();
 // The project's version, as CMakeLists.txt's project() gives it.
 const char* project_version();
+// The interpreter the Python package is built for and the folder to put on PYTHONPATH; both
+// "" in a build without the package (the sanitizer builds).
+const char* python_executable();
+const char* python_path();
 
 }  // namespace rangekit::test

@@ -13,7 +13,7 @@ import numpy
 
 from . import _rangekit
 
-__all__ = ["Capture", "open"]
+__all__ = ["Capture", "open", "sample_objects"]
 
 _impl = _rangekit.capture
 
@@ -50,6 +50,12 @@ class Capture:
 
     def __repr__(self) -> str:
         return f"<rangekit.capture.Capture {self.path}: {len(self.samples)} samples, {len(self.events)} events>"
+
+
+def sample_objects(path: Union[str, "os.PathLike[str]"], device: str = "") -> List[Any]:
+    """Every sample of a capture as a :class:`rangekit.Sample`, with all its fields and its
+    ``reading``; slower than :func:`open`'s array, for a look at single records."""
+    return list(_impl.samples(os.fspath(path), device))
 
 
 def open(path: Union[str, "os.PathLike[str]"], device: str = "") -> Capture:

@@ -3,19 +3,47 @@
 // without the GIL.
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "common.hpp"
+#include "rangekit/core/family.hpp"
 #include "rangekit/record/replay.hpp"
 
 namespace rangekit::python {
 
+namespace {
+
+// "" is every family; any other name must be a registered one.
+void check_family(const std::string& device) {
+  if (device.empty() || find_family(device) != nullptr) return;
+  std::string known;
+  for (const FamilyDescriptor* family : families()) known += "'" + std::string(family->name) + "', ";
+  throw py::value_error("device '" + device + "' must be " + known + "or '' (every family)");
+}
+
+}  // namespace
+
 void init_capture(py::module_& parent) {
   py::module_ module = parent.def_submodule("capture", "SQLite captures");
   module.def(
+      "samples",
+      [](const std::string& path, const std::string& device) {
+        check_family(device);
+        std::vector<Sample> samples;
+        check(without_gil([&] {
+          return record::for_each_in_capture(
+              path, device, [&](const Sample& sample) { samples.push_back(sample); }, [](StreamEvent&&) {});
+        }));
+        py::list objects;
+        for (Sample& sample : samples) objects.append(py::cast(std::move(sample)));
+        return objects;
+      },
+      py::arg("path"), py::arg("device") = "",
+      "[Sample, ...] of a capture file, every field as a live stream gives it; device keeps one family's samples");
+  module.def(
       "read",
       [](const std::string& path, const std::string& device) {
-        if (!device.empty() && device != "uls" && device != "ls5")
-          throw py::value_error("device '" + device + "' must be 'uls', 'ls5' or '' (both)");
+        check_family(device);
         // The array is allocated once, for the most samples the capture can hold, and filled
         // as the rows are read; the pages past the last sample are never touched, and the
         // array is shrunk in place at the end.

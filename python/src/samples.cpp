@@ -5,6 +5,7 @@
 #include <string>
 
 #include "common.hpp"
+#include "rangekit/core/family.hpp"
 #include "rangekit/uls/errors.hpp"
 
 namespace rangekit::python {
@@ -63,7 +64,9 @@ void raise_error(const Error& error, std::string_view family) {
   py::object text = py::none();
   if (error.code == Errc::device_error) {
     number = py::int_(error.device_code);
-    if (family == "uls") text = py::str(uls::error_text(error.device_code));  // §10, U90
+    const FamilyDescriptor* described = find_family(family);
+    if (described != nullptr && described->error_text != nullptr)
+      text = py::str(described->error_text(error.device_code));
   }
   py::object exception = errors.attr(exception_name(error.code))(error.message, code_name(error.code), number, text);
   PyErr_SetObject(reinterpret_cast<PyObject*>(Py_TYPE(exception.ptr())), exception.ptr());
@@ -82,14 +85,9 @@ SampleRecord to_record(const Sample& sample) noexcept {
   record.address = static_cast<std::int16_t>(sample.address);
   record.kind = static_cast<std::uint8_t>(sample.kind);
   std::uint8_t flags = 0;
-  if (sample.distance_m) {
-    record.distance_m = *sample.distance_m;
-  } else if (sample.distance_mm) {
-    record.distance_m = *sample.distance_mm / 1000.0;
-  } else if (sample.derivative_mm) {
-    record.distance_m = *sample.derivative_mm / 1000.0;
-  } else if (!sample.targets.empty()) {
-    record.distance_m = sample.targets.front().distance_m;
+  // The sample's reading (core/family.hpp) in metres, when it is a length at all.
+  if (const auto reading = reading_of(sample)) {
+    if (const auto scale = metres_per(reading->channel->unit)) record.distance_m = reading->value * *scale;
   }
   if (!std::isnan(record.distance_m)) flags |= flag::valid;
   if (sample.pulse_width) {
@@ -192,7 +190,7 @@ void init_samples(py::module_& module) {
           "ULS $ER,n error number (§10), or None")
       .def_property_readonly(
           "error_text",
-          [](const Sample& s) { return s.device_error ? py::cast(uls::error_text(*s.device_error)) : py::none(); },
+          [](const Sample& s) { return s.device_error ? py::cast(error_text_of(s, *s.device_error)) : py::none(); },
           "the §10 text of device_error, or None")
       .def_property_readonly(
           "code", [](const Sample& s) { return optional_object(s.code); }, "LS5 result code 0-65535 (§9.3), or None")
@@ -209,6 +207,27 @@ void init_samples(py::module_& module) {
       .def_property_readonly(
           "resolution_mm", [](const Sample& s) { return optional_object(s.resolution_mm); },
           "LS5: the sensor's discreteness in millimetres (table 3.1), or None")
+      .def_property_readonly(
+          "reading",
+          [](const Sample& s) {
+            const auto reading = reading_of(s);
+            return reading ? py::cast(reading->value) : py::none();
+          },
+          "the one number the sample reports, as the dashboard, MQTT and captures do, or None (a gap)")
+      .def_property_readonly(
+          "reading_channel",
+          [](const Sample& s) {
+            const auto reading = reading_of(s);
+            return reading ? py::cast(std::string(reading->channel->key)) : py::none();
+          },
+          "the channel the reading is of ('distance_m', 'targets', 'derivative_mm', ...), or None")
+      .def_property_readonly(
+          "reading_unit",
+          [](const Sample& s) {
+            const auto reading = reading_of(s);
+            return reading ? py::cast(std::string(unit_symbol(reading->channel->unit))) : py::none();
+          },
+          "the reading's unit ('m', 'mm', '' for presence), or None")
       .def_readonly("suspect", &Sample::suspect,
                     "marked by the quality checks: a value no real target gives at this rate (docs/reliability.md)")
       .def_property_readonly(

@@ -2,34 +2,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
-
+#include "rangekit/core/family.hpp"
 #include "rangekit/record/format.hpp"
 
 namespace rangekit::mqtt {
-
-std::optional<Distance> distance_of(const Sample& sample) {
-  switch (sample.kind) {
-    case SampleKind::uls_averaging:
-      if (sample.distance_m) return Distance{*sample.distance_m, "m"};
-      return std::nullopt;
-    case SampleKind::uls_binning: {
-      if (sample.targets.empty()) return std::nullopt;
-      const auto nearest =
-          std::min_element(sample.targets.begin(), sample.targets.end(),
-                           [](const TargetHit& a, const TargetHit& b) { return a.distance_m < b.distance_m; });
-      return Distance{nearest->distance_m, "m"};
-    }
-    case SampleKind::ls5_result:
-      // 65534/65535 (§9.3) carry no distance: distance_mm is empty then.
-      if (sample.distance_mm && sample.signal.value_or(SignalState::ok) == SignalState::ok) {
-        return Distance{*sample.distance_mm, "mm"};
-      }
-      return std::nullopt;
-    default:
-      return std::nullopt;  // look-down, errors, LS5 derivatives: no distance
-  }
-}
 
 ReadingWindow::ReadingWindow(double max_rate_hz) {
   if (max_rate_hz > 0) {
@@ -51,20 +27,11 @@ std::optional<std::string> ReadingWindow::add(const Sample& sample, Clock::time_
   last_time_ = sample.time;
   ++count_;
   single_ = std::move(own);
-  const auto distance = distance_of(sample);
-  if (distance && sample.suspect) {
+  const auto reading = reading_of(sample);
+  if (reading && sample.suspect) {
     ++suspect_;
-  } else if (distance) {
-    if (distances_ == 0) {
-      min_ = max_ = distance->value;
-    } else {
-      min_ = std::min(min_, distance->value);
-      max_ = std::max(max_, distance->value);
-    }
-    sum_ += distance->value;
-    last_ = distance->value;
-    unit_ = distance->unit;
-    ++distances_;
+  } else if (reading) {
+    readings_.add(*reading);
   }
   if (sample.signal && *sample.signal != SignalState::ok) ++no_signal_;
   if (sample.device_error) ++errors_;
@@ -85,7 +52,7 @@ std::optional<std::string> ReadingWindow::close_window(Clock::time_point now) {
   if (count_ == 1 && lost_ == 0) {
     out = std::move(single_);
   } else {
-    nlohmann::json window{{"window", true}, {"count", count_},   {"unit", unit_},      {"no_signal", no_signal_},
+    nlohmann::json window{{"window", true}, {"count", count_},   {"unit", readings_.unit()}, {"no_signal", no_signal_},
                           {"lost", lost_},  {"errors", errors_}, {"suspect", suspect_}};
     std::string first;
     std::string last;
@@ -93,21 +60,22 @@ std::optional<std::string> ReadingWindow::close_window(Clock::time_point now) {
     record::append_iso_time(last, last_time_);
     window["start"] = count_ > 0 ? nlohmann::json(first) : nlohmann::json(nullptr);
     window["end"] = count_ > 0 ? nlohmann::json(last) : nlohmann::json(nullptr);
-    window["distances"] = distances_;
-    if (distances_ > 0) {
-      window["min"] = min_;
-      window["mean"] = sum_ / static_cast<double>(distances_);
-      window["max"] = max_;
-      window["last"] = last_;
+    window["readings"] = readings_.count();
+    if (!readings_.empty()) {
+      window["channel"] = readings_.channel()->key;
+      window["min"] = readings_.min();
+      window["mean"] = readings_.mean();
+      window["max"] = readings_.max();
+      window["last"] = readings_.last();
     } else {
-      window["min"] = window["mean"] = window["max"] = window["last"] = nullptr;
+      window["channel"] = window["min"] = window["mean"] = window["max"] = window["last"] = nullptr;
     }
     if (presence_) window["presence"] = *presence_;
     out = window.dump();
   }
   last_publish_ = now;
-  count_ = distances_ = no_signal_ = lost_ = errors_ = suspect_ = 0;
-  sum_ = 0;
+  count_ = no_signal_ = lost_ = errors_ = suspect_ = 0;
+  readings_.clear();
   presence_.reset();
   single_.clear();
   return out;

@@ -1,9 +1,7 @@
-// What goes on `<base>/<sensor>/reading`: each sample as `stream --format jsonl`
-// writes it while the sensor stays under the configured rate; above it, one message
-// per window of 1/rate seconds with count, min, mean, max and last of the distances
-// plus the quality counts. A sample without a distance (LS5 no signal, ULS $ER) is
-// counted, never published as a distance; a suspect one (issue 18) is counted and kept
-// out of min/mean/max/last, so one corrupt record cannot move a window's figures.
+// What goes on `<base>/<sensor>/reading`: each sample as `stream --format jsonl` writes it
+// while the sensor stays under the configured rate; above it, one message per window of
+// 1/rate seconds with the figures of the samples' readings (core/family.hpp) and the quality
+// counts. A suspect sample is counted and kept out of the figures.
 #pragma once
 
 #include <chrono>
@@ -11,17 +9,10 @@
 #include <optional>
 #include <string>
 
+#include "rangekit/core/reading_stats.hpp"
 #include "rangekit/core/sample.hpp"
 
 namespace rangekit::mqtt {
-
-// The distance a sample carries and its unit, if any: ULS averaging and binning (nearest
-// target) in metres, LS5 results in millimetres.
-struct Distance {
-  double value = 0;
-  const char* unit = "m";
-};
-std::optional<Distance> distance_of(const Sample& sample);
 
 class ReadingWindow {
  public:
@@ -42,9 +33,7 @@ class ReadingWindow {
   std::optional<Clock::time_point> last_publish_;
   // The window being gathered.
   std::uint64_t count_ = 0;
-  std::uint64_t distances_ = 0;
-  double min_ = 0, max_ = 0, sum_ = 0, last_ = 0;
-  const char* unit_ = "m";
+  ReadingStats readings_;
   std::uint64_t no_signal_ = 0, lost_ = 0, errors_ = 0, suspect_ = 0;
   std::optional<bool> presence_;
   std::string single_;  // the only sample's own message, when the window holds one

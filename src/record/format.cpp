@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <ctime>
 
-#include "rangekit/uls/errors.hpp"
+#include "rangekit/core/family.hpp"
 
 namespace rangekit::record {
 namespace {
@@ -218,7 +218,7 @@ void append_jsonl(std::string& out, const Sample& sample) {
       append_json_optional(out, sample.device_error, append_int);
       append_json_key(out, "error_text");
       if (sample.device_error) {
-        append_json_string(out, uls::error_text(*sample.device_error));
+        append_json_string(out, error_text_of(sample, *sample.device_error));
       } else {
         out += "null";
       }
@@ -308,7 +308,7 @@ void append_csv(std::string& out, const Sample& sample) {
   out += ',';
   if (sample.kind == SampleKind::uls_look_down) append_bool(out, sample.pulses_overflow);
   out += ',';
-  if (sample.device_error) append_csv_text(out, uls::error_text(*sample.device_error));
+  if (sample.device_error) append_csv_text(out, error_text_of(sample, *sample.device_error));
   out += ',';
   append_bool(out, sample.suspect);
   out += ',';
@@ -347,7 +347,7 @@ void append_text(std::string& out, const Sample& sample) {
       out += "  error";
       if (sample.device_error) {
         append_printf(out, " %d: ", *sample.device_error);
-        out += uls::error_text(*sample.device_error);  // §10's words (U90)
+        out += error_text_of(sample, *sample.device_error);  // the family's words: ULS §10 (U90)
       }
       break;
     case SampleKind::ls5_result:

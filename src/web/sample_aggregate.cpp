@@ -1,9 +1,9 @@
 #include "web/sample_aggregate.hpp"
 
-#include <algorithm>
 #include <array>
 #include <cstdio>
 
+#include "rangekit/core/family.hpp"
 #include "rangekit/record/format.hpp"
 
 namespace rangekit::web {
@@ -17,32 +17,18 @@ std::string number_text(double value) {
 
 }  // namespace
 
-std::optional<std::pair<double, const char*>> plotted_value(const Sample& sample) {
-  if (sample.distance_m) return std::pair{*sample.distance_m, "m"};
-  if (!sample.targets.empty()) return std::pair{sample.targets.front().distance_m, "m"};
-  if (sample.distance_mm) return std::pair{*sample.distance_mm, "mm"};
-  if (sample.derivative_mm) return std::pair{*sample.derivative_mm, "mm"};
-  return std::nullopt;
-}
-
 void SampleAggregate::add(const Sample& sample, std::uint64_t id) {
   last_id_ = id;
   time_ = sample.time;
   ++count_;
-  const auto value = plotted_value(sample);
-  if (!value) {
+  const auto reading = reading_of(sample);
+  if (!reading) {
     ++gaps_;
-    return;
-  }
-  if (sample.suspect) {
+  } else if (sample.suspect) {
     ++suspect_;
-    return;
+  } else {
+    readings_.add(*reading);
   }
-  ++valued_;
-  min_ = valued_ == 1 ? value->first : std::min(min_, value->first);
-  max_ = valued_ == 1 ? value->first : std::max(max_, value->first);
-  last_ = value->first;
-  unit_ = value->second;
 }
 
 void SampleAggregate::append_event(std::string& out, std::string_view sensor) {
@@ -63,9 +49,11 @@ void SampleAggregate::append_event(std::string& out, std::string_view sensor) {
   out += std::to_string(gaps_);
   out += ",\"suspect\":";
   out += std::to_string(suspect_);
-  if (valued_ > 0) {
-    out += ",\"min\":" + number_text(min_) + ",\"max\":" + number_text(max_) + ",\"last\":" + number_text(last_) +
-           ",\"unit\":\"" + unit_ + "\"";
+  if (!readings_.empty()) {
+    out += ",\"min\":" + number_text(readings_.min()) + ",\"max\":" + number_text(readings_.max()) +
+           ",\"last\":" + number_text(readings_.last()) + ",\"unit\":\"" + readings_.unit() + "\",\"channel\":\"";
+    out += readings_.channel()->key;
+    out += '"';
   }
   out += "}}\n\n";
   *this = SampleAggregate{};

@@ -1,24 +1,19 @@
 // One sensor's samples merged over one 1/max_rate bucket of an SSE stream
-// (`?max_rate=N`, docs/api.md): count, min, max and last of the plotted value.
-// Samples with no value (no signal, look-down edges, device errors) are gaps; samples
+// (`?max_rate=N`, docs/api.md): count, min, max and last of their readings (core/family.hpp).
+// Samples with no reading (no signal, device errors) are gaps; samples
 // the quality checks marked suspect (issue 18 item 2) are counted apart and kept out
 // of min/max/last, so one corrupt record cannot stretch a plotted window.
 #pragma once
 
 #include <chrono>
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <string_view>
-#include <utility>
 
+#include "rangekit/core/reading_stats.hpp"
 #include "rangekit/core/sample.hpp"
 
 namespace rangekit::web {
-
-// The one number a live view plots for a sample, and its unit; none for look-down
-// edges, device errors and LS5 no-signal records (drawn as gaps).
-std::optional<std::pair<double, const char*>> plotted_value(const Sample& sample);
 
 class SampleAggregate {
  public:
@@ -32,13 +27,9 @@ class SampleAggregate {
  private:
   std::uint64_t last_id_ = 0;
   std::size_t count_ = 0;    // samples in the bucket
-  std::size_t gaps_ = 0;     // of which with no plotted value
+  std::size_t gaps_ = 0;     // of which with no reading
   std::size_t suspect_ = 0;  // of which marked suspect (not in min/max/last)
-  std::size_t valued_ = 0;   // of which in min/max/last
-  double min_ = 0;
-  double max_ = 0;
-  double last_ = 0;
-  const char* unit_ = "";
+  ReadingStats readings_;    // the others
   std::chrono::system_clock::time_point time_;
 };
 

@@ -207,7 +207,7 @@ TEST(MqttBridge, AboveTheRateOneWindowMessageWithCountMinMeanMaxLastAndQuality) 
   };
   ASSERT_TRUE(subscriber.wait_for([&](const auto& heard) { return windows(heard, "\"last\":20.0") >= 2; }));
   for (const auto& window : payloads_on(subscriber.heard(), "rangekit/belt/reading")) {
-    if (!window.contains("window") || window["distances"] == 0) continue;
+    if (!window.contains("window") || window["readings"] == 0) continue;
     EXPECT_GT(window["count"].get<int>(), 1) << window.dump();
     EXPECT_EQ(window["unit"], "mm");
     EXPECT_DOUBLE_EQ(window["min"].get<double>(), 20.0) << window.dump();
@@ -217,9 +217,9 @@ TEST(MqttBridge, AboveTheRateOneWindowMessageWithCountMinMeanMaxLastAndQuality) 
   // No signal (L77): counted in the window, and no distance from it.
   subscriber.clear();
   ls5.move_target(80.0);
-  ASSERT_TRUE(subscriber.wait_for([&](const auto& heard) { return windows(heard, "\"distances\":0") >= 1; }));
+  ASSERT_TRUE(subscriber.wait_for([&](const auto& heard) { return windows(heard, "\"readings\":0") >= 1; }));
   for (const auto& window : payloads_on(subscriber.heard(), "rangekit/belt/reading")) {
-    if (!window.contains("window") || window["distances"] != 0) continue;
+    if (!window.contains("window") || window["readings"] != 0) continue;
     EXPECT_EQ(window["no_signal"], window["count"]) << window.dump();
     EXPECT_TRUE(window["last"].is_null() && window["min"].is_null()) << window.dump();
   }

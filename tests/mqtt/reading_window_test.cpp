@@ -1,10 +1,11 @@
-// What `<base>/<sensor>/reading` carries (issue 15 point 1): each sample under the rate,
-// one window above it; no sample without a distance is ever published as one.
+// What `<base>/<sensor>/reading` carries: each sample under the rate, one window of their
+// readings above it; no sample without a reading is ever counted as one.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
 #include "mqtt/reading_window.hpp"
+#include "rangekit/core/family.hpp"
 
 namespace {
 
@@ -25,12 +26,8 @@ Sample ls5(std::optional<double> distance_mm, std::uint16_t code, SignalState si
 // L77: §8 "65534 – to indicate that the sensor has not made any measurements yet ...
 // 65535 – to indicate that there is no signal." Neither is a distance.
 TEST(ReadingWindow, L77NoSignalAndNoMeasurementYetAreCountedNeverADistance) {
-  EXPECT_FALSE(mqtt::distance_of(ls5(std::nullopt, 65535, SignalState::lost)));
-  EXPECT_FALSE(mqtt::distance_of(ls5(std::nullopt, 65534, SignalState::none_yet)));
-  const auto distance = mqtt::distance_of(ls5(20.0, 20000, SignalState::ok));
-  ASSERT_TRUE(distance);
-  EXPECT_DOUBLE_EQ(distance->value, 20.0);
-  EXPECT_STREQ(distance->unit, "mm");
+  EXPECT_FALSE(reading_of(ls5(std::nullopt, 65535, SignalState::lost)));
+  EXPECT_FALSE(reading_of(ls5(std::nullopt, 65534, SignalState::none_yet)));
 
   mqtt::ReadingWindow window(10);  // one message per 100 ms
   const auto start = Clock::now();
@@ -45,7 +42,8 @@ TEST(ReadingWindow, L77NoSignalAndNoMeasurementYetAreCountedNeverADistance) {
   const auto json = nlohmann::json::parse(*text);
   EXPECT_EQ(json["window"], true);
   EXPECT_EQ(json["count"], 3);
-  EXPECT_EQ(json["distances"], 2);
+  EXPECT_EQ(json["readings"], 2);
+  EXPECT_EQ(json["channel"], "distance_mm");
   EXPECT_DOUBLE_EQ(json["min"].get<double>(), 10.0);
   EXPECT_DOUBLE_EQ(json["mean"].get<double>(), 20.0);
   EXPECT_DOUBLE_EQ(json["max"].get<double>(), 30.0);
@@ -57,27 +55,20 @@ TEST(ReadingWindow, L77NoSignalAndNoMeasurementYetAreCountedNeverADistance) {
 }
 
 // U107: §10 "Error Number ... Explanation" ($ER,n) is a measurement that failed: counted as an
-// error, never a distance. §2 "In Binning Mode you can choose to display the first target the
-// laser sees or the last target": the window's distance is the first (nearest) target.
-TEST(ReadingWindow, U107UlsErrorsAreCountedAndBinningGivesTheNearestTarget) {
+// error, never a reading. A look-down edge reads as its presence, 1 or 0.
+TEST(ReadingWindow, U107UlsErrorsAreCountedAndALookDownEdgeIsItsPresence) {
   Sample error;
   error.device = "uls";
   error.kind = SampleKind::uls_error;
   error.device_error = 4;
-  EXPECT_FALSE(mqtt::distance_of(error));
   Sample binning;
   binning.device = "uls";
   binning.kind = SampleKind::uls_binning;
   binning.targets = {{42.5, 10}, {12.25, 30}};
-  const auto nearest = mqtt::distance_of(binning);
-  ASSERT_TRUE(nearest);
-  EXPECT_DOUBLE_EQ(nearest->value, 12.25);
-  EXPECT_STREQ(nearest->unit, "m");
   Sample look_down;
   look_down.device = "uls";
   look_down.kind = SampleKind::uls_look_down;
   look_down.presence = true;
-  EXPECT_FALSE(mqtt::distance_of(look_down));
 
   mqtt::ReadingWindow every(0);  // 0: every sample as `stream --format jsonl` writes it
   const auto own = every.add(error, Clock::now());
@@ -96,14 +87,16 @@ TEST(ReadingWindow, U107UlsErrorsAreCountedAndBinningGivesTheNearestTarget) {
   const auto closed = nlohmann::json::parse(*text);
   EXPECT_EQ(closed["count"], 2);
   EXPECT_EQ(closed["errors"], 1);
-  EXPECT_EQ(closed["distances"], 0);
-  EXPECT_TRUE(closed["last"].is_null());
+  EXPECT_EQ(closed["readings"], 1);
+  EXPECT_EQ(closed["channel"], "presence");
+  EXPECT_EQ(closed["unit"], "");
+  EXPECT_DOUBLE_EQ(closed["last"].get<double>(), 1.0);
   EXPECT_EQ(closed["presence"], true);
 }
 
 }  // namespace
 
-// Issue 18 item 2: "Suspect samples stay in captures and outputs, marked." A window is a
+// Suspect samples stay in captures and outputs, marked. A window is a
 // summary, not the samples: a suspect distance is counted there and kept out of the figures,
 // so one corrupt record (`34845` for `24845`) cannot move its min, mean, max or last.
 TEST(ReadingWindow, SuspectSamplesAreCountedAndKeptOutOfTheFigures) {
@@ -120,7 +113,7 @@ TEST(ReadingWindow, SuspectSamplesAreCountedAndKeptOutOfTheFigures) {
   ASSERT_TRUE(text);
   const auto json = nlohmann::json::parse(*text);
   EXPECT_EQ(json["count"], 3);
-  EXPECT_EQ(json["distances"], 2);
+  EXPECT_EQ(json["readings"], 2);
   EXPECT_EQ(json["suspect"], 1);
   EXPECT_DOUBLE_EQ(json["min"].get<double>(), 24.840);
   EXPECT_DOUBLE_EQ(json["max"].get<double>(), 24.850);

@@ -37,6 +37,7 @@ export interface Aggregate {
   max?: number;
   last?: number;
   unit?: string;
+  channel?: string;  // what min/max/last are of: 'distance_m', 'targets', 'presence', 'distance_mm', ...
 }
 
 // `event: event`: a link event (connected, disconnected, reconnected, lost_records, ...).

@@ -113,6 +113,10 @@ export class Card {
     if (data.last === undefined) {
       this.showValue(this.lookDown ? 'look down: no distance' : 'no signal', '', 'none');
       this.push(time, null);
+    } else if (data.channel === 'presence') {
+      // A look-down edge reads as its presence, 1 or 0 (U107): said in words, drawn as a step.
+      this.showValue(data.last ? 'target present' : 'no target', '', 'live');
+      this.push(time, data.last);
     } else {
       this.showValue(numberFormat.format(data.last), data.unit ?? '', 'live');
       this.push(time, data.last);

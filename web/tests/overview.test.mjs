@@ -72,11 +72,13 @@ test('the live value updates on a card (bay-C: a level rising and falling)', asy
   await page.screenshot({ path: path.join(screenshots, 'overview.png') });
 });
 
-// U113: §3 "A distance is not produced" in look down; bay-B is in look down (§8 US "n = 3").
-test('a ULS in look down says it gives no distance, not that it has no signal (U113)', async () => {
-  await page.waitForFunction((selector) => document.querySelector(selector)?.textContent === 'look down: no distance',
+// U113: §3 "A distance is not produced" in look down; bay-B is in look down (§8 US "n = 3"), and
+// its reading is the trip signal's state (§2 "the on/off condition of the trip signal").
+test('a ULS in look down shows whether a target is there, not a distance or no signal (U113)', async () => {
+  await page.waitForFunction((selector) => /^(target present|no target)$/.test(document.querySelector(selector)?.textContent),
     `${card('bay-B')} .value`, WAIT);
-  assert.equal(await page.getAttribute(card('bay-B'), 'data-reading'), 'none');
+  assert.equal(await page.getAttribute(card('bay-B'), 'data-reading'), 'live');
+  assert.equal(await page.textContent(`${card('bay-B')} .unit`), '');
 });
 
 test('every input has a label and the page is usable with the keyboard alone', async () => {

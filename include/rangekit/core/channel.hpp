@@ -1,0 +1,46 @@
+// What a number in a sample means: its quantity, its unit and the key every face shows it by.
+// A family describes its channels once (its family descriptor); faces read the description
+// and never ask which family a sample came from.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+namespace rangekit {
+
+enum class Quantity : std::uint8_t {
+  distance,         // along the beam, to a target
+  distance_change,  // the difference of two distances (an LS5 derivative)
+  pulse_width,      // of the returned laser pulse
+  strength,         // hits of a target's bin, a signal level
+  presence,         // 1 when a target is there, 0 when not
+  pulse_count,      // laser pulses between two events
+  result_code,      // the raw number the sensor sent
+  error_number,     // the sensor's own error number
+};
+
+enum class Unit : std::uint8_t { none, metre, millimetre, picosecond };
+
+// "distance", "distance_change", …: the words of docs and JSON.
+const char* quantity_name(Quantity quantity) noexcept;
+// "m", "mm", "ps"; "" for a count or a state.
+const char* unit_symbol(Unit unit) noexcept;
+// The factor from `unit` to the metre, for the length units only.
+std::optional<double> metres_per(Unit unit) noexcept;
+
+struct ChannelDescriptor {
+  std::string_view key;  // the JSON and CSV key: "distance_m"
+  Quantity quantity = Quantity::distance;
+  Unit unit = Unit::none;
+  std::string_view description;  // one line for help and the API's descriptors
+};
+
+// The one number a sample reports, with the channel that gives it its meaning: what the
+// dashboard plots, MQTT publishes, an SSE aggregate and Python's NumPy arrays count.
+struct Reading {
+  const ChannelDescriptor* channel = nullptr;
+  double value = 0;
+};
+
+}  // namespace rangekit

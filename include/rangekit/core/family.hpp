@@ -1,0 +1,40 @@
+// A sensor family as generic code sees it: its name, its channels and how a sample of it
+// reads. Each family fills one descriptor in its own folder; the registration list adds it
+// here at start-up, and faces look it up by a sample's `device`.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "rangekit/core/channel.hpp"
+#include "rangekit/core/sample.hpp"
+
+namespace rangekit {
+
+struct FamilyDescriptor {
+  std::string_view name;   // the `device` of its samples, its CLI subcommand: "uls"
+  std::string_view title;  // "LTI Universal Laser Sensor"
+  std::span<const ChannelDescriptor> channels;
+  // The one number a sample reports (channel.hpp), none when it has no value: a gap.
+  std::optional<Reading> (*reading)(const Sample& sample) = nullptr;
+  // The sensor's own words for its error number, or "" when it has none.
+  std::string (*error_text)(int number) = nullptr;
+};
+
+// Adds a family; a second one of the same name replaces the first. Called from the
+// registration list before any thread reads the registry.
+void register_family(const FamilyDescriptor& family);
+// The registered families, in registration order.
+std::span<const FamilyDescriptor* const> families() noexcept;
+const FamilyDescriptor* find_family(std::string_view name) noexcept;
+// A channel of a family by its key.
+const ChannelDescriptor* find_channel(const FamilyDescriptor& family, std::string_view key) noexcept;
+
+// The sample's reading as its family defines it; none for a family not registered.
+std::optional<Reading> reading_of(const Sample& sample);
+// The family's words for the sample's error number, "" when it has none.
+std::string error_text_of(const Sample& sample, int number);
+
+}  // namespace rangekit

@@ -1,0 +1,10 @@
+// The LS5 as generic code sees it: its channels and the reading of each kind of sample.
+#pragma once
+
+#include "rangekit/core/family.hpp"
+
+namespace rangekit::ls5 {
+
+const FamilyDescriptor& family() noexcept;
+
+}  // namespace rangekit::ls5

@@ -1,0 +1,43 @@
+#include "rangekit/ls5/family.hpp"
+
+#include <array>
+
+namespace rangekit::ls5 {
+namespace {
+
+constexpr std::array channels{
+    ChannelDescriptor{"code", Quantity::result_code, Unit::none, "the result code as sent, 0 to 65535 (§9.3)"},
+    ChannelDescriptor{"distance_mm", Quantity::distance, Unit::millimetre, "distance (formula 8.1)"},
+    ChannelDescriptor{"derivative_mm", Quantity::distance_change, Unit::millimetre,
+                      "difference of two results (formula 8.2, §8.8)"},
+};
+constexpr const ChannelDescriptor& distance = channels[1];
+constexpr const ChannelDescriptor& derivative = channels[2];
+
+// A result: its distance; a derivative: the change. 65534 and 65535 (§9.3) carry neither.
+std::optional<Reading> reading(const Sample& sample) {
+  if (sample.signal.value_or(SignalState::ok) != SignalState::ok) return std::nullopt;
+  switch (sample.kind) {
+    case SampleKind::ls5_result:
+      if (sample.distance_mm) return Reading{&distance, *sample.distance_mm};
+      return std::nullopt;
+    case SampleKind::ls5_derivative:
+      if (sample.derivative_mm) return Reading{&derivative, *sample.derivative_mm};
+      return std::nullopt;
+    default:
+      return std::nullopt;
+  }
+}
+
+constexpr FamilyDescriptor descriptor{
+    .name = "ls5",
+    .title = "Prizma LS5 laser triangulation sensor",
+    .channels = channels,
+    .reading = reading,
+};
+
+}  // namespace
+
+const FamilyDescriptor& family() noexcept { return descriptor; }
+
+}  // namespace rangekit::ls5

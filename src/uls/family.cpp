@@ -1,0 +1,59 @@
+#include "rangekit/uls/family.hpp"
+
+#include <algorithm>
+#include <array>
+
+#include "rangekit/uls/errors.hpp"
+
+namespace rangekit::uls {
+namespace {
+
+constexpr std::array channels{
+    ChannelDescriptor{"distance_m", Quantity::distance, Unit::metre, "averaged distance (averaging mode)"},
+    ChannelDescriptor{"pulse_width", Quantity::pulse_width, Unit::picosecond, "width of the returned pulse"},
+    ChannelDescriptor{"targets", Quantity::distance, Unit::metre, "the targets of one binning burst, nearest first"},
+    ChannelDescriptor{"presence", Quantity::presence, Unit::none, "look down: 1 a target is there, 0 it left"},
+    ChannelDescriptor{"pulses_between_events", Quantity::pulse_count, Unit::none,
+                      "look down: laser pulses between the last two edges"},
+    ChannelDescriptor{"error", Quantity::error_number, Unit::none, "the §10 error number the unit sent"},
+};
+constexpr const ChannelDescriptor& distance = channels[0];
+constexpr const ChannelDescriptor& targets = channels[2];
+constexpr const ChannelDescriptor& presence = channels[3];
+
+// Averaging: its distance. Binning: the nearest target, the Interface Program's "first target
+// the laser sees" (§2 Display/Target Selection). Look down: the edge, 1 or 0. A §10 error
+// (a burst with no target, $ER,4) reads as nothing: a gap.
+std::optional<Reading> reading(const Sample& sample) {
+  switch (sample.kind) {
+    case SampleKind::uls_averaging:
+      if (sample.distance_m) return Reading{&distance, *sample.distance_m};
+      return std::nullopt;
+    case SampleKind::uls_binning: {
+      if (sample.targets.empty()) return std::nullopt;
+      const auto nearest =
+          std::min_element(sample.targets.begin(), sample.targets.end(),
+                           [](const TargetHit& a, const TargetHit& b) { return a.distance_m < b.distance_m; });
+      return Reading{&targets, nearest->distance_m};
+    }
+    case SampleKind::uls_look_down:
+      if (sample.presence) return Reading{&presence, *sample.presence ? 1.0 : 0.0};
+      return std::nullopt;
+    default:
+      return std::nullopt;
+  }
+}
+
+constexpr FamilyDescriptor descriptor{
+    .name = "uls",
+    .title = "LTI Universal Laser Sensor",
+    .channels = channels,
+    .reading = reading,
+    .error_text = error_text,
+};
+
+}  // namespace
+
+const FamilyDescriptor& family() noexcept { return descriptor; }
+
+}  // namespace rangekit::uls
