@@ -9,7 +9,10 @@ set(rangekit_allowed_links_rangekit_uls rangekit_core)
 set(rangekit_allowed_links_rangekit_ls5 rangekit_core)
 set(rangekit_allowed_links_rangekit_record rangekit_core)
 set(rangekit_allowed_links_rangekit_sim rangekit_core rangekit_uls rangekit_ls5)
-set(rangekit_allowed_links_rangekit_hub rangekit_core rangekit_uls rangekit_ls5 rangekit_record)  # never sim: a site's real sensors
+set(rangekit_allowed_links_rangekit_hub rangekit_core rangekit_record)  # no family: they register with it
+# A family's service part: the hub and its own family, never another's, never sim (a site's sensors are real).
+set(rangekit_allowed_links_rangekit_uls_service rangekit_hub rangekit_uls rangekit_core)
+set(rangekit_allowed_links_rangekit_ls5_service rangekit_hub rangekit_ls5 rangekit_core)
 # A face reaches the sensors only through the hub: never a driver (uls, ls5) itself.
 set(rangekit_allowed_links_rangekit_web rangekit_hub rangekit_core rangekit_record)
 set(rangekit_allowed_links_rangekit_mqtt rangekit_hub rangekit_core rangekit_record)
@@ -22,7 +25,7 @@ function(rangekit_forbidden_links target links out_violations)
     # $<LINK_ONLY:x>, $<BUILD_INTERFACE:x> and rangekit::x all name x.
     string(REGEX REPLACE "^\\$<[A-Z_]+:(.*)>$" "\\1" link "${link}")
     string(REGEX REPLACE "^rangekit::" "rangekit_" link "${link}")
-    if(NOT link MATCHES "^rangekit_(core|uls|ls5|record|sim|hub|web|mqtt)$")
+    if(NOT link MATCHES "^rangekit_(core|uls|ls5|record|sim|hub|web|mqtt|uls_service|ls5_service)$")
       continue()  # third-party or build-only (warnings) targets
     endif()
     if(NOT link IN_LIST rangekit_allowed_links_${target})

@@ -93,10 +93,10 @@ Status set_up_bus(const std::string& port) {
   return ok_status();
 }
 
-hub::SensorConfig sensor(std::string name, hub::Family family, std::string port) {
+hub::SensorConfig sensor(std::string name, std::string family, std::string port) {
   hub::SensorConfig config;
   config.name = std::move(name);
-  config.family = family;
+  config.family = std::move(family);
   config.port = std::move(port);
   return config;
 }
@@ -144,13 +144,13 @@ Result<DemoSite> DemoSite::start() {
 
   demo.site_.file = path("demo-site.toml");  // not written: the site is built here
   demo.site_.service.capture_dir = path("captures");
-  demo.site_.sensors.push_back(sensor("belt", hub::Family::ls5, path("ls5")));
-  hub::SensorConfig belt_udp = sensor("belt-udp", hub::Family::ls5, "");
+  demo.site_.sensors.push_back(sensor("belt", "ls5", path("ls5")));
+  hub::SensorConfig belt_udp = sensor("belt-udp", "ls5", "");
   belt_udp.udp = udp;
   demo.site_.sensors.push_back(std::move(belt_udp));
-  demo.site_.sensors.push_back(sensor("silo", hub::Family::uls, path("uls")));
+  demo.site_.sensors.push_back(sensor("silo", "uls", path("uls")));
   for (const char unit : {'A', 'B', 'C', 'D'}) {
-    hub::SensorConfig bay = sensor(fmt::format("bay-{}", unit), hub::Family::uls, path("bus"));
+    hub::SensorConfig bay = sensor(fmt::format("bay-{}", unit), "uls", path("bus"));
     bay.address = unit;
     demo.site_.sensors.push_back(std::move(bay));
   }

@@ -35,7 +35,7 @@ struct ServeOptions {
 std::string summary_line(const hub::SensorSnapshot& sensor) {
   const hub::SensorHealth& health = sensor.health;
   return fmt::format("{:<16} {:<3} {:<12} {:>8.1f}/s  records {}  errors {}  lost {}  bad frames {}  reconnects {}",
-                     sensor.config.name, hub::family_name(sensor.config.family),
+                     sensor.config.name, sensor.config.family,
                      health.connected ? (sensor.streaming ? "streaming" : "connected") : "disconnected", health.rate_hz,
                      health.records, health.errors, health.lost, health.bad_frames, health.reconnects);
 }

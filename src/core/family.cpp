@@ -1,15 +1,12 @@
 #include "rangekit/core/family.hpp"
 
-#include <algorithm>
-#include <vector>
+#include "rangekit/core/registry.hpp"
 
 namespace rangekit {
 namespace {
 
-// A handful of families at most: a vector searched by name beats a map, and its order is
-// the registration order faces list families in.
-std::vector<const FamilyDescriptor*>& registry() {
-  static std::vector<const FamilyDescriptor*> families;
+Registry<FamilyDescriptor>& registry() {
+  static Registry<FamilyDescriptor> families;
   return families;
 }
 
@@ -62,25 +59,11 @@ std::optional<double> metres_per(Unit unit) noexcept {
   }
 }
 
-void register_family(const FamilyDescriptor& family) {
-  auto& families = registry();
-  const auto same_name = std::find_if(families.begin(), families.end(),
-                                      [&](const FamilyDescriptor* known) { return known->name == family.name; });
-  if (same_name != families.end()) {
-    *same_name = &family;
-  } else {
-    families.push_back(&family);
-  }
-}
+void register_family(const FamilyDescriptor& family) { registry().add(family); }
 
-std::span<const FamilyDescriptor* const> families() noexcept { return registry(); }
+std::span<const FamilyDescriptor* const> families() noexcept { return registry().all(); }
 
-const FamilyDescriptor* find_family(std::string_view name) noexcept {
-  for (const FamilyDescriptor* family : registry()) {
-    if (family->name == name) return family;
-  }
-  return nullptr;
-}
+const FamilyDescriptor* find_family(std::string_view name) noexcept { return registry().find(name); }
 
 const ChannelDescriptor* find_channel(const FamilyDescriptor& family, std::string_view key) noexcept {
   for (const ChannelDescriptor& channel : family.channels) {

@@ -1,14 +1,21 @@
-// The registration list: the one place that names every family. A program or test that
-// links this object has them all registered before main() runs.
+// Registers every family's channels and readings (core/family.hpp) before main(): linked as an
+// object into each program, so the linker cannot leave it out.
+#include "families/list.hpp"
 #include "rangekit/core/family.hpp"
-#include "rangekit/ls5/family.hpp"
-#include "rangekit/uls/family.hpp"
+
+#define RANGEKIT_DECLARE(name)                                                               \
+  namespace rangekit::name {                                                                 \
+  const FamilyDescriptor& family() noexcept; /* NOLINT(readability-redundant-declaration) */ \
+  }
+RANGEKIT_FAMILIES(RANGEKIT_DECLARE)
+#undef RANGEKIT_DECLARE
 
 namespace {
 
 const bool registered = [] {
-  rangekit::register_family(rangekit::uls::family());
-  rangekit::register_family(rangekit::ls5::family());
+#define RANGEKIT_REGISTER(name) rangekit::register_family(rangekit::name::family());
+  RANGEKIT_FAMILIES(RANGEKIT_REGISTER)
+#undef RANGEKIT_REGISTER
   return true;
 }();
 

@@ -6,15 +6,28 @@
 #include <map>
 
 #include "hub/port_worker.hpp"
-#include "hub/session.hpp"
 #include "rangekit/core/serial_port.hpp"
-#include "rangekit/uls/bus.hpp"
+#include "rangekit/hub/backend.hpp"
+#include "rangekit/hub/service_family.hpp"
 
 namespace rangekit::hub {
 
-std::string bus_address_text(std::uint8_t address) { return uls::address_text(address); }
+std::string bus_address_text(std::string_view family, std::uint8_t address) {
+  const ServiceFamily* found = find_service_family(family);
+  if (found == nullptr || found->address_text == nullptr) return std::to_string(address);
+  return found->address_text(address);
+}
 
-std::optional<std::uint8_t> parse_bus_address(std::string_view text) { return uls::parse_unit_address(text); }
+std::optional<std::uint8_t> parse_bus_address(std::string_view family, std::string_view text) {
+  const ServiceFamily* found = find_service_family(family);
+  if (found == nullptr || found->parse_address_text == nullptr) return std::nullopt;
+  return found->parse_address_text(text);
+}
+
+std::string bus_address_help(std::string_view family) {
+  const ServiceFamily* found = find_service_family(family);
+  return found != nullptr ? std::string(found->address_help) : std::string();
+}
 
 namespace {
 
@@ -150,23 +163,18 @@ std::unique_ptr<Hub> Hub::start(const SiteConfig& site, HubOptions options) {
   for (const PortGroup& group : port_groups(site)) {
     std::vector<Session*> sessions;
     std::transform(group.sensors.begin(), group.sensors.end(), std::back_inserter(sessions), session_of);
-    std::unique_ptr<Backend> backend;
-    if (group.family == Family::ls5) {
-      backend = make_ls5_backend(*sessions.front(), *impl, options.open_port);
-    } else if (group.bus()) {
-      backend = make_uls_bus_backend(sessions, *impl, options.open_port);
-    } else {
-      backend = make_uls_backend(*sessions.front(), *impl, options.open_port);
-    }
+    // The site file was checked against the registered families, so the family is there.
+    const ServiceFamily& family = *find_service_family(group.family);
+    std::unique_ptr<Backend> backend = family.port_backend(sessions, *impl, options.open_port);
     impl->workers.push_back(
         std::make_unique<PortWorker>(std::move(backend), sessions, *impl, options.reconnect_interval));
     for (Session* session : sessions) impl->worker_of[session->config.name] = impl->workers.back().get();
   }
   for (const auto& session : impl->sessions) {
     if (!session->config.port.empty() || session->config.udp.empty()) continue;
-    impl->workers.push_back(std::make_unique<PortWorker>(make_ls5_udp_backend(*session, *impl),
-                                                         std::vector<Session*>{session.get()}, *impl,
-                                                         options.reconnect_interval));
+    const ServiceFamily& family = *find_service_family(session->config.family);
+    impl->workers.push_back(std::make_unique<PortWorker>(
+        family.udp_backend(*session, *impl), std::vector<Session*>{session.get()}, *impl, options.reconnect_interval));
     impl->worker_of[session->config.name] = impl->workers.back().get();
   }
   for (const auto& worker : impl->workers) worker->start();
@@ -285,9 +293,16 @@ namespace {
 // A bus scan asks this many addresses per job, so the poll of the bus's units goes on in between.
 constexpr std::size_t scan_chunk = 8;
 
+// The family of a sensor on a bus: one that has buses, and an address in the site file.
+const ServiceFamily* bus_family(const Session& session) {
+  const ServiceFamily* family = find_service_family(session.config.family);
+  if (family == nullptr || !family->bus || family->scan_addresses == nullptr || !session.config.address) return nullptr;
+  return family;
+}
+
 Error not_on_a_bus(const Session& session) {
   return make_error(Errc::unsupported, "'" + session.config.name +
-                                           "' is not a ULS on an RS-485 bus (no `address` in the site file): " +
+                                           "' is not on an RS-485 bus (no `address` in the site file): " +
                                            "the RS-485 network (§7) is for units addressed on a bus");
 }
 
@@ -296,15 +311,17 @@ Error not_on_a_bus(const Session& session) {
 Result<BusScan> Hub::scan_bus(std::string_view sensor) {
   Session* session = impl_->find(sensor);
   if (session == nullptr) return impl_->unknown(sensor);
-  if (session->config.family != Family::uls || !session->config.address) return not_on_a_bus(*session);
+  const ServiceFamily* family = bus_family(*session);
+  if (family == nullptr) return not_on_a_bus(*session);
   BusScan scan;
+  scan.family = session->config.family;
   scan.port = session->config.port;
   for (const auto& other : impl_->sessions) {
     if (other->config.port == scan.port && other->config.address) {
       scan.site.emplace_back(static_cast<std::uint8_t>(*other->config.address), other->config.name);
     }
   }
-  const std::vector<std::uint8_t> addresses = uls::typable_addresses();  // §8 UA: a-z, A-Z, 0-9
+  const std::vector<std::uint8_t> addresses = family->scan_addresses();
   scan.asked = addresses.size();
   PortWorker& worker = *impl_->worker_of.at(session->config.name);
   for (std::size_t first = 0; first < addresses.size(); first += scan_chunk) {
@@ -322,7 +339,7 @@ Result<BusScan> Hub::scan_bus(std::string_view sensor) {
 Status Hub::assign_address(std::string_view sensor, std::optional<std::uint8_t> from, std::uint8_t to) {
   Session* session = impl_->find(sensor);
   if (session == nullptr) return impl_->unknown(sensor);
-  if (session->config.family != Family::uls || !session->config.address) return not_on_a_bus(*session);
+  if (bus_family(*session) == nullptr) return not_on_a_bus(*session);
   const auto unit = from.value_or(static_cast<std::uint8_t>(*session->config.address));
   return impl_->worker_of.at(session->config.name)
       ->run<Ok>([unit, to](Backend& backend) { return backend.assign_address(unit, to); },
@@ -350,8 +367,7 @@ std::size_t drain(SampleSource& source, Session& session, Publisher& publisher, 
 
 Error refused(const Session& session, Action action) {
   return make_error(Errc::unsupported, std::string("'") + action_name(action) + "' is not an action of " +
-                                           family_name(session.config.family) + " sensor '" + session.config.name +
-                                           "'");
+                                           session.config.family + " sensor '" + session.config.name + "'");
 }
 
 }  // namespace rangekit::hub

@@ -38,7 +38,7 @@ nlohmann::json sensor_json(const SensorSnapshot& sensor) {
   const SensorConfig& config = sensor.config;
   const SensorHealth& health = sensor.health;
   nlohmann::json out{{"name", config.name},
-                     {"family", family_name(config.family)},
+                     {"family", config.family},
                      {"port", config.port},
                      {"connected", health.connected},
                      {"streaming", sensor.streaming},

@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "hub/session.hpp"
+#include "rangekit/hub/backend.hpp"
 
 namespace rangekit::hub {
 

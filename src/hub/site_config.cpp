@@ -16,8 +16,7 @@
 #include "core/toml.hpp"  // private: toml++ is no part of the public API
 #include "rangekit/core/text.hpp"
 #include "rangekit/core/udp.hpp"
-#include "rangekit/ls5/settings.hpp"
-#include "rangekit/uls/bus.hpp"
+#include "rangekit/hub/service_family.hpp"
 
 namespace rangekit::hub {
 namespace {
@@ -74,54 +73,36 @@ Result<std::int64_t> integer_in(std::string_view file, const toml::node& node, s
   return value;
 }
 
-// ULS: a unit address as §8's UA table writes it ("A", "0x41" or 65); LS5: 1-255.
-Result<int> address_of(std::string_view file, const toml::node& node, Family family) {
-  if (family == Family::uls) {
-    std::string text;
-    if (const auto* number = node.as_integer()) {
-      text = std::to_string(number->get());
-    } else if (const auto* string = node.as_string()) {
-      text = string->get();
-    } else {
-      return at(file, node, Errc::invalid_frame, "address must be a character (\"A\") or a number");
-    }
-    const auto parsed = uls::parse_unit_address(text);
-    if (!parsed) {
-      return at(file, node, Errc::out_of_range,
-                "address '" + text + "' is not a ULS unit address (0x30-0xEF, e.g. \"A\" or \"0x41\", §7)");
-    }
-    return *parsed;
+// "LS5 Ethernet models": the families heard over UDP, for the message to one that is not.
+std::string udp_models() {
+  std::string models;
+  for (const ServiceFamily* family : service_families()) {
+    if (!family->udp) continue;
+    models += (models.empty() ? "" : " and ") + std::string(family->model);
   }
-  auto number = integer_of(file, node, "address");
-  if (!number) return std::move(number).error();
-  if (*number < 1 || *number > 255) {
-    return at(file, node, Errc::out_of_range,
-              "address " + std::to_string(*number) + " is out of range 1-255 (LS5 network address, parameter 01)");
-  }
-  return static_cast<int>(*number);
+  return models + " Ethernet models";
 }
 
-Result<SerialSettings> byte_format_of(std::string_view file, const toml::node& node, Family family,
+// The family reads its own addresses: a text or a number, in its range.
+Result<int> address_of(std::string_view file, const toml::node& node, const ServiceFamily& family) {
+  AddressValue value;
+  if (const auto* number = node.as_integer()) {
+    value.number = number->get();
+  } else if (const auto* string = node.as_string()) {
+    value.text = string->get();
+  }
+  auto address = family.parse_address(value);
+  if (!address) return at(file, node, address.error().code, address.error().message);
+  return address;
+}
+
+Result<SerialSettings> byte_format_of(std::string_view file, const toml::node& node, const ServiceFamily& family,
                                       SerialSettings settings) {
   auto text = text_of(file, node, "format");
   if (!text) return std::move(text).error();
-  if (family == Family::uls) {
-    if (*text != "8N1")
-      return at(file, node, Errc::out_of_range, "format '" + *text + "': the ULS speaks 8N1 only (§9)");
-    return settings;
-  }
-  std::string allowed;
-  for (const auto& format : ls5::byte_format_table()) {
-    if (format.name == *text) {
-      settings.parity = format.parity == ls5::Parity::none   ? Parity::none
-                        : format.parity == ls5::Parity::even ? Parity::even
-                                                             : Parity::odd;
-      settings.stop_bits = format.stop_bits;
-      return settings;
-    }
-    allowed += (allowed.empty() ? "" : ", ") + std::string(format.name);
-  }
-  return at(file, node, Errc::out_of_range, "format '" + *text + "' is not an LS5 byte format (" + allowed + ")");
+  auto format = family.byte_format(*text, settings);
+  if (!format) return at(file, node, format.error().code, format.error().message);
+  return format;
 }
 
 Result<SensorConfig> sensor_from(std::string_view file, const toml::table& table) {
@@ -144,18 +125,18 @@ Result<SensorConfig> sensor_from(std::string_view file, const toml::table& table
               "name '" + *name_text + "' must be 1-64 letters, digits, '-' or '_' (it goes into URLs and topics)");
   }
   sensor.name = *name_text;
-  const toml::node* family = table.get("family");
-  if (family == nullptr)
-    return at(file, *name, Errc::invalid_frame, "sensor '" + sensor.name + "' needs a family (\"uls\" or \"ls5\")");
-  auto family_text = text_of(file, *family, "family");
-  if (!family_text) return std::move(family_text).error();
-  if (*family_text == "uls") {
-    sensor.family = Family::uls;
-  } else if (*family_text == "ls5") {
-    sensor.family = Family::ls5;
-  } else {
-    return at(file, *family, Errc::out_of_range, "family '" + *family_text + "' is not \"uls\" or \"ls5\"");
+  const toml::node* family_node = table.get("family");
+  if (family_node == nullptr) {
+    return at(file, *name, Errc::invalid_frame,
+              "sensor '" + sensor.name + "' needs a family (" + service_family_names() + ")");
   }
+  auto family_text = text_of(file, *family_node, "family");
+  if (!family_text) return std::move(family_text).error();
+  const ServiceFamily* family = find_service_family(*family_text);
+  if (family == nullptr) {
+    return at(file, *family_node, Errc::out_of_range, "family '" + *family_text + "' is not " + service_family_names());
+  }
+  sensor.family = *family_text;
   for (const auto& [key, node] : table) {
     const std::string_view k = key.str();
     if (k == "port") {
@@ -171,12 +152,11 @@ Result<SensorConfig> sensor_from(std::string_view file, const toml::table& table
       }
       sensor.serial.baud = static_cast<std::uint32_t>(*baud);
     } else if (k == "address") {
-      auto address = address_of(file, node, sensor.family);
+      auto address = address_of(file, node, *family);
       if (!address) return std::move(address).error();
       sensor.address = *address;
     } else if (k == "udp") {
-      if (sensor.family != Family::ls5)
-        return at(file, node, Errc::invalid_frame, "udp is for LS5 Ethernet models only (§10)");
+      if (!family->udp) return at(file, node, Errc::invalid_frame, "udp is for " + udp_models() + " only");
       auto udp = text_of(file, node, k);
       if (!udp) return std::move(udp).error();
       if (auto endpoint = parse_endpoint(*udp); !endpoint) {
@@ -198,7 +178,7 @@ Result<SensorConfig> sensor_from(std::string_view file, const toml::table& table
   }
   // The byte format last: it needs the family, and keeps the baud read above.
   if (const toml::node* format = table.get("format")) {
-    auto settings = byte_format_of(file, *format, sensor.family, sensor.serial);
+    auto settings = byte_format_of(file, *format, *family, sensor.serial);
     if (!settings) return std::move(settings).error();
     sensor.serial = *settings;
   }
@@ -210,7 +190,7 @@ Result<SensorConfig> sensor_from(std::string_view file, const toml::table& table
   }
   if (sensor.port.empty() && sensor.udp.empty()) {
     return at(file, *name, Errc::invalid_frame,
-              "sensor '" + sensor.name + "' needs a port" + (sensor.family == Family::ls5 ? " or udp" : ""));
+              "sensor '" + sensor.name + "' needs a port" + (family->udp ? " or udp" : ""));
   }
   return sensor;
 }
@@ -381,11 +361,10 @@ Status check_ports(const SiteConfig& site) {
       const std::string clash =
           "port " + group.port + " is also claimed by '" + first.name + "' (" + line_of(first) + ")";
       if (other.family != first.family) {
-        return make_error(Errc::invalid_frame,
-                          where + clash + " as " + family_name(first.family) + ": one port carries one family");
+        return make_error(Errc::invalid_frame, where + clash + " as " + first.family + ": one port carries one family");
       }
-      if (other.family == Family::ls5) {
-        return make_error(Errc::invalid_frame, where + clash + ": an LS5 stream holds its line, so one LS5 per port");
+      if (const ServiceFamily* family = find_service_family(other.family); family != nullptr && !family->bus) {
+        return make_error(Errc::invalid_frame, where + clash + ": " + std::string(family->one_per_port));
       }
       if (!(other.serial == first.serial)) {
         return make_error(Errc::invalid_frame, where + clash + " with other settings (" + describe(first.serial) +
@@ -408,8 +387,6 @@ Status check_ports(const SiteConfig& site) {
 }
 
 }  // namespace
-
-const char* family_name(Family family) noexcept { return family == Family::uls ? "uls" : "ls5"; }
 
 Result<BrokerAddress> parse_broker_url(std::string_view url) {
   BrokerAddress address;

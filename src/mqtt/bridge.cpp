@@ -35,7 +35,9 @@
 #include "mqtt/command_answer.hpp"
 #include "mqtt/packet_outbox.hpp"
 #include "mqtt/reading_window.hpp"
+#include "rangekit/core/family.hpp"
 #include "rangekit/hub/json_views.hpp"
+#include "rangekit/hub/service_family.hpp"
 
 namespace rangekit::mqtt {
 
@@ -61,8 +63,6 @@ void init_library() {
   static std::once_flag once;
   std::call_once(once, [] { mosquitto_lib_init(); });
 }
-
-const char* manufacturer(hub::Family family) { return family == hub::Family::uls ? "Laser Technology Inc." : "Prizma"; }
 
 }  // namespace
 
@@ -474,11 +474,12 @@ void Bridge::Impl::on_lost(Link& link, int reason) {
 namespace {
 
 std::string discovery_device(const Link& link, const hub::MqttConfig& config, nlohmann::json& out) {
+  const hub::ServiceFamily& service = *hub::find_service_family(link.config.family);
   std::string id = config.client_id + "_" + link.config.name;
   out["device"] = {{"identifiers", {id}},
                    {"name", link.config.name},
-                   {"manufacturer", manufacturer(link.config.family)},
-                   {"model", link.config.family == hub::Family::uls ? "ULS" : "LS5"},
+                   {"manufacturer", service.manufacturer},
+                   {"model", service.model},
                    {"via_device", config.client_id}};
   out["availability_topic"] = link.topic + "/availability";
   out["payload_available"] = "online";
@@ -496,21 +497,34 @@ std::vector<Message> discovery_messages(const Link& link, const hub::MqttConfig&
     out.push_back(Message{config.discovery_prefix + "/" + component + "/" + id + "/" + object + "/config", body.dump(),
                           config.qos_state, true});
   };
-  const bool uls = link.config.family == hub::Family::uls;
-  // A window message carries "last"; a sample its own distance field (null without a signal).
-  const std::string field = uls ? "distance_m" : "distance_mm";
-  entity("sensor", "distance",
-         {{"name", "Distance"},
-          {"state_topic", link.topic + "/reading"},
-          {"value_template", "{{ value_json.last if value_json.window is defined else value_json." + field + " }}"},
-          {"unit_of_measurement", uls ? "m" : "mm"},
-          {"device_class", "distance"},
-          {"state_class", "measurement"}});
-  if (uls) {  // ULS look-down mode (§3): a target present or not
+  // From the family's channels: its first distance, and its presence if it has one.
+  const FamilyDescriptor* family = find_family(link.config.family);
+  const auto channel_of = [family](Quantity quantity) -> const ChannelDescriptor* {
+    if (family == nullptr) return nullptr;
+    for (const ChannelDescriptor& channel : family->channels) {
+      if (channel.quantity == quantity) return &channel;
+    }
+    return nullptr;
+  };
+  if (const ChannelDescriptor* distance = channel_of(Quantity::distance)) {
+    // A window carries "last" in its reading's unit (a look-down window's is a presence, no
+    // distance); a sample its own distance field (null without a signal).
+    const std::string unit = unit_symbol(distance->unit);
+    entity("sensor", "distance",
+           {{"name", "Distance"},
+            {"state_topic", link.topic + "/reading"},
+            {"value_template", "{{ (value_json.last if value_json.unit == '" + unit +
+                                   "' else none) if value_json.window is defined else value_json." +
+                                   std::string(distance->key) + " }}"},
+            {"unit_of_measurement", unit},
+            {"device_class", "distance"},
+            {"state_class", "measurement"}});
+  }
+  if (const ChannelDescriptor* presence = channel_of(Quantity::presence)) {
     entity("binary_sensor", "presence",
            {{"name", "Presence"},
             {"state_topic", link.topic + "/reading"},
-            {"value_template", "{{ 'ON' if value_json.presence else 'OFF' }}"},
+            {"value_template", "{{ 'ON' if value_json." + std::string(presence->key) + " else 'OFF' }}"},
             {"device_class", "presence"}});
   }
   entity("sensor", "rate",

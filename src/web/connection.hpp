@@ -308,9 +308,12 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
     }
     if (what == "settings" && path.size() == 5 && path[4] == "schema") {
       if (method != http::verb::get) return wrong_method("GET");
-      if (sensor->config.family == hub::Family::ls5)
-        return respond(http::status::ok, hub::ls5_settings_schema().dump());
-      return respond(http::status::ok, uls_settings_schema().dump());
+      const hub::ServiceFamily* family = hub::find_service_family(sensor->config.family);
+      if (family == nullptr || family->settings_schema == nullptr) {
+        return respond(http::status::not_found,
+                       error_json("unsupported", "a " + sensor->config.family + " sensor has no settings schema"));
+      }
+      return respond(http::status::ok, family->settings_schema().dump());
     }
     if (what == "actions" && path.size() == 5) {
       if (method != http::verb::post) return wrong_method("POST");
@@ -517,7 +520,7 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
           if (!result) return self->fail(result.error());
           nlohmann::json units = nlohmann::json::array();
           for (const hub::BusUnitFound& unit : result->found) {
-            nlohmann::json entry{{"address", hub::bus_address_text(unit.address)},
+            nlohmann::json entry{{"address", hub::bus_address_text(result->family, unit.address)},
                                  {"code", unit.address},
                                  {"version", unit.version},
                                  {"duplicate", unit.duplicate},
@@ -530,7 +533,8 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
           }
           nlohmann::json site = nlohmann::json::array();
           for (const auto& [address, sensor] : result->site) {
-            site.push_back({{"address", hub::bus_address_text(address)}, {"code", address}, {"sensor", sensor}});
+            site.push_back(
+                {{"address", hub::bus_address_text(result->family, address)}, {"code", address}, {"sensor", sensor}});
           }
           self->respond(
               http::status::ok,
@@ -554,19 +558,22 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
                                 "(default: the sensor's) and the new one",
                                 "to"));
     }
+    const auto sensor = server_.hub.sensor(name);
+    if (!sensor) return fail(sensor.error());
+    const std::string& family = sensor->config.family;
     std::optional<std::uint8_t> from;
     std::uint8_t to = 0;
     for (const char* key : {"from", "to"}) {
       if (!json.contains(key)) continue;
       const std::string text =
           json[key].is_string() ? json[key].get<std::string>() : std::to_string(json[key].get<std::uint64_t>());
-      const auto address = hub::parse_bus_address(text);
+      const auto address = hub::parse_bus_address(family, text);
       if (!address) {
-        return respond(http::status::bad_request,
-                       error_json("out_of_range",
-                                  std::string(key) + ": '" + text +
-                                      "' is not a unit address: 0x30..0xEF (§8 RS485 Protocol), e.g. 'E'",
-                                  key));
+        return respond(
+            http::status::bad_request,
+            error_json("out_of_range",
+                       std::string(key) + ": '" + text + "' is not a unit address: " + hub::bus_address_help(family),
+                       key));
       }
       if (std::string_view(key) == "to") {
         to = *address;
@@ -575,11 +582,11 @@ class Connection : public std::enable_shared_from_this<Connection<Stream>> {
       }
     }
     off_loop([&hub = server_.hub, name, from, to] { return hub.assign_address(name, from, to); },
-             [self = this->shared_from_this(), to](const Status& result) {
+             [self = this->shared_from_this(), to, family](const Status& result) {
                if (!result) return self->fail(result.error());
-               self->respond(http::status::ok, nlohmann::json{{"result", "assigned " + hub::bus_address_text(to)},
-                                                              {"address", hub::bus_address_text(to)}}
-                                                   .dump());
+               const std::string address = hub::bus_address_text(family, to);
+               self->respond(http::status::ok,
+                             nlohmann::json{{"result", "assigned " + address}, {"address", address}}.dump());
              });
   }
 

@@ -10,7 +10,7 @@
 #include "rangekit/hub/captures.hpp"
 #include "rangekit/hub/hub.hpp"
 #include "rangekit/hub/json_views.hpp"
-#include "rangekit/hub/settings_schema.hpp"
+#include "rangekit/hub/service_family.hpp"
 
 namespace rangekit::web {
 
@@ -21,7 +21,6 @@ using hub::field_of;
 using hub::sensor_json;
 using hub::settings_from_body;
 using hub::SettingsBody;
-using hub::uls_settings_schema;
 
 // {"id":N,"sensor":"...","type":"sample"|"event","data":{...}} (data as in `stream --format jsonl`).
 std::string item_json(const hub::HubItem& item);

@@ -12,7 +12,7 @@ void family(std::string& out, const char* name, const char* type, const char* he
     // Appended in place: g++ 12 reports a false -Warray-bounds on the chain of temporaries
     // that operator+ builds here (GCC bug 105651).
     out.append(name).append("{sensor=\"").append(sensor.config.name).append("\",family=\"");
-    out.append(hub::family_name(sensor.config.family)).append("\"} ").append(value(sensor)).append("\n");
+    out.append(sensor.config.family).append("\"} ").append(value(sensor)).append("\n");
   }
 }
 

@@ -31,7 +31,9 @@ TEST(Architecture, LinkRuleAllowsTheDrawnEdges) {
   EXPECT_TRUE(link_allowed("rangekit_ls5", "rangekit::core"));
   EXPECT_TRUE(link_allowed("rangekit_record", "rangekit_core;$<LINK_ONLY:SQLite::SQLite3>"));
   EXPECT_TRUE(link_allowed("rangekit_sim", "rangekit_core;rangekit_uls;rangekit_ls5"));
-  EXPECT_TRUE(link_allowed("rangekit_hub", "rangekit_core;rangekit_uls;rangekit_ls5;rangekit_record"));
+  EXPECT_TRUE(link_allowed("rangekit_hub", "rangekit_core;rangekit_record"));
+  EXPECT_TRUE(link_allowed("rangekit_uls_service", "rangekit_hub;rangekit_uls;rangekit_core"));
+  EXPECT_TRUE(link_allowed("rangekit_ls5_service", "rangekit_hub;rangekit_ls5;rangekit_core"));
 }
 
 TEST(Architecture, LinkRuleRefusesEveryOtherEdge) {
@@ -45,6 +47,9 @@ TEST(Architecture, LinkRuleRefusesEveryOtherEdge) {
   EXPECT_FALSE(link_allowed("rangekit_hub", "rangekit_sim"));  // the service serves real sensors
   EXPECT_FALSE(link_allowed("rangekit_uls", "rangekit_hub"));  // drivers know nothing of the hub above them
   EXPECT_FALSE(link_allowed("rangekit_record", "rangekit::hub"));
+  EXPECT_FALSE(link_allowed("rangekit_hub", "rangekit_uls"));  // families register with the hub
+  EXPECT_FALSE(link_allowed("rangekit_uls_service", "rangekit_ls5"));
+  EXPECT_FALSE(link_allowed("rangekit_ls5_service", "rangekit_sim"));
 }
 
 struct Include {
@@ -114,11 +119,23 @@ TEST(Architecture, HostLibrariesNeverReachTheEmulators) {
   }
 }
 
-TEST(Architecture, HubKnowsNoFaceAndNoEmulator) {
-  // The hub sits between the drivers and the faces (HTTP/SSE, MQTT, Python): it knows none of them.
+TEST(Architecture, HubKnowsNoFamilyNoFaceAndNoEmulator) {
+  // The hub sits between the drivers and the faces (HTTP/SSE, MQTT, Python): it knows none of
+  // them, and the families register with it (hub/service_family.hpp).
   for (const std::string folder : {"src/hub", "include/rangekit/hub"}) {
-    expect_no_include(folder, R"(^rangekit/sim/|boost/|beast|httplib|mosquitto|pybind11|^cli/)",
-                      "the hub knows no HTTP, MQTT, Python face, CLI or emulator");
+    expect_no_include(folder, R"(^rangekit/(sim|uls|ls5)/|^(uls|ls5)/|boost/|beast|httplib|mosquitto|pybind11|^cli/)",
+                      "the hub knows no family, HTTP, MQTT, Python face, CLI or emulator");
+  }
+}
+
+TEST(Architecture, OnlyAFamilysServicePartKnowsTheHub) {
+  // A family's codec, driver and emulator are for embedders too; its service/ folder alone
+  // implements the hub's backend.
+  for (const std::string family : {"uls", "ls5"}) {
+    expect_no_include("src/" + family, R"(^rangekit/hub/)", "only src/" + family + "/service knows the hub",
+                      "(?!src/" + family + "/service/).*");
+    expect_no_include("include/rangekit/" + family, R"(^rangekit/hub/)", "only the service part's header knows the hub",
+                      "(?!include/rangekit/" + family + "/service_family\\.hpp$).*");
   }
 }
 

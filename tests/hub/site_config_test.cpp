@@ -62,14 +62,14 @@ udp = "0.0.0.0:5000"
   EXPECT_EQ(site.service.capture_dir, "/var/lib/rangekit");
   const SensorConfig& uls = site.sensors[0];
   EXPECT_EQ(uls.name, "hopper-1");
-  EXPECT_EQ(uls.family, Family::uls);
+  EXPECT_EQ(uls.family, "uls");
   EXPECT_EQ(uls.serial.baud, 19200u);
   EXPECT_EQ(uls.address, 0x41);  // §8 UA table: 'A' is 0x41
   EXPECT_FALSE(uls.stream);
   EXPECT_TRUE(uls.capture);
   EXPECT_EQ(uls.line, 6u);
   const SensorConfig& ls5 = site.sensors[1];
-  EXPECT_EQ(ls5.family, Family::ls5);
+  EXPECT_EQ(ls5.family, "ls5");
   EXPECT_EQ(ls5.serial.parity, Parity::even);  // LS5 table 9.2 byte format 8E1
   EXPECT_EQ(ls5.serial.stop_bits, 1);
   EXPECT_EQ(ls5.address, 3);
@@ -119,7 +119,7 @@ TEST(SiteConfig, RefusesWithFileLineAndReason) {
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\naddress = \"!\"\n"),
             "site.toml:5: address '!' is not a ULS unit address (0x30-0xEF, e.g. \"A\" or \"0x41\", §7)");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nudp = \"0.0.0.0:5000\"\n"),
-            "site.toml:4: udp is for LS5 Ethernet models only (§10)");
+            "site.toml:4: udp is for LS5 Ethernet models only");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\n"), "site.toml:2: sensor 'a' needs a port");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"ls5\"\nport = \"/dev/x\"\nudp = \"0.0.0.0:1\"\n"),
             "site.toml:2: sensor 'a' has both a port and udp: give one (serial stream and commands, or the Ethernet "

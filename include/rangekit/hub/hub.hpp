@@ -54,7 +54,7 @@ struct HubOptions {
 // Settings by name, values as typed ("prf-hz" -> "2000"), in the order to write them.
 using SettingValues = std::vector<std::pair<std::string, std::string>>;
 
-// A unit an RS-485 bus scan heard (§7, `rangekit uls bus scan`).
+// A unit a bus scan heard (ULS §7, `rangekit uls bus scan`).
 struct BusUnitFound {
   std::uint8_t address = 0;  // 0x30..0xEF (§8 RS485 Protocol)
   std::string version;       // its ID
@@ -62,18 +62,21 @@ struct BusUnitFound {
   std::string problem;
 };
 
-// A scan of the bus a ULS sensor is on, and the site file's sensors on that port.
+// A scan of the bus a sensor is on, and the site file's sensors on that port.
 struct BusScan {
+  std::string family;  // the sensors', for their addresses' text (bus_address_text)
   std::string port;
   std::size_t asked = 0;                                   // addresses asked
   std::vector<BusUnitFound> found;                         // those that answered, in the order asked
   std::vector<std::pair<std::uint8_t, std::string>> site;  // address, sensor: the site file's units on the port
 };
 
-// A bus address as §7's table writes it ('A', '0', ...), and such text read back (nullopt
-// outside 0x30..0xEF): the faces use these and need no ULS header of their own.
-std::string bus_address_text(std::uint8_t address);
-std::optional<std::uint8_t> parse_bus_address(std::string_view text);
+// A bus address as the family writes it ('A' on a ULS bus, §7), and such text read back
+// (nullopt when it is none of the family's): the faces need no family header of their own.
+std::string bus_address_text(std::string_view family, std::uint8_t address);
+std::optional<std::uint8_t> parse_bus_address(std::string_view family, std::string_view text);
+// What a bus address of the family looks like, for messages: "0x30..0xEF (§8 RS485 Protocol), e.g. 'E'".
+std::string bus_address_help(std::string_view family);
 
 // A sensor action (POST …/actions/{action}); the family decides what each means.
 enum class Action : std::uint8_t {

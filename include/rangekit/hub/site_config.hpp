@@ -15,17 +15,14 @@
 
 namespace rangekit::hub {
 
-enum class Family : std::uint8_t { uls, ls5 };
-const char* family_name(Family family) noexcept;
-
 // One sensor of the site (a `[[sensor]]` table).
 struct SensorConfig {
-  std::string name;  // unique, used in URLs and topics: [A-Za-z0-9_-]{1,64}
-  Family family = Family::uls;
+  std::string name;            // unique, used in URLs and topics: [A-Za-z0-9_-]{1,64}
+  std::string family;          // a registered service family (service_family.hpp): "uls"
   std::string port;            // serial port or pty path; empty for an LS5 heard over UDP only
   SerialSettings serial;       // baud and byte format ("8N1"; the ULS has only 8N1, §9)
-  std::optional<int> address;  // ULS RS-485 unit address 0x30-0xEF (§7); LS5 network address 1-255 (table 9.2 01)
-  std::string udp;             // LS5 Ethernet: "HOST:PORT" the service listens on for its packets (§10)
+  std::optional<int> address;  // the unit's address on its port, in the family's range
+  std::string udp;             // "HOST:PORT" the service listens on for its packets, where the family has it
   bool stream = true;          // stream from start
   bool capture = false;        // capture from start (into the service's capture folder)
   // Quality (issue 18 item 2): the fastest its target moves (m/s; nullopt = the family
@@ -81,12 +78,12 @@ struct SiteConfig {
   std::vector<SensorConfig> sensors;
 };
 
-// The sensors sharing one serial port: one ULS alone, several ULS on an RS-485
-// bus (each with its own address), or one LS5.
+// The sensors sharing one serial port: one sensor alone, or several of a family that has a
+// bus (each with its own address).
 struct PortGroup {
   std::string port;
   SerialSettings serial;
-  Family family = Family::uls;
+  std::string family;
   std::vector<const SensorConfig*> sensors;
   [[nodiscard]] bool bus() const noexcept { return sensors.size() > 1 || sensors.front()->address.has_value(); }
 };

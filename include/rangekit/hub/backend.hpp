@@ -1,5 +1,5 @@
-// One sensor's state inside the hub, and the interface a port's backend (the
-// family driver code) reports through. Private to rangekit::hub.
+// What a family's service backend works with: a sensor's session inside the hub, the
+// publisher it reports through and the Backend interface it implements (service_family.hpp).
 #pragma once
 
 #include <chrono>
@@ -86,12 +86,6 @@ class Backend {
 };
 
 using PortOpener = std::function<Result<TransportPtr>(const std::string&, const SerialSettings&)>;
-
-std::unique_ptr<Backend> make_uls_backend(Session& session, Publisher& publisher, const PortOpener& open);
-std::unique_ptr<Backend> make_uls_bus_backend(std::vector<Session*> sessions, Publisher& publisher,
-                                              const PortOpener& open);
-std::unique_ptr<Backend> make_ls5_backend(Session& session, Publisher& publisher, const PortOpener& open);
-std::unique_ptr<Backend> make_ls5_udp_backend(Session& session, Publisher& publisher);
 
 // Helpers the backends share.
 StreamEvent make_event(StreamEventKind kind, std::string message);

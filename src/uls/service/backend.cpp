@@ -7,15 +7,17 @@
 #include <cstdio>
 #include <memory>
 
-#include "hub/session.hpp"
 #include "rangekit/uls/bus.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/formulas.hpp"
 #include "rangekit/uls/host_config.hpp"
 #include "rangekit/uls/named_settings.hpp"
+#include "uls/service/service.hpp"
 
-namespace rangekit::hub {
+namespace rangekit::uls::service {
 namespace {
+
+using namespace rangekit::hub;
 
 std::vector<Field> status_fields(const uls::StatusInfo& status) {
   const auto yes_no = [](bool on) { return std::string(on ? "yes" : "no"); };
@@ -547,13 +549,11 @@ class UlsBusBackend final : public Backend {
 
 }  // namespace
 
-std::unique_ptr<Backend> make_uls_backend(Session& session, Publisher& publisher, const PortOpener& open) {
-  return std::make_unique<UlsBackend>(session, publisher, open);
+std::unique_ptr<hub::Backend> make_port_backend(std::vector<hub::Session*> sessions, hub::Publisher& publisher,
+                                                const hub::PortOpener& open) {
+  const bool bus = sessions.size() > 1 || sessions.front()->config.address.has_value();
+  if (bus) return std::make_unique<UlsBusBackend>(std::move(sessions), publisher, open);
+  return std::make_unique<UlsBackend>(*sessions.front(), publisher, open);
 }
 
-std::unique_ptr<Backend> make_uls_bus_backend(std::vector<Session*> sessions, Publisher& publisher,
-                                              const PortOpener& open) {
-  return std::make_unique<UlsBusBackend>(std::move(sessions), publisher, open);
-}
-
-}  // namespace rangekit::hub
+}  // namespace rangekit::uls::service

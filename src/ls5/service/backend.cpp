@@ -1,14 +1,16 @@
 // An LS5 on a serial port (§8.13 stream, table 9.1/9.2 commands) or heard over UDP (§10).
 #include <memory>
 
-#include "hub/session.hpp"
+#include "ls5/service/service.hpp"
 #include "rangekit/ls5/driver.hpp"
 #include "rangekit/ls5/host_config.hpp"
 #include "rangekit/ls5/host_settings.hpp"
 #include "rangekit/ls5/udp_receiver.hpp"
 
-namespace rangekit::hub {
+namespace rangekit::ls5::service {
 namespace {
+
+using namespace rangekit::hub;
 
 // The service's stream: the reader lets 3 ms of records collect in the port per read and
 // hands each read's batch straight to the port worker (no consumer gather on top, which
@@ -313,12 +315,13 @@ class Ls5UdpBackend final : public Backend {
 
 }  // namespace
 
-std::unique_ptr<Backend> make_ls5_backend(Session& session, Publisher& publisher, const PortOpener& open) {
-  return std::make_unique<Ls5Backend>(session, publisher, open);
+std::unique_ptr<hub::Backend> make_port_backend(std::vector<hub::Session*> sessions, hub::Publisher& publisher,
+                                                const hub::PortOpener& open) {
+  return std::make_unique<Ls5Backend>(*sessions.front(), publisher, open);
 }
 
-std::unique_ptr<Backend> make_ls5_udp_backend(Session& session, Publisher& publisher) {
+std::unique_ptr<hub::Backend> make_udp_backend(hub::Session& session, hub::Publisher& publisher) {
   return std::make_unique<Ls5UdpBackend>(session, publisher);
 }
 
-}  // namespace rangekit::hub
+}  // namespace rangekit::ls5::service

@@ -1,0 +1,53 @@
+// The ULS as the sensor service sees it (hub/service_family.hpp).
+#include "rangekit/uls/service_family.hpp"
+
+#include "rangekit/uls/bus.hpp"
+#include "uls/service/service.hpp"
+
+namespace rangekit::uls::service {
+namespace {
+
+// A unit address as §8's UA table writes it ("A", "0x41" or 65).
+Result<int> parse_address(const hub::AddressValue& value) {
+  if (!value.number && !value.text) {
+    return make_error(Errc::invalid_frame, "address must be a character (\"A\") or a number");
+  }
+  const std::string text = value.number ? std::to_string(*value.number) : *value.text;
+  const auto parsed = parse_unit_address(text);
+  if (!parsed) {
+    return make_error(Errc::out_of_range,
+                      "address '" + text + "' is not a ULS unit address (0x30-0xEF, e.g. \"A\" or \"0x41\", §7)");
+  }
+  return static_cast<int>(*parsed);
+}
+
+Result<SerialSettings> byte_format(std::string_view format, SerialSettings settings) {
+  if (format != "8N1") {
+    return make_error(Errc::out_of_range, "format '" + std::string(format) + "': the ULS speaks 8N1 only (§9)");
+  }
+  return settings;
+}
+
+const hub::ServiceFamily descriptor{
+    .name = "uls",
+    .manufacturer = "Laser Technology Inc.",
+    .model = "ULS",
+    .parse_address = parse_address,
+    .byte_format = byte_format,
+    .udp = false,
+    .bus = true,
+    .one_per_port = {},
+    .port_backend = make_port_backend,
+    .udp_backend = nullptr,
+    .address_text = address_text,
+    .parse_address_text = parse_unit_address,
+    .address_help = "0x30..0xEF (§8 RS485 Protocol), e.g. 'E'",
+    .scan_addresses = typable_addresses,  // §8 UA: a-z, A-Z, 0-9
+    .settings_schema = settings_schema,
+};
+
+}  // namespace
+
+const hub::ServiceFamily& service_family() noexcept { return descriptor; }
+
+}  // namespace rangekit::uls::service
