@@ -343,15 +343,15 @@ void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
   for (const auto& [name, hidden] : {std::pair{"start", false}, std::pair{"on", true}}) {
     auto* start = add_device_command(
         ls5, exit_code, name, "turn the sensor on (ON): laser and measurements",
-        [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.start_measuring(), "on"); }, nullptr,
-        Broadcast::allowed);
+        [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.start_measuring(), "measuring"); },
+        nullptr, Broadcast::allowed);
     if (hidden) start->group("");
   }
   for (const auto& [name, hidden] : {std::pair{"stop", false}, std::pair{"off", true}}) {
     auto* stop = add_device_command(
         ls5, exit_code, name, "turn the sensor off (OF): no measurements (§8.2)",
-        [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.stop_measuring(), "off"); }, nullptr,
-        Broadcast::allowed);
+        [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.stop_measuring(), "stopped"); },
+        nullptr, Broadcast::allowed);
     if (hidden) stop->group("");
   }
   add_device_command(

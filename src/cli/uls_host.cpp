@@ -157,7 +157,9 @@ int run_set(const LinkOptions& link, const std::vector<std::string>& assignments
       fmt::print(stderr, "note: port {} now runs at {} baud (the change follows the $OK, §8); use --baud {}\n",
                  written.fields[0], written.fields[1], written.fields[1]);
   };
-  if (auto done = named::apply(**driver, *work, echo); !done) return fail("set", done.error());
+  auto done = named::write(**driver, *work, echo);
+  if (!done) return fail("set", done.error());
+  if (*done) fmt::print(stderr, "note: the unit was measuring: stopped for the settings and started again\n");
   return exit_ok;
 }
 
@@ -193,11 +195,25 @@ int run_info(const LinkOptions& link) {
   return exit_ok;
 }
 
-int run_action(const LinkOptions& link, std::string_view name, std::string_view mnemonic) {
+// What an action leaves the unit as, in the words both families print (docs/cli.md).
+struct ActionWords {
+  std::string_view done;    // "stopped"
+  int already = 0;          // the §10 number the unit answers when it is so already
+  std::string_view as_was;  // "it was not measuring"
+};
+
+// start and stop succeed from any state: a unit already so answers 31 or 86 (§10), which
+// here is no failure but says so.
+int run_action(const LinkOptions& link, std::string_view name, std::string_view mnemonic, const ActionWords& words) {
   auto driver = open_driver(link);
   if (!driver) return fail(name, driver.error());
-  if (auto done = (*driver)->action(mnemonic); !done) return fail(name, done.error());
-  fmt::print("{} OK\n", mnemonic);
+  if (auto done = (*driver)->action(mnemonic); !done) {
+    if (words.already == 0 || done.error().code != Errc::device_error || done.error().device_code != words.already)
+      return fail(name, done.error());
+    fmt::print("{} ({})\n", words.done, words.as_was);
+    return exit_ok;
+  }
+  fmt::print("{}\n", words.done);
   return exit_ok;
 }
 
@@ -435,13 +451,17 @@ void add_uls_command(CLI::App& app, int& exit_code) {
 
   auto* start = uls->add_subcommand("start", "start measuring (GO)");
   add_link_options(start, *link);
-  start->callback([&exit_code, link] { exit_code = run_action(*link, "start", "GO"); });
+  start->callback([&exit_code, link] {
+    exit_code = run_action(*link, "start", "GO", {"measuring", error_number::already_measuring, "it already was"});
+  });
   auto* stop = uls->add_subcommand("stop", "stop measuring (ST)");
   add_link_options(stop, *link);
-  stop->callback([&exit_code, link] { exit_code = run_action(*link, "stop", "ST"); });
+  stop->callback([&exit_code, link] {
+    exit_code = run_action(*link, "stop", "ST", {"stopped", error_number::not_measuring, "it was not measuring"});
+  });
   auto* save = uls->add_subcommand("save", "save the user settings into non-volatile memory (SU)");
   add_link_options(save, *link);
-  save->callback([&exit_code, link] { exit_code = run_action(*link, "save", "SU"); });
+  save->callback([&exit_code, link] { exit_code = run_action(*link, "save", "SU", {"saved", 0, ""}); });
 
   auto save_after_reset = std::make_shared<bool>(false);
   auto* reset = uls->add_subcommand("reset", "write the factory settings (§2; §8 has no reset command) and verify");

@@ -107,9 +107,10 @@ TEST(Ls5Cli, DeviceSubcommandsEndToEnd) {
   CliRun latched = w.ls5({"latch", "--port", w.port, "--read-only"});
   EXPECT_EQ(latched.out, latch.out);
 
-  // Issue 11 point 5: the ULS's verbs start/stop/reset and option --timeout work here too.
-  EXPECT_EQ(w.ls5({"stop", "--port", w.port, "--timeout", "300"}).out, "off\n");
-  EXPECT_EQ(w.ls5({"start", "--port", w.port}).out, "on\n");
+  // The ULS's verbs start/stop/reset and option --timeout work here too, and say the same words.
+  EXPECT_EQ(w.ls5({"stop", "--port", w.port, "--timeout", "300"}).out, "stopped\n");
+  EXPECT_EQ(w.ls5({"stop", "--port", w.port}).out, "stopped\n");  // from any state
+  EXPECT_EQ(w.ls5({"start", "--port", w.port}).out, "measuring\n");
   EXPECT_EQ(w.ls5({"off", "--port", w.port}).exit_code, cli::exit_ok);
   EXPECT_EQ(w.ls5({"on", "--port", w.port}).exit_code, cli::exit_ok);
   EXPECT_EQ(w.ls5({"save", "--port", w.port}).exit_code, cli::exit_ok);

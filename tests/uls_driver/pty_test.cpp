@@ -132,17 +132,28 @@ TEST(UlsHostPty, EverySubcommandEndToEnd) {
     EXPECT_NEAR(std::stod(run.out.substr(at + 11, 8)), 50.0, 0.04) << run.out;
 
   // docs/conformance.md U77: measure left the unit measuring (BM starts it, §2), so GO answers
-  // 31 "Instrument Is Already Measuring" (§10); after a stop it starts.
-  run = cli("uls start" + on);
-  EXPECT_EQ(run.code, 6) << run.out;
-  EXPECT_NE(run.out.find("device error 31"), std::string::npos) << run.out;
-  EXPECT_EQ(cli("uls stop" + on).code, 0);
+  // 31 "Instrument Is Already Measuring" (§10): start succeeds from any state and says so, as
+  // stop does on a stopped unit (ST answers 86), in the words the LS5 says them.
   run = cli("uls start" + on);
   EXPECT_EQ(run.code, 0) << run.out;
-  // A setting that changes the measurement while measuring: device error 31 (§10) with its text.
+  EXPECT_EQ(run.out, "measuring (it already was)\n");
+  run = cli("uls stop" + on);
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_EQ(run.out, "stopped\n");
+  run = cli("uls stop" + on);
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_EQ(run.out, "stopped (it was not measuring)\n");
+  run = cli("uls start" + on);
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_EQ(run.out, "measuring\n");
+  // A measuring unit refuses settings (§10 error 31, U24): set stops it, sets, reads back and
+  // starts it again, so the next one finds it as the user left it.
   run = cli("uls set" + on + " power=low");
-  EXPECT_EQ(run.code, 6) << run.out;
-  EXPECT_NE(run.out.find("device error 31"), std::string::npos) << run.out;
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("the unit was measuring: stopped for the settings and started again"), std::string::npos)
+      << run.out;
+  run = cli("uls info" + on);
+  EXPECT_NE(run.out.find("laser_firing=true"), std::string::npos) << run.out;
   EXPECT_EQ(cli("uls stop" + on).code, 0);
 
   run = cli("uls stream" + on + " --count 3 --format jsonl --quiet");
@@ -272,14 +283,23 @@ TEST(UlsHostPty, BusOfEightUnitsScanAssignPoll) {
   EXPECT_EQ(run.code, 0) << run.out;
   EXPECT_EQ(count_of(run.out, "averaging address="), 16U) << run.out;
 
-  // The poll's BM started the units (§2 Autostart); UA is refused while measuring (U24).
-  run = cli("uls set" + on + " --address A UA=B");
-  EXPECT_EQ(run.code, 6) << run.out;
-  EXPECT_NE(run.out.find("device error 31"), std::string::npos) << run.out;
+  // The poll's BM started the units (§2 Autostart), and a measuring unit refuses settings and UA
+  // (error 31, U24): set stops it, sets, reads back and starts it again, and so does assign.
+  run = cli("uls set" + on + " --address A mode=binning");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("the unit was measuring: stopped for the settings and started again"), std::string::npos)
+      << run.out;
+  EXPECT_NE(cli("uls get" + on + " --address A mode").out.find("mode=binning"), std::string::npos);
+  run = cli("uls bus assign" + on + " --from A --to y");
+  EXPECT_EQ(run.code, 0) << run.out;
+  run = cli("uls info" + on + " --address y");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("laser_firing=true"), std::string::npos) << run.out;  // measuring again, at y
   // docs/conformance.md U66: a collision at an address is reported as a duplicate.
-  // A raw UA set after a stop makes two units 'B' (what assign refuses); a scan reports the collision.
-  ASSERT_EQ(cli("uls stop" + on + " --address A").code, 0);
-  run = cli("uls set" + on + " --address A UA=B");
+  // A raw UA set makes two units 'B' (what assign refuses); a scan reports the collision. Stopped
+  // first: a set would start it again at 'B', where the two collide.
+  ASSERT_EQ(cli("uls stop" + on + " --address y").code, 0);
+  run = cli("uls set" + on + " --address y UA=B");
   ASSERT_EQ(run.code, 0) << run.out;
   run = cli("uls bus scan" + on + " --units Bz");
   EXPECT_NE(run.out.find("DUPLICATE"), std::string::npos) << run.out;

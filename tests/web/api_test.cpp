@@ -259,6 +259,8 @@ TEST(WebApi, EveryBadRequestGetsA4xxThatNamesTheProblem) {
   expect(http(port, "PATCH", "/api/sensors/belt/settings", R"({"no-such-setting": 1})"), 400, "unknown_parameter",
          "no-such-setting");
   expect(http(port, "PATCH", "/api/sensors/silo/settings", R"({"version": "x"})"), 400, "wrong_form", "version");
+  // §8 BS: 4 is no bin size (code 4 is 16 inches); "4-inches" is.
+  expect(http(port, "PATCH", "/api/sensors/silo/settings", R"({"bin-size": 4})"), 400, "out_of_range", "bin-size");
   expect(http(port, "PATCH", "/api/sensors/belt/settings", "{\"median-points\": \"" + std::string(2000, '1') + "\"}"),
          413, "body_too_large");
   expect(http(port, "GET", "/api/sensors", {}, {"X-Long: " + std::string(4000, 'a')}), 431, "headers_too_large");

@@ -251,6 +251,12 @@ export class UlsPanels {
     for (const [key, field] of this.fields) {
       if (!this.check(field)) wrong.push(key);
       if (field.input.value === field.sent || field.input.disabled) continue;
+      // A named value goes by its name ("4-inches"): a bare number of a bin size is refused (§8 BS).
+      const named = field.row.values?.find((value) => String(value.value) === field.input.value);
+      if (named) {
+        body[key] = keyName(named.name);
+        continue;
+      }
       const parts = field.input.value.split(',').map((part) => Number(part.trim()));
       body[key] = field.row.max_fields > 1 ? parts : parts[0];
     }

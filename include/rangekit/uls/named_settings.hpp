@@ -84,5 +84,11 @@ struct Written {
 // first refusal. `written` is told of each one the unit accepted.
 Status apply(Driver& driver, const std::vector<Assignment>& assignments,
              const std::function<void(const Written&)>& written = {});
+// `set` from any state, for the CLI and the service alike: a unit that measures refuses
+// settings (error 31, U24), so it is stopped first and started again after; each value is
+// sent (apply), read back and compared, so a value the unit took otherwise is an error. True
+// when the unit was measuring. After a UA it is started at its new address.
+Result<bool> write(Driver& driver, const std::vector<Assignment>& assignments,
+                   const std::function<void(const Written&)>& written = {});
 
 }  // namespace rangekit::uls::named

@@ -101,8 +101,18 @@ Status Bus::assign(std::optional<std::uint8_t> from, std::uint8_t to) {
       return make_error(present.error().code,
                         "no unit answers at '" + address_text(*from) + "': " + present.error().message);
   }
+  // A measuring unit refuses UA (error 31, U24): stopped for it, and started again at its new address.
+  auto status = driver_.status();
+  if (!status) return status.error();
+  const bool measuring = status->measuring();
+  if (measuring) {
+    if (auto stopped = driver_.stop_measuring(); !stopped) return stopped;
+  }
   auto assigned = driver_.set_unit_address(to);
-  if (!assigned) return assigned;
+  if (!assigned) {
+    if (measuring) (void)driver_.start_measuring();  // left as found
+    return assigned;
+  }
   // Check the unit now answers at its new address.
   (void)driver_.set_address(to);
   auto check = driver_.unit_address();
@@ -110,6 +120,7 @@ Status Bus::assign(std::optional<std::uint8_t> from, std::uint8_t to) {
     return make_error(check.error().code,
                       "assigned, but '" + address_text(to) + "' does not answer: " + check.error().message);
   if (*check != to) return make_error(Errc::invalid_frame, "the unit reports address " + address_text(*check));
+  if (measuring) return driver_.start_measuring();
   return ok_status();
 }
 

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "rangekit/core/text.hpp"
+#include "rangekit/uls/bus.hpp"
 #include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/formulas.hpp"
 #include "rangekit/uls/frame.hpp"
@@ -145,6 +146,35 @@ Result<Target> find_setting(std::string_view name, Purpose purpose) {
   return target;
 }
 
+namespace {
+
+// Values named by a quantity ("4 inches"): a bare number there could be the quantity or the
+// code, so it is neither.
+bool values_are_quantities(const CommandInfo& command) {
+  return !command.value_names.empty() && !command.value_names.front().name.empty() &&
+         std::isdigit(static_cast<unsigned char>(command.value_names.front().name.front())) != 0;
+}
+
+std::string bare_number_refusal(const CommandInfo& command, const std::string& field) {
+  std::string quantity(command.cli_name);  // "bin size"
+  std::replace(quantity.begin(), quantity.end(), '-', ' ');
+  const std::string what = std::string(command.cli_name) + ": '" + field + "' is not a " + quantity + ": give ";
+  const std::string code = ", or the code as " + std::string(command.mnemonic) + "=" + field;
+  std::string names;
+  for (const ValueName& entry : command.value_names) {
+    const std::string name = key_name(entry.name);
+    // "4 inches" for a typed 4: the quantity the user most likely meant.
+    if (entry.name.substr(0, entry.name.find(' ')) == field) {
+      return what + "its unit, " + name + " (" + std::string(command.mnemonic) + " " + std::to_string(entry.value) +
+             ")" + code;
+    }
+    names += (names.empty() ? "" : ", ") + name;
+  }
+  return what + "one of " + names + code;
+}
+
+}  // namespace
+
 Result<std::vector<std::string>> to_fields(const Target& target, std::string_view value, Units device_units) {
   const CommandInfo& command = *target.command;
   std::vector<std::string> fields;
@@ -162,6 +192,8 @@ Result<std::vector<std::string>> to_fields(const Target& target, std::string_vie
         !text::parse_unsigned(field).has_value()) {
       if (auto number = named_value(command, field)) field = std::to_string(*number);
       // else left as typed: validation names the allowed values
+    } else if (command.kind == ValueKind::enumeration && values_are_quantities(command)) {
+      return make_error(Errc::out_of_range, bare_number_refusal(command, field));
     } else if (command.is_distance()) {
       // Readable distances are metres; a trailing "ft" or "m" says otherwise (U64).
       std::string number = field;
@@ -368,6 +400,68 @@ Status apply(Driver& driver, const std::vector<Assignment>& assignments,
     if (target.command->mnemonic == "MU") units.reset();
   }
   return ok_status();
+}
+
+namespace {
+
+// Each accepted value read back as `get` prints it and compared with what was sent.
+Status verify(Driver& driver, const std::vector<Written>& written) {
+  if (written.empty()) return ok_status();
+  auto units = driver.units();
+  if (!units) return units.error();
+  for (const Written& one : written) {
+    const CommandInfo& command = *one.assignment->target.command;
+    if (!command.has_get()) continue;  // PT: set only
+    auto lines = read_setting(driver, one.assignment->target, *units);
+    if (!lines) return lines.error();
+    const std::string wanted = describe_reply(command, one.fields, *units).text;
+    const std::string& read = lines->front().reading.text;
+    // PF/PO with one value set the current mode's entry of the list they read back as (U14, U15).
+    const bool one_of_list = one.fields.size() == 1 && ("," + read + ",").find("," + wanted + ",") != std::string::npos;
+    if (read != wanted && !one_of_list) {
+      return make_error(Errc::device_error,
+                        assignment_name(one.assignment->target) + " reads back as " + read + ", not " + wanted);
+    }
+  }
+  return ok_status();
+}
+
+}  // namespace
+
+Result<bool> write(Driver& driver, const std::vector<Assignment>& assignments,
+                   const std::function<void(const Written&)>& written) {
+  auto status = driver.status();
+  if (!status) return status.error();
+  const bool measuring = status->measuring();
+  if (measuring) {
+    if (auto stopped = driver.stop_measuring(); !stopped) return stopped.error();
+  }
+  // BR and UA move the port or the unit: the others are sent and read back first.
+  std::vector<Assignment> staying;
+  std::vector<Assignment> moving;
+  for (const Assignment& assignment : assignments) {
+    const std::string_view mnemonic = assignment.target.command->mnemonic;
+    (mnemonic == "BR" || mnemonic == "UA" ? moving : staying).push_back(assignment);
+  }
+  std::vector<Written> accepted;
+  const auto keep = [&](const Written& one) {
+    accepted.push_back(one);
+    if (written) written(one);
+  };
+  Status done = apply(driver, staying, keep);
+  if (done) done = verify(driver, accepted);
+  if (done) done = apply(driver, moving, keep);
+  // After a UA the unit answers at its new address only.
+  for (const Written& one : accepted) {
+    if (one.assignment->target.command->mnemonic != "UA" || one.fields.empty()) continue;
+    if (const auto moved = parse_unit_address(one.fields.front())) (void)driver.set_address(*moved);
+  }
+  if (measuring) {
+    // Started again even after a refusal: the unit is left measuring, as it was found.
+    if (auto started = driver.start_measuring(); !started && done) done = started.error();
+  }
+  if (!done) return done.error();
+  return measuring;
 }
 
 }  // namespace rangekit::uls::named

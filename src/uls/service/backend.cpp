@@ -40,50 +40,12 @@ Result<std::vector<Field>> read_fields(uls::Driver& driver, Session& session) {
   return fields;
 }
 
-// As `rangekit uls set` (the same names and checks, uls::named), then each value read
-// back. A unit that measures refuses settings with 31 (U24): stopped for them, restarted after.
+// As `rangekit uls set` (the same names and checks, uls::named::write: a measuring unit is
+// stopped for them and restarted, each value read back), then every setting read again.
 Result<std::vector<Field>> write_fields(uls::Driver& driver, Session& session, const SettingValues& values) {
   auto work = uls::named::plan(values);  // every value checked before anything is sent
   if (!work) return std::move(work).error();
-  auto status = driver.status();
-  if (!status) return std::move(status).error();
-  const bool measuring = status->measuring();
-  if (measuring) {
-    if (auto stopped = driver.stop_measuring(); !stopped) return std::move(stopped).error();
-  }
-  std::vector<uls::named::Written> written;
-  Status applied = uls::named::apply(driver, *work, [&](const uls::named::Written& one) { written.push_back(one); });
-  if (applied) {
-    auto units = driver.units();
-    for (const uls::named::Written& one : written) {
-      if (!units) {
-        applied = units.error();
-        break;
-      }
-      const uls::CommandInfo& command = *one.assignment->target.command;
-      if (!command.has_get()) continue;  // PT: set only
-      auto lines = uls::named::read_setting(driver, one.assignment->target, *units);
-      if (!lines) {
-        applied = std::move(lines).error();
-        break;
-      }
-      const std::string wanted = uls::named::describe_reply(command, one.fields, *units).text;
-      const std::string& read = lines->front().reading.text;
-      // PF/PO with one value set the current mode's entry of the list they read back as (U14, U15).
-      const bool one_of_list =
-          one.fields.size() == 1 && ("," + read + ",").find("," + wanted + ",") != std::string::npos;
-      if (command.mnemonic != "BR" && read != wanted && !one_of_list) {
-        applied =
-            make_error(Errc::device_error, uls::named::assignment_name(one.assignment->target) + " reads back as " +
-                                               lines->front().reading.text + ", not " + wanted);
-        break;
-      }
-    }
-  }
-  if (measuring) {
-    if (auto restarted = driver.start_measuring(); !restarted && applied) applied = std::move(restarted).error();
-  }
-  if (!applied) return std::move(applied).error();
+  if (auto written = uls::named::write(driver, *work); !written) return std::move(written).error();
   return read_fields(driver, session);
 }
 
