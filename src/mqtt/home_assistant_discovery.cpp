@@ -1,0 +1,86 @@
+// Home Assistant MQTT discovery: one retained config message per entity of a sensor,
+// its entities taken from the sensor family's channels.
+#include "mqtt/home_assistant_discovery.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "rangekit/core/family.hpp"
+#include "rangekit/hub/service_family.hpp"
+
+namespace rangekit::mqtt {
+namespace {
+
+std::string discovery_device(const Link& link, const hub::MqttConfig& config, nlohmann::json& out) {
+  const hub::ServiceFamily& service = *hub::find_service_family(link.config.family);
+  std::string id = config.client_id + "_" + link.config.name;
+  out["device"] = {{"identifiers", {id}},
+                   {"name", link.config.name},
+                   {"manufacturer", service.manufacturer},
+                   {"model", service.model},
+                   {"via_device", config.client_id}};
+  out["availability_topic"] = link.topic + "/availability";
+  out["payload_available"] = "online";
+  out["payload_not_available"] = "offline";
+  return id;
+}
+
+}  // namespace
+
+std::vector<Message> discovery_messages(const Link& link, const hub::MqttConfig& config) {
+  std::vector<Message> out;
+  const auto entity = [&](const char* component, const char* object, nlohmann::json body) {
+    const std::string id = discovery_device(link, config, body);
+    body["unique_id"] = id + "_" + object;
+    body["object_id"] = id + "_" + object;
+    out.push_back(Message{config.discovery_prefix + "/" + component + "/" + id + "/" + object + "/config", body.dump(),
+                          config.qos_state, true});
+  };
+  // From the family's channels: its first distance, and its presence if it has one.
+  const FamilyDescriptor* family = find_family(link.config.family);
+  const auto channel_of = [family](Quantity quantity) -> const ChannelDescriptor* {
+    if (family == nullptr) return nullptr;
+    for (const ChannelDescriptor& channel : family->channels) {
+      if (channel.quantity == quantity) return &channel;
+    }
+    return nullptr;
+  };
+  if (const ChannelDescriptor* distance = channel_of(Quantity::distance)) {
+    // A window carries "last" in its reading's unit (a look-down window's is a presence, no
+    // distance); a sample its own distance field (null without a signal).
+    const std::string unit = unit_symbol(distance->unit);
+    entity("sensor", "distance",
+           {{"name", "Distance"},
+            {"state_topic", link.topic + "/reading"},
+            {"value_template", "{{ (value_json.last if value_json.unit == '" + unit +
+                                   "' else none) if value_json.window is defined else value_json." +
+                                   std::string(distance->key) + " }}"},
+            {"unit_of_measurement", unit},
+            {"device_class", "distance"},
+            {"state_class", "measurement"}});
+  }
+  if (const ChannelDescriptor* presence = channel_of(Quantity::presence)) {
+    entity("binary_sensor", "presence",
+           {{"name", "Presence"},
+            {"state_topic", link.topic + "/reading"},
+            {"value_template", "{{ 'ON' if value_json." + std::string(presence->key) + " else 'OFF' }}"},
+            {"device_class", "presence"}});
+  }
+  entity("sensor", "rate",
+         {{"name", "Rate"},
+          {"state_topic", link.topic + "/status"},
+          {"value_template", "{{ value_json.health.rate_hz }}"},
+          {"unit_of_measurement", "Hz"},
+          {"entity_category", "diagnostic"},
+          {"state_class", "measurement"}});
+  entity("sensor", "errors",
+         {{"name", "Device errors"},
+          {"state_topic", link.topic + "/status"},
+          {"value_template", "{{ value_json.health.errors }}"},
+          {"entity_category", "diagnostic"},
+          {"state_class", "total_increasing"}});
+  return out;
+}
+
+}  // namespace rangekit::mqtt
