@@ -14,6 +14,7 @@
 #include "cli/commands.hpp"
 #include "cli/key_values.hpp"
 #include "cli/ls5_cli.hpp"
+#include "rangekit/core/text.hpp"
 #include "rangekit/ls5/parameters.hpp"
 #include "rangekit/ls5/settings.hpp"
 
@@ -25,6 +26,8 @@ struct DeviceCommand {
   std::vector<std::string> items;  // get: names; set: NAME=VALUE
   bool read_only = false;          // latch --read-only
   bool json = false;               // info, get --json
+  // What can be checked before the port is opened (set: the names), so a typo costs no wait.
+  Status (*check_first)(const DeviceCommand& state) = nullptr;
 };
 
 // "0B" -> parameter 0B when it is a table 9.2 address.
@@ -45,6 +48,12 @@ std::string setting_names() {
 }
 
 Error unknown_name(std::string_view name) {
+  std::vector<std::string> names;
+  for (const ls5::HostSetting& setting : ls5::host_setting_table()) names.emplace_back(setting.name);
+  if (const auto meant = text::closest(name, names)) {
+    return make_error(Errc::unknown_parameter, "'" + std::string(name) + "' is not an LS5 setting; did you mean '" +
+                                                   *meant + "'? (`rangekit ls5 set --help` lists every name)");
+  }
   return make_error(Errc::unknown_parameter,
                     "'" + std::string(name) +
                         "' is neither an LS5 setting nor a table 9.2 address; names: " + setting_names() +
@@ -170,6 +179,19 @@ void note_broadcast(const ls5::Driver& driver) {
   }
 }
 
+// Each NAME of NAME=VALUE is a setting or a table 9.2 address; the values need the sensor's
+// range and model, so run_set checks them once it is open.
+Status check_set_names(const DeviceCommand& state) {
+  for (const std::string& item : state.items) {
+    const std::string name = item.substr(0, item.find('='));
+    if (raw_parameter(name) != nullptr || ls5::find_host_setting(name) != nullptr) continue;
+    for (const std::string_view read_only : identification_names)
+      if (name == read_only) return read_only_name(name);
+    return unknown_name(name);
+  }
+  return ok_status();
+}
+
 // Every item is parsed and checked before the first byte goes out: raw bytes first, as
 // one batch whose combined values the driver checks (reading what it needs) before it
 // writes any (L61), then named settings, then link settings (L28).
@@ -260,6 +282,12 @@ CLI::App* add_device_command(CLI::App& ls5, int& exit_code, const std::string& n
   auto* command = ls5.add_subcommand(name, help);
   add_ls5_connection_options(*command, state->connection);
   command->callback([&exit_code, state, action, name, broadcast] {
+    if (state->check_first != nullptr) {
+      if (Status checked = state->check_first(*state); !checked) {
+        exit_code = report_ls5_failure(name, checked.error(), state->connection);
+        return;
+      }
+    }
     auto driver = open_ls5_driver(state->connection, broadcast == Broadcast::allowed);
     if (!driver) {
       exit_code = report_ls5_failure(name, driver.error(), state->connection);
@@ -296,6 +324,7 @@ void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
   get->add_option("names", get_state->items, "setting names or two-digit parameter addresses");
 
   auto set_state = std::make_shared<DeviceCommand>();
+  set_state->check_first = check_set_names;
   auto* set = add_device_command(
       ls5, exit_code, "set", "write settings NAME=VALUE (median-points=5, analog-lower-mm=12.5, 0B=01), checked first",
       [](ls5::Driver& driver, DeviceCommand& state) { return run_set(driver, state.items); }, set_state,

@@ -1,10 +1,14 @@
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <exception>
 #include <string>
+#include <vector>
 
 #include "cli/commands.hpp"
+#include "cli/help_width.hpp"
 #include "cli/sim.hpp"
+#include "rangekit/core/text.hpp"
 #include "rangekit/version.hpp"
 
 namespace {
@@ -12,26 +16,65 @@ namespace {
 // "rangekit ls5 frob" ends in CLI11's "A subcommand is required": say instead which
 // word was not understood and what would have been (issue 11 point 5). Nothing
 // printed when the error is of another kind.
-bool reported_unknown_subcommand(CLI::App& app) {
-  CLI::App* deepest = &app;
-  std::string path = "rangekit";
-  for (auto chosen = deepest->get_subcommands(); !chosen.empty(); chosen = deepest->get_subcommands()) {
-    deepest = chosen.front();
-    path += " " + deepest->get_name();
+// The subcommands chosen, outermost first, and their words ("rangekit uls set").
+std::vector<CLI::App*> chosen_chain(CLI::App& app, std::string& path) {
+  std::vector<CLI::App*> chain{&app};
+  path = "rangekit";
+  for (auto chosen = app.get_subcommands(); !chosen.empty(); chosen = chain.back()->get_subcommands()) {
+    chain.push_back(chosen.front());
+    path += " " + chain.back()->get_name();
   }
+  return chain;
+}
+
+// " (did you mean 'x'?)" when a known word is that close to the typed one.
+std::string did_you_mean(std::string_view typed, const std::vector<std::string>& known) {
+  const auto meant = rangekit::text::closest(typed, known);
+  return meant ? "; did you mean '" + *meant + "'?" : "";
+}
+
+bool reported_unknown_subcommand(CLI::App& app) {
+  std::string path;
+  CLI::App* deepest = chosen_chain(app, path).back();
   if (deepest->get_require_subcommand_min() == 0) return false;
   const auto leftover = deepest->remaining();
   if (leftover.empty() || leftover.front().empty() || leftover.front().front() == '-') return false;
   std::string known;
+  std::vector<std::string> names;
   for (const CLI::App* sub :
-       deepest->get_subcommands([](CLI::App* candidate) { return !candidate->get_group().empty(); }))
+       deepest->get_subcommands([](CLI::App* candidate) { return !candidate->get_group().empty(); })) {
     known += (known.empty() ? "" : ", ") + sub->get_name();
-  fmt::print(stderr, "{}: unknown subcommand '{}' (one of: {}; {} --help)\n", path, leftover.front(), known, path);
+    names.push_back(sub->get_name());
+  }
+  fmt::print(stderr, "{}: unknown subcommand '{}'{} (one of: {}; {} --help)\n", path, leftover.front(),
+             did_you_mean(leftover.front(), names), known, path);
   return true;
+}
+
+// "--prot" ends in "--port is required" or "arguments were not expected": say which option was
+// not understood, and the one it most likely meant.
+bool reported_unknown_option(CLI::App& app) {
+  std::string path;
+  const std::vector<CLI::App*> chain = chosen_chain(app, path);
+  std::vector<std::string> known;
+  for (const CLI::App* command : chain) {
+    for (const CLI::Option* option : command->get_options()) {
+      for (const std::string& name : option->get_lnames()) known.push_back("--" + name);
+    }
+  }
+  for (const std::string& word : chain.back()->remaining()) {
+    if (word.size() < 3 || word.rfind("--", 0) != 0) continue;
+    const std::string name = word.substr(0, word.find('='));
+    if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+    fmt::print(stderr, "{}: unknown option '{}'{} ({} --help)\n", path, name, did_you_mean(name, known), path);
+    return true;
+  }
+  return false;
 }
 
 int run(int argc, char** argv) {
   CLI::App app{"rangekit: configure, stream and emulate ULS and LS5 laser distance sensors"};
+  app.formatter(std::make_shared<rangekit::cli::WrappingFormatter>());  // before the subcommands: they copy it
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("rangekit ") + rangekit::version_string);
   int exit_code = rangekit::cli::exit_ok;
@@ -49,7 +92,7 @@ int run(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
     // --help and --version exit 0; every other parse error is a usage error (docs/cli.md).
-    if (reported_unknown_subcommand(app)) return rangekit::cli::exit_usage;
+    if (reported_unknown_subcommand(app) || reported_unknown_option(app)) return rangekit::cli::exit_usage;
     const int printed = app.exit(error);
     return printed == 0 ? rangekit::cli::exit_ok : rangekit::cli::exit_usage;
   }

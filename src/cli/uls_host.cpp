@@ -2,6 +2,8 @@
 // host driver. Library errors become one message and a documented exit code.
 #include <fmt/core.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <fstream>
 #include <sstream>
@@ -339,6 +341,50 @@ Result<std::vector<std::uint8_t>> address_list(const std::string& text, bool all
   return list;
 }
 
+// How long a scan waits at each address: a unit answers ID within a few milliseconds at any
+// baud of §9, so a silent address costs 150 ms (BusOptions) unless --timeout says otherwise.
+constexpr int scan_wait_ms = 150;
+
+struct ScanOptions {
+  std::string units;
+  bool all = false;
+  std::optional<bool> progress;  // --progress / --no-progress; none: when stderr is a terminal
+};
+
+// Each unit is printed as it answers; the progress line ("asked 23 of 62, 2 answered") is
+// redrawn on stderr, so a scan of every address never sits silent.
+int run_scan(const LinkOptions& link, const ScanOptions& options, bool timeout_given) {
+  auto bus = open_bus(link);
+  if (!bus) return fail("bus scan", bus.error());
+  auto addresses = address_list(options.units, options.all);
+  if (!addresses) return fail("bus scan", addresses.error());
+  const bool progress = options.progress.value_or(::isatty(STDERR_FILENO) == 1);
+  const int wait_ms = timeout_given ? link.timeout_ms : scan_wait_ms;
+  std::size_t answered = 0;
+  int duplicates = 0;
+  const auto units =
+      (*bus)->scan(*addresses, std::chrono::milliseconds(wait_ms), [&](std::size_t asked, const BusUnit* unit) {
+        if (unit != nullptr) {
+          if (progress) fmt::print(stderr, "\r\033[K");
+          fmt::print("{}  {}{}{}\n", address_text(unit->address), unit->version,
+                     unit->status ? fmt::format("  status={}", unit->status->value) : "",
+                     unit->duplicate ? "  DUPLICATE: " + unit->problem : "");
+          std::fflush(stdout);
+          ++answered;
+          duplicates += unit->duplicate ? 1 : 0;
+        }
+        if (progress) fmt::print(stderr, "\rasked {} of {}, {} answered ", asked, addresses->size(), answered);
+      });
+  if (progress) fmt::print(stderr, "\r\033[K");
+  fmt::print("{} address(es) answered of {} asked ({} ms at each silent one)\n", units.size(), addresses->size(),
+             wait_ms);
+  if (units.empty()) {
+    fmt::print(stderr, "rangekit uls bus scan: no unit answered (check the port, the baud rate and the wiring)\n");
+    return exit_no_reply;
+  }
+  return duplicates > 0 ? exit_device_error : exit_ok;
+}
+
 int run_bus(const LinkOptions& link, const std::string& what, const std::string& units_text, bool all,
             const std::string& from, const std::string& to, bool measure, int rounds) {
   const std::string name = "bus " + what;
@@ -358,22 +404,6 @@ int run_bus(const LinkOptions& link, const std::string& what, const std::string&
   }
   auto addresses = address_list(units_text, all);
   if (!addresses) return fail(name, addresses.error());
-  if (what == "scan") {
-    const auto units = (*bus)->scan(*addresses);
-    int duplicates = 0;
-    for (const auto& unit : units) {
-      fmt::print("{}  {}{}{}\n", address_text(unit.address), unit.version,
-                 unit.status ? fmt::format("  status={}", unit.status->value) : "",
-                 unit.duplicate ? "  DUPLICATE: " + unit.problem : "");
-      duplicates += unit.duplicate ? 1 : 0;
-    }
-    fmt::print("{} address(es) answered of {} asked\n", units.size(), addresses->size());
-    if (units.empty()) {
-      fmt::print(stderr, "rangekit uls bus scan: no unit answered (check the port, the baud rate and the wiring)\n");
-      return exit_no_reply;
-    }
-    return duplicates > 0 ? exit_device_error : exit_ok;
-  }
   // poll: the Interface Program's network poll, round-robin.
   std::vector<std::uint8_t> list = *addresses;
   if (units_text.empty()) {
@@ -492,10 +522,15 @@ void add_uls_command(CLI::App& app, int& exit_code) {
   auto rounds = std::make_shared<int>(1);
   auto* scan = bus->add_subcommand("scan", "which addresses answer (ID, US); reports collisions (duplicates)");
   add_link_options(scan, *link);
-  scan->add_option("--units", *units, "addresses to ask, e.g. ABC (default 0-9 A-Z a-z)");
-  scan->add_flag("--all", *all, "ask every address 0x30-0xEF");
-  scan->callback(
-      [&exit_code, link, units, all] { exit_code = run_bus(*link, "scan", *units, *all, "", "", false, 1); });
+  auto scan_options = std::make_shared<ScanOptions>();
+  scan->add_option("--units", scan_options->units, "addresses to ask, e.g. ABC (default 0-9 A-Z a-z)");
+  scan->add_flag("--all", scan_options->all, "ask every address 0x30-0xEF");
+  scan->add_flag("--progress,!--no-progress", scan_options->progress,
+                 "show how far the scan is on stderr (default: when stderr is a terminal)");
+  scan->footer("A silent address costs 150 ms, or --timeout when given.");
+  scan->callback([&exit_code, link, scan_options, scan] {
+    exit_code = run_scan(*link, *scan_options, scan->get_option("--timeout")->count() > 0);
+  });
   auto* assign = bus->add_subcommand("assign", "give a unit a new address (UA), refusing one already in use");
   add_link_options(assign, *link);
   assign->add_option("--from", *from, "the unit's address now (omit for a factory unit alone on the line)");

@@ -1,5 +1,9 @@
 #include "rangekit/core/text.hpp"
 
+#include <algorithm>
+#include <cctype>
+#include <vector>
+
 namespace rangekit::text {
 
 namespace {
@@ -111,6 +115,50 @@ std::string printable(std::string_view text, bool ascii_only, std::size_t limit)
     }
   }
   return shown;
+}
+
+namespace {
+
+// Optimal string alignment distance: insertions, deletions, substitutions and swaps of two
+// neighbours each cost one; case is ignored.
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  const auto lower = [](char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); };
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t cost = lower(a[i - 1]) == lower(b[j - 1]) ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && lower(a[i - 1]) == lower(b[j - 2]) && lower(a[i - 2]) == lower(b[j - 1]))
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  }
+  return d[a.size()][b.size()];
+}
+
+}  // namespace
+
+std::optional<std::string> closest(std::string_view typed, std::span<const std::string> candidates) {
+  // Past 64 bytes nobody typed a near miss of a setting's name; the table stays small.
+  if (typed.empty() || typed.size() > 64) return std::nullopt;
+  const std::size_t limit = std::max<std::size_t>(1, typed.size() / 3);
+  std::optional<std::string> best;
+  std::size_t best_distance = limit + 1;
+  bool tie = false;
+  for (const std::string& candidate : candidates) {
+    if (candidate.size() > 64) continue;
+    const std::size_t distance = edit_distance(typed, candidate);
+    if (distance < best_distance) {
+      best = candidate;
+      best_distance = distance;
+      tie = false;
+    } else if (distance == best_distance && best && *best != candidate) {
+      tie = true;
+    }
+  }
+  if (tie || best_distance > limit) return std::nullopt;
+  return best;
 }
 
 }  // namespace rangekit::text

@@ -2,6 +2,8 @@
 // rule U24, get-reply shapes U29; pages are the document's (index, p. 22-36).
 #include "rangekit/uls/commands.hpp"
 
+#include <cctype>
+
 #include <array>
 
 #include "uls/fields.hpp"
@@ -212,6 +214,16 @@ const CommandInfo* find_command(std::string_view mnemonic) noexcept {
     if (detail::equal_ignoring_case(row.mnemonic, mnemonic)) return &row;
   }
   return nullptr;
+}
+
+std::string value_key(std::string_view name) {
+  std::string text;
+  for (const char c : name) {
+    if (c == '(') break;
+    text.push_back(c == ' ' || c == '_' ? '-' : static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+  }
+  while (!text.empty() && text.back() == '-') text.pop_back();
+  return text;
 }
 
 const CommandInfo* find_command_by_cli_name(std::string_view cli_name) noexcept {

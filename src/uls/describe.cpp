@@ -41,10 +41,11 @@ std::string allowed_values(const CommandInfo& command, Units units) {
   if (command.kind == ValueKind::baud_with_port)
     return "port " + port_list(command) + ", then a baud of " + baud_list();
   if (!command.value_names.empty()) {
+    // As typed: the name (its code in brackets), "look-down (3)".
     std::string text;
     for (const ValueName& entry : command.value_names) {
       if (!text.empty()) text += ", ";
-      text += std::to_string(entry.value) + " " + std::string(entry.name);
+      text += value_key(entry.name) + " (" + std::to_string(entry.value) + ")";
     }
     return text;
   }

@@ -70,3 +70,16 @@ TEST(Text, HexByte) {
 
 }  // namespace
 }  // namespace rangekit::text
+
+TEST(Text, ClosestFindsTheNearMissAndNothingFar) {
+  const std::vector<std::string> names{"mode", "median-points", "prf-hz", "port", "units"};
+  EXPECT_EQ(rangekit::text::closest("moed", names), "mode");  // two neighbours swapped
+  EXPECT_EQ(rangekit::text::closest("medain-points", names), "median-points");
+  EXPECT_EQ(rangekit::text::closest("prot", names), "port");
+  EXPECT_EQ(rangekit::text::closest("MODE", names), "mode");  // case is no typo
+  EXPECT_EQ(rangekit::text::closest("frobnicate", names), std::nullopt);
+  EXPECT_EQ(rangekit::text::closest("", names), std::nullopt);
+  // As close to two: no guess.
+  const std::vector<std::string> twins{"bat", "cat"};
+  EXPECT_EQ(rangekit::text::closest("hat", twins), std::nullopt);
+}

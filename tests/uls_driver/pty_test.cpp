@@ -133,7 +133,7 @@ TEST(UlsHostPty, EverySubcommandEndToEnd) {
 
   // docs/conformance.md U77: measure left the unit measuring (BM starts it, §2), so GO answers
   // 31 "Instrument Is Already Measuring" (§10): start succeeds from any state and says so, as
-  // stop does on a stopped unit (ST answers 86), in the words the LS5 says them.
+  // stop does on a stopped unit (ST answers 86, U43), in the words the LS5 says them.
   run = cli("uls start" + on);
   EXPECT_EQ(run.code, 0) << run.out;
   EXPECT_EQ(run.out, "measuring (it already was)\n");
@@ -267,9 +267,18 @@ TEST(UlsHostPty, BusOfEightUnitsScanAssignPoll) {
                     "--address G --address H");
   const std::string on = " --port " + bus;
 
-  CliRun run = cli("uls bus scan" + on + " --units ABCDEFGHIJz");
+  // A scan shows how far it is (--progress: as on a terminal) and waits 150 ms at a silent
+  // address, as docs/host-uls.md says, unless --timeout is given.
+  CliRun run = cli("uls bus scan" + on + " --units ABCDEFGHIJz --progress");
   EXPECT_EQ(run.code, 0) << run.out;
-  EXPECT_NE(run.out.find("8 address(es) answered of 11 asked"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("8 address(es) answered of 11 asked (150 ms at each silent one)"), std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("\rasked 1 of 11, 1 answered"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("\rasked 11 of 11, 8 answered"), std::string::npos) << run.out;
+  run = cli("uls bus scan" + on + " --units Az --timeout 300");
+  EXPECT_NE(run.out.find("1 address(es) answered of 2 asked (300 ms at each silent one)"), std::string::npos)
+      << run.out;
+  EXPECT_EQ(run.out.find("\rasked"), std::string::npos) << run.out;  // stderr is no terminal here
 
   run = cli("uls bus assign" + on + " --from C --to D");
   EXPECT_EQ(run.code, 2) << run.out;

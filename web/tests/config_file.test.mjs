@@ -109,7 +109,7 @@ test('U104: a bad file shows its line, key and range, and nothing reaches the un
     /^Nothing sent: corrupt\.toml:3: /);
   // §8 Set/Get Measurement Mode: averaging, binning, look down only.
   assert.match(await open('bad-mode.toml', '[settings]\nprf = [3000, 3000, 3000]\nmode = "sideways"\n'),
-    /^Nothing sent: bad-mode\.toml:3: 'mode' must be one of: 1 averaging, 2 binning, 3 look down/);
+    /^Nothing sent: bad-mode\.toml:3: 'mode' must be one of: averaging \(1\), binning \(2\), look-down \(3\)/);
   assert.deepEqual(await prfOfUnit('C'), [2000, 2000, 2000]);
 });
 

@@ -38,6 +38,11 @@ std::string hex_byte(std::uint8_t value);
 // UTF-8). At most `limit` bytes of `text` are shown, then "...".
 std::string printable(std::string_view text, bool ascii_only = false, std::size_t limit = 200);
 
+// The candidate a typo most likely meant ("moed" -> "mode", "binnig" -> "binning"): the closest
+// by edit distance (a swap of two neighbours counts one), if it is within a third of the
+// word's length, at least 1, and no other candidate is as close; nothing otherwise.
+std::optional<std::string> closest(std::string_view typed, std::span<const std::string> candidates);
+
 // Upper-case ASCII letters in place of lower-case ones.
 inline char to_upper(char c) noexcept { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }
 

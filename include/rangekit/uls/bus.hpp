@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -58,8 +59,11 @@ class Bus {
   // Asks ID and US at each address; reports who answered and collisions.
   std::vector<BusUnit> scan(const std::vector<std::uint8_t>& addresses);
   // The same, waiting `per_address` for each reply (a silent address costs that much); the
-  // bus's own timeout applies again afterwards.
-  std::vector<BusUnit> scan(const std::vector<std::uint8_t>& addresses, std::chrono::milliseconds per_address);
+  // bus's own timeout applies again afterwards. `progress` hears of each address once asked:
+  // how many were asked so far, and the unit found there (null when none answered).
+  using ScanProgress = std::function<void(std::size_t asked, const BusUnit* found)>;
+  std::vector<BusUnit> scan(const std::vector<std::uint8_t>& addresses, std::chrono::milliseconds per_address,
+                            const ScanProgress& progress = {});
   // UA from `from` to `to`. Refuses (Errc::out_of_range) when `to` already
   // answers, or when nothing answers at `from`. With `from` none, the `$`
   // protocol (a factory unit, address 0, alone on the line, U3).
@@ -73,6 +77,8 @@ class Bus {
   Driver& driver() noexcept { return driver_; }
 
  private:
+  std::vector<BusUnit> scan_each(const std::vector<std::uint8_t>& addresses, const ScanProgress& progress);
+
   BusOptions options_;
   Driver driver_;
 };

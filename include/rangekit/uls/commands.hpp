@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "rangekit/uls/types.hpp"
@@ -128,6 +129,8 @@ const CommandInfo& command_info(CommandId id) noexcept;
 const CommandInfo* find_command(std::string_view mnemonic) noexcept;
 // Exact CLI name ("prf", "bin-size"); null when unknown.
 const CommandInfo* find_command_by_cli_name(std::string_view cli_name) noexcept;
+// A value name as it is typed and printed: "look down" -> "look-down", "off (polled)" -> "off".
+std::string value_key(std::string_view name);
 
 std::string_view access_name(Access access) noexcept;
 std::string_view value_kind_name(ValueKind kind) noexcept;

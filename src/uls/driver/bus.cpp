@@ -51,8 +51,11 @@ std::optional<std::uint8_t> parse_unit_address(std::string_view text) {
 Bus::Bus(TransportPtr transport, BusOptions options)
     : options_(options), driver_(std::move(transport), bus_driver_options(options)) {}
 
-std::vector<BusUnit> Bus::scan(const std::vector<std::uint8_t>& addresses) {
+std::vector<BusUnit> Bus::scan(const std::vector<std::uint8_t>& addresses) { return scan_each(addresses, {}); }
+
+std::vector<BusUnit> Bus::scan_each(const std::vector<std::uint8_t>& addresses, const ScanProgress& progress) {
   std::vector<BusUnit> found;
+  std::size_t asked = 0;
   for (const std::uint8_t address : addresses) {
     BusUnit unit;
     unit.address = address;
@@ -74,14 +77,18 @@ std::vector<BusUnit> Bus::scan(const std::vector<std::uint8_t>& addresses) {
       unit.duplicate = true;
       unit.problem = "replies collided: more than one unit has this address";
     }
-    if (unit.answered) found.push_back(std::move(unit));
+    ++asked;
+    const bool answered = unit.answered;
+    if (answered) found.push_back(std::move(unit));
+    if (progress) progress(asked, answered ? &found.back() : nullptr);
   }
   return found;
 }
 
-std::vector<BusUnit> Bus::scan(const std::vector<std::uint8_t>& addresses, std::chrono::milliseconds per_address) {
+std::vector<BusUnit> Bus::scan(const std::vector<std::uint8_t>& addresses, std::chrono::milliseconds per_address,
+                               const ScanProgress& progress) {
   driver_.set_timeout(per_address);
-  auto found = scan(addresses);
+  auto found = scan_each(addresses, progress);
   driver_.set_timeout(options_.timeout);
   return found;
 }

@@ -16,21 +16,6 @@ namespace rangekit::uls {
 
 namespace {
 
-// "look down" -> "look-down", "off (polled)" -> "off"; how names are written and typed.
-std::string key_name(std::string_view name) {
-  std::string text;
-  for (const char c : name) {
-    if (c == '(') break;
-    if (c == ' ' || c == '_') {
-      text.push_back('-');
-    } else {
-      text.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
-    }
-  }
-  while (!text.empty() && text.back() == '-') text.pop_back();
-  return text;
-}
-
 std::string integer_text(double value) { return std::to_string(static_cast<std::uint64_t>(std::llround(value))); }
 
 std::string unit_comment(const CommandInfo& command) {
@@ -43,7 +28,7 @@ std::string unit_comment(const CommandInfo& command) {
     text += ", " + std::string(command.unit);
   if (!command.value_names.empty() && command.kind == ValueKind::enumeration) {
     text += ":";
-    for (const auto& entry : command.value_names) text += " " + key_name(entry.name);
+    for (const auto& entry : command.value_names) text += " " + value_key(entry.name);
   }
   return text;
 }
@@ -121,7 +106,7 @@ std::string readable(const Setting& setting) {
       text += value != 0 ? "on" : "off";
     } else if (command.kind == ValueKind::enumeration) {
       const auto name = command.value_name(static_cast<std::uint32_t>(value));
-      text += name.empty() ? integer_text(value) : key_name(name);
+      text += name.empty() ? integer_text(value) : value_key(name);
     } else if (command.is_distance() || command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
       text += decimal_text(value);
     } else {
@@ -173,7 +158,7 @@ std::string config_to_toml(const DeviceConfig& config, std::string_view origin) 
       value = setting.values.at(0) != 0 ? "true" : "false";
     } else if (command.kind == ValueKind::enumeration) {
       const auto name = command.value_name(static_cast<std::uint32_t>(setting.values.at(0)));
-      value = "\"" + (name.empty() ? integer_text(setting.values.at(0)) : key_name(name)) + "\"";
+      value = "\"" + (name.empty() ? integer_text(setting.values.at(0)) : value_key(name)) + "\"";
     } else if (command.kind == ValueKind::prf_list || command.kind == ValueKind::ppm_list) {
       value = "[";
       for (std::size_t i = 0; i < setting.values.size(); ++i)
@@ -215,7 +200,7 @@ Result<DeviceConfig> config_from_toml(std::string_view text, std::string_view fi
       std::optional<double> number;
       if (auto name = node.value<std::string>()) {
         for (const auto& entry : command->value_names)
-          if (key_name(entry.name) == *name) number = entry.value;
+          if (value_key(entry.name) == *name) number = entry.value;
       } else if (auto integer = node.value<std::int64_t>()) {
         number = static_cast<double>(*integer);
       }

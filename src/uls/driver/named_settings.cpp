@@ -23,19 +23,8 @@ std::string lower(std::string_view text) {
   return out;
 }
 
-// "look down" -> "look-down", "off (polled)" -> "off".
-std::string key_name(std::string_view name) {
-  std::string text;
-  for (const char c : name) {
-    if (c == '(') break;
-    text.push_back(c == ' ' || c == '_' ? '-' : static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
-  }
-  while (!text.empty() && text.back() == '-') text.pop_back();
-  return text;
-}
-
 std::optional<std::uint32_t> named_value(const CommandInfo& command, std::string_view typed) {
-  const std::string want = key_name(typed);
+  const std::string want = value_key(typed);
   if (command.kind == ValueKind::flag) {
     if (want == "on" || want == "true" || want == "yes") return 1;
     if (want == "off" || want == "false" || want == "no") return 0;
@@ -47,7 +36,7 @@ std::optional<std::uint32_t> named_value(const CommandInfo& command, std::string
   std::optional<std::uint32_t> prefixed;
   int prefix_matches = 0;
   for (const ValueName& entry : command.value_names) {
-    const std::string name = key_name(entry.name);
+    const std::string name = value_key(entry.name);
     if (name == want) return entry.value;
     // Leading words that name one value only: "rs485", "range-and".
     if (name.rfind(want + "-", 0) == 0) {
@@ -135,10 +124,18 @@ std::string writable_names() { return names_for(Purpose::set); }
 
 Result<Target> find_setting(std::string_view name, Purpose purpose) {
   auto target = lookup(name);
-  if (!target)
+  if (!target) {
+    std::vector<std::string> keys;
+    for (const NamedSetting& named : named_settings()) keys.push_back(named.key);
+    if (const auto meant = text::closest(name, keys)) {
+      return make_error(Errc::unknown_command, target.error().message + "; did you mean '" + *meant +
+                                                   "'? (`rangekit uls " + (purpose == Purpose::set ? "set" : "get") +
+                                                   " --help` lists every name)");
+    }
     return make_error(Errc::unknown_command, target.error().message + "; " +
                                                  (purpose == Purpose::set ? "writable names: " : "names: ") +
                                                  names_for(purpose) + " (or the 2-letter mnemonics of §8)");
+  }
   if (purpose == Purpose::set && !target->command->has_set())
     return make_error(Errc::wrong_form, "'" + std::string(name) + "' is read-only (" +
                                             std::string(target->command->mnemonic) +
@@ -147,6 +144,13 @@ Result<Target> find_setting(std::string_view name, Purpose purpose) {
 }
 
 namespace {
+
+// The value name a typo most likely meant ("binnig" -> "binning").
+std::optional<std::string> meant_value(const CommandInfo& command, std::string_view typed) {
+  std::vector<std::string> keys;
+  for (const ValueName& entry : command.value_names) keys.push_back(value_key(entry.name));
+  return text::closest(typed, keys);
+}
 
 // Values named by a quantity ("4 inches"): a bare number there could be the quantity or the
 // code, so it is neither.
@@ -162,7 +166,7 @@ std::string bare_number_refusal(const CommandInfo& command, const std::string& f
   const std::string code = ", or the code as " + std::string(command.mnemonic) + "=" + field;
   std::string names;
   for (const ValueName& entry : command.value_names) {
-    const std::string name = key_name(entry.name);
+    const std::string name = value_key(entry.name);
     // "4 inches" for a typed 4: the quantity the user most likely meant.
     if (entry.name.substr(0, entry.name.find(' ')) == field) {
       return what + "its unit, " + name + " (" + std::string(command.mnemonic) + " " + std::to_string(entry.value) +
@@ -190,7 +194,13 @@ Result<std::vector<std::string>> to_fields(const Target& target, std::string_vie
   for (auto& field : fields) {
     if ((command.kind == ValueKind::flag || command.kind == ValueKind::enumeration) &&
         !text::parse_unsigned(field).has_value()) {
-      if (auto number = named_value(command, field)) field = std::to_string(*number);
+      if (auto number = named_value(command, field)) {
+        field = std::to_string(*number);
+      } else if (auto meant = meant_value(command, field)) {
+        return make_error(Errc::out_of_range, std::string(command.cli_name) + ": '" + field + "' is no value of " +
+                                                  std::string(command.cli_name) + "; did you mean '" + *meant +
+                                                  "'? (allowed: " + allowed_values(command, Units::metres) + ")");
+      }
       // else left as typed: validation names the allowed values
     } else if (command.kind == ValueKind::enumeration && values_are_quantities(command)) {
       return make_error(Errc::out_of_range, bare_number_refusal(command, field));
