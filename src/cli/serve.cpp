@@ -40,12 +40,23 @@ std::string summary_line(const hub::SensorSnapshot& sensor) {
                      health.records, health.errors, health.lost, health.bad_frames, health.reconnects);
 }
 
+// One line per mistake, all of them (the site file's reader gathers every one).
+int site_refused(const std::string& path, const Error& error) {
+  std::size_t count = 0;
+  std::string_view rest = error.message;
+  while (!rest.empty()) {
+    const auto end = rest.find('\n');
+    fmt::print(stderr, "rangekit serve: {}\n", rest.substr(0, end));
+    ++count;
+    rest = end == std::string_view::npos ? std::string_view{} : rest.substr(end + 1);
+  }
+  if (count > 1) fmt::print(stderr, "rangekit serve: {} mistakes in {}\n", count, path);
+  return error.code == Errc::io ? exit_io : exit_bad_input;
+}
+
 int check_site(const std::string& path) {
   auto site = hub::load_site_config(path);
-  if (!site) {
-    fmt::print(stderr, "rangekit serve: {}\n", site.error().message);
-    return site.error().code == Errc::io ? exit_io : exit_bad_input;
-  }
+  if (!site) return site_refused(path, site.error());
   fmt::print("{}: {} sensors on {} ports, listen {}\n", path, site->sensors.size(), hub::port_groups(*site).size(),
              site->service.listen);
   for (const hub::PortGroup& group : hub::port_groups(*site)) {
@@ -210,10 +221,7 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
 
 int serve(const ServeOptions& options) {
   auto site = hub::load_site_config(options.config);
-  if (!site) {
-    fmt::print(stderr, "rangekit serve: {}\n", site.error().message);
-    return site.error().code == Errc::io ? exit_io : exit_bad_input;
-  }
+  if (!site) return site_refused(options.config, site.error());
   const StopSignals signals;
   return serve_site(*site, options, signals);
 }

@@ -21,6 +21,25 @@
 namespace rangekit::hub {
 namespace {
 
+// The mistakes of a site file, gathered so that one run reports them all, in file order:
+// one line each, the first one's error code for the whole.
+class Mistakes {
+ public:
+  void add(Status status) {
+    if (!status) errors_.push_back(std::move(status).error());
+  }
+  void add(Error error) { errors_.push_back(std::move(error)); }
+  [[nodiscard]] Status status() const {
+    if (errors_.empty()) return ok_status();
+    Error all = errors_.front();
+    for (std::size_t i = 1; i < errors_.size(); ++i) all.message += "\n" + errors_[i].message;
+    return all;
+  }
+
+ private:
+  std::vector<Error> errors_;
+};
+
 Error at(std::string_view file, const toml::node& node, Errc code, const std::string& what) {
   return make_error(code, toml_place(file, node) + ": " + what);
 }
@@ -105,15 +124,61 @@ Result<SerialSettings> byte_format_of(std::string_view file, const toml::node& n
   return format;
 }
 
-Result<SensorConfig> sensor_from(std::string_view file, const toml::table& table) {
+// One key of a [[sensor]] table, once the family is known.
+Status read_sensor_key(std::string_view file, std::string_view k, const toml::node& node, const ServiceFamily& family,
+                       SensorConfig& sensor) {
+  if (k == "port") {
+    auto port = text_of(file, node, k);
+    if (!port) return std::move(port).error();
+    if (port->empty()) return at(file, node, Errc::out_of_range, "port must not be empty");
+    sensor.port = *port;
+  } else if (k == "baud") {
+    auto baud = integer_of(file, node, k);
+    if (!baud) return std::move(baud).error();
+    const auto bauds = family.bauds();
+    if (std::find(bauds.begin(), bauds.end(), *baud) == bauds.end()) {
+      std::string listed;
+      for (const std::uint32_t choice : bauds) listed += (listed.empty() ? "" : ", ") + std::to_string(choice);
+      return at(
+          file, node, Errc::out_of_range,
+          "baud " + std::to_string(*baud) + " is not a baud of the " + std::string(family.model) + " (" + listed + ")");
+    }
+    sensor.serial.baud = static_cast<std::uint32_t>(*baud);
+  } else if (k == "address") {
+    auto address = address_of(file, node, family);
+    if (!address) return std::move(address).error();
+    sensor.address = *address;
+  } else if (k == "udp") {
+    if (!family.udp) return at(file, node, Errc::invalid_frame, "udp is for " + udp_models() + " only");
+    auto udp = text_of(file, node, k);
+    if (!udp) return std::move(udp).error();
+    if (auto endpoint = parse_endpoint(*udp); !endpoint) {
+      return at(file, node, Errc::out_of_range, "udp '" + *udp + "': " + endpoint.error().message);
+    }
+    sensor.udp = *udp;
+  } else if (k == "stream" || k == "capture" || k == "drop_suspect") {
+    auto on = flag_of(file, node, k);
+    if (!on) return std::move(on).error();
+    (k == "stream" ? sensor.stream : k == "capture" ? sensor.capture : sensor.drop_suspect) = *on;
+  } else if (k == "max_speed") {
+    const auto speed = node.value<double>();  // an integer reads as a double too
+    if (!speed) return at(file, node, Errc::invalid_frame, "max_speed must be a number (metres per second)");
+    if (!(*speed > 0) || *speed > 1e6) {
+      return at(file, node, Errc::out_of_range, "max_speed must be above 0 and at most 1e6 m/s");
+    }
+    sensor.max_speed_mps = *speed;
+  }
+  return ok_status();
+}
+
+// The sensor as far as it reads, its mistakes added to `found`; an error when it has no name
+// or family, without which nothing else of it can be checked.
+Result<SensorConfig> sensor_from(std::string_view file, const toml::table& table, Mistakes& found) {
   SensorConfig sensor;
   sensor.line = table.source().begin.line;
-  if (auto checked = only_keys(file, table, "[[sensor]]",
-                               {"name", "family", "port", "baud", "format", "address", "udp", "stream", "capture",
-                                "max_speed", "drop_suspect"});
-      !checked) {
-    return std::move(checked).error();
-  }
+  found.add(only_keys(file, table, "[[sensor]]",
+                      {"name", "family", "port", "baud", "format", "address", "udp", "stream", "capture", "max_speed",
+                       "drop_suspect"}));
   const toml::node* name = table.get("name");
   if (name == nullptr)
     return make_error(Errc::invalid_frame,
@@ -137,61 +202,34 @@ Result<SensorConfig> sensor_from(std::string_view file, const toml::table& table
     return at(file, *family_node, Errc::out_of_range, "family '" + *family_text + "' is not " + service_family_names());
   }
   sensor.family = *family_text;
-  for (const auto& [key, node] : table) {
-    const std::string_view k = key.str();
-    if (k == "port") {
-      auto port = text_of(file, node, k);
-      if (!port) return std::move(port).error();
-      if (port->empty()) return at(file, node, Errc::out_of_range, "port must not be empty");
-      sensor.port = *port;
-    } else if (k == "baud") {
-      auto baud = integer_of(file, node, k);
-      if (!baud) return std::move(baud).error();
-      if (*baud < 300 || *baud > 921600) {
-        return at(file, node, Errc::out_of_range, "baud " + std::to_string(*baud) + " is out of range 300-921600");
-      }
-      sensor.serial.baud = static_cast<std::uint32_t>(*baud);
-    } else if (k == "address") {
-      auto address = address_of(file, node, *family);
-      if (!address) return std::move(address).error();
-      sensor.address = *address;
-    } else if (k == "udp") {
-      if (!family->udp) return at(file, node, Errc::invalid_frame, "udp is for " + udp_models() + " only");
-      auto udp = text_of(file, node, k);
-      if (!udp) return std::move(udp).error();
-      if (auto endpoint = parse_endpoint(*udp); !endpoint) {
-        return at(file, node, Errc::out_of_range, "udp '" + *udp + "': " + endpoint.error().message);
-      }
-      sensor.udp = *udp;
-    } else if (k == "stream" || k == "capture" || k == "drop_suspect") {
-      auto on = flag_of(file, node, k);
-      if (!on) return std::move(on).error();
-      (k == "stream" ? sensor.stream : k == "capture" ? sensor.capture : sensor.drop_suspect) = *on;
-    } else if (k == "max_speed") {
-      const auto speed = node.value<double>();  // an integer reads as a double too
-      if (!speed) return at(file, node, Errc::invalid_frame, "max_speed must be a number (metres per second)");
-      if (!(*speed > 0) || *speed > 1e6) {
-        return at(file, node, Errc::out_of_range, "max_speed must be above 0 and at most 1e6 m/s");
-      }
-      sensor.max_speed_mps = *speed;
-    }
-  }
+  // Every key is read, in the file's order, and every mistake reported, before the sensor is refused.
+  Mistakes mistakes;
+  std::vector<std::pair<std::string_view, const toml::node*>> keys;
+  for (const auto& [key, node] : table) keys.emplace_back(key.str(), &node);
+  std::stable_sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) {
+    return a.second->source().begin.line < b.second->source().begin.line;
+  });
+  for (const auto& [key, node] : keys) mistakes.add(read_sensor_key(file, key, *node, *family, sensor));
   // The byte format last: it needs the family, and keeps the baud read above.
   if (const toml::node* format = table.get("format")) {
     auto settings = byte_format_of(file, *format, *family, sensor.serial);
-    if (!settings) return std::move(settings).error();
-    sensor.serial = *settings;
+    if (settings) {
+      sensor.serial = *settings;
+    } else {
+      mistakes.add(std::move(settings).error());
+    }
   }
   if (!sensor.port.empty() && !sensor.udp.empty()) {
-    return at(file, *name, Errc::invalid_frame,
-              "sensor '" + sensor.name +
-                  "' has both a port and udp: give one (serial stream and commands, or the "
-                  "Ethernet stream alone)");
+    mistakes.add(at(file, *name, Errc::invalid_frame,
+                    "sensor '" + sensor.name +
+                        "' has both a port and udp: give one (serial stream and commands, or the "
+                        "Ethernet stream alone)"));
   }
   if (sensor.port.empty() && sensor.udp.empty()) {
-    return at(file, *name, Errc::invalid_frame,
-              "sensor '" + sensor.name + "' needs a port" + (family->udp ? " or udp" : ""));
+    mistakes.add(at(file, *name, Errc::invalid_frame,
+                    "sensor '" + sensor.name + "' needs a port" + (family->udp ? " or udp" : "")));
   }
+  found.add(mistakes.status());
   return sensor;
 }
 
@@ -336,54 +374,57 @@ std::string line_of(const SensorConfig& sensor) { return "line " + std::to_strin
 
 // Several sensors on one port must agree on how the port is set up, and only
 // addressed ULS units can share one (an RS-485 bus, §7).
+// One more sensor on a port another already claimed: the same family, one that has buses,
+// the same line settings, and its own address.
+Status check_shared_port(const SiteConfig& site, const PortGroup& group, std::size_t i) {
+  const SensorConfig& first = *group.sensors.front();
+  const SensorConfig& other = *group.sensors[i];
+  const std::string where = site.file + ":" + std::to_string(other.line) + ": ";
+  const std::string clash = "port " + group.port + " is also claimed by '" + first.name + "' (" + line_of(first) + ")";
+  if (other.family != first.family) {
+    return make_error(Errc::invalid_frame, where + clash + " as " + first.family + ": one port carries one family");
+  }
+  if (const ServiceFamily* family = find_service_family(other.family); family != nullptr && !family->bus) {
+    return make_error(Errc::invalid_frame, where + clash + ": " + std::string(family->one_per_port));
+  }
+  if (!(other.serial == first.serial)) {
+    return make_error(Errc::invalid_frame, where + clash + " with other settings (" + describe(first.serial) +
+                                               " there, " + describe(other.serial) + " here)");
+  }
+  if (!first.address || !other.address) {
+    return make_error(Errc::invalid_frame, where + clash + ": units sharing an RS-485 port each need an address (§7)");
+  }
+  for (std::size_t j = 0; j < i; ++j) {
+    if (group.sensors[j]->address == other.address) {
+      return make_error(Errc::invalid_frame, where + "address of '" + other.name + "' is also the address of '" +
+                                                 group.sensors[j]->name + "' (" + line_of(*group.sensors[j]) +
+                                                 ") on port " + group.port + " (§7: one unit per address)");
+    }
+  }
+  return ok_status();
+}
+
 Status check_ports(const SiteConfig& site) {
+  Mistakes mistakes;
   std::map<std::string, const SensorConfig*> names;
   std::map<std::string, const SensorConfig*> udp;
   for (const SensorConfig& sensor : site.sensors) {
     const std::string where = site.file + ":" + std::to_string(sensor.line) + ": ";
     if (auto [it, inserted] = names.emplace(sensor.name, &sensor); !inserted) {
-      return make_error(Errc::invalid_frame,
-                        where + "sensor name '" + sensor.name + "' is already used at " + line_of(*it->second));
+      mistakes.add(make_error(Errc::invalid_frame,
+                              where + "sensor name '" + sensor.name + "' is already used at " + line_of(*it->second)));
     }
     if (!sensor.udp.empty()) {
       if (auto [it, inserted] = udp.emplace(sensor.udp, &sensor); !inserted) {
-        return make_error(Errc::invalid_frame, where + "udp " + sensor.udp + " is already the listener of '" +
-                                                   it->second->name + "' (" + line_of(*it->second) + ")");
+        mistakes.add(make_error(Errc::invalid_frame, where + "udp " + sensor.udp + " is already the listener of '" +
+                                                         it->second->name + "' (" + line_of(*it->second) + ")"));
       }
     }
   }
   for (const PortGroup& group : port_groups(site)) {
-    if (group.sensors.size() < 2) continue;
-    const SensorConfig& first = *group.sensors.front();
-    for (std::size_t i = 1; i < group.sensors.size(); ++i) {
-      const SensorConfig& other = *group.sensors[i];
-      const std::string where = site.file + ":" + std::to_string(other.line) + ": ";
-      const std::string clash =
-          "port " + group.port + " is also claimed by '" + first.name + "' (" + line_of(first) + ")";
-      if (other.family != first.family) {
-        return make_error(Errc::invalid_frame, where + clash + " as " + first.family + ": one port carries one family");
-      }
-      if (const ServiceFamily* family = find_service_family(other.family); family != nullptr && !family->bus) {
-        return make_error(Errc::invalid_frame, where + clash + ": " + std::string(family->one_per_port));
-      }
-      if (!(other.serial == first.serial)) {
-        return make_error(Errc::invalid_frame, where + clash + " with other settings (" + describe(first.serial) +
-                                                   " there, " + describe(other.serial) + " here)");
-      }
-      if (!first.address || !other.address) {
-        return make_error(Errc::invalid_frame,
-                          where + clash + ": units sharing an RS-485 port each need an address (§7)");
-      }
-      for (std::size_t j = 0; j < i; ++j) {
-        if (group.sensors[j]->address == other.address) {
-          return make_error(Errc::invalid_frame, where + "address of '" + other.name + "' is also the address of '" +
-                                                     group.sensors[j]->name + "' (" + line_of(*group.sensors[j]) +
-                                                     ") on port " + group.port + " (§7: one unit per address)");
-        }
-      }
-    }
+    for (std::size_t i = 1; i < group.sensors.size(); ++i) mistakes.add(check_shared_port(site, group, i));
   }
-  return ok_status();
+  return mistakes.status();
 }
 
 }  // namespace
@@ -421,6 +462,11 @@ Result<BrokerAddress> parse_broker_url(std::string_view url) {
   return address;
 }
 
+bool PortGroup::bus() const noexcept {
+  const ServiceFamily* described = find_service_family(family);
+  return sensors.size() > 1 || (described != nullptr && described->bus && sensors.front()->address.has_value());
+}
+
 std::vector<PortGroup> port_groups(const SiteConfig& site) {
   std::vector<PortGroup> groups;
   for (const SensorConfig& sensor : site.sensors) {
@@ -444,30 +490,43 @@ Result<SiteConfig> parse_site_config(std::string_view text, std::string_view fil
   if (auto checked = only_keys(file_name, root, "the site file", {"service", "mqtt", "sensor"}); !checked) {
     return std::move(checked).error();
   }
+  Mistakes mistakes;
   if (const toml::node* service = root.get("service")) {
     const auto* table = service->as_table();
-    if (table == nullptr) return at(file_name, *service, Errc::invalid_frame, "service must be a table: [service]");
-    if (auto checked = check_service(file_name, *table, site.service); !checked) return std::move(checked).error();
+    if (table == nullptr) {
+      mistakes.add(at(file_name, *service, Errc::invalid_frame, "service must be a table: [service]"));
+    } else {
+      mistakes.add(check_service(file_name, *table, site.service));
+    }
   }
   if (const toml::node* mqtt = root.get("mqtt")) {
     const auto* table = mqtt->as_table();
-    if (table == nullptr) return at(file_name, *mqtt, Errc::invalid_frame, "mqtt must be a table: [mqtt]");
-    if (auto checked = check_mqtt(file_name, *table, site.mqtt); !checked) return std::move(checked).error();
+    if (table == nullptr) {
+      mistakes.add(at(file_name, *mqtt, Errc::invalid_frame, "mqtt must be a table: [mqtt]"));
+    } else {
+      mistakes.add(check_mqtt(file_name, *table, site.mqtt));
+    }
   }
   const toml::node* sensors = root.get("sensor");
+  const auto* array = sensors != nullptr ? sensors->as_array() : nullptr;
   if (sensors == nullptr) {
-    return make_error(Errc::invalid_frame, std::string(file_name) + ": no sensors: add a [[sensor]] table for each");
+    mistakes.add(
+        make_error(Errc::invalid_frame, std::string(file_name) + ": no sensors: add a [[sensor]] table for each"));
+  } else if (array == nullptr || !array->is_array_of_tables()) {
+    mistakes.add(at(file_name, *sensors, Errc::invalid_frame, "sensor must be an array of tables: [[sensor]]"));
+  } else {
+    for (const toml::node& node : *array) {
+      // Kept with its mistakes too, so the checks across sensors (names, ports) see it.
+      auto sensor = sensor_from(file_name, *node.as_table(), mistakes);
+      if (sensor) {
+        site.sensors.push_back(std::move(*sensor));
+      } else {
+        mistakes.add(std::move(sensor).error());
+      }
+    }
   }
-  const auto* array = sensors->as_array();
-  if (array == nullptr || !array->is_array_of_tables()) {
-    return at(file_name, *sensors, Errc::invalid_frame, "sensor must be an array of tables: [[sensor]]");
-  }
-  for (const toml::node& node : *array) {
-    auto sensor = sensor_from(file_name, *node.as_table());
-    if (!sensor) return std::move(sensor).error();
-    site.sensors.push_back(std::move(*sensor));
-  }
-  if (auto checked = check_ports(site); !checked) return std::move(checked).error();
+  mistakes.add(check_ports(site));
+  if (auto found = mistakes.status(); !found) return std::move(found).error();
   return site;
 }
 

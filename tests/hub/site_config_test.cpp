@@ -2,7 +2,9 @@
 #include "rangekit/hub/site_config.hpp"
 
 #include <gtest/gtest.h>
+
 #include <sys/stat.h>
+#include <algorithm>
 
 #include <array>
 #include <cstdio>
@@ -111,7 +113,8 @@ TEST(SiteConfig, RefusesWithFileLineAndReason) {
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a b\"\nfamily = \"uls\"\nport = \"/dev/x\"\n"),
             "site.toml:2: name 'a b' must be 1-64 letters, digits, '-' or '_' (it goes into URLs and topics)");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nbaud = 12\n"),
-            "site.toml:5: baud 12 is out of range 300-921600");
+            "site.toml:5: baud 12 is not a baud of the ULS (1200, 2400, 4800, 9600, 14400, 19200, 38400, 57600, "
+            "115200, 230400)");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nformat = \"8E1\"\n"),
             "site.toml:5: format '8E1': the ULS speaks 8N1 only (§9)");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"ls5\"\nport = \"/dev/x\"\naddress = 0\n"),
@@ -119,7 +122,7 @@ TEST(SiteConfig, RefusesWithFileLineAndReason) {
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\naddress = \"!\"\n"),
             "site.toml:5: address '!' is not a ULS unit address (0x30-0xEF, e.g. \"A\" or \"0x41\", §7)");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nudp = \"0.0.0.0:5000\"\n"),
-            "site.toml:4: udp is for LS5 Ethernet models only");
+            "site.toml:4: udp is for LS5 Ethernet models only\nsite.toml:2: sensor 'a' needs a port");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\n"), "site.toml:2: sensor 'a' needs a port");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"ls5\"\nport = \"/dev/x\"\nudp = \"0.0.0.0:1\"\n"),
             "site.toml:2: sensor 'a' has both a port and udp: give one (serial stream and commands, or the Ethernet "
@@ -237,6 +240,57 @@ TEST(SiteFilePassword, AnOwnerOnlyFileOrOneWithoutAPasswordIsTaken) {
   auto no_password = load_site_config(
       write_site(dir.path, "[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"/dev/x\"\n", 0644));
   EXPECT_TRUE(no_password.ok()) << no_password.error().message;
+}
+
+// A baud the family's line cannot be set to is refused, naming the ones it can (ULS §8 BR,
+// LS5 table 9.2 parameter 04), where 300-921600 let 115201 through.
+TEST(SiteConfig, ABaudTheFamilyCannotRunIsRefused) {
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/ttyUSB0\"\nbaud = 115201\n"),
+            "site.toml:5: baud 115201 is not a baud of the ULS (1200, 2400, 4800, 9600, 14400, 19200, 38400, 57600, "
+            "115200, 230400)");
+  const std::string ls5 =
+      refusal("[[sensor]]\nname = \"b\"\nfamily = \"ls5\"\nport = \"/dev/ttyUSB1\"\nbaud = 12345\n");
+  EXPECT_EQ(ls5.rfind("site.toml:5: baud 12345 is not a baud of the LS5 (", 0), 0U) << ls5;
+}
+
+// Every mistake in one run: here six, in two sensors, a shared port and a name used twice.
+TEST(SiteConfig, EveryMistakeIsReportedInOneRun) {
+  const std::string message = refusal(R"([[sensor]]
+name = "a"
+family = "uls"
+port = "/dev/ttyUSB0"
+baud = 12345
+address = "zz"
+max_speed = -1
+
+[[sensor]]
+name = "a"
+family = "ls5"
+port = "/dev/ttyUSB0"
+format = "9X9"
+)");
+  const std::vector<std::string> expected{
+      "site.toml:5: baud 12345 is not a baud of the ULS", "site.toml:6: address 'zz' is not a ULS unit address",
+      "site.toml:7: max_speed must be above 0",           "site.toml:13: format '9X9' is not an LS5 byte format",
+      "site.toml:9: sensor name 'a' is already used at",  "site.toml:9: port /dev/ttyUSB0 is also claimed by 'a'",
+  };
+  std::size_t at = 0;
+  for (const std::string& line : expected) {
+    const auto found = message.find(line, at);
+    ASSERT_NE(found, std::string::npos) << "missing, or out of order: " << line << "\nin:\n" << message;
+    at = found;
+  }
+  EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 5) << message;
+}
+
+// An LS5 has a network address (table 9.2 01) but no bus: alone on its port it is no RS-485 bus.
+TEST(SiteConfig, AnAddressedLs5AloneIsNoBus) {
+  const auto site = parse_ok("[[sensor]]\nname = \"b\"\nfamily = \"ls5\"\nport = \"/dev/ttyUSB1\"\naddress = 5\n");
+  const auto groups = port_groups(site);
+  ASSERT_EQ(groups.size(), 1U);
+  EXPECT_FALSE(groups.front().bus());
+  const auto bus = parse_ok("[[sensor]]\nname = \"u\"\nfamily = \"uls\"\nport = \"/dev/ttyUSB1\"\naddress = \"A\"\n");
+  EXPECT_TRUE(port_groups(bus).front().bus());  // a ULS addressed is on a bus, even alone (§7)
 }
 
 }  // namespace site_file_password

@@ -34,8 +34,9 @@ struct ServiceFamily {
   // family's range), and a byte format ("8N1") on top of `settings`; messages without file:line.
   Result<int> (*parse_address)(const AddressValue& value) = nullptr;
   Result<SerialSettings> (*byte_format)(std::string_view format, SerialSettings settings) = nullptr;
-  bool udp = false;               // may be heard on `udp = "HOST:PORT"` instead of a port
-  bool bus = false;               // several addressed units may share one port (an RS-485 bus)
+  std::span<const std::uint32_t> (*bauds)() = nullptr;  // the line speeds it can be set to
+  bool udp = false;                                     // may be heard on `udp = "HOST:PORT"` instead of a port
+  bool bus = false;                                     // several addressed units may share one port (an RS-485 bus)
   std::string_view one_per_port;  // why not, when it is no bus: "an LS5 stream holds its line, ..."
 
   // The backend of one port's sensors (one, or a bus of them) and of a UDP listener.

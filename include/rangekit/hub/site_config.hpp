@@ -85,12 +85,14 @@ struct PortGroup {
   SerialSettings serial;
   std::string family;
   std::vector<const SensorConfig*> sensors;
-  [[nodiscard]] bool bus() const noexcept { return sensors.size() > 1 || sensors.front()->address.has_value(); }
+  // Several units share the port, or one of a family that has buses is addressed on it.
+  [[nodiscard]] bool bus() const noexcept;
 };
 std::vector<PortGroup> port_groups(const SiteConfig& site);
 
 // Parses and checks the text; errors are Errc::invalid_frame (syntax, unknown
-// keys, wrong types) or Errc::out_of_range (values), each "FILE:LINE: reason".
+// keys, wrong types) or Errc::out_of_range (values), each "FILE:LINE: reason". Every
+// mistake is reported, one line each (the first one's code for all).
 Result<SiteConfig> parse_site_config(std::string_view text, std::string_view file_name);
 // Reads the file first; an unreadable file is Errc::io naming it, and so is an inline
 // [mqtt] password in a file group or others may read ("FILE:LINE: ... chmod 600 FILE").

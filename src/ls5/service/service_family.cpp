@@ -33,12 +33,23 @@ Result<SerialSettings> byte_format(std::string_view format, SerialSettings setti
                     "format '" + std::string(format) + "' is not an LS5 byte format (" + allowed + ")");
 }
 
+// Table 9.2 parameter 04's speeds.
+std::span<const std::uint32_t> bauds() noexcept {
+  static const std::vector<std::uint32_t> speeds = [] {
+    std::vector<std::uint32_t> all;
+    for (const BaudRateInfo& rate : baud_rate_table()) all.push_back(rate.baud);
+    return all;
+  }();
+  return speeds;
+}
+
 const hub::ServiceFamily descriptor{
     .name = "ls5",
     .manufacturer = "Prizma",
     .model = "LS5",
     .parse_address = parse_address,
     .byte_format = byte_format,
+    .bauds = bauds,
     .udp = true,
     .bus = false,
     .one_per_port = "an LS5 stream holds its line, so one LS5 per port",

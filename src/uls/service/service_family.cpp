@@ -2,6 +2,7 @@
 #include "rangekit/uls/service_family.hpp"
 
 #include "rangekit/uls/bus.hpp"
+#include "rangekit/uls/formulas.hpp"
 #include "uls/service/service.hpp"
 
 namespace rangekit::uls::service {
@@ -34,6 +35,7 @@ const hub::ServiceFamily descriptor{
     .model = "ULS",
     .parse_address = parse_address,
     .byte_format = byte_format,
+    .bauds = baud_choices,  // §8 BR
     .udp = false,
     .bus = true,
     .one_per_port = {},
