@@ -1,7 +1,6 @@
-// The HTTP server: an acceptor and one connection object per client on one asio
-// event loop (web/connection.hpp serves each). Limits: connections, header and body
-// size; writes are checked for Host/Origin (DNS rebinding) and, when a token is set,
-// for the token.
+// The HTTP server: an acceptor and one connection per client on one asio event loop
+// (web/connection.hpp reads and writes, web/routes.cpp answers by its table after
+// web/auth.cpp's Host, Origin and token checks). Limits: connections, header and body size.
 #include "rangekit/web/server.hpp"
 
 #include "web/access.hpp"

@@ -1,0 +1,151 @@
+// The route table: method and path pattern to handler, for every path of the API
+// (docs/api.md, docs/openapi.yaml), and what a request passes before it reaches one.
+#include "web/routes.hpp"
+
+#include <algorithm>
+#include <array>
+#include <string_view>
+
+#include "web/auth.hpp"
+#include "web/resources.hpp"
+
+namespace rangekit::web {
+namespace {
+
+using Handler = void (*)(Exchange&, const Matched&);
+
+struct Route {
+  http::verb method;
+  std::string_view pattern;  // "/api/sensors/{name}/settings": a {placeholder} matches any one segment
+  Handler handler;
+};
+
+// The first row whose method and pattern match answers. A path that matches only rows of
+// other methods gets 405, Allow listing their methods in this order (the order clients saw).
+// tests/web/api_docs_test.cpp checks every path of docs/openapi.yaml against this table.
+constexpr std::array kRoutes{
+    Route{http::verb::get, "/healthz", get_health},
+    Route{http::verb::get, "/metrics", get_metrics},
+    Route{http::verb::get, "/api/events", get_all_events},
+    Route{http::verb::get, "/api/captures", list_captures},
+    Route{http::verb::post, "/api/captures", start_capture},
+    Route{http::verb::get, "/api/captures/{id}", get_capture},
+    Route{http::verb::post, "/api/captures/{id}/stop", stop_capture},
+    Route{http::verb::get, "/api/captures/{id}/download", download_capture},
+    Route{http::verb::get, "/api/sensors", list_sensors},
+    Route{http::verb::get, "/api/sensors/{name}", get_sensor},
+    Route{http::verb::get, "/api/sensors/{name}/settings", get_settings},
+    Route{http::verb::patch, "/api/sensors/{name}/settings", patch_settings},
+    Route{http::verb::get, "/api/sensors/{name}/settings/schema", get_settings_schema},
+    Route{http::verb::post, "/api/sensors/{name}/actions/{action}", post_action},
+    // Reading a whole configuration pauses an LS5 stream, so even the export is a POST.
+    Route{http::verb::post, "/api/sensors/{name}/config", export_config},
+    Route{http::verb::put, "/api/sensors/{name}/config", import_config},
+    // Both talk to the bus (a scan holds the poll while it asks), so both are POSTs; any
+    // other name there is a POST too, so that a GET of it says so.
+    Route{http::verb::post, "/api/sensors/{name}/bus/scan", scan_bus},
+    Route{http::verb::post, "/api/sensors/{name}/bus/assign", assign_address},
+    Route{http::verb::post, "/api/sensors/{name}/bus/{call}", no_such_bus_call},
+    Route{http::verb::get, "/api/sensors/{name}/samples", get_samples},
+    Route{http::verb::get, "/api/sensors/{name}/events", get_sensor_events},
+};
+
+using Lookup = bool (*)(Exchange&, Matched&);
+
+// Paths at and under these name something that must exist: without it they answer 404
+// whatever the method or the rest of the path. Checked in this order, before the routes.
+struct Scope {
+  std::string_view pattern;
+  Lookup lookup;  // false after answering
+};
+
+bool find_captures(Exchange& exchange, Matched& matched) {
+  matched.captures = exchange.server().options.captures;
+  if (matched.captures != nullptr) return true;
+  exchange.not_found("this service keeps no captures");
+  return false;
+}
+
+bool find_capture(Exchange& exchange, Matched& matched) {
+  auto capture = matched.captures->info(matched.id);
+  if (!capture) {
+    exchange.not_found(capture.error().message);
+    return false;
+  }
+  matched.capture = std::move(*capture);
+  return true;
+}
+
+bool find_sensor(Exchange& exchange, Matched& matched) {
+  auto sensor = exchange.server().hub.sensor(matched.name);
+  if (!sensor) {
+    exchange.not_found(sensor.error().message);
+    return false;
+  }
+  matched.sensor = std::move(*sensor);
+  return true;
+}
+
+constexpr std::array kScopes{
+    Scope{"/api/captures", find_captures},
+    Scope{"/api/captures/{id}", find_capture},
+    Scope{"/api/sensors/{name}", find_sensor},
+};
+
+// The pattern's segments against the path's: all of them (whole), or the pattern's first.
+bool matches(std::string_view pattern, const std::vector<std::string>& path, bool whole) {
+  std::size_t i = 0;
+  for (std::size_t at = 1; at <= pattern.size(); ++i) {
+    const std::size_t slash = std::min(pattern.find('/', at), pattern.size());
+    const std::string_view segment = pattern.substr(at, slash - at);
+    if (i >= path.size() || (segment.front() != '{' && segment != path[i])) return false;
+    at = slash + 1;
+  }
+  return !whole || i == path.size();
+}
+
+// The path's segments under the pattern's {name}, {id} and {action}.
+void bind(std::string_view pattern, const std::vector<std::string>& path, Matched& matched) {
+  std::size_t i = 0;
+  for (std::size_t at = 1; at <= pattern.size(); ++i) {
+    const std::size_t slash = std::min(pattern.find('/', at), pattern.size());
+    const std::string_view segment = pattern.substr(at, slash - at);
+    if (segment == "{name}") matched.name = path[i];
+    if (segment == "{id}") matched.id = path[i];
+    if (segment == "{action}") matched.action = path[i];
+    at = slash + 1;
+  }
+}
+
+}  // namespace
+
+void route(Exchange& exchange) {
+  Matched matched;
+  matched.target = parse_target(exchange.request().target());
+  const auto& path = matched.target.segments;
+  const auto method = exchange.request().method();
+  if (!matched.target.valid) {
+    return exchange.respond(http::status::bad_request, error_json("bad_target", "the path or query does not decode"));
+  }
+  if (!admitted(exchange, matched.target, access_of(matched.target, method))) return;
+  for (const Scope& scope : kScopes) {
+    if (!matches(scope.pattern, path, false)) continue;
+    bind(scope.pattern, path, matched);
+    if (!scope.lookup(exchange, matched)) return;
+  }
+  std::string allow;
+  for (const Route& row : kRoutes) {
+    if (!matches(row.pattern, path, true)) continue;
+    if (row.method == method) {
+      bind(row.pattern, path, matched);
+      return row.handler(exchange, matched);
+    }
+    const std::string_view name = http::to_string(row.method);
+    if (allow.find(name) == std::string::npos) allow += (allow.empty() ? "" : ", ") + std::string(name);
+  }
+  if (!allow.empty()) return exchange.wrong_method(allow);
+  if (path.empty() || path[0] != "api") return get_static_file(exchange, matched);
+  exchange.not_found("no such path (see docs/api.md)");
+}
+
+}  // namespace rangekit::web
