@@ -81,16 +81,24 @@ void expect_reading(const std::optional<Reading>& reading, const Case& c, const 
   EXPECT_EQ(reading->channel->key, c.expected.channel);
 }
 
+// The cases' samples as a capture file (closed, so every one is committed).
+::testing::AssertionResult write_capture(const std::string& path, const std::vector<Case>& all) {
+  auto capture = record::open_capture(path);
+  if (!capture.ok()) return ::testing::AssertionFailure() << capture.error().message;
+  for (const Case& c : all) {
+    if (auto written = (*capture)->write(c.sample); !written) {
+      return ::testing::AssertionFailure() << c.name << ": " << written.error().message;
+    }
+  }
+  if (auto flushed = (*capture)->flush(); !flushed) return ::testing::AssertionFailure() << flushed.error().message;
+  return ::testing::AssertionSuccess();
+}
+
 TEST(SameReading, TheCaptureReplaysEachSampleWithItsReading) {
   record::testing::TempDir dir;
   const std::string path = dir.file("same.sqlite");
   const auto all = cases();
-  {
-    auto capture = record::open_capture(path);
-    ASSERT_TRUE(capture.ok()) << capture.error().message;
-    for (const Case& c : all) ASSERT_TRUE((*capture)->write(c.sample).ok());
-    ASSERT_TRUE((*capture)->flush().ok());
-  }
+  ASSERT_TRUE(write_capture(path, all));
   std::vector<Sample> replayed;
   ASSERT_TRUE(record::for_each_in_capture(
                   path, "", [&](const Sample& sample) { replayed.push_back(sample); }, [](StreamEvent&&) {})
@@ -155,11 +163,7 @@ TEST(SameReading, PythonReportsEachReading) {
   record::testing::TempDir dir;
   const std::string path = dir.file("same.sqlite");
   const auto all = cases();
-  {
-    auto capture = record::open_capture(path);
-    ASSERT_TRUE(capture.ok()) << capture.error().message;
-    for (const Case& c : all) ASSERT_TRUE((*capture)->write(c.sample).ok());
-  }
+  ASSERT_TRUE(write_capture(path, all));
   const std::string script =
       "import json, math, sys, rangekit\n"
       "objects = rangekit.capture.sample_objects(sys.argv[1])\n"
