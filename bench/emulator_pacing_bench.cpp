@@ -1,20 +1,6 @@
-// Emulator pacing on the real clock (issue 17 item 4): an LS5 streaming at 1 kHz through
-// EmulatorRuntime on a pty, read by a host, against a minimal pty writer that sends the
-// same 7-byte record on absolute deadlines (clock_nanosleep TIMER_ABSTIME). Both run at
-// the same time, so they share the machine's load; each has its own reader thread.
-//
-// Figures, per source, from the arrival times of the records' CRs:
-// - p99 of |interval - period| (goal: the emulator's ≤ 1.5x the writer's);
-// - records that arrive "together with the previous one": less than a tenth of a period
-//   after it, in practice in the same read() (goal: ≤ 1 % at 1 kHz);
-// - CPU seconds of the sending thread per second of emulation (the emulator's loop
-//   thread, the writer's thread). Goal: no worse than "today", the loop as issue 17
-//   found it (bench/filed_emulator_loop.hpp: whole-millisecond poll(), a read() per wake,
-//   a tcgetattr() per byte), run on the same firmware in the same run. Shown beside it:
-//   the present runtime with its wait rounded up to whole milliseconds
-//   (RuntimeOptions::wait_resolution = 1 ms), today's lean step batching records as the
-//   old loop did; it wakes about 14 % less often, so it is the cost of waking once per
-//   record and not a goal.
+// Emulator pacing on the real clock (L78, docs/performance.md): an LS5 at 1 kHz through
+// EmulatorRuntime on a pty against a minimal absolute-deadline pty writer, in the same run;
+// jitter, bunched records and CPU, the CPU also against bench/filed_emulator_loop.hpp.
 #include <benchmark/benchmark.h>
 #include <pthread.h>
 #include <time.h>
@@ -169,7 +155,9 @@ struct EmulatorRig {
   ~EmulatorRig() { halt(); }
 };
 
-// The same LS5 on the loop as issue 17 found it (the CPU baseline).
+// The same LS5 on the whole-millisecond loop of bench/filed_emulator_loop.hpp, the CPU
+// baseline: the emulator's loop may cost no more. The runtime rounded to whole
+// milliseconds (wait_resolution) is shown too, as the cost of waking once per record.
 struct FiledLoopRig {
   std::unique_ptr<emu::Firmware> firmware;
   std::unique_ptr<rangekit::PseudoTerminal> pty;

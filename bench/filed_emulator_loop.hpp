@@ -1,10 +1,6 @@
-// The emulator's real-clock loop as issue 17 found it ("CPU no worse than today", item 4):
-// EmulatorRuntime::step, read_input, run_devices and flush_output of
-// src/sim/emulator_runtime.cpp at 63b405f, cut down to what one device on one pty with no
-// control socket, noise or wire log runs through. Kept as it was, costs included: a poll()
-// rounded up to whole milliseconds on every deadline, a read() of the pty on every wake,
-// a tcgetattr() per byte sent, and fresh vectors (and a std::set) on every wake. The
-// baseline the present loop's CPU is held to in bench/emulator_pacing_bench.cpp.
+// The CPU baseline of bench/emulator_pacing_bench.cpp: the emulator's real-clock loop of
+// 63b405f for one device on one pty, costs included (whole-millisecond poll(), a read() per
+// wake, a tcgetattr() per byte). Kept unchanged on purpose: the present loop may cost no more.
 #pragma once
 
 #include <poll.h>

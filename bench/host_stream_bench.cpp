@@ -1,15 +1,6 @@
-// Host streaming at the LS5's fastest rate (issue 6): the LS5 emulator, run as
-// its own process (`rangekit sim ls5`), streams 1000 records/s (§8.4: t = 1 ms,
-// n = 1) at 921600 baud 8N1 (parameter 05 = 08, LS5.6.0+). The same pty is read
-// (a) by the LS5 driver's stream and (b) by `cat` into a file, the floor. Over a
-// 5 s window bracketed by two control-socket `outputs` requests, the records the
-// emulator produced are compared with those the host got; the host's CPU is this
-// process's rusage (driver) or cat's (wait4). Goal: >= 95 % delivered, none lost,
-// < 5 % of a core. The ULS half is in host_stream_uls_bench.cpp.
-// The driver's consumer takes batches as `rangekit ls5 stream` does (next_batch), and
-// the heap allocations this process makes inside the window are counted per record
-// (issue 17 goal: 0 on the live path; the control-socket request that closes the
-// window is outside the count).
+// Host streaming at the LS5's fastest rate (1000 records/s at 921600 baud, §8.4): the
+// driver's stream against `cat` of the same pty, the emulator in its own process; records
+// delivered, CPU and heap allocations per record (docs/performance.md, docs/host-ls5.md).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>

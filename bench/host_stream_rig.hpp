@@ -1,7 +1,6 @@
-// Shared pieces of the host streaming benches (issue 6): an emulator run as its
-// own process (cli::SimProcess with the CLI of this build) so its CPU
-// stays out of the host's figures, its control socket, a transport that counts
-// the bytes the driver reads, and `cat` of a pty into a file as the floor.
+// Shared pieces of the host streaming benches: an emulator in its own process (so its CPU
+// stays out of the host's figures) with its control socket, a byte-counting transport, and
+// `cat` of a pty into a file as the floor.
 #pragma once
 
 #include <sys/types.h>

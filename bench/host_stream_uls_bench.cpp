@@ -1,16 +1,6 @@
-// Host streaming at the ULS's fastest serial output (issue 6): the ULS emulator,
-// run as its own process (`rangekit sim uls`), in binning mode (§3) with 15
-// targets in view, so every burst is the §9 worst case of 15 `$BM,i,15,d,s` lines,
-// at 1000 PRF / 25 PPM (§9: binning PRF about 1 kHz, PPM 25 to 100) on the
-// universal port at 230400 baud (BR 1, the serial command maximum, §8). Bursts
-// come faster than 230400 carries them, so the port sends back to back (U39) and
-// the wire is the limit: 230400 / 11.52 = 20000 characters/s (U19; 8N1 alone
-// would allow baud / 10 = 23040 bytes/s). The same pty is read (a) by the ULS
-// driver's stream and (b) by `cat` into a file, the floor. Over a 5 s window
-// bracketed by two control-socket `outputs` requests, the bursts the emulator
-// put on the wire (measurements - skipped) are compared with those the host got.
-// The driver's consumer takes batches as `rangekit uls stream` does (next_batch), and
-// the heap allocations this process makes inside the window are counted per burst.
+// Host streaming at the ULS's fastest serial output: binning bursts of 15 targets (§9's
+// worst case) back to back at 230400 baud (U19, U39), the driver's stream against `cat` of
+// the same pty; bursts delivered, CPU and heap allocations per burst (docs/host-uls.md).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// LS5 emulator cost (issue 5 goals): CPU time per simulated second with a 1 kHz
+// LS5 emulator cost (docs/emulator-ls5.md): CPU time per simulated second with a 1 kHz
 // serial stream at 115200 baud (goal: under 5 % of a core, i.e. < 50 ms per
 // simulated second), and UDP packets per second at 1 kHz on an Ethernet model.
 #include <benchmark/benchmark.h>

@@ -1,17 +1,6 @@
-// The MQTT bridge under load (issue 15, done means): `rangekit serve` publishing two
-// LS5 at 1 kHz (t = 1 ms, n = 1, §8.4) at full rate (max_rate_hz = 0: every sample its
-// own message) to a mosquitto the bench starts on a free loopback port, against a
-// baseline measured in the same run: for each LS5 the pipeline `rangekit ls5 stream
-// --format jsonl | mosquitto_pub -l`, both processes of both pipelines counted. CPU
-// is utime + stime from /proc/PID/stat over the same window (goal: the service uses
-// less than the pipelines).
-//
-// Both LS5 reach the program under test through a pty the bench relays, so the bench
-// knows when each record's last byte (`\r`, table 9.1) was written; a libmosquitto
-// subscriber in the bench notes when the message carrying that record arrives. The
-// target ramps (scene below, no noise, no dust), so consecutive records carry distinct
-// codes and a message is matched to its record by code. Goals: latency p99 <= 10 ms;
-// zero loss while the broker is up (every record written in the window arrives).
+// The MQTT bridge under load (docs/mqtt.md): `rangekit serve` publishing two 1 kHz LS5 at
+// full rate against `rangekit ls5 stream | mosquitto_pub -l` in the same run; CPU, loss and
+// record-to-subscriber latency (records relayed through a pty, matched by their code).
 #include <benchmark/benchmark.h>
 #include <fcntl.h>
 #include <mosquitto.h>

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Noise benchmark (issue 18 item 2): how many printed values were wrong under line noise,
+"""Noise benchmark (docs/reliability.md): how many printed values were wrong under line noise,
 and how many of those were flagged suspect.
 
 For each family (ULS, LS5) and each condition (clean; bit-error rate 1e-4; 1e-3; byte drop
@@ -246,7 +246,7 @@ def run_one(cli, family, name, noise, seconds, seed, max_speed, still):
                 subprocess.run([cli, "uls", "set", "--port", port, "averaging-weight=16", "ppm=20",
                                 "prf-hz=2000"], check=True, capture_output=True, text=True)
             else:
-                # 1000 records a second, as in issue 18's measurement.
+                # 1000 records a second, the LS5's fastest stream (§8.4: t = 1 ms, n = 1).
                 subprocess.run([cli, "ls5", "set", "--port", port, "period-ms=1"], check=True, capture_output=True,
                                text=True)
             if noise:

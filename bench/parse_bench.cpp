@@ -1,6 +1,6 @@
-// Parser throughput against baselines measured in the same run: memchr over the
-// buffer (issue 3 goal: >= 100 MB/s per core, no heap allocation per frame) and a
-// plain from_chars parser doing the same work (issue 17 goal: at least as fast).
+// Parser throughput against baselines measured in the same run: memchr over the buffer
+// (goal: >= 100 MB/s per core, no heap allocation per frame) and a plain from_chars parser
+// doing the same work (goal: at least as fast). Goals: docs/performance.md.
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -327,7 +327,7 @@ class SummaryReporter : public benchmark::ConsoleReporter {
   }
 };
 
-// The closing table of `make bench` (issue 17 item 5): each figure beside its baseline from
+// The closing table of `make bench`: each figure beside its baseline from
 // the same run, the ratio, the goal and whether it was met, as a Markdown table that
 // docs/performance.md keeps.
 struct GoalRow {
@@ -378,7 +378,7 @@ std::string text_of(const char* format, double a, double b = 0) {
   return buffer.data();
 }
 
-// Issue 3: a decoder against memchr (UDP: an XOR pass) over the same buffer; goal >= 100 MB/s a core, no allocation.
+// A decoder against memchr (UDP: an XOR pass) over the same buffer; goal >= 100 MB/s a core, no allocation.
 void add_memchr_row(GoalTable& table, const char* path, const char* decoder, const char* baseline,
                     const char* baseline_name = "memchr") {
   const auto mb = table.value(decoder, "MB/s");
@@ -390,7 +390,7 @@ void add_memchr_row(GoalTable& table, const char* path, const char* decoder, con
              ">= 100 MB/s, no allocation", *mb >= 100.0 && *allocs < 0.001});
 }
 
-// Issue 17 item 1: each decoder against the plain from_chars parser of the same stream
+// Each decoder against the plain from_chars parser of the same stream
 // (goal >= 1.0x), and the UDP checksum against a plain XOR pass (>= 0.5x).
 void add_ratio_row(GoalTable& table, const char* path, const char* decoder, const char* baseline,
                    const char* baseline_name, double goal) {
@@ -404,8 +404,8 @@ void add_ratio_row(GoalTable& table, const char* path, const char* decoder, cons
 
 // Host streaming: the driver against cat of the same pty, in turn, three pairs in one run
 // (bench/host_stream_rig.hpp run_paired; the pair with the median CPU ratio is shown).
-// Issue 6: >= 95 % of the records delivered, none lost in any run, < 5 % of a core;
-// issue 17 item 2: CPU <= 1.5x cat's.
+// Goals: >= 95 % of the records delivered, none lost in any run, < 5 % of a core, and
+// CPU <= 1.5x cat's.
 void add_host_rows(GoalTable& table, const char* path, const char* name) {
   const auto delivered = table.value(name, "drv_delivered_pct");
   const auto cpu = table.value(name, "drv_host_cpu_pct");
@@ -424,7 +424,7 @@ void add_host_rows(GoalTable& table, const char* path, const char* name) {
              *ratio, "<= 1.5x cat", *ratio <= 1.5 && *cat_cpu > 0});
 }
 
-// Issue 17 item 2: "no allocation per record on the live path", counted by the bench's
+// No allocation per record on the live path, counted by the bench's
 // replacing operator new over the driver benches' window (records of LS5, bursts of ULS
 // binning), the most of the three driver runs. The hand-off vectors grow when a batch is
 // larger than any before (a late consumer): a rare allocation that does not come with
@@ -440,7 +440,7 @@ void add_allocation_row(GoalTable& table, const char* path, const char* name, co
              "-", *most, "0 per " + std::string(record), *most < 0.01 && *records > 0});
 }
 
-// The sensor service (issue 13): CPU against `rangekit ls5 stream` of the same LS5s, same run;
+// The sensor service: CPU against `rangekit ls5 stream` of the same LS5s, same run;
 // goals: at most 3x that CPU, RSS <= 64 MB, record-to-SSE latency p99 <= 20 ms.
 void add_service_rows(GoalTable& table, const char* name) {
   const auto ratio = table.value(name, "cpu_ratio");
@@ -459,7 +459,7 @@ void add_service_rows(GoalTable& table, const char* name) {
              "p99 <= 20 ms", *p99 <= 20.0 && *samples > 0});
 }
 
-// The MQTT bridge (issue 15): CPU against `ls5 stream | mosquitto_pub -l` of the same
+// The MQTT bridge: CPU against `ls5 stream | mosquitto_pub -l` of the same
 // LS5s, same run; goals: less CPU, record-to-subscriber latency p99 <= 10 ms, no loss.
 void add_mqtt_rows(GoalTable& table, const char* name) {
   const auto cpu = table.value(name, "service_cpu_pct");
@@ -478,8 +478,8 @@ void add_mqtt_rows(GoalTable& table, const char* name) {
       {path + ", loss", text_of("%.0f of %.0f lost", *lost, *records), "-", 0, "none", *lost == 0 && *records > 0});
 }
 
-// Emulator pacing (issue 17 item 4): against a minimal absolute-deadline writer, and its CPU
-// against the loop as the issue found it ("no worse than today"), same run; the present loop
+// Emulator pacing (L78): against a minimal absolute-deadline writer, and its CPU against the
+// baseline loop of bench/filed_emulator_loop.hpp (no more), same run; the present loop
 // rounded to whole milliseconds is shown beside it (bench/emulator_pacing_bench.cpp).
 void add_pacing_rows(GoalTable& table, const char* name) {
   const auto p99 = table.value(name, "emu_p99_us");
@@ -510,7 +510,7 @@ void add_pacing_rows(GoalTable& table, const char* name) {
              *filed_cpu > 0 ? *cpu / *filed_cpu : 0, "<= 1x", *cpu <= *filed_cpu && *filed_cpu > 0});
 }
 
-// Capture of ULS binning bursts (issue 17 item 3): against raw sqlite3 C, same schema and batching.
+// Capture of ULS binning bursts: against raw sqlite3 C, same schema and batching.
 void add_capture_row(GoalTable& table, const char* name) {
   const auto ours = table.value(name, "capture_samples_per_s");
   const auto raw = table.value(name, "raw_sqlite_samples_per_s");

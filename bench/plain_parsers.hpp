@@ -1,9 +1,6 @@
-// Baselines for the decoder benchmarks (issue 17 item 1): what a competent user
-// would write with memchr and std::from_chars, doing the same work the rangekit
-// decoders do for the same stream: split the stream into frames, check what the
-// documents require of each line, and turn the fields into numbers. They return
-// false for a line they refuse; they say nothing about why (rangekit's decoders
-// also name the problem, which costs nothing on good lines).
+// Baselines for the decoder benchmarks: what a competent user would write with memchr and
+// std::from_chars for the same work (frame, check, convert). They refuse a line without
+// saying why; rangekit's decoders also name the problem, at no cost on good lines.
 #pragma once
 
 #include <charconv>

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 16's benchmark of the Python package (figures in docs/python.md).
+"""Benchmark of the Python package against its goals (figures in docs/python.md).
 
 1. An LS5 at 1 kHz (period 1 ms, thinning 1, 115200 baud) read for 10 s through
    ``stream.read()``, against a pyserial reader written in plain Python (Debian's

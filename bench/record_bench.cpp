@@ -1,8 +1,6 @@
-// Capture and formatting throughput (issue 6): samples/s written into a SQLite
-// capture against a plain fwrite of the same samples as JSON lines (the floor,
-// measured in the same run), and how fast samples become jsonl/csv text.
-// Issue 17 item 3: ULS binning bursts (15 targets a sample) through the capture
-// against raw sqlite3 C code with the same schema, pragmas and batching.
+// Capture and formatting throughput: samples/s into a SQLite capture against a plain fwrite
+// of the same JSON lines, ULS binning bursts against raw sqlite3 C with the same schema and
+// batching, and how fast samples become jsonl/csv text.
 #include <benchmark/benchmark.h>
 #include <sqlite3.h>
 #include <unistd.h>
@@ -128,7 +126,7 @@ void record_format_csv(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * samples_per_pass);
 }
 
-// ---- Issue 17 item 3: binning bursts against raw sqlite3 ----
+// ---- Binning bursts against raw sqlite3 ----
 
 constexpr int binning_samples = 20000;
 constexpr std::size_t targets_per_sample = 15;

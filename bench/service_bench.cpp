@@ -1,17 +1,6 @@
-// The sensor service under load (issue 13, done means): `rangekit serve` with two
-// LS5 at 1 kHz (t = 1 ms, n = 1, §8.4) and four ULS on an RS-485 bus at 10 Hz
-// (PRF 3000, PPM 300: §9's example "3000/300 Hz or 10 Hz"), ten SSE clients
-// reading /api/events, against a baseline measured in the same run: `rangekit ls5
-// stream` of the same two LS5, two processes. Every program runs as its own
-// process; CPU is utime + stime from /proc/PID/stat over the same window (goal: the
-// service at most 3x the baseline), RSS from /proc/PID/status (goal <= 64 MB).
-//
-// Latency: the first LS5 reaches the service through a pty the bench relays, so the
-// bench knows when each record's last byte (`\r`, table 9.1) was written to the
-// service's pty; each SSE client notes when the event carrying that record arrives
-// (matched by the record's code, in order). Goal: p99 <= 20 ms. The service's CPU
-// is also taken over a window before the clients connect, to tell the hub's share
-// from the streams'.
+// The sensor service under load (docs/service.md): two 1 kHz LS5 and a 10 Hz bus of four
+// ULS served to ten SSE clients, against `rangekit ls5 stream` of the same LS5 in the same
+// run; CPU, RSS and record-to-SSE latency (records relayed through a pty, matched by code).
 #include <benchmark/benchmark.h>
 #include <fcntl.h>
 #include <poll.h>

@@ -1,4 +1,4 @@
-// Pieces the service benches share (issues 13 and 15): CPU and memory of a process
+// Pieces the service and MQTT benches share: CPU and memory of a process
 // from /proc, and a pty relay between an emulator and the program under test that
 // notes when each LS5 record's last byte was written, for latencies.
 #pragma once

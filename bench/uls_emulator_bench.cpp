@@ -1,10 +1,6 @@
-// ULS emulator figures (issue 4):
-// - CPU per simulated second of one unit averaging at 5000 PRF and of 64 units on one
-//   bus (virtual time, so the benchmark's real time is the CPU the emulator needs);
-// - output rate against PRF/PPM over 10 s of real time on the real clock, through a
-//   pty, against a naive sleep-loop ticker running at the same time (baseline);
-// - byte pacing against the baud rate, measured by a pty reader, against an unpaced
-//   pty (baseline).
+// ULS emulator figures (docs/emulator-uls.md): CPU per simulated second (one unit, and 64 on
+// a bus), output rate against PRF/PPM beside a naive sleep-loop ticker, and byte pacing
+// against the baud rate beside an unpaced pty.
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -67,7 +63,7 @@ void simulate(benchmark::State& state, std::size_t count) {
 void BM_UlsOneUnit5000PrfPerSimulatedSecond(benchmark::State& state) { simulate(state, 1); }
 void BM_Uls64UnitsBusPerSimulatedSecond(benchmark::State& state) { simulate(state, 64); }
 
-// Output rate over 60 s of simulated time (issue 4: goal within 0.01 % of
+// Output rate over 60 s of simulated time (goal: within 0.01 % of
 // PRF / PPM). The rate comes from the time stamps of the lines' CRs, first to
 // last, so it resolves far below one line in 6250.
 void BM_UlsOutputRateOverSixtySimulatedSeconds(benchmark::State& state) {

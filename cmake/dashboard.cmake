@@ -1,8 +1,6 @@
-# The browser dashboard (web/, issue 14): TypeScript bundled by esbuild, its toolchain
-# from npm (web/package-lock.json), built in this build folder (BUILD/web: its own
-# node_modules and dist, so build, build-asan and build-tsan never share one) and
-# embedded in the CLI by embed_assets.cmake. Sets RANGEKIT_DASHBOARD_SOURCE, the
-# generated .cpp, and RANGEKIT_DASHBOARD_DIR, the build's copy of web/.
+# The browser dashboard (web/, docs/dashboard.md), bundled by esbuild in BUILD/web and
+# embedded in the CLI by embed_assets.cmake. Sets RANGEKIT_DASHBOARD_SOURCE (the generated
+# .cpp) and RANGEKIT_DASHBOARD_DIR (the build's copy of web/).
 set(RANGEKIT_DASHBOARD_SOURCE ${PROJECT_BINARY_DIR}/generated/dashboard_assets.cpp)
 set(RANGEKIT_DASHBOARD_DIR ${PROJECT_BINARY_DIR}/web)
 if(NOT RANGEKIT_DASHBOARD)

@@ -1,8 +1,6 @@
-// The emulators' control socket on arbitrary lines: the line -> JSON -> handler -> reply
-// path the socket runs (answer_control_line), with the ULS and LS5 firmwares' handlers
-// behind it. Every line gets one reply that is a JSON object with "ok" or "error", and
-// nothing throws (issue 18: invalid UTF-8 ended both emulators with exit 70).
-// Fresh firmwares per input, so a crash reproduces from its input alone.
+// The emulators' control socket (answer_control_line, both firmwares' handlers) on arbitrary
+// lines: every line gets one JSON reply with "ok" or "error", and nothing throws, invalid
+// UTF-8 included. Fresh firmwares per input, so a crash reproduces from its input alone.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>

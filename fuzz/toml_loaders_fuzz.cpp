@@ -1,6 +1,6 @@
 // The TOML loaders on arbitrary text: both emulator scenes, both host configuration
 // files and the site file of `rangekit serve`. Each accepts the text or returns an
-// error naming the problem, and never prints a raw control character (issue 18).
+// error naming the problem, and never prints a raw control character.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>

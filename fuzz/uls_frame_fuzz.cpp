@@ -1,10 +1,6 @@
 // Fuzzes the ULS receive path: bytes -> FrameAssembler(scan_frame) -> parse_frame
-// -> decode_reply and decode_measurement under every context. A decoded
-// measurement must re-encode to a line that decodes to the same reading.
-// Each frame is decoded under one of the 36 measurement contexts, chosen by the input's
-// length and the frame's place in it, so mutations reach every context. (Trying all 36
-// on every frame made this target 36 times slower per frame than the others, most of it
-// building the error messages of the 35 contexts that do not fit: issue 18.)
+// -> decode_reply and decode_measurement. A decoded measurement must re-encode to a
+// line that decodes to the same reading.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -70,6 +66,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     FrameAssembler::Event event;
     while (assembler.next(event)) {
       if (event.kind == FrameAssembler::Event::Kind::frame) {
+        // One of the 36 contexts per frame, by length and place, so mutations reach every
+        // context; all 36 per frame made this target 36 times slower than the others.
         check_frame(event.frame, contexts[(size + frames++) % contexts.size()]);
       } else if (event.reason == nullptr) {
         __builtin_trap();  // every rejection carries its reason

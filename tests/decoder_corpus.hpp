@@ -1,11 +1,6 @@
-// Shared pieces of the decoder corpus tests (issue 17 item 1): a portable random
-// source for generating the corpus, byte mutations that turn good lines into
-// malformed ones, and a digest of everything the decoders output for it.
-//
-// The digests the tests compare with were recorded with the decoders as they were
-// before issue 17 (commit 3310b0b); a faster decoder must reproduce them exactly,
-// values and error messages alike. Set RANGEKIT_DECODER_CORPUS_DUMP=<dir> to write
-// the full outputs as text, to diff a run of the old decoders with the new.
+// Shared pieces of the decoder corpus tests: a portable random source, byte mutations
+// that make good lines malformed, and a digest of everything the decoders output, which
+// must match the unoptimised decoders' (commit 3310b0b), values and messages alike.
 #pragma once
 
 #include <algorithm>

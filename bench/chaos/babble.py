@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """A babbling device: 100 MB of random bytes on a pseudo-terminal that `rangekit FAMILY stream`
-reads. Reports the stream's stderr size (bounded diagnostics, issue 18 item 3), its memory
+reads. Reports the stream's stderr size (bounded diagnostics, docs/reliability.md), its memory
 (VmRSS at the start of the babble and the largest seen), and the bad-frame count of its
 jsonl output against the count its summary lines and first lines report.
 

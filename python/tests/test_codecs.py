@@ -98,7 +98,7 @@ def test_ls5_udp_packet_with_a_wrong_checksum_raises():
 
 
 def test_help_lists_every_setting_with_its_range():
-    # Issue 16 item 3: help() shows the ranges. Typed from the documents: ULS §2 PRF "Values
+    # help() shows the ranges (docs/python.md). Typed from the documents: ULS §2 PRF "Values
     # range from 10 to 5000", §9 1700 m the longest gate; LS5 table 9.2 median filter points
     # 1-49, odd (parameter 0D: 01h-31h, step 2).
     import pydoc

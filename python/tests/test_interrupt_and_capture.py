@@ -101,7 +101,7 @@ def test_capture_dataframe_when_pandas_is_there(tmp_path):
 
 def test_corrupt_capture_is_a_clear_error(tmp_path):
     # docs/capture.md: a corrupt file is refused with an error naming it. The integrity check
-    # runs beside the bulk read (issue 16): a damaged page must still raise, not crash or return
+    # runs beside the bulk read: a damaged page must still raise, not crash or return
     # what happened to be readable.
     path = tmp_path / "corrupt.sqlite"
     with rangekit.sim.ls5(arguments=LS5_ARGUMENTS) as unit:

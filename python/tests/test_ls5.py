@@ -150,8 +150,7 @@ def test_killed_emulator_yields_disconnected_then_reconnected(ls5_unit):
 def test_batches_hand_out_every_item_once_in_order_across_read_and_iteration(ls5_unit):
     """The stream takes the driver's queue in batches (everything queued, with one lock):
     read(n) leaves the rest of a batch for the next read() or the iterator, and a link's
-    events stay where they came among the samples (issue 16: streams as iterators, events
-    delivered in order)."""
+    events stay where they came among the samples."""
     with rangekit.ls5.open(ls5_unit.port) as drv:
         stream = drv.stream(thinning=1, reconnect_interval=0.1)
         assert first_event(stream).kind == "connected"
@@ -179,7 +178,7 @@ def test_batches_hand_out_every_item_once_in_order_across_read_and_iteration(ls5
         stream.stop()
 
 
-# L71 (issue 18 item 2): a record further from the running median than max_speed allows is
+# L71: a record further from the running median than max_speed allows is
 # marked suspect, as `rangekit ls5 stream` marks it; drop_suspect leaves it out. LS5 100/200
 # (range 200 mm): the scene jumps 160 mm in 1 ms every second, beyond the default max_speed
 # (the range a second, 0.2 m/s); the emulator's own noise is within table 3.1's ±0.15 %.

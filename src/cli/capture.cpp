@@ -58,7 +58,7 @@ int run_capture(CaptureArguments& arguments) {
   }
   record::StreamStats stats;
   const int code = run_stream_as(*merged, options, "capture", &stats);
-  // No silent end (issue 11 point 5): what the file holds and how to look at it; said
+  // No silent end (docs/cli.md): what the file holds and how to look at it; said
   // only when there is a file to replay (not after "cannot open" it).
   const bool file_written = code == exit_ok || code == exit_interrupted || stats.samples > 0;
   if (file_written)

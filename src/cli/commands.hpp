@@ -48,13 +48,13 @@ inline CLI::Validator range_millimetres() { return in_range(0, max_range_mm, "mm
 void add_tables_command(CLI::App& app, int& exit_code);
 void add_decode_command(CLI::App& app, int& exit_code);
 void add_demo_command(CLI::App& app, int& exit_code);
-// Host side (issue 6): one file per family, plus replay of captures.
+// Host side: one file per family, plus replay of captures.
 void add_uls_command(CLI::App& app, int& exit_code);
 void add_ls5_command(CLI::App& app, int& exit_code);
 void add_replay_command(CLI::App& app, int& exit_code);
 void add_detect_command(CLI::App& app, int& exit_code);
 void add_capture_command(CLI::App& app, int& exit_code);
-// The sensor service (issue 13).
+// The sensor service (docs/service.md).
 void add_serve_command(CLI::App& app, int& exit_code);
 
 }  // namespace rangekit::cli

@@ -1,4 +1,4 @@
-// The browser dashboard (web/, issue 14), embedded at build time by
+// The browser dashboard (web/, docs/dashboard.md), embedded at build time by
 // cmake/embed_assets.cmake into a generated .cpp: rangekit serve answers it at "/".
 #pragma once
 

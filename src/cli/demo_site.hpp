@@ -1,8 +1,6 @@
-// The site `rangekit serve --demo` serves (issue 13 point 2): an LS5 emulator
-// (its serial stream and its Ethernet packets), a ULS alone and an RS-485 bus of
-// four ULS units, each a child process with moving targets, and the SiteConfig
-// naming them, built in code. Destroying it stops the emulators and removes the
-// temporary directory of their ptys, scenes and logs.
+// The site `rangekit serve --demo` serves: an LS5 emulator (serial and Ethernet), a ULS
+// and an RS-485 bus of four ULS units, each a child process, and their SiteConfig.
+// Destroying it stops the emulators and removes their temporary directory.
 #pragma once
 
 #include <filesystem>

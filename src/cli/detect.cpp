@@ -98,7 +98,7 @@ void print_finding(const Finding& finding, bool jsonl) {
   std::fflush(stdout);
 }
 
-// No silent waits (issue 11 point 5): a port where nothing answers takes about 22 s,
+// No silent waits (docs/cli.md): a port where nothing answers takes about 22 s,
 // so on a terminal (stdout and stderr, as for the status line of docs/cli.md) one line
 // on stderr, redrawn in place, says which rate and format is being tried.
 bool progress_wanted() {

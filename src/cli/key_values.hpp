@@ -1,8 +1,6 @@
-// What `info` and `get` print, for both families (issue 11 point 5, docs/cli.md):
-// NAME=VALUE lines, lower-case kebab names with the unit as the name's last word
-// (`long-gate-m=10`, `period-ms=10`) and bare values (the ULS adds a "# wire"
-// comment), or with --json one JSON object of the same names and values, in the
-// same order: numbers as JSON numbers, a list of numbers as an array.
+// What `info` and `get` print, for both families (U96, docs/cli.md): NAME=VALUE lines,
+// kebab names ending in the unit (`period-ms=10`) and bare values, or with --json one
+// object of the same names in the same order, numbers as numbers.
 #pragma once
 
 #include <fmt/core.h>

@@ -115,7 +115,7 @@ Status run_info(ls5::Driver& driver, bool json) {
   if (!info) return info.error();
   const auto& id = info->identification;
   KeyValues out(json);
-  // The names as `get` spells them: kebab case, the unit last (issue 11 point 5).
+  // The names as `get` spells them: kebab case, the unit last (U96).
   out.add_number("address", fmt::format("{}", info->address));
   out.add("version", std::string(id.version_text.view()));
   out.add_number("lower-boundary-mm", fmt::format("{}", id.lower_boundary_mm));
@@ -367,7 +367,7 @@ void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
                        fmt::print("{}\n", measurement_text(*result));
                        return ok_status();
                      });
-  // The same verbs as `rangekit uls` (issue 11 point 5): start, stop, reset. The LS5's own
+  // The same verbs as `rangekit uls` (docs/cli.md): start, stop, reset. The LS5's own
   // words (on, off, defaults) stay as hidden aliases so that scripts keep working.
   for (const auto& [name, hidden] : {std::pair{"start", false}, std::pair{"on", true}}) {
     auto* start = add_device_command(

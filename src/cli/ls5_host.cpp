@@ -1,4 +1,4 @@
-// `rangekit ls5 ...`: configure, read and stream a Prizma LS5 (issue 6). The
+// `rangekit ls5 ...`: configure, read and stream a Prizma LS5 (docs/host-ls5.md). The
 // subcommands live in ls5_*.cpp; this file registers them and holds what they share.
 #include <fmt/core.h>
 
@@ -36,7 +36,7 @@ void add_ls5_connection_options(CLI::App& command, Ls5Connection& connection) {
                      "to every sensor, unanswered");
   command.add_option("--timeout", connection.timeout_ms, "milliseconds to wait for each reply (default 500)")
       ->check(timeout_milliseconds());
-  // The LS5's earlier spelling, kept for scripts; `--timeout` as for the ULS (issue 11 point 5).
+  // A hidden alias kept for existing scripts; `--timeout` as for the ULS.
   command.add_option("--timeout-ms", connection.timeout_ms)->check(timeout_milliseconds())->group("");
 }
 

@@ -53,7 +53,7 @@ Result<std::chrono::milliseconds> silence_timeout(ls5::Driver& driver, const Ser
   return std::max(std::chrono::milliseconds(command.silence_ms), three_periods);
 }
 
-// No silent waits (issue 11 point 5): when nothing has arrived after `patience`, says
+// No silent waits (docs/cli.md): when nothing has arrived after `patience`, says
 // once on stderr what to check. Everything else is passed through unchanged.
 class HintWhenSilent final : public SampleSource {
  public:

@@ -13,9 +13,6 @@
 
 namespace {
 
-// "rangekit ls5 frob" ends in CLI11's "A subcommand is required": say instead which
-// word was not understood and what would have been (issue 11 point 5). Nothing
-// printed when the error is of another kind.
 // The subcommands chosen, outermost first, and their words ("rangekit uls set").
 std::vector<CLI::App*> chosen_chain(CLI::App& app, std::string& path) {
   std::vector<CLI::App*> chain{&app};
@@ -27,12 +24,14 @@ std::vector<CLI::App*> chosen_chain(CLI::App& app, std::string& path) {
   return chain;
 }
 
-// " (did you mean 'x'?)" when a known word is that close to the typed one.
+// "; did you mean 'x'?" when a known word is that close to the typed one, else "".
 std::string did_you_mean(std::string_view typed, const std::vector<std::string>& known) {
   const auto meant = rangekit::text::closest(typed, known);
   return meant ? "; did you mean '" + *meant + "'?" : "";
 }
 
+// "rangekit ls5 frob" ends in CLI11's "A subcommand is required": say instead which word was
+// not understood and what would have been. Nothing printed for an error of another kind.
 bool reported_unknown_subcommand(CLI::App& app) {
   std::string path;
   CLI::App* deepest = chosen_chain(app, path).back();

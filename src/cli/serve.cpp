@@ -1,7 +1,6 @@
-// `rangekit serve`: the sensor service (issue 13). `--check` validates a site
-// file without opening anything; `--config` keeps every sensor of the site live
-// through the hub and prints a one-line summary per sensor each second; `--demo`
-// does the same for a site of emulators it starts itself (cli/demo_site.hpp).
+// `rangekit serve`: the sensor service (docs/service.md). `--check` validates a site file;
+// `--config` keeps its sensors live through the hub with a summary line per sensor each
+// second; `--demo` does the same for emulators it starts itself (cli/demo_site.hpp).
 #include <fmt/core.h>
 
 #include <chrono>

@@ -29,8 +29,8 @@ void add_common_sim_options(CLI::App& command, SimCommonOptions& options);
 int run_emulator(std::vector<LineConfig> lines, const SimCommonOptions& options, const std::string& title,
                  EmulatorRuntime::ControlExtension extension);
 
-// The exit code of a --scene file that cannot be used, the same for both families
-// (issue 18; they said 2 and 3): 4 when it cannot be read, else 3, input that does not
+// The exit code of a --scene file that cannot be used, the same for both families:
+// 4 when it cannot be read, else 3, input that does not
 // decode (docs/cli.md, exit codes), whatever the scene loader's error code.
 int scene_exit_code(const Error& error);
 

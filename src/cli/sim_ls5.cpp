@@ -1,4 +1,4 @@
-// `rangekit sim ls5`: the LS5 emulator (issue 5) on a pseudo-terminal, one or
+// `rangekit sim ls5`: the LS5 emulator on a pseudo-terminal, one or
 // more sensors on the line (RS-485 bus), the Ethernet stream to a loopback
 // UDP destination. Firmware: src/ls5/emulator; how to run it: docs/emulator-ls5.md.
 #include <fmt/core.h>

@@ -1,4 +1,4 @@
-// `rangekit sim uls`: the ULS emulator (issue 4, docs/emulator-uls.md). One unit
+// `rangekit sim uls`: the ULS emulator (docs/emulator-uls.md). One unit
 // with its universal and configuration ports, or up to 64 units on one RS-485 bus.
 #include <fmt/core.h>
 

@@ -129,7 +129,7 @@ int run_stream_as(SampleSource& source, const StreamOptions& options, const std:
   StatusLine status(!options.quiet && stdout_on_terminal && ::isatty(STDERR_FILENO) == 1);
   record::StreamObserver observer;
   // A babbling line rejects thousands of fragments a second: the first of each kind is
-  // printed, the rest merged into one summary a second (issue 18 item 3).
+  // printed, the rest merged into one summary a second.
   record::DiagnosticLimiter limiter;
   const auto print = [&status, &command_name](const std::vector<std::string>& lines) {
     if (lines.empty()) return;

@@ -1,7 +1,6 @@
-// The loop behind every `stream` subcommand and `replay`: pulls samples from a
-// SampleSource, writes them to stdout or --out in the chosen format and/or to a
-// SQLite --capture, stops on --count/--duration/Ctrl-C, shows a live status line
-// on a terminal, and turns failures into the exit codes of docs/cli.md.
+// The loop behind every `stream` subcommand and `replay`: samples to stdout/--out and/or
+// a --capture until --count/--duration/Ctrl-C, with a status line on a terminal and the
+// exit codes of docs/cli.md.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -24,7 +23,7 @@ struct StreamOptions {
   // A live source that ends after a disconnect exits with exit_link_lost; a
   // replay only shows the recorded disconnect.
   bool link_lost_is_failure = true;
-  // Quality (issue 18 item 2): live streams check each sample; a replay keeps the flags
+  // Quality (docs/reliability.md): live streams check each sample; a replay keeps the flags
   // recorded with it. --drop-suspect leaves suspect samples out of every output.
   bool check_quality = true;
   std::optional<double> max_speed_mps;  // --max-speed; nullopt = the family default

@@ -1,4 +1,4 @@
-// `rangekit uls ...`: configure, read and stream a ULS (issue 6) through the
+// `rangekit uls ...`: configure, read and stream a ULS (docs/host-uls.md) through the
 // host driver. Library errors become one message and a documented exit code.
 #include <fmt/core.h>
 
@@ -177,7 +177,7 @@ int run_info(const LinkOptions& link) {
   if (info->address) out.add("address", address_text(*info->address));
   out.add("version", info->version);
   const StatusInfo& s = info->status;
-  // The same words as `get` prints for US (the command table's names, issue 11 point 5).
+  // The same words as `get` prints for US (the command table's names).
   const std::string_view status_name = command_info(CommandId::status).value_name(s.value);
   out.add("status",
           !status_name.empty() ? std::string(status_name)

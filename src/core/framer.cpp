@@ -29,7 +29,7 @@ FrameScan scan_line_frame(Bytes buffer, const LineFramerRules& rules) noexcept {
 
   // One pass finds the terminator and checks the bytes before it, in order, so the
   // first problem in the frame is the one reported. Frames are a few dozen bytes:
-  // a plain loop beats a memchr call plus a second pass (issue 17).
+  // a plain loop beats a memchr call plus a second pass.
   const std::size_t window = std::min(buffer.size(), rules.max_length + 1);
   // Bytes above every start character and below DEL need no further look: the
   // common case (digits, letters, ',' and '.' all sit above '$', '#', '!', '%').

@@ -1,5 +1,5 @@
-// The faces' shared JSON (rangekit/hub/json_views.hpp): moved here from the web face
-// so the MQTT bridge reads settings and reports errors with the same code.
+// The faces' shared JSON (rangekit/hub/json_views.hpp): one copy, so the web face and the
+// MQTT bridge read settings and report errors with the same code.
 #include "rangekit/hub/json_views.hpp"
 
 #include <array>
@@ -53,7 +53,7 @@ nlohmann::json sensor_json(const SensorSnapshot& sensor) {
   out["setting_units"] = units;
   if (config.address) out["address"] = *config.address;
   if (!config.udp.empty()) out["udp"] = config.udp;
-  // Quality settings from the site file (issue 18 item 2); null max_speed = the family default.
+  // Quality settings from the site file; null max_speed = the family default.
   out["max_speed"] = config.max_speed_mps ? nlohmann::json(*config.max_speed_mps) : nlohmann::json(nullptr);
   out["drop_suspect"] = config.drop_suspect;
   nlohmann::json errors = nlohmann::json::object();

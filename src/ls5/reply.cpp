@@ -191,10 +191,10 @@ Reply Reply::stream_record(ResultCode code) noexcept {
 
 Result<Reply> parse_reply(Bytes frame_bytes) {
   // Stream records straight into their Reply: no Result<ResultCode> or second
-  // Reply (it holds an Identification) for every 6-byte record (issue 17).
+  // Reply (it holds an Identification) for every 6-byte record.
   // Returned by name on every path, so it is built in the caller's slot.
   // Copied from a finished blank: built field by field on the stack and then
-  // copied, a Reply stalled on store forwarding (perf, issue 17).
+  // copied, a Reply stalled on store forwarding.
   Result<Reply> reply = blank_reply;
   if (std::uint16_t code = 0;
       frame_bytes.size() == detail::stream_record_length && detail::read_good_stream_record(frame_bytes.data(), code)) {

@@ -32,7 +32,7 @@ Error state_error(std::size_t record, std::uint8_t state) {
 }
 
 // Eight bytes at a time, folded to one at the end: a byte at a time ran at a
-// twentieth of a plain XOR pass (issue 17).
+// twentieth of a plain XOR pass.
 std::uint8_t xor_of(Bytes bytes) noexcept {
   std::uint64_t folded = 0;
   std::size_t at = 0;

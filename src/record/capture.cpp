@@ -88,7 +88,7 @@ void bind_optional_real(sqlite3_stmt* statement, int index, const std::optional<
 // [{"distance_m": d, "strength": s}, ...] writes it (keys in order, no spaces, doubles
 // by nlohmann's own shortest round-trip printer, NaN and infinities as null), but
 // straight into a reused buffer: building the json objects was most of a binning
-// sample's capture cost (issue 17 item 3).
+// sample's capture cost.
 void append_targets_json(std::string& out, const TargetList& targets) {
   out += '[';
   std::array<char, 64> number{};  // nlohmann's own number buffer size

@@ -237,7 +237,7 @@ void append_jsonl(std::string& out, const Sample& sample) {
       break;
     }
   }
-  // Only a suspect sample carries the keys, so clean streams read as before (issue 18).
+  // Only a suspect sample carries the keys, so a clean stream's lines carry nothing extra.
   if (sample.suspect) {
     append_json_key(out, "suspect");
     append_bool(out, true);

@@ -92,7 +92,7 @@ Status check_is_capture(const std::string& path, sqlite3* database, IntegrityChe
     return make_error(Errc::io, "capture " + path + ": an SQLite database, but not a rangekit capture");
   }
   // A newer rangekit may store what this one would drop or misread: refuse to replay or
-  // append rather than go on without notice (issue 18). Every capture has written the row.
+  // append rather than go on without notice. Every capture has written the row.
   const auto version = meta("format_version");
   if (version != "1" && version != "2" && version != "3") {
     return make_error(Errc::unsupported,

@@ -29,7 +29,7 @@ Result<Statement> prepare(const std::string& path, sqlite3* database, const char
 
 // Columns that format version 2 added to `samples` (L60, L63); version 1 captures lack them.
 // Columns added after format version 1, with their SQL types: version 2 the LS5 derivative
-// and the resolution, version 3 the quality flag (issue 18). Older captures read them as NULL.
+// and the resolution, version 3 the quality flag. Older captures read them as NULL.
 struct AddedColumn {
   const char* name;
   const char* type;

@@ -44,7 +44,7 @@ class StreamLoop {
       // once next_batch() comes back empty, while one that finishes during the wait
       // may still hand over its last items.
       const bool was_finished = source_.finished();
-      // One wake-up for everything the reader queued meanwhile (issue 17): the items
+      // One wake-up for everything the reader queued meanwhile: the items
       // are handled in order, exactly as if they had been taken one by one.
       if (source_.next_batch(batch_, timeout)) {
         const auto arrived = Clock::now();

@@ -249,7 +249,7 @@ nlohmann::json EmulatorRuntime::handle_control(const nlohmann::json& request) {
     const std::string name = request.value("line", lines_.front().config.name);
     for (auto& line : lines_) {
       if (line.config.name != name) continue;
-      // Both are probabilities per bit and per byte (issue 18: 2 and -1 were accepted).
+      // Both are probabilities per bit and per byte, so 0 to 1.
       const auto bit_error_rate = control_number(request, "bit_error_rate", 0.0, 1.0, 0.0);
       if (!bit_error_rate) return {{"error", bit_error_rate.error().message}};
       const auto drop_rate = control_number(request, "drop_rate", 0.0, 1.0, 0.0);
@@ -276,8 +276,8 @@ nlohmann::json EmulatorRuntime::handle_control(const nlohmann::json& request) {
 
 Nanos loop_wait(Nanos until_deadline, Nanos max_wait, Nanos resolution) {
   Nanos wait = std::clamp(until_deadline, Nanos(0), max_wait);
-  // Whole milliseconds (the old poll()) made records at 1 kHz and above leave in
-  // batches (issue 17, L78); ppoll() takes the wait to the nanosecond.
+  // Whole milliseconds (poll()) make records at 1 kHz and above leave in
+  // batches (L78); ppoll() takes the wait to the nanosecond.
   if (resolution > Nanos(0)) wait = (wait + resolution - Nanos(1)) / resolution * resolution;
   return wait;
 }

@@ -17,7 +17,7 @@ namespace rangekit::sim {
 enum class KeyStyle { quoted, plain };
 
 inline std::string where(std::string_view source, const toml::node& node, std::string_view key, KeyStyle style) {
-  // A key may hold any character, NUL and escape sequences too (issue 18): shown escaped.
+  // A key may hold any character, NUL and escape sequences too: shown escaped.
   const std::string shown = text::printable(key);
   const std::string name = style == KeyStyle::quoted ? "'" + shown + "'" : shown;
   return toml_place(source, node) + ": " + name;

@@ -83,7 +83,7 @@ std::string hex_byte(std::uint8_t byte) { return "0x" + text::hex_byte(byte); }
 
 std::string quoted(std::string_view whole) {
   // Longer than any frame (a whole junk buffer handed to a line parser): cut, so a
-  // message stays a line and costs no more than a frame's worth (issue 18).
+  // message stays a line and costs no more than a frame's worth.
   const std::string_view field = whole.substr(0, max_quoted_bytes);
   std::string text = "'";
   text.reserve(field.size() + 24);

@@ -12,7 +12,7 @@
 namespace rangekit::uls::detail {
 
 // What parse_common_frame reads: offsets into the frame, not views, so that no
-// 128 bytes of string_views are zeroed per line (issue 17). Field i runs from
+// 128 bytes of string_views are zeroed per line. Field i runs from
 // starts[i] to the comma (or end) before starts[i + 1].
 struct CommonFrame {
   Address address;

@@ -161,7 +161,7 @@ Result<FrameView> parse_any_frame(Bytes frame) {
 }  // namespace
 
 Result<FrameView> parse_frame(Bytes frame) {
-  // Returned by name on every path, so it is built in the caller's slot (issue 17).
+  // Returned by name on every path, so it is built in the caller's slot.
   Result<FrameView> parsed = FrameView{};
   if (detail::CommonFrame common; detail::parse_common_frame(as_text(frame), common)) {
     FrameView& view = *parsed;

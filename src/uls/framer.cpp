@@ -29,7 +29,7 @@ bool starts_unit_address_set(Bytes buffer, std::size_t value_at) noexcept {
 FrameScan scan_frame(Bytes buffer) noexcept {
   // The common frame: a start byte, then only bytes above '$' and below DEL up to
   // the CR. scan_line_frame gives the same answer for it (such a frame cannot be
-  // the U25 UA shape, whose value byte is 0x7F or above), more slowly (issue 17).
+  // the U25 UA shape, whose value byte is 0x7F or above), more slowly.
   if (!buffer.empty() && (buffer[0] == '$' || buffer[0] == '#')) {
     const std::size_t window = std::min(buffer.size(), max_frame_length + 1);
     std::size_t end = 1;

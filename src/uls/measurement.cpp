@@ -40,7 +40,7 @@ bool read_good_range(std::string_view field, Units units, Range& out) noexcept {
   if (!point || integer_digits == 0 || static_cast<int>(fraction_digits) != decimals_for(units)) return false;
   const double magnitude = static_cast<double>(mantissa) / (fraction_digits == 3 ? 1000.0 : 100.0);
   // Field by field, as make_range would: a Range returned through memory and
-  // copied stalled on store forwarding (perf, issue 17).
+  // copied stalled on store forwarding.
   out.user = negative ? -magnitude : magnitude;
   out.metres = to_metres(out.user, units);
   out.units = units;
@@ -323,7 +323,7 @@ bool decode_common_reading(std::string_view mnemonic, const Fields& fields, cons
 
 // Both overloads read a line straight into the Result they return (one object,
 // returned by name on every path, so it is built in the caller's slot): no
-// Reading -> Measurement -> Result copies per line (issue 17).
+// Reading -> Measurement -> Result copies per line.
 Result<Measurement> decode_measurement(const FrameView& frame, const MeasurementContext& context) {
   Result<Measurement> decoded = Measurement{frame.address, Reading{}};
   if (frame.address.is_broadcast() || frame.kind != FrameKind::message ||

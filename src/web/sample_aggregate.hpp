@@ -1,8 +1,6 @@
-// One sensor's samples merged over one 1/max_rate bucket of an SSE stream
-// (`?max_rate=N`, docs/api.md): count, min, max and last of their readings (core/family.hpp).
-// Samples with no reading (no signal, device errors) are gaps; samples
-// the quality checks marked suspect (issue 18 item 2) are counted apart and kept out
-// of min/max/last, so one corrupt record cannot stretch a plotted window.
+// One sensor's samples merged over one 1/max_rate bucket of an SSE stream (docs/api.md):
+// count, min, max and last. No reading is a gap; suspect samples are counted apart and
+// kept out of min/max/last, so one corrupt record cannot stretch a plotted window.
 #pragma once
 
 #include <chrono>

@@ -1,7 +1,6 @@
-// The hot path (framing + decoding a measurement stream) must not touch the
-// heap once warmed up (issue 3). This binary links bench/allocation_counter.cpp,
-// which replaces the global operator new to count allocations: that is why it
-// is a test binary of its own.
+// The hot path (framing + decoding a measurement stream) must not touch the heap once
+// warmed up. A binary of its own: it links bench/allocation_counter.cpp, which replaces
+// the global operator new to count allocations.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -87,10 +86,9 @@ TEST(HotPathAllocation, Ls5StreamRecordsAndUdpPackets) {
   EXPECT_EQ(static_cast<long>(bench::allocation_count()) - before, 0);
 }
 
-// The live path's hand-off (issue 17 item 2: "no allocation per record on the live
-// path"): once both sides' vectors have grown to a batch, a reader pushing samples and a
-// consumer taking them in batches allocate nothing more. (A deque allocated a node for
-// every item or two of a StreamItem's size.)
+// The live path's hand-off, with no allocation per record on the live path
+// (docs/performance.md): once both sides' vectors have grown to a batch, a reader pushing
+// samples and a consumer taking them in batches allocate nothing more.
 TEST(HotPathAllocation, StreamQueueHandOffOfSamplesInBatches) {
   StreamQueue<StreamItem> queue;
   std::vector<StreamItem> batch;
@@ -115,8 +113,8 @@ TEST(HotPathAllocation, StreamQueueHandOffOfSamplesInBatches) {
 
 // Every record of a stream carries the port it came from, and a real port path
 // (/dev/serial/by-id/...) or a scratch pty link is longer than std::string's inline
-// buffer: as a std::string, each copy of a Sample allocated (issue 17 item 2, "no
-// allocation per record on the live path"). The name is shared instead.
+// buffer: as a std::string, each copy of a Sample would allocate. The name is shared
+// instead, so the live path allocates nothing per record.
 TEST(HotPathAllocation, CopyingASampleWithALongSourceDoesNotAllocate) {
   const std::string path = "/dev/serial/by-id/usb-FTDI_FT232R_USB_UART_A10KZ3Q7-if00-port0";
   Sample sample;

@@ -140,7 +140,7 @@ TEST(Architecture, OnlyAFamilysServicePartKnowsTheHub) {
 }
 
 TEST(Architecture, FacesReachTheSensorsOnlyThroughTheHub) {
-  // Issue 15: the MQTT bridge, like the HTTP face, is a face on the hub: no driver, codec or emulator.
+  // The MQTT bridge (docs/mqtt.md), like the HTTP face, is a face on the hub: no driver, codec or emulator.
   for (const std::string folder : {"src/web", "src/mqtt", "include/rangekit/web", "include/rangekit/mqtt"}) {
     expect_no_include(folder, R"(^rangekit/(uls|ls5|sim)/|^(uls|ls5|sim)/)",
                       "a face reaches the sensors only through rangekit::hub");
@@ -153,7 +153,7 @@ TEST(Architecture, CliIncludesNoPrivateHeaderOfALibrary) {
 }
 
 TEST(Architecture, PythonModuleUsesThePublicHeadersOnly) {
-  // Issue 16: "The Python package must be the same library, not a second implementation":
+  // "The Python package must be the same library, not a second implementation" (docs/python.md):
   // its module (python/src) binds the public headers, and links no emulator (rangekit.sim
   // runs the CLI's `rangekit sim` as a child process) and no hub.
   expect_no_include("python/src", R"(^(?!common\.hpp$|rangekit/))",

@@ -38,7 +38,7 @@ TEST(Capture, BothFamiliesIntoOneFileThatReplays) {
   EXPECT_EQ(replay.exit_code, 0) << replay.err;
   EXPECT_TRUE(contains(replay.out, R"("device":"uls")")) << replay.out;
   EXPECT_TRUE(contains(replay.out, R"("device":"ls5")")) << replay.out;
-  // Issue 11 point 5: "`capture` ends with "N samples → FILE; replay with …"", and N is
+  // "`capture` ends with "N samples → FILE; replay with …"", and N is
   // what the file holds: one replayed line per sample.
   const std::string closing = " samples \u2192 " + file + "; replay with: rangekit replay " + file;
   ASSERT_TRUE(contains(captured_err, closing)) << captured_err;

@@ -1,7 +1,6 @@
-// Issue 18, "Fix the crash": a control-socket line with invalid UTF-8 inside a JSON string
-// ({"cmd":"\xff"}) ended `sim uls` and `sim ls5` with exit 70, and out-of-range values
-// (noise bit_error_rate 2, drop_rate -1, move_target position_mm -1e308) were taken. Every
-// such line now gets one {"error": ...} line naming the problem, and the emulator keeps serving.
+// Control-socket lines with invalid UTF-8 ({"cmd":"\xff"}) or out-of-range values
+// (bit_error_rate 2, drop_rate -1, position_mm -1e308) get one {"error": ...} line naming
+// the problem, and the emulator keeps serving (docs/reliability.md).
 #include <gtest/gtest.h>
 #include <poll.h>
 #include <sys/socket.h>

@@ -79,7 +79,7 @@ TEST(Detect, FindsAnLs5SetToAnotherByteFormatL66) {
   const auto old_format = run_cli(dir.path, {"ls5", "info", "--port", ls5_port, "--timeout-ms", "200"});
   ASSERT_EQ(old_format.exit_code, 5) << "the sensor still answers 8N1: " << old_format.out;
 
-  // Issue 11 point 5: "`--json` for `info`, `get` and `detect`" (`--jsonl` still works, above).
+  // "`--json` for `info`, `get` and `detect`" (`--jsonl` still works, above).
   const auto found = run_cli(dir.path, {"detect", "--port", ls5_port, "--baud", "115200", "--json"});
   EXPECT_EQ(found.exit_code, 0) << found.out << found.err;
   EXPECT_TRUE(contains(found.out, R"("family":"ls5")")) << found.out;

@@ -1,5 +1,5 @@
 // One error-to-exit-code table for both families (docs/cli.md, "Exit codes" and
-// "Which error gives which code"; issue 11 point 3). Each case runs the built
+// "Which error gives which code"). Each case runs the built
 // binary for the ULS and the LS5 and expects the same code, typed from the table.
 #include <gtest/gtest.h>
 
@@ -53,7 +53,7 @@ TEST_F(ExitCodes, AMissingPortIsExit4ForEveryCommandThatOpensOne) {
   }
 }
 
-// Issue 11 point 5: "Errors are not wrapped twice ("cannot open X: cannot open serial port X")".
+// "Errors are not wrapped twice ("cannot open X: cannot open serial port X")".
 TEST_F(ExitCodes, ThePortIsNamedOnceWhenItCannotBeOpened) {
   const std::string port = (dir_ / "nothing-here").string();
   const std::vector<std::string> commands{"uls info --port ", "ls5 info --port ", "uls stream --port ",

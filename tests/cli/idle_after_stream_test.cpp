@@ -1,7 +1,6 @@
-// U86: what `stream` and `capture` leave behind, read from the emulators' control
-// sockets (`outputs`: the ULS's `measuring`, the LS5's `streaming`). A unit the
-// host started is idle again when the command ends; a ULS found measuring keeps
-// measuring. (`demo` is checked in cli_test.cpp, LiveDemoStreamsBothSensorsAndCapturesThem.)
+// U86: what `stream` and `capture` leave behind, read from the emulators' control sockets.
+// A unit the host started is idle again when the command ends; a ULS found measuring keeps
+// measuring. (`demo`: cli_test.cpp, LiveDemoStreamsBothSensorsAndCapturesThem.)
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -76,7 +75,7 @@ TEST(IdleAfterStream, U86_AUlsFoundMeasuringKeepsMeasuring) {
   EXPECT_EQ(output(sim.uls_control, "measuring"), true);
 }
 
-// Issue 11: "After `rangekit capture --duration 2` of a ULS, the unit is still measuring."
+// U86: after `rangekit capture --duration 2` a unit the host started is no longer measuring.
 TEST(IdleAfterStream, U86_CaptureLeavesBothFamiliesIdle) {
   const ls5_driver_test::TempDir temp;
   Emulators sim(temp.path);

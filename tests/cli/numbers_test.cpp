@@ -1,7 +1,6 @@
-// Issue 11 point 5: "Numbers are checked: negative durations, counts and timeouts are
-// refused with the allowed range, not a 300-digit number." Every such option is refused
-// with exit 2 (docs/cli.md: "usage error ... invalid option value") before any port is
-// opened, and the message gives the range in plain digits.
+// Negative or huge durations, counts and timeouts are refused with exit 2 (docs/cli.md:
+// "usage error ... invalid option value") before any port is opened, the message giving
+// the allowed range in plain digits.
 #include <gtest/gtest.h>
 
 #include <string>

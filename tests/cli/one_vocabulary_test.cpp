@@ -1,7 +1,6 @@
-// Issue 11 point 5, "One CLI vocabulary for both families": `rangekit uls` and
-// `rangekit ls5` print the same key style in info/get, accept get's names in set,
-// print the same `config diff` and the same `connected` event. Expectations typed
-// from the issue, docs/cli.md and the documents' tables.
+// One CLI vocabulary for both families (U96, L70, docs/cli.md): the same key style in
+// info/get, get's names accepted by set, the same `config diff` and `connected` event.
+// Expectations typed from docs/cli.md and the documents' tables.
 #include <gtest/gtest.h>
 
 #include <fstream>

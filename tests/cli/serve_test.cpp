@@ -1,4 +1,4 @@
-// `rangekit serve --check` and `--config` (issue 13 points 1-2, docs/service.md).
+// `rangekit serve --check` and `--config` (docs/service.md).
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <nlohmann/json.hpp>
@@ -109,7 +109,7 @@ std::string demo_folder(const std::string& head) {
   return head.substr(at + 4, head.find('\n', at) - at - 4);
 }
 
-// Issue 13 point 2: "`rangekit serve --demo`: the embedded default. It starts the two emulators
+// "`rangekit serve --demo`: the embedded default. It starts the two emulators
 // plus an RS-485 bus of four ULS units as child processes, with moving targets (one ULS in binning
 // with two targets, one in look-down with a target that passes), and serves them."
 // The duration is long and the test ends the service with SIGTERM once it has seen everything,

@@ -1,6 +1,6 @@
-// Issue 11 point 5: "`sim` restarts over a stale link left by `kill -9` of an earlier
-// emulator." The killed emulator cannot remove its pty symlink or its control socket;
-// the next one on the same paths starts anyway and says what it removed.
+// `sim` restarts over a stale link left by `kill -9` of an earlier emulator, which could
+// not remove its pty symlink or control socket: the next one on the same paths starts
+// anyway and says what it removed.
 #include <gtest/gtest.h>
 
 #include <filesystem>

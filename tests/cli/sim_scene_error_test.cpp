@@ -1,7 +1,6 @@
-// Issue 18, smaller points: "scene errors exit 2 from `sim uls` but 3 from `sim ls5`", and "a
-// NUL in a TOML key is printed raw in an error". docs/cli.md, exit codes: "3 | input that does
-// not decode", "4 | a file or port cannot be opened or read". Both emulators now say 3 for a
-// scene that does not decode or holds a value out of range, 4 for one that cannot be read.
+// Scene errors exit alike from both emulators (docs/cli.md, exit codes): 3 for a scene that
+// does not decode or holds a value out of range, 4 for one that cannot be read; a NUL in a
+// TOML key is printed escaped.
 #include <gtest/gtest.h>
 
 #include <filesystem>

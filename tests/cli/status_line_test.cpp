@@ -118,7 +118,7 @@ TEST_F(StatusLine, QuietTurnsItOffOnATerminal) {
   EXPECT_FALSE(contains(run.terminal, "samples")) << run.terminal;
 }
 
-// Issue 11 point 5, "No silent waits": "`detect` shows progress on a terminal." A pty
+// No silent waits (docs/cli.md): `detect` shows progress on a terminal. A pty
 // where nothing answers stands for a port without a sensor.
 TEST(DetectProgress, ShownOnATerminalAndNotInAPipe) {
   auto silent = rangekit::PseudoTerminal::open();

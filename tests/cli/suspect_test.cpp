@@ -1,7 +1,6 @@
-// Issue 18 item 2 against the emulators (conformance U102, L71): a target that jumps further
-// than max_speed allows is marked suspect in the live stream's output, with the reason, and
-// `--drop-suspect` leaves those samples out. The scenes jump on purpose (a path with a 1 ms
-// leg) every second, so every run of a few seconds meets several jumps, whenever it starts.
+// Suspect samples against the emulators (U102, L71): a target jumping further than
+// max_speed allows is marked suspect with the reason; `--drop-suspect` leaves it out. The
+// scenes jump every second (a 1 ms leg), so any run of a few seconds meets several jumps.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>

@@ -1,6 +1,5 @@
-// Issue 11 point 5, "One CLI vocabulary for both families": the same words and the
-// same messages from `rangekit uls` and `rangekit ls5`. Expectations typed from the
-// issue and docs/cli.md.
+// One CLI vocabulary for both families: the same words and the same messages from
+// `rangekit uls` and `rangekit ls5`. Expectations typed from docs/cli.md.
 #include <gtest/gtest.h>
 #include "build_paths.hpp"
 

@@ -1,4 +1,4 @@
-// Per-sample quality (issue 18 item 2; conformance U101, U102, U103, L71, L72). Every
+// Per-sample quality (conformance U101, U102, U103, L71, L72). Every
 // vector is typed from the documents: the ULS §9 output shapes and accuracy, the LS5
 // formula 8.1 and its ±0.15 % error limit (§3 table 3.1).
 #include "rangekit/core/sample_quality.hpp"
@@ -156,7 +156,7 @@ TEST(SampleQuality, L72_Ls5RecordShapesAreRefusedByTheCodec) {
 
 // L71: formula 8.1 "distance = code · range / 50000" read backwards gives the range, and
 // §3 table 3.1's ±0.15 % of it is the noise allowance: on a 100 mm sensor two readings may
-// differ by 0.3 mm (150 codes). Code 24845 read as 34845 (issue 18's example) is 20 mm.
+// differ by 0.3 mm (150 codes). Code 24845 read as 34845 (one digit changed) is 20 mm.
 TEST(SampleQuality, L71_Ls5CodeWithAWrongDigitIsSuspect) {
   EXPECT_DOUBLE_EQ(*ls5_range_mm(ls5_reading(24845, milliseconds(0))), 100.0);
   SampleChecker checker;

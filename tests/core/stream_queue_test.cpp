@@ -82,7 +82,7 @@ TEST(StreamQueue, TwoWaitingConsumersEachGetOneOfTwoItems) {
   EXPECT_EQ(*got[0] + *got[1], 3);
 }
 
-// take_all (issue 17 item 2): a consumer takes everything queued with one wake-up, in
+// take_all: a consumer takes everything queued with one wake-up, in
 // the order pushed, and sees the same items pop() would have given it one by one.
 TEST(StreamQueue, TakeAllHandsOverEverythingQueuedInOrder) {
   StreamQueue<int> queue;

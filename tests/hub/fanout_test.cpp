@@ -1,4 +1,4 @@
-// Fan-out with bounded per-subscriber queues (issue 13 point 3): a slow subscriber
+// Fan-out with bounded per-subscriber queues: a slow subscriber
 // loses items, counted for it alone; nobody else is held up.
 #include "rangekit/hub/fanout.hpp"
 

@@ -1,7 +1,6 @@
-// The sensor hub against the emulators on real ptys (issue 13): an LS5, a ULS
-// alone and an RS-485 bus of four ULS units, served together; settings checked
-// before anything is sent and read back; a killed emulator seen disconnected,
-// then reconnected.
+// The sensor hub against the emulators on real ptys: an LS5, a ULS and an RS-485 bus of
+// four ULS units served together; settings checked before sending and read back; a killed
+// emulator seen disconnected, then reconnected.
 #include <gtest/gtest.h>
 
 #include <map>

@@ -1,4 +1,4 @@
-// site.toml: what `rangekit serve --config` and `--check` accept and refuse (issue 13 point 1).
+// site.toml: what `rangekit serve --config` and `--check` accept and refuse (docs/service.md).
 #include "rangekit/hub/site_config.hpp"
 
 #include <gtest/gtest.h>
@@ -147,7 +147,7 @@ TEST(SiteConfig, MaxCapturesIsCheckedAndDefaultsTo16) {
   EXPECT_NE(refusal("[service]\nmax_captures = \"many\"\n" + sensor).find("site.toml:2:"), std::string::npos);
 }
 
-// Issue 18 item 2 (U102, L71): per sensor, the fastest its target moves and whether suspect
+// U102, L71: per sensor, the fastest its target moves and whether suspect
 // samples are left out; unset, the family default and kept.
 TEST(SiteConfig, U102_L71_MaxSpeedAndDropSuspectPerSensor) {
   const auto site = parse_ok(

@@ -1,8 +1,6 @@
-// Issue 18 item 2 in the service (conformance U102, L71): the hub marks a sample no real
-// target gives as suspect before the ring, the streams and the captures see it, and a sensor
-// with `drop_suspect = true` in the site file publishes none of them, counting them instead.
-// Both LS5 emulators jump 160 mm every second (a path with a 1 ms leg), far beyond the
-// default max_speed (the range a second, 0.2 m/s on a 200 mm range).
+// Suspect samples in the service (U102, L71): the hub marks them before the ring, streams
+// and captures see them, and a sensor with `drop_suspect = true` publishes none, counting them.
+// Both LS5 emulators jump 160 mm every second, far beyond the default 0.2 m/s max_speed.
 #include <gtest/gtest.h>
 
 #include <fstream>

@@ -1,13 +1,6 @@
-// The LS5 decoders against their recorded outputs on a large corpus (issue 17 item 1:
-// "Outputs are unchanged ... a test compares the new decoders with the old results on a
-// large recorded corpus, including malformed lines").
-//
-// Serial: the replies the emulator writes (encode_reply, as src/ls5/emulator/firmware.cpp
-// sends them), mostly "!ddddd" stream records (§9.2, L1), each also mutated into a
-// malformed one; every framer event and parse_reply result is digested.
-// UDP: datagrams written by encode_udp_packet (§10.1, L12), then damaged (bytes flipped,
-// with and without a repaired checksum, cut or lengthened); every decode_udp_packet
-// result is digested. The expected digests were recorded before the decoders were optimised.
+// The LS5 decoders against their recorded outputs on a large corpus, malformed lines
+// included, so optimising them leaves every output unchanged (tests/decoder_corpus.hpp).
+// Serial replies (§9.2, L1) and UDP datagrams (§10.1, L12), each also damaged, are digested.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -115,14 +108,14 @@ TEST(Ls5DecoderCorpus, SerialRepliesMatchTheRecordedOutputs) {
     parsing.add(reply ? describe(*reply) : describe(reply.error()));
   });
 
-  // Recorded with the decoders of commit 3310b0b (before issue 17).
+  // Recorded with the unoptimised decoders of commit 3310b0b.
   EXPECT_EQ(framing.lines(), 60221U);
   EXPECT_EQ(framing.hex(), "0ddba90e7d7ba62e");
   EXPECT_EQ(parsing.lines(), 53510U);
   EXPECT_EQ(parsing.hex(), "0dfbbbc1be6a1c0c");
 }
 
-// The stream reader's path (issue 17): decode_replies reads good "!ddddd" records straight
+// The stream reader's path: decode_replies reads good "!ddddd" records straight
 // from the framer's buffer and everything else through next() and parse_reply. It must
 // give the same frames, rejections and replies, in the same order, as the test above:
 // the same recorded digests (L1: "!ddddd<CR>", L7: codes 0-50000, 65534, 65535).
@@ -151,7 +144,7 @@ TEST(Ls5DecoderCorpus, DecodeRepliesMatchesTheRecordedOutputs) {
   });
 
   EXPECT_GT(records, 30000U);  // most records took the direct path
-  // The digests recorded with the decoders of commit 3310b0b (before issue 17), as above.
+  // The digests recorded with the unoptimised decoders of commit 3310b0b, as above.
   EXPECT_EQ(framing.lines(), 60221U);
   EXPECT_EQ(framing.hex(), "0ddba90e7d7ba62e");
   EXPECT_EQ(parsing.lines(), 53510U);
@@ -212,7 +205,7 @@ TEST(Ls5DecoderCorpus, UdpDatagramsMatchTheRecordedOutputs) {
     }
     decoding.add(text);
   }
-  // Recorded with the decoders of commit 3310b0b (before issue 17).
+  // Recorded with the unoptimised decoders of commit 3310b0b.
   EXPECT_EQ(decoding.lines(), 6000U);
   EXPECT_EQ(decoding.hex(), "97d3dab6cff8a87a");
 }

@@ -176,8 +176,8 @@ TEST(Ls5Cli, SerialStreamAndUdpThroughTheStreamRunner) {
   EXPECT_EQ(bad_listen.exit_code, cli::exit_usage) << bad_listen.err;
 }
 
-// Issue 11 point 5, "No silent waits": "`ls5 udp` with nothing arriving hints at
-// destination IP/port after 3 s." Nothing sends here; the test reads stderr until the
+// No silent waits (docs/cli.md): `ls5 udp` with nothing arriving hints at the
+// destination IP/port after 3 s. Nothing sends here; the test reads stderr until the
 // hint comes (a blocking read, no timing bound) and then ends the receiver.
 TEST(Ls5Cli, UdpWithNothingArrivingHintsAtTheDestination) {
   const int probe = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
@@ -211,7 +211,7 @@ TEST(Ls5Cli, UdpWithNothingArrivingHintsAtTheDestination) {
   EXPECT_TRUE(contains(hint, "destination port " + port)) << hint;
 }
 
-// Issue 11 point 5: `--no-reconnect`, as for the ULS: the stream ends when the port goes
+// `--no-reconnect`, as for the ULS: the stream ends when the port goes
 // away, with exit 8 ("the link went away and did not come back", docs/cli.md).
 TEST(Ls5Cli, NoReconnectEndsTheStreamWhenThePortGoesAway) {
   Workspace w("no-reconnect");
@@ -286,8 +286,8 @@ TEST(Ls5Cli, ConfigSaveChangeDiffLoadVerify) {
   EXPECT_TRUE(contains(bad.err, "thinning")) << bad.err;
   EXPECT_EQ(w.ls5({"get", "--port", w.port, "median-points"}).out, "median-points=5\n") << "nothing was written";
 
-  // Issue 18: an empty file exited 0 with "0 settings written, verified", where `uls config
-  // load` refuses the same ("no [settings] table", exit 3): refused alike, nothing sent.
+  // An empty file is refused as `uls config load` refuses it (exit 3), nothing sent: a
+  // "0 settings written, verified" would hide a wrong or truncated file.
   std::ofstream((w.dir / "empty.toml").string()) << "";
   CliRun empty = w.ls5({"config", "load", "--port", w.port, (w.dir / "empty.toml").string()});
   EXPECT_EQ(empty.exit_code, cli::exit_bad_input) << empty.err;

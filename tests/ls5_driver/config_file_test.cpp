@@ -14,8 +14,8 @@ TEST(Ls5ConfigFile, SyntaxErrorNamesFileAndLine) {
   EXPECT_EQ(config.error().message.rfind("bad.toml:2: ", 0), 0u) << config.error().message;
 }
 
-// Issue 18: "`ls5 config load` of an empty file exits 0 with '0 settings written, verified',
-// where the ULS refuses the same". A file with no [link] or [parameters] setting is refused.
+// A file with no [link] or [parameters] setting is refused, as the ULS refuses an empty
+// one, rather than reported as "0 settings written, verified".
 TEST(Ls5ConfigFile, EmptyFileIsRefusedAsTheUlsRefusesIt) {
   for (const char* text : {"", "# nothing\n", "[sensor]\naddress = 3\n", "[parameters]\n"}) {
     const auto config = parse_config_toml(text, "empty.toml");
@@ -25,7 +25,7 @@ TEST(Ls5ConfigFile, EmptyFileIsRefusedAsTheUlsRefusesIt) {
   }
 }
 
-// Issue 18: "a NUL in a TOML key is printed raw in an error". Keys and sections are printed
+// A NUL in a TOML key is not printed raw: keys and sections are printed
 // with control characters escaped (\x00, \x1b).
 TEST(Ls5ConfigFile, ControlCharactersInKeysArePrintedEscaped) {
   auto config = parse_config_toml("[parameters]\n\"lase\\u0000r\" = 1\n", "nul.toml");

@@ -105,7 +105,7 @@ TEST(Ls5Driver, EveryEchoedCommandSendsItsCode) {
   }
 }
 
-// Issue 11 point 2: the old names still compile (deprecated) and send the same command.
+// The deprecated names still compile and send the same command, for existing callers.
 TEST(Ls5Driver, DeprecatedTurnOnAndTurnOffStillSendOnAndOf) {
   auto pair = make_loopback_pair();
   ScriptedDevice device(std::move(pair.b));
@@ -247,7 +247,7 @@ TEST(Ls5Driver, LastAndLatchedResultsWithSpecialCodes) {
   EXPECT_EQ(latched->code.kind, CodeKind::no_signal);
   EXPECT_FALSE(latched->distance_mm.has_value());
   EXPECT_EQ(f.device->receive_until("#01FR\r"), "#01ID\r#01LR\r#01FR\r");
-  // measure(), the verb of both drivers (issue 11 point 2), is LR on the LS5.
+  // measure(), the verb of both drivers, is LR on the LS5.
   f.device->send("!01LR12500\r");
   auto measured = f.driver->measure();
   ASSERT_TRUE(measured) << measured.error().message;

@@ -223,7 +223,7 @@ TEST(Ls5Stream, WithoutAReopenFunctionAClosedLinkEndsTheStream) {
   EXPECT_TRUE(has_event(got, StreamEventKind::disconnected));
 }
 
-// U86, issue 11 point 1 "the device is idle after ... a destroyed driver": the driver going
+// U86 "the device is idle after ... a destroyed driver": the driver going
 // first stops the stream it started. §8.13 "To stop the stream, use the #[AA]SB<cr> command."
 // The stream left behind is finished and safe to read and stop (it shares what it reads with).
 TEST(Ls5Stream, U86_DestroyingTheDriverFirstStopsItsStreamAndLeavesTheSensorIdle) {
@@ -248,7 +248,7 @@ TEST(Ls5Stream, U86_DestroyingTheDriverFirstStopsItsStreamAndLeavesTheSensorIdle
   EXPECT_EQ(device.receive_all(), "");
 }
 
-// Issue 11 point 2: while a stream holds the line, the driver refuses every call that would
+// While a stream holds the line, the driver refuses every call that would
 // use it (its reply would be lost among the records, and the reader owns the line), naming
 // the stream; after stop() the driver answers again.
 TEST(Ls5Stream, CallsWhileTheStreamHoldsTheLineAreRefusedNamingTheStream) {
@@ -281,7 +281,7 @@ TEST(Ls5Stream, CallsWhileTheStreamHoldsTheLineAreRefusedNamingTheStream) {
   EXPECT_EQ(again->code.value, 25000);
 }
 
-// Issue 11 point 2 "what stop() means" in both families: the driver's stop_stream() ends the
+// What stop() means, alike in both families: the driver's stop_stream() ends the
 // stream it started (reader joined, SB sent: §8.13 "To stop the stream, use the #[AA]SB<cr>
 // command"), as the ULS driver's does; the stream object is then finished.
 TEST(Ls5Stream, StopStreamOnTheDriverEndsTheStreamItStarted) {
@@ -305,7 +305,7 @@ TEST(Ls5Stream, StopStreamOnTheDriverEndsTheStreamItStarted) {
   EXPECT_EQ(device.receive_all(), "");  // the stream sends no second SB
 }
 
-// Issue 11 point 2 "misuse cannot compile": a stream points at the driver that started it, so
+// Misuse cannot compile: a stream points at the driver that started it, so
 // neither a driver nor a stream can be copied or moved away from under the other.
 static_assert(!std::is_copy_constructible_v<Driver> && !std::is_move_constructible_v<Driver>);
 static_assert(!std::is_copy_assignable_v<Driver> && !std::is_move_assignable_v<Driver>);

@@ -1,7 +1,6 @@
-// The MQTT bridge against a real mosquitto and an LS5 emulator on a pty (issue 15):
-// readings with the scene's distance, windows above the rate, retained state and
-// discovery, `set` and `action` checked on the emulator's side, and a broker killed
-// and restarted mid-stream.
+// The MQTT bridge against a real mosquitto and an LS5 emulator on a pty: readings, windows,
+// retained state and discovery, `set` and `action` checked on the emulator's side, and a
+// broker killed and restarted mid-stream.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>

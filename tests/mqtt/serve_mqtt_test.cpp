@@ -1,4 +1,4 @@
-// `rangekit serve` with its MQTT face, as a process (issue 15): `[mqtt]` checked by
+// `rangekit serve` with its MQTT face, as a process: `[mqtt]` checked by
 // --check, the will marking a kill -9'd service offline, and refused credentials
 // reported once in the log and on /healthz.
 #include <gtest/gtest.h>
@@ -152,7 +152,7 @@ TEST(ServeMqtt, RefusedCredentialsGiveOneClearErrorInTheLogAndOnHealthz) {
 
 namespace {
 
-// Issue 15 point 4: "with --demo and no URL it starts a local mosquitto too, when one is
+// "With --demo and no URL it starts a local mosquitto too, when one is
 // installed, so a newcomer can watch with mosquitto_sub -v -t 'rangekit/#'".
 TEST(ServeMqtt, TheDemoStartsALocalBrokerAndPrintsHowToWatchIt) {
   Child service({"serve", "--demo", "--duration", "120", "--listen", "127.0.0.1:0"});

@@ -1,8 +1,6 @@
-// The capture's `targets` column, written without building nlohmann::json objects
-// (issue 17 item 3), must stay the text format version 3 files already hold:
-// docs/capture.md "`binning` | `targets`: array of `{"distance_m": number, "strength":
-// integer}` (may be empty)", keys in that order, no spaces, doubles in their shortest
-// form that reads back exactly (a whole number keeps ".0"), NaN and infinities as null.
+// The capture's `targets` column, written without nlohmann::json objects, stays the text
+// of docs/capture.md: `{"distance_m": number, "strength": integer}` in that order, no
+// spaces, shortest exact doubles (a whole number keeps ".0"), NaN and infinities as null.
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 

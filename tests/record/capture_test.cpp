@@ -129,7 +129,7 @@ TEST(Capture, Ls5DerivativeAndResolutionRoundTripL63) {
   EXPECT_EQ(query(path, "SELECT kind || ' ' || derivative_mm FROM samples WHERE code = 25050"), "derivative 0.1");
 }
 
-// U102/L71 (issue 18 item 2): the flag and its reason are stored (format version 3) and
+// U102/L71: the flag and its reason are stored (format version 3) and
 // replayed as they were recorded.
 TEST(Capture, U102_L71_SuspectFlagAndReasonRoundTrip) {
   TempDir dir;
@@ -190,9 +190,8 @@ TEST(Capture, Version1CaptureReplaysAndTakesNewSessionsL63) {
   EXPECT_EQ(query(path, "SELECT value FROM meta WHERE key = 'format_version'"), "3");
 }
 
-// Issue 18: "a capture whose meta says format_version='2' is replayed and appended to without
-// notice" (when this build knew only version 1). A version this build does not know may hold
-// what it would drop or misread: append and replay refuse it, naming the version.
+// A format version this build does not know may hold what it would drop or misread:
+// append and replay refuse it, naming the version, rather than go on without notice.
 TEST(Capture, UnknownFormatVersionIsRefusedByAppendAndReplay) {
   TempDir dir;
   const auto path = dir.file("future.sqlite");
@@ -259,8 +258,8 @@ TEST(Capture, OtherSqliteDatabaseIsRefusedAndLeftUntouched) {
   expect_refused_untouched(path, read_file(path), "not a rangekit capture");
 }
 
-// A database whose meta row holds NULL (another program's meta table) used to be read with
-// strlen(NULL): refused as not a capture, like any other database (found writing fuzz/replay_fuzz.cpp).
+// A database whose meta row holds NULL (another program's meta table) is refused as not a
+// capture, like any other database, and never read as a string.
 TEST(Capture, MetaWithANullFormatIsRefusedAndLeftUntouched) {
   TempDir dir;
   const auto path = dir.file("null-meta.sqlite");

@@ -1,4 +1,4 @@
-// Issue 18 item 3, "Bounded diagnostics": "Repeated rejections are merged: the first of a
+// Bounded diagnostics (docs/reliability.md): "Repeated rejections are merged: the first of a
 // kind is printed, then at most one summary line a second ("412 more bad frames in the last
 // 1 s"). The counts stay exact in the events, the capture and the status line."
 #include "rangekit/record/diagnostic_limiter.hpp"

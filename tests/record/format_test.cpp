@@ -206,14 +206,14 @@ TEST(Text, Events) {
             "01:02:03.456 disconnected: /dev/ttyUSB0 went away\n");
   EXPECT_EQ(text(event(StreamEventKind::lost_records, "UDP counter gap", 3)),
             "01:02:03.456 lost_records: UDP counter gap (3 lost)\n");
-  // Issue 11 point 2: the ULS stream's switch to polling is shown, not silent.
+  // The ULS stream's switch to polling is shown, not silent.
   EXPECT_EQ(text(event(StreamEventKind::polling, "/dev/ttyUSB0: polling with BM every 50 ms")),
             "01:02:03.456 polling: /dev/ttyUSB0: polling with BM every 50 ms\n");
   EXPECT_EQ(jsonl(event(StreamEventKind::polling, "p")),
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"event\":\"polling\",\"message\":\"p\",\"count\":0}\n");
 }
 
-// U102/L71 (issue 18 item 2): a suspect sample keeps its value and says so in every format.
+// U102/L71: a suspect sample keeps its value and says so in every format.
 TEST(Formats, U102_L71_ASuspectSampleIsMarkedWithItsReason) {
   auto sample = ls5_result(34845, 696.9, SignalState::ok);
   sample.suspect = true;

@@ -73,7 +73,7 @@ TEST(ReplayCli, CsvCountAndDeviceFilter) {
             "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,,,,false,\n");
 }
 
-// U102/L71 (issue 18 item 2): a replay shows the flags as recorded (it does not judge again)
+// U102/L71: a replay shows the flags as recorded (it does not judge again)
 // and --drop-suspect leaves the suspect samples out.
 TEST(ReplayCli, U102_L71_ReplayKeepsTheRecordedFlagsAndDropSuspectLeavesThemOut) {
   TempDir dir;

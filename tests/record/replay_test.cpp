@@ -139,7 +139,7 @@ void expect_replay_identical_to_live(OutputFormat format) {
   derivative.derivative_mm = 0.1;
   derivative.resolution_mm = 0.001;
   FakeSource source({averaging, binning_with_odd_values, event(StreamEventKind::bad_frame, "half \"frame\""),
-                     // Issue 11 point 2: the switch to polling is an event, replayed as one.
+                     // The switch to polling is an event, replayed as one.
                      event(StreamEventKind::polling, "/dev/ttyUSB0: polling with BM every 50 ms"), uls_look_down(),
                      uls_look_down_overflow(), uls_error(), ls5_result(12345, 1234.5, SignalState::ok),
                      ls5_result(65534, std::nullopt, SignalState::none_yet), fine, derivative});

@@ -60,7 +60,7 @@ TEST(StreamLoop, StopsAfterCountSamplesAndStopsTheSource) {
   EXPECT_EQ(line_count(read_file(path)), 4u);  // header + 3 rows
 }
 
-// A live stream's queue hands over everything queued at once (issue 17 item 2): this one
+// A live stream's queue hands over everything queued at once: this one
 // has all its items in one batch and refuses single next() calls.
 class OneBatchSource final : public SampleSource {
  public:

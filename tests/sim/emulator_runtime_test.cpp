@@ -129,7 +129,7 @@ TEST(EmulatorRuntime, DroppedBytesNeverArrive) {
   EXPECT_FALSE(rig.host->read_some(buffer, 20ms));
 }
 
-// Issue 18 "byte drop/duplicate": a duplicated byte arrives twice; the wire log (the noise
+// Line noise may duplicate bytes: a duplicated byte arrives twice; the wire log (the noise
 // bench's truth) holds what the device sent, before any line noise.
 TEST(EmulatorRuntime, DuplicatedBytesArriveTwiceAndTheWireLogHoldsWhatWasSent) {
   const auto log = std::filesystem::temp_directory_path() / ("rangekit-wire-" + std::to_string(::getpid()));

@@ -1,13 +1,6 @@
-// The ULS decoders against their recorded outputs on a large corpus (issue 17 item 1:
-// "Outputs are unchanged ... a test compares the new decoders with the old results on a
-// large recorded corpus, including malformed lines").
-//
-// The corpus is the measurement lines the emulator writes (encode_measurement, as
-// src/uls/emulator/firmware.cpp sends them) for every mode, each also mutated into a
-// malformed one, plus replies and junk. It is cut into reads and fed to the framer;
-// every framer event, every parse_frame result and every decode_measurement result
-// under each of the 10 measurement contexts is written as one text line and digested.
-// The expected digests were recorded before the decoders were optimised.
+// The ULS decoders against their recorded outputs on a large corpus, malformed lines
+// included, so optimising them leaves every output unchanged (tests/decoder_corpus.hpp).
+// The emulator's lines for every mode, mutated, plus replies and junk, are digested.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -166,7 +159,7 @@ TEST(UlsDecoderCorpus, OutputsMatchTheRecordedOnes) {
     }
   });
 
-  // Recorded with the decoders of commit 3310b0b (before issue 17).
+  // Recorded with the unoptimised decoders of commit 3310b0b.
   EXPECT_EQ(framing.lines(), 59106U);
   EXPECT_EQ(framing.hex(), "5490866f205fcd97");
   EXPECT_EQ(parsing.lines(), 52552U);
@@ -175,7 +168,7 @@ TEST(UlsDecoderCorpus, OutputsMatchTheRecordedOnes) {
   EXPECT_EQ(decoding.hex(), "47aa2749abd91289");
 }
 
-// A stream reader's path (issue 17): decode_measurements reads good averaging lines
+// A stream reader's path: decode_measurements reads good averaging lines
 // ("$BM,<range>[,<pulse width>]", §9; U8, U9, U27) straight from the framer's buffer and
 // hands every other frame out to be decoded as before. Under each context it must give
 // the same frames, rejections and measurements, in the same order, as next() and

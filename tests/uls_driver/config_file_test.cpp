@@ -14,7 +14,7 @@ TEST(UlsConfigFile, SyntaxErrorNamesFileAndLine) {
   EXPECT_EQ(config.error().message.rfind("bad.toml:2: ", 0), 0u) << config.error().message;
 }
 
-// Issue 18: "a NUL in a TOML key is printed raw in an error": printed escaped.
+// A NUL in a TOML key is printed escaped, never raw.
 TEST(UlsConfigFile, NulInAKeyIsPrintedEscaped) {
   const auto config = config_from_toml("[settings]\n\"mo\\u0000de\" = 1\n", "nul.toml");
   ASSERT_FALSE(config);
@@ -22,7 +22,7 @@ TEST(UlsConfigFile, NulInAKeyIsPrintedEscaped) {
   EXPECT_EQ(config.error().message, "nul.toml:2: 'mo\\x00de' is not a ULS setting (see `rangekit uls get`)");
 }
 
-// The file the LS5 now refuses alike (issue 18): nothing to load is an error, not "0 written".
+// Refused alike by the LS5: nothing to load is an error, not "0 written".
 TEST(UlsConfigFile, EmptyFileIsRefused) {
   const auto config = config_from_toml("", "empty.toml");
   ASSERT_FALSE(config);

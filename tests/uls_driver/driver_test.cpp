@@ -1,6 +1,6 @@
 // The ULS driver against scripted device bytes on the in-memory loopback pair:
 // reply matching, local validation, device errors, timeouts and retries,
-// malformed and half frames, the stream and reconnect (issue 6).
+// malformed and half frames, the stream and reconnect (docs/host-uls.md).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -365,7 +365,7 @@ TEST(UlsDriver, StreamDecodesAveragingLinesAndErrors) {
   EXPECT_EQ(rig.device->requests().back(), "$ST");
 }
 
-// read_gather (issue 17): after a read that brought bytes the reader lets the next lines
+// read_gather: after a read that brought bytes the reader lets the next lines
 // collect for read_gather before reading again, and a stop ends that wait at once.
 TEST(UlsDriver, TheStreamReaderGathersAfterAReadAndAStopEndsTheGather) {
   ScriptedDevice* device = nullptr;
@@ -726,7 +726,7 @@ TEST(UlsDriver, AutomaticStreamPollsWhenNoContinuousLinesArriveOnThisPort) {
   const auto samples = samples_of(items);
   ASSERT_EQ(samples.size(), 2U);
   EXPECT_EQ(rig.driver->active_stream_mode(), StreamMode::polled);
-  // Issue 11 point 2 "the silent switch to polling becomes an event": a polling event comes
+  // The switch to polling is not silent: a polling event comes
   // before the first polled sample and names the port.
   std::vector<StreamEventKind> kinds;
   for (const auto& item : items) {
@@ -927,7 +927,7 @@ TEST(UlsDriver, U77_StartOnAUnitAlreadyMeasuringIsNoError) {
   rig.driver->stop_stream();
 }
 
-// --- Issue 11: the stream is its own object, as the LS5 driver's ------------------------
+// --- The stream is its own object, as the LS5 driver's -----------------------------------
 // Every way to end it is safe whichever of the two objects goes first; the unit is left as
 // U86 says (§8 Stop Measuring "ST": sent only when the stream's own GO started the unit).
 
@@ -1099,7 +1099,7 @@ class BlockingReadTransport final : public Transport {
 };
 
 // replace_transport waits for the request in flight: it takes the request lock, so a
-// caller's read never runs on a transport that was destroyed under it (issue 11 point 2).
+// caller's read never runs on a transport that was destroyed under it.
 TEST(UlsDriver, ReplaceTransportWaitsForTheRequestInFlight) {
   auto state = std::make_shared<BlockingReadState>();
   DriverOptions options;
@@ -1119,7 +1119,7 @@ TEST(UlsDriver, ReplaceTransportWaitsForTheRequestInFlight) {
   EXPECT_FALSE(state->destroyed_during_read);
 }
 
-// Issue 11 point 2: the stream's reader thread points at the driver: it cannot be copied
+// The stream's reader thread points at the driver: it cannot be copied
 // or moved away from under the reader.
 static_assert(!std::is_copy_constructible_v<Driver> && !std::is_move_constructible_v<Driver>);
 static_assert(!std::is_copy_assignable_v<Driver> && !std::is_move_assignable_v<Driver>);

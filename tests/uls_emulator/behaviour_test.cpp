@@ -1,4 +1,4 @@
-// Behaviour of the ULS model that issue 4 lists beyond the basics: error 86,
+// Behaviour of the ULS model beyond the basics (docs/emulator-uls.md): error 86,
 // gates, the pointer, look-down re-referencing, the §3 binning restart rule,
 // received pulse widths, the minimum pulse width and the §9 range+intensity limit.
 #include <gtest/gtest.h>

@@ -1,7 +1,6 @@
-// Fault injection and outputs through the control socket of `rangekit sim uls`
-// on the virtual clock (issue 4): line noise with bit errors, dropped bytes, no
-// return, power cycle, and the pointer/laser outputs. One emulator process per
-// test; a host on the configuration port's pty.
+// Fault injection and outputs through the control socket of `rangekit sim uls` on the
+// virtual clock: bit errors, dropped bytes, no return, power cycle, pointer/laser outputs.
+// One emulator process per test; a host on the configuration port's pty.
 #include <gtest/gtest.h>
 #include "build_paths.hpp"
 #include "child_process.hpp"

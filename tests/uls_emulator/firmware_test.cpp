@@ -1,5 +1,5 @@
 // The ULS firmware model driven directly on virtual time: commands, errors,
-// addressing, memory, baud changes, output rate and serial limits (issue 4).
+// addressing, memory, baud changes, output rate and serial limits.
 #include <gtest/gtest.h>
 
 #include <unistd.h>

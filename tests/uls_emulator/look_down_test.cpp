@@ -1,4 +1,4 @@
-// Look down as §3 and §8 describe it, seen from the serial ports (issue 12 items 1, 2 and 4):
+// Look down as §3 and §8 describe it, seen from the serial ports:
 // a Get Measurement poll in look down (U70-U72), the re-reference release with time between
 // events on (U73) and the port time between events is logged on (U74).
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // The ULS model over real pseudo-terminals: a command session through the
 // `rangekit sim uls` binary, and an 8-unit bus and a baud change through the
-// runtime on the virtual clock (issue 4).
+// runtime on the virtual clock.
 #include <gtest/gtest.h>
 #include "build_paths.hpp"
 #include "child_process.hpp"

@@ -1,7 +1,6 @@
-// Readings of the document revisited in issue 12 (docs/conformance.md U75-U81): the
-// cooperative range, the feet round trip of every setting, and the §10 errors 25, 31,
-// 33 and 78, and the fault current before the first distance of a run. Expectations
-// are typed from the document.
+// Readings of the document (docs/conformance.md U75-U81): the cooperative range, the feet
+// round trip of every setting, §10 errors 25, 31, 33 and 78, and the fault current before
+// a run's first distance. Expectations are typed from the document.
 #include <gtest/gtest.h>
 
 #include <string>

@@ -1,4 +1,4 @@
-// The HTTP API end to end (issue 13 point 4, docs/api.md): the hub serving an LS5, a
+// The HTTP API end to end (docs/api.md): the hub serving an LS5, a
 // ULS alone and a bus of four ULS units on ptys, the server on a loopback port, and
 // every kind of bad request answered with a 4xx JSON error that names the field.
 #include <fcntl.h>
@@ -128,8 +128,8 @@ TEST(WebApi, PatchIsCheckedByTheTableWrittenAndReadBack) {
   EXPECT_NE(too_far.body.find("1700"), std::string::npos) << too_far.body;
 }
 
-// U119: the ranges the dashboard checks a field by before it sends anything (issue 14 point 3,
-// "Every field shows the document's range and unit"), served from the command table the
+// U119: the ranges the dashboard checks a field by before it sends anything
+// ("every field shows the document's range and unit"), served from the command table the
 // CLI uses. Expectations typed from §8: "Set/Get PRF ... 10 to 5000 Hz" (error 32 "Invalid
 // PRF"), Short Gate 0-1700 m, Bin Size 0-8 (§2 "2.5 (13)"), Measurement Mode 1-3.
 TEST(WebApi, SettingsSchemaGivesEachSettingsRangeUnitAndError) {
@@ -169,7 +169,7 @@ TEST(WebApi, SettingsSchemaGivesEachSettingsRangeUnitAndError) {
   EXPECT_EQ(http(service.port, "POST", "/api/sensors/bay-C/settings/schema").status, 405);
 }
 
-// The LS5 page's fields (issue 14 point 4) come from table 9.2 as the host catalog names them:
+// The LS5 page's fields come from table 9.2 as the host catalog names them:
 // "Measurement period (discrete - 0.1 ms, minimum value - 0.1 ms) ... 0001-FFFF"; "Number of
 // points of the median filter, m (must be odd ...) 01, 03, 05, ..., 31"; "Latching ... 09 - the
 // same for the value 08" (L6: from LS5.9.0); "Network address 01-FF" changes the link (L28).

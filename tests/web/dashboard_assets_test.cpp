@@ -1,7 +1,6 @@
-// The dashboard's files served by the web face (issue 14 point 1): the server answers
-// ServerOptions::assets at their exact paths with their content type, caching by kind
-// (hashed names immutable, the page revalidated by its ETag), and the same rules as the
-// API's reads: GET only, no token, no Host check. Without assets "/" says why it is empty.
+// The dashboard's files served by the web face: ServerOptions::assets at their paths with
+// their content type, hashed names immutable and the page revalidated by ETag, GET only, no
+// token, no Host check. Without assets "/" says why it is empty.
 #include <gtest/gtest.h>
 
 #include <array>

@@ -44,7 +44,7 @@ TEST(SampleAggregate, GapsAreCountedAndNeverPlotted) {
   EXPECT_TRUE(aggregate.empty());  // the event starts the next bucket
 }
 
-// Issue 18 item 2: a suspect sample stays marked; in a merged point it is counted and kept
+// A suspect sample stays marked; in a merged point it is counted and kept
 // out of min/max/last, so one corrupt record cannot stretch the plotted window.
 TEST(SampleAggregate, SuspectSamplesAreCountedAndKeptOutOfMinMaxLast) {
   web::SampleAggregate aggregate;

@@ -1,7 +1,6 @@
-// Server-Sent Events under load (issue 13 "Done means"): twenty clients read an LS5 at
-// 1 kHz and lose nothing, a client that never reads is cut off and counted, the
-// service's memory stays bounded, and a killed emulator shows as disconnected on
-// the stream, then reconnected.
+// Server-Sent Events under load: twenty clients read an LS5 at 1 kHz and lose nothing, a
+// client that never reads is cut off and counted, memory stays bounded, and a killed
+// emulator shows as disconnected on the stream, then reconnected.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -52,7 +51,7 @@ struct SseService {
   }
 };
 
-// 1 kHz, as the issue asks; a tenth of it under the sanitizers, which slow the service
+// 1 kHz, the LS5's fastest stream; a tenth of it under the sanitizers, which slow the service
 // (and the twenty readers in this process) several times over.
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 constexpr int period_ms = 10;
@@ -159,7 +158,7 @@ TEST(WebEvents, AKilledEmulatorShowsDisconnectedThenReconnected) {
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
   EXPECT_LE(seen, 5000ms);  // sanitizers slow everything several times over
 #else
-  EXPECT_LE(seen, 1000ms);                     // issue 13: "shows disconnected on SSE within 1 s"
+  EXPECT_LE(seen, 1000ms);                     // "shows disconnected on SSE within 1 s"
 #endif
   EXPECT_FALSE(nlohmann::json::parse(http(service.port, "GET", "/api/sensors/belt").body)["connected"].get<bool>());
   hub_test::Child again({"sim", "ls5", "--port", (service.site.temp.path / "ls5").string()});

@@ -1,4 +1,4 @@
-// Issue 13 point 5: "TLS is optional (certificate and key paths)". With both given the
+// TLS is optional (certificate and key paths). With both given the
 // service speaks HTTPS only: the API and the streams over TLS, a plain request refused.
 #include <gtest/gtest.h>
 

@@ -1,8 +1,6 @@
-// §2 File Menu on the ULS page: save the unit's settings as a configuration file and open one
-// (issue 14 point 3, "File actions"). The file is the TOML of `rangekit uls config save|load`,
-// made and read by the service (POST/PUT /api/sensors/NAME/config, docs/api.md), so the page
-// checks a file by the same tables as the CLI: a bad file is refused with its line, key and
-// range before anything reaches the sensor (U104).
+// §2 File Menu on the ULS page: save and open the TOML of `rangekit uls config save|load`,
+// made and read by the service (docs/api.md), so a bad file is refused by the CLI's tables,
+// with its line, key and range, before anything reaches the sensor (U104).
 import { authorisedFetch } from './api';
 
 function element<K extends keyof HTMLElementTagNameMap>(tag: K, className?: string, text?: string) {

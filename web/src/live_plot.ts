@@ -1,10 +1,6 @@
-// The live plot of a sensor page (issue 14 point 5), uPlot: a time window of 10 s to 1 h, Pause,
-// and zoom (drag across the plot; it pauses, Resume follows the live end again). ULS averaging is
-// a line of distances; binning every target of a measurement as a scatter; look down an ON/OFF
-// step trace. An LS5's results are a line of distances in mm, and its derivative (§8.8, kind
-// `derivative`, formula 8.2) a second line on an axis of its own at the right (L80): a
-// difference of two results is not a distance, so it never shares the distance axis. No signal,
-// an error, a disconnection or a silence over 2 s leaves a gap: nothing is drawn across it.
+// The live plot of a sensor page (uPlot): a window of 10 s to 1 h, Pause and zoom; each mode
+// drawn as docs/dashboard.md shows, an LS5's derivative on an axis of its own (L80: it is no
+// distance). No signal, an error, a disconnection or a silence over 2 s leaves a gap.
 import uPlot from 'uplot';
 
 const WINDOWS: [number, string][] = [[10, '10 s'], [60, '1 min'], [600, '10 min'], [3600, '1 h']];

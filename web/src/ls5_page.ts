@@ -1,8 +1,6 @@
-// The LS5 page (issue 14 point 4): the decoded ID (§9.2 "%[AA][35 bytes]"), the live result,
-// the analog and discrete outputs computed from the settings and the live code by the formulas
-// of §8 (ls5_outputs.ts), latching (FX/FR, the modes of parameter 1F and formulas 8.6/8.7), the
-// table 9.2 parameters (ls5_panels.ts) and the live plot (live_plot.ts). An Ethernet LS5 heard
-// over UDP only (§10) gets the stream, and a word on why it has no settings.
+// The LS5 page: decoded ID, live result, outputs computed by §8's formulas (ls5_outputs.ts),
+// latching (FX/FR), table 9.2's parameters (ls5_panels.ts) and the live plot. An LS5 heard
+// over UDP only (§10) gets the stream and a word on why it has no settings.
 import type { Sensor } from './api';
 import { authorisedFetch, sensorEventsUrl } from './api';
 import { LivePlot } from './live_plot';

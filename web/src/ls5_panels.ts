@@ -1,8 +1,6 @@
-// The LS5 page's parameters (issue 14 point 4): table 9.2 grouped as §8 explains them, each
-// field built from GET /api/sensors/NAME/settings/schema (the host catalog `rangekit ls5 get`
-// uses), with table 9.2's name, the unit and the range, and checked here before anything is
-// sent (the same fields and checks as the ULS panels: settings_fields.ts). Upload sends only
-// the fields that changed, as one PATCH; the service checks again and reads every byte back.
+// The LS5 page's parameters: table 9.2 grouped as §8 explains them, built from the settings
+// schema the CLI uses and checked before sending (settings_fields.ts). Upload sends only the
+// changed fields, as one PATCH; the service checks again and reads every byte back.
 import { authorisedFetch } from './api';
 import { buildField, element, numberProblem, patchSettings } from './settings_fields';
 import type { FieldView } from './settings_fields';

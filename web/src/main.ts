@@ -1,7 +1,6 @@
-// The overview (issue 14 point 2): a card per sensor of the site, live from one
-// Server-Sent Events stream of every sensor at MAX_RATE points a second each (the
-// service merges the samples, so a 1 kHz LS5 costs the page 4 points a second), and
-// the counters from GET /api/sensors every POLL_MS.
+// The overview: a card per sensor, live from one Server-Sent Events stream at MAX_RATE points
+// a second each (the service merges samples, so a 1 kHz LS5 costs 4 points a second), and the
+// counters from GET /api/sensors every POLL_MS.
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
 import { eventsUrl, listSensors, ReadError, setToken, streamRefusal, token } from './api';

@@ -1,8 +1,6 @@
-// §7 RS-485 Network on the ULS page (issue 14 point 3): which units answer on the sensor's bus
-// (the service asks each address of §8's UA table, as `rangekit uls bus scan`), and Assign, as
-// §7's "Assign RS-485 Address" window: the current address and a list of addresses where
-// "Values with an asterisk have already been assigned in the network". The service refuses an
-// address a unit answers at (U105); the site file keeps naming the sensor's old address (U106).
+// §7 RS-485 Network on the ULS page: which units answer on the bus (as `rangekit uls bus
+// scan`), and §7's Assign window with the addresses in use marked. The service refuses an
+// address a unit answers at (U105); the site file keeps the old address (U106).
 import type { Sensor } from './api';
 import { authorisedFetch, listSensors } from './api';
 

@@ -1,8 +1,6 @@
-// The ULS page, mirroring the §2 main screen (issue 14 point 3), first part: the
-// indicators with their §2 meanings as tooltips, the live reading in the black
-// measurement box, the display choice of the mode, the §2 buttons and the parameter
-// panels (uls_panels.ts), configuration files (config_file.ts), capture (capture_panel.ts),
-// the RS-485 network (rs485_network.ts) and the live plot (live_plot.ts).
+// The ULS page, mirroring the §2 main screen: indicators, the live reading, the mode's display
+// choice and §2's buttons, with the parameter panels, configuration files, capture, RS-485
+// network and live plot from their own modules.
 import type { Sensor } from './api';
 import { authorisedFetch, sensorEventsUrl } from './api';
 import { CapturePanel } from './capture_panel';

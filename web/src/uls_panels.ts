@@ -1,8 +1,6 @@
-// The ULS page's parameter panels (§2 "Basic Setup" ... "Current Loop"; issue 14 point 3):
-// each field built from GET /api/sensors/NAME/settings/schema (the §8 command table the CLI
-// checks by), shown with its range and unit, and checked here before anything is sent.
-// Upload Settings sends only the fields that changed, as one PATCH; a refusal of the unit
-// shows the API's message, which carries the §10 number and its Interface text.
+// The ULS page's parameter panels (§2 "Basic Setup" ... "Current Loop"), built from the
+// settings schema (§8's command table, as the CLI) and checked before sending. Upload sends
+// only the changed fields, as one PATCH; a refusal shows the §10 number and its text.
 import { authorisedFetch } from './api';
 import { buildField, element, numberProblem, patchSettings } from './settings_fields';
 

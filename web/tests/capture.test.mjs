@@ -1,8 +1,6 @@
-// Browser test of capture from the sensor's page (issue 14, "Done means": "a capture started
-// and stopped on the page downloads a `.log` with the §2 columns for each mode"), against
-// `rangekit serve --demo`: bay-C averages, bay-A bins, bay-B looks down. Each capture is
-// started and stopped with the page's buttons, its `.log` downloaded through the page's link
-// and read from disk; SQLite and CSV are offered too. Screenshots in RANGEKIT_SCREENSHOTS.
+// Browser test: a capture started and stopped on the page downloads a `.log` with the §2
+// columns for each mode (`rangekit serve --demo`: bay-C averages, bay-A bins, bay-B looks
+// down); SQLite and CSV are offered too. Screenshots in RANGEKIT_SCREENSHOTS.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import { readFileSync } from 'node:fs';

@@ -1,9 +1,6 @@
-// Browser test of the ULS page's configuration files (issue 14 point 3, "File actions: Save and
-// open a configuration (the same TOML as the CLI)"), against `rangekit serve --demo`: Save
-// downloads the unit's settings; after a setting is changed behind the page's back, Open of the
-// saved file puts it back, checked through the emulator's own control socket; a corrupt file
-// shows its line, key and range and nothing reaches the unit. Screenshots in RANGEKIT_SCREENSHOTS.
-// docs/conformance.md U104: Open writes at once (as `rangekit uls config load`), checked first.
+// Browser test of the ULS page's configuration files (U104): Save, then Open puts a changed
+// setting back (checked on the emulator's control socket); a corrupt file shows its line, key
+// and range and nothing reaches the unit. Screenshots in RANGEKIT_SCREENSHOTS.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';

@@ -1,7 +1,6 @@
-// Browser test of the sensor pages' live plot (issue 14 point 5): uPlot, a time window of 10 s
-// to 1 h, Pause, averaging as a line, binning targets as a scatter, look down as an ON/OFF
-// trace, the LS5's derivative on an axis of its own (L80); against `rangekit serve --demo`
-// (bay-C averaging, bay-A binning, bay-B look down, belt the LS5).
+// Browser test of the sensor pages' live plot against `rangekit serve --demo`: a window of
+// 10 s to 1 h, Pause, averaging as a line, binning as a scatter, look down as an ON/OFF trace,
+// the LS5's derivative on an axis of its own (L80).
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import path from 'node:path';

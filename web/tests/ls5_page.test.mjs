@@ -1,12 +1,6 @@
-// Browser tests of the LS5 page (issue 14 point 4) against `rangekit serve --demo`: the decoded
-// ID shows; the §8 formulas the page computes its outputs by, checked against numbers typed from
-// §8 and §9.5; the analog indicator matches formula 8.3 for the live code; changing a parameter
-// on the page changes it in the emulator (read from the emulator's own control socket, not
-// through the page); an out-of-range value shows the error and sends nothing; FX/FR from the
-// page latch in the emulator; every control has a label and the page works from the keyboard.
-// Screenshots in RANGEKIT_SCREENSHOTS.
-// docs/conformance.md L73 (grouping and checks), L74 (analog output type), L75 (latching on
-// the page), L76 (the page's indicator is computed, not read from the sensor).
+// Browser tests of the LS5 page against `rangekit serve --demo` (L73-L76): ID, §8's formulas,
+// parameters changed in the emulator or refused before sending, FX/FR latching, and labels
+// and keyboard use. Screenshots in RANGEKIT_SCREENSHOTS.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import path from 'node:path';

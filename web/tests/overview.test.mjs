@@ -1,9 +1,6 @@
-// Browser tests of the overview page (issue 14, "Done means"): Debian's headless chromium
-// driven by playwright-core against `rangekit serve --demo` on a free loopback port.
-// Run by ctest (browser.overview) from BUILD/web; RANGEKIT_CLI names the binary and
-// RANGEKIT_SCREENSHOTS the folder each test leaves its screenshot in. Every wait is on a
-// condition of the page, with generous timeouts; the one time bound is the issue's own
-// "within 2 s" for a killed emulator.
+// Browser tests of the overview page: headless chromium (playwright-core) against `rangekit
+// serve --demo`, run by ctest (browser.overview). Every wait is on a condition of the page;
+// the one time bound is the 2 s within which a killed emulator's card shows disconnected.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import path from 'node:path';
@@ -209,7 +206,7 @@ test('a killed emulator turns its card disconnected within 2 s and back when it 
   await connectedIs('belt', false);
   const seen = Date.now() - killed;
   console.log(`belt's card showed disconnected ${seen} ms after kill -9 of its emulator`);
-  // Issue 14: "a killed emulator turns its card to disconnected within 2 s".
+  // A killed emulator turns its card to disconnected within 2 s (docs/dashboard.md).
   assert.ok(seen <= 2000, `disconnected shown after ${seen} ms`);
   assert.equal(await page.textContent(`${card('belt')} .state`), 'Disconnected');
   await page.screenshot({ path: path.join(screenshots, 'disconnected.png') });

@@ -1,7 +1,5 @@
-// Issue 14 point 2: "It is a plant view: 30 sensors must fit and stay live." Thirty ULS
-// units on three RS-485 buses of ten (emulators), served by `rangekit serve --config`,
-// shown on a 1920 x 1080 page: every card on screen without scrolling, every one
-// connected, and every sparkline still growing after all of them have been seen live.
+// A plant view: 30 ULS units on three RS-485 buses fit a 1920 x 1080 page without scrolling,
+// every card connected and every sparkline still growing after all have been seen live.
 import assert from 'node:assert/strict';
 import { execFileSync, spawn } from 'node:child_process';
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';

@@ -1,10 +1,6 @@
-// Browser test of the ULS page's RS-485 Network window (issue 14 point 3: "Scan and assign,
-// with the addresses already in use marked as in §7's table"), against the RS-485 bus of
-// `rangekit serve --demo` (units A, B, C and D: bay-A .. bay-D, docs/service.md). Scan lists
-// the units that answer; Assign refuses an address in use and moves a unit to a free one,
-// checked through the bus emulator's own control socket (which finds a unit by its address
-// now), not through the page. Screenshots in RANGEKIT_SCREENSHOTS.
-// docs/conformance.md U105 (what the asterisk marks, what is refused), U106 (the site file stays).
+// Browser test of the ULS page's RS-485 Network window on the demo's bus (U105, U106): Scan
+// lists the units that answer; Assign refuses an address in use and moves a unit to a free
+// one, checked on the bus emulator's control socket. Screenshots in RANGEKIT_SCREENSHOTS.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import path from 'node:path';

@@ -1,10 +1,6 @@
-// Browser tests of the ULS page's parameter panels (issue 14, "Done means"): against
-// `rangekit serve --demo`, changing PRF on the page changes it in the emulator (read from the
-// emulator's own control socket, not through the page); an out-of-range value shows the
-// error and sends nothing (no PATCH on the page's network log, the emulator unchanged); a
-// refusal of the unit shows its §10 number and Interface display text; every new control
-// has a label and the panels work from the keyboard alone. Screenshots in RANGEKIT_SCREENSHOTS.
-// docs/conformance.md U119: ranges from the API's schema, checked before sending; §10 display text.
+// Browser tests of the ULS page's parameter panels (U119): PRF changed in the emulator, an
+// out-of-range value refused before sending, a unit's refusal shown with its §10 text, labels
+// and keyboard use. Screenshots in RANGEKIT_SCREENSHOTS.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import path from 'node:path';

@@ -36,7 +36,7 @@ struct TargetHit {
 // The targets of one binning burst. The ULS reports at most 15 (uls-interface-spec §3
 // "the maximum number of targets allowed in Binning Mode is 15", §9 "Up to 15 targets
 // maximum"; the decoder refuses a larger count), so they are kept inside the Sample:
-// a burst on the live path allocates nothing (issue 17). More (a hand-made capture)
+// a burst on the live path allocates nothing. More (a hand-made capture)
 // still fit: they go to the heap.
 class TargetList {
  public:
@@ -127,7 +127,7 @@ struct Sample {
   std::optional<SignalState> signal;
   // The sensor's discreteness (LS5 table 3.1): how many decimals its millimetres deserve.
   std::optional<double> resolution_mm;
-  // Quality (issue 18 item 2): the frame decoded, but the value is one no real target
+  // Quality (docs/reliability.md): the frame decoded, but the value is one no real target
   // gives here (core/sample_quality.hpp); suspect_reason says which check and why.
   // Neither protocol has a checksum, so this is the only sign of a corrupted line.
   bool suspect = false;
@@ -180,7 +180,7 @@ class SampleSource {
   // The next items, in order, waiting up to `timeout` for the first: `batch` is
   // replaced (pass the same vector each time; its storage is reused). False, with
   // `batch` empty, when next() would have returned nullopt. A live stream hands over
-  // everything its reader queued with one wake-up and one lock (issue 17); this
+  // everything its reader queued with one wake-up and one lock; this
   // default takes one item.
   virtual bool next_batch(std::vector<StreamItem>& batch, std::chrono::milliseconds timeout);
   // True once the source has ended for good (replay reached its end, the device

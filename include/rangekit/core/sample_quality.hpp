@@ -1,11 +1,6 @@
-// Per-sample quality (issue 18 item 2). Neither protocol has a checksum: a bit error
-// that turns one digit into another gives a frame the codec accepts. The field shapes
-// are enforced by the codecs (a wrong frame is a bad_frame event and never a sample);
-// what reaches here is a well-formed value, judged against the recent ones: a distance
-// that moved further from the running median than a real target can at this rate, or
-// a ULS pulse width that changed by more than a factor of `max_pulse_width_ratio`.
-// Such a sample keeps its value and is marked suspect with the reason
-// (docs/reliability.md says what can and cannot be caught).
+// Per-sample quality (docs/reliability.md, U101-U103, L71): a well-formed value judged
+// against the recent ones, since neither protocol has a checksum. A sample that fails
+// keeps its value and is marked suspect with the reason.
 #pragma once
 
 #include <array>

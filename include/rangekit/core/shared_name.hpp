@@ -1,9 +1,6 @@
-// An immutable name that many records share: Sample::source, the port path or
-// endpoint every record of a stream carries. A /dev/serial/by-id/... path is far
-// longer than std::string's inline buffer, so a std::string there allocated on
-// every copy of every record (issue 17: no allocation per record on the live
-// path). The text is made once; a copy shares it (one reference count), and
-// comparisons are by content, so two names built apart from the same text are equal.
+// An immutable name that many records share (Sample::source): made once, a copy shares
+// it, so the live path allocates nothing per record for a long /dev/serial/by-id/... path.
+// Comparisons are by content.
 #pragma once
 
 #include <compare>

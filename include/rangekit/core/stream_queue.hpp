@@ -1,17 +1,6 @@
-// A bounded hand-off between a reader thread and a consumer. The reader never
-// waits on the consumer: when the queue is full the oldest item is dropped and
-// counted, so a slow consumer loses records visibly instead of stalling the port.
-// With a gather time, a consumer that found the queue empty is woken by the first
-// item and then lets the next ones collect for that long before it takes it: one
-// wake-up per batch instead of one per record, for at most that much latency.
-//
-// The hand-off (issue 17 item 2): items live in one vector under the mutex; every
-// access to it, to `head_` and to the flags is made holding the mutex, so the queue is
-// race-free by construction. take_all() swaps that vector with the consumer's (empty)
-// one under the lock: the consumer gets the whole batch in O(1) and the reader gets the
-// consumer's storage back, so after warm-up neither side allocates per item (a deque
-// allocated a node for every item or two of a StreamItem's size). The consumer's vector
-// is touched outside the lock only by the consumer.
+// A bounded hand-off between a reader thread and a consumer. The reader never waits on
+// the consumer: when full, the oldest item is dropped and counted, so a slow consumer
+// loses records visibly instead of stalling the port.
 #pragma once
 
 #include <algorithm>
@@ -27,6 +16,16 @@
 
 namespace rangekit {
 
+// With a gather time, a consumer that found the queue empty is woken by the first item
+// and lets the next ones collect for that long: one wake-up per batch, for at most that
+// much latency.
+//
+// Items live in one vector under the mutex; every access to it, to `head_` and to the
+// flags holds the mutex, so the queue is race-free by construction. take_all() swaps that
+// vector with the consumer's (empty) one under the lock: the consumer gets the batch in
+// O(1) and the reader gets the consumer's storage back, so after warm-up neither side
+// allocates per item (a deque would allocate a node for every item or two). The consumer's
+// vector is touched outside the lock only by the consumer.
 template <class T>
 class StreamQueue {
  public:

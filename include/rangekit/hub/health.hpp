@@ -20,7 +20,7 @@ struct SensorHealth {
   std::uint64_t errors = 0;   // samples that carry a device error (ULS $ER,n)
   std::map<int, std::uint64_t> errors_by_number;
   std::uint64_t no_signal = 0;        // LS5 65535 (§9.3)
-  std::uint64_t suspect = 0;          // samples marked suspect (issue 18 item 2), dropped ones included
+  std::uint64_t suspect = 0;          // samples marked suspect (docs/reliability.md), dropped ones included
   std::uint64_t dropped_suspect = 0;  // of those, left out (drop_suspect in the site file)
   std::uint64_t lost = 0;             // records lost on the way (UDP gaps, full queues)
   std::uint64_t bad_frames = 0;

@@ -1,7 +1,6 @@
-// The site file `rangekit serve --config site.toml` reads: which sensors a site
-// has, on which ports, and what the service does with each at start. Parsed and
-// checked without opening anything, so `rangekit serve --check` and the service
-// refuse the same files with the same messages (file:line: reason).
+// The site file of `rangekit serve --config site.toml`: a site's sensors, their ports and
+// what the service does with each at start. Checked without opening anything, so `--check`
+// and the service refuse the same files with the same messages.
 #pragma once
 
 #include <cstdint>
@@ -25,7 +24,7 @@ struct SensorConfig {
   std::string udp;             // "HOST:PORT" the service listens on for its packets, where the family has it
   bool stream = true;          // stream from start
   bool capture = false;        // capture from start (into the service's capture folder)
-  // Quality (issue 18 item 2): the fastest its target moves (m/s; nullopt = the family
+  // Quality (docs/reliability.md): the fastest its target moves (m/s; nullopt = the family
   // default of core/sample_quality.hpp), and whether suspect samples are left out.
   std::optional<double> max_speed_mps;
   bool drop_suspect = false;

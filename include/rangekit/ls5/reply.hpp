@@ -71,7 +71,7 @@ inline bool read_good_stream_record(const std::uint8_t* frame, std::uint16_t& co
 
 // Hands out every frame `assembler` holds, in order, as the stream reader needs them:
 // a stream record "!ddddd<CR>" with a valid code to on_record(ResultCode), read
-// straight from the assembler's buffer with no Reply or Result built (issue 17); any
+// straight from the assembler's buffer with no Reply or Result built; any
 // other frame to on_reply(Bytes frame, Result<Reply>) exactly as parse_reply reads it; rejected
 // bytes to on_rejected(const FrameAssembler::Event&). The same calls, in the same
 // order, as next() and parse_reply on every frame: scan_reply_frame hands out

@@ -26,7 +26,7 @@ struct ResultCode {
 // Classifies a code read from the wire; 50001-65533 and anything above 65535 are errors.
 Result<ResultCode> make_result_code(std::uint32_t raw);
 // Never fails: for values the caller knows are in 0-50000 or special (emulator side).
-// Inline: the stream decoder calls it for every record (issue 17).
+// Inline: the stream decoder calls it for every record.
 constexpr ResultCode classify_result_code(std::uint16_t value) noexcept {  // precondition: valid
   if (value == code_no_signal) return ResultCode{value, CodeKind::no_signal};
   if (value == code_no_measurement_yet) return ResultCode{value, CodeKind::no_measurement_yet};

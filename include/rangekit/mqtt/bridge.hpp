@@ -1,9 +1,6 @@
-// The MQTT face of the sensor hub (issue 15, docs/mqtt.md): every sensor of a site
-// on the plant's broker, with its readings, retained status and availability, Home
-// Assistant discovery, and `set`/`action` topics for commands. Like the HTTP face it
-// reaches the sensors only through rangekit::hub::Hub, and a broker outage never
-// blocks a sensor: the bridge reads the hub through a bounded subscription and
-// holds messages in bounded queues whose oldest entries are dropped and counted.
+// The MQTT face of the sensor hub (docs/mqtt.md): every sensor of a site on the broker.
+// It reaches the sensors only through hub::Hub, over a bounded subscription and bounded
+// queues that drop and count their oldest entries, so a broker outage never blocks a sensor.
 #pragma once
 
 #include <chrono>

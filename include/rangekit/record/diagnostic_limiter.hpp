@@ -1,9 +1,6 @@
-// Bounded diagnostics (issue 18 item 3): a babbling line used to put one stderr
-// line per rejected fragment (70-95 MB for 100 MB of babble). The first event of
-// a kind is printed in full; repeats are counted, and at most one summary line a
-// second per kind says how many were not printed ("412 more bad frames in the
-// last 1 s"). Only what is printed is merged: the events themselves still reach
-// the output, the capture and the counts.
+// Bounded diagnostics (docs/reliability.md), so a babbling line cannot flood stderr: the
+// first event of a kind is printed, repeats are merged into one summary a second per kind.
+// Only the printing is merged: the events still reach the output, capture and counts.
 #pragma once
 
 #include <array>

@@ -1,8 +1,6 @@
-// The loop behind `rangekit uls|ls5 stream` and `rangekit replay`, without the
-// CLI: pulls items from a SampleSource with short timeouts, writes samples to a
-// text sink and/or a capture, and stops on a sample count, a duration, the end
-// of the source, a stop request (Ctrl-C) or a write failure. The CLI wraps it
-// with signal handlers, a status line and exit codes (src/cli/stream_runner.cpp).
+// The loop behind `rangekit uls|ls5 stream` and `replay`, without the CLI: samples from a
+// SampleSource to a text sink and/or a capture until a count, a duration, the source's end,
+// a stop request or a write failure. The CLI wraps it (src/cli/stream_runner.cpp).
 #pragma once
 
 #include <atomic>
@@ -30,7 +28,7 @@ struct StreamLoopOptions {
   std::chrono::milliseconds poll{50};             // longest wait on the source, so stops are prompt
   std::chrono::milliseconds flush_interval{100};  // text output and capture batches reach the file this often
   CaptureOptions capture_options;
-  // Quality checks on each sample (issue 18 item 2); nullopt keeps the flags the samples
+  // Quality checks on each sample (docs/reliability.md); nullopt keeps the flags the samples
   // carry (a replay shows what was recorded).
   std::optional<QualitySettings> quality;
   bool drop_suspect = false;  // leave suspect samples out of the output and the capture

@@ -1,12 +1,6 @@
-// Hosts emulated devices on pseudo-terminals: reads what the host writes,
-// hands it to every device on that line (an RS-485 bus is several devices on
-// one line), runs the devices' firmware on a real (optionally scaled) or
-// virtual clock, and writes what their UARTs send back at the right moments.
-//
-// Faults of a real line are modelled here, not in the firmware: a host whose
-// speed or stop bits differ from the device's sees garbage both ways; two
-// devices talking at once corrupt each other's bytes; injected noise flips bits
-// and drops bytes.
+// Hosts emulated devices on pseudo-terminals: hands what the host writes to every device
+// on that line (an RS-485 bus), runs their firmware on a real, scaled or virtual clock,
+// and writes what their UARTs send back at the right moments.
 #pragma once
 
 #include <poll.h>
@@ -49,12 +43,14 @@ struct RuntimeOptions {
   std::optional<std::string> wire_log_path;
   // Real clock only: the loop wakes when the devices ask (DeviceModel::next_wake) to the
   // nanosecond (0), or at every deadline with its wait rounded up to a multiple of this
-  // (1 ms: the loop before issue 17, which let records at 1 kHz and above leave in
-  // millisecond batches; kept so bench/emulator_pacing_bench.cpp compares both in one run).
+  // (1 ms lets records at 1 kHz and above leave in millisecond batches, L78; kept so
+  // bench/emulator_pacing_bench.cpp compares both in one run).
   Nanos wait_resolution{0};
 };
 
-// Per-line fault injection (control: {"cmd":"noise", ...}).
+// Faults of a real line are modelled by the runtime, not the firmware: mismatched speed or
+// stop bits garble both ways, two devices talking at once corrupt each other's bytes, and
+// injected noise (control: {"cmd":"noise", ...}) flips bits and drops bytes.
 struct LineNoise {
   double bit_error_rate = 0;  // probability of flipping each bit sent to the host
   double drop_rate = 0;       // probability of losing each byte sent to the host

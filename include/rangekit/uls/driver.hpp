@@ -1,10 +1,6 @@
-// Host driver for one ULS unit (issue 6): typed calls for every §8 command,
-// replies matched to requests, per-call timeouts, one retry for gets, and a
-// measurement stream read by a thread that never waits on the consumer and that
-// reconnects when the link comes back. start_stream() hands out the stream as its
-// own object (a SampleSource), the pattern of the LS5 driver (issue 11): the
-// stream and the driver share the live stream's state, so either may be
-// destroyed first. Documented call by call in docs/host-uls.md.
+// Host driver for one ULS unit (docs/host-uls.md): typed calls for every §8 command and a
+// reconnecting measurement stream, its own SampleSource as the LS5 driver's, sharing the
+// live state with the driver so that either may be destroyed first.
 #pragma once
 
 #include <atomic>
@@ -49,7 +45,7 @@ struct DriverOptions {
   std::chrono::microseconds gather{2000};
   // After a read that brought bytes, a stream's reader lets the next lines collect in the
   // port this long before it reads again (as the LS5's read_gather): one read and one
-  // hand-over per batch instead of one per line at the fastest outputs (issue 17). 0: none.
+  // hand-over per batch instead of one per line at the fastest outputs. 0: none.
   std::chrono::microseconds read_gather{2000};
   std::string source;  // Sample::source; defaults to the transport's name
 };
@@ -266,7 +262,7 @@ class Driver final {
   // how many bytes came.
   Status pump(std::chrono::milliseconds wait, std::size_t* bytes_read = nullptr);
   // `direct`: the line's measurement as decode_measurements read it under `direct_context`
-  // (a good averaging line), used when that is still the unit's context (issue 17).
+  // (a good averaging line), used when that is still the unit's context.
   void dispatch(Bytes frame, const Measurement* direct = nullptr, const MeasurementContext* direct_context = nullptr);
   void handle_measurement(const Measurement& measurement);
   void emit_sample(Sample sample);

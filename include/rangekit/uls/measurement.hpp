@@ -91,14 +91,14 @@ namespace detail {
 // with the CR, and the measurement decode_measurement gives for it in `out`; 0 for
 // anything else (other modes and lines, a line not complete yet), which
 // decode_measurement reads (or refuses, naming the problem) in full. Only lines of
-// bytes scan_frame hands out whole as that frame are taken (issue 17).
+// bytes scan_frame hands out whole as that frame are taken.
 std::size_t read_good_averaging_line(Bytes pending, const MeasurementContext& context, Measurement& out);
 
 }  // namespace detail
 
 // Hands out every frame `assembler` holds, in order, as a stream reader needs them: a
 // good averaging line to on_measurement(Bytes frame, const Measurement&), read straight
-// from the assembler's buffer with no scan call, FrameView or Result built (issue 17);
+// from the assembler's buffer with no scan call, FrameView or Result built;
 // any other frame to on_frame(Bytes frame), for the caller to read with parse_frame or
 // decode_measurement exactly as before; rejected bytes to
 // on_rejected(const FrameAssembler::Event&). The same frames and rejections, in the

@@ -1,8 +1,6 @@
-// Readable names and values of ULS settings, for `rangekit uls get/set` and the
-// service's settings (one copy of this logic for both, issue 13 point 3): `mode=binning`,
-// `prf-hz=2000`, `units=m`, `short-gate-m=10`, or raw mnemonics `PF=2000`. A name
-// carries its unit (`-m`, `-ma`, `-s`, `-hz`), the value is a bare number: the LS5's
-// style (`period-ms`), one for both families (issue 11 point 5, docs/cli.md).
+// Readable names and values of ULS settings, one copy for `rangekit uls get/set` and the
+// service: `prf-hz=2000`, `short-gate-m=10`, or raw `PF=2000`. A name ends in its unit and
+// the value is bare, as the LS5's `period-ms` (U96, docs/cli.md).
 #pragma once
 
 #include <functional>

@@ -1,7 +1,6 @@
-// The HTTP face of the sensor hub (issue 13 point 4): a JSON API, Server-Sent
-// Events streams resumable with Last-Event-ID, Prometheus metrics and a health
-// check, on Boost.Beast over one asio event loop (docs/api.md says why). The
-// server reaches the sensors only through rangekit::hub::Hub.
+// The HTTP face of the sensor hub (docs/api.md): JSON API, resumable Server-Sent Events,
+// Prometheus metrics and a health check on Boost.Beast over one asio event loop. It reaches
+// the sensors only through rangekit::hub::Hub.
 #pragma once
 
 #include <chrono>
@@ -21,7 +20,7 @@
 
 namespace rangekit::web {
 
-// One file of the browser dashboard (web/, issue 14), embedded in the CLI at build time.
+// One file of the browser dashboard (web/, docs/dashboard.md), embedded in the CLI at build time.
 struct StaticAsset {
   std::string_view path;          // "/" for index.html, "/assets/app-3F2A.js"
   std::string_view content_type;  // "text/html; charset=utf-8"

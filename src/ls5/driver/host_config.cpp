@@ -124,7 +124,7 @@ Result<DeviceConfig> parse_config_toml(std::string_view text, const std::string&
     }
   }
   // As the ULS refuses a file without [settings]: loading nothing and reporting it
-  // "verified" would hide a wrong or truncated file (issue 18).
+  // "verified" would hide a wrong or truncated file.
   if (config.entries.empty()) {
     return make_error(Errc::invalid_frame, source_name + ": no settings in [link] or [parameters]; nothing to load");
   }

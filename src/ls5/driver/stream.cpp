@@ -139,7 +139,7 @@ Result<std::unique_ptr<MeasurementStream>> Driver::start_stream(const StreamOpti
   live->address = options_.address;
   live->port = transport_name();
   live_stream_ = live;
-  // The first item, as in the ULS stream: the link is up and the sensor streams (issue 11 point 5).
+  // The first item, as in the ULS stream: the link is up and the sensor streams.
   live->queue.push(make_event(StreamEventKind::connected, transport_name() + ": streaming (ST)"));
   std::unique_ptr<MeasurementStream> stream(new MeasurementStream(std::move(live), options));
   stream->shared_->reader = std::thread([raw = stream.get()] { raw->run(); });
@@ -180,7 +180,7 @@ void MeasurementStream::run() {
       driver.identification_ ? std::optional<double>(driver.identification_->range_mm) : std::nullopt;
   const int address = shared.address;
   bool derivative = driver.derivative_results_.value_or(false);
-  // Sample::source of every record: built once, not per record (issue 17); again after a reopen.
+  // Sample::source of every record: built once, not per record; again after a reopen.
   SharedName source = driver.transport_name();
   std::array<std::uint8_t, 4096> buffer{};
   std::vector<StreamItem> decoded;  // what one read decoded, handed over at once; storage reused
@@ -236,7 +236,7 @@ void MeasurementStream::run() {
         decoded.push_back(make_event(StreamEventKind::bad_frame,
                                      std::to_string(event.rejected_bytes) + " bytes rejected: " + event.reason));
       };
-      // Stream records straight from the buffer, everything else through parse_reply (issue 17).
+      // Stream records straight from the buffer, everything else through parse_reply.
       // A read that does not fit beside a half record is fed in parts, decoded in between.
       feed_all(*driver.assembler_, Bytes(buffer.data(), *got),
                [&] { decode_replies(*driver.assembler_, on_record, on_reply, on_rejected); });
@@ -244,7 +244,7 @@ void MeasurementStream::run() {
       shared.queue.push_all(decoded);
       records_ += records_read;  // after the push: once records() counts them, the queue (and lost()) has them
       // Let the next records collect in the port before reading again: one read, and one
-      // hand-over, per read_gather instead of per record (issue 17). A stop ends the wait.
+      // hand-over, per read_gather instead of per record. A stop ends the wait.
       if (*got > 0 && options_.read_gather.count() > 0) {
         std::unique_lock lock(shared.mutex);
         shared.wake.wait_for(lock, options_.read_gather, [&shared] { return shared.stop_requested; });

@@ -114,7 +114,7 @@ struct UdpReceiver::State {
 
   void run() {
     std::array<std::uint8_t, 2048> buffer{};
-    // Sample::source of every record, made again only when the sender changes (issue 17).
+    // Sample::source of every record, made again only when the sender changes.
     Endpoint last_from;
     SharedName source;
     while (!stop_requested.load()) {

@@ -1,4 +1,4 @@
-// The LS5 firmware model (issue 5). Decisions: docs/conformance.md L25-L36,
+// The LS5 firmware model. Decisions: docs/conformance.md L25-L36,
 // behaviour and scene format: docs/emulator-ls5.md.
 #include "rangekit/sim/ls5/firmware.hpp"
 
@@ -646,7 +646,7 @@ nlohmann::json Firmware::control(const nlohmann::json& request, Nanos now) {
       return {{"ok", true}, {"device", label()}, {"phase", std::string(phase_name())}};
     }
     if (command == "move_target") {
-      // The scene file's ranges, so no value the file refuses gets in this way (issue 18: -1e308 did).
+      // The scene file's ranges, so no value the file refuses gets in this way (such as -1e308).
       const auto position = control_number(request, "position_mm", -max_scene_position_mm, max_scene_position_mm);
       if (!position) return {{"error", position.error().message}};
       const auto speed =

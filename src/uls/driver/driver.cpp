@@ -218,7 +218,7 @@ Status Driver::pump(std::chrono::milliseconds wait, std::size_t* bytes_read) {
       context_known = context_known_;
     }
     if (context_known) {
-      // Good averaging lines straight from the buffer (issue 17); dispatch checks the
+      // Good averaging lines straight from the buffer; dispatch checks the
       // context is still this one and decodes again if not.
       decode_measurements(
           assembler_, context,

@@ -1,9 +1,6 @@
-// The measurement stream of the ULS driver: a reader thread that decodes lines
-// into Samples, polls with BM when the unit does not send continuously, and
-// reopens the link after it went away (cable pulled, power cycle). The stream
-// object and the driver share the live stream's state (the LS5 driver's pattern,
-// issue 11): whichever goes first ends the stream, and the reader is always
-// joined before the driver it reads through is destroyed.
+// The ULS driver's measurement stream: a reader thread that decodes lines, polls with BM
+// when the unit does not stream, and reopens a lost link. Either of stream and driver may
+// go first; the reader is always joined before its driver is destroyed.
 #include <algorithm>
 #include <condition_variable>
 #include <mutex>

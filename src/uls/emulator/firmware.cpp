@@ -1109,7 +1109,7 @@ nlohmann::json Firmware::control(const nlohmann::json& request, Nanos now) {
                          {"binning_restarts", o.binning_restarts},
                          {"min_pulse_width_ns", settings_.min_pulse_width_ns},
                          // What $PF holds, per mode (averaging, binning, look down), so a test can
-                         // check a write from outside the link (the dashboard's PRF test, issue 14).
+                         // check a write from outside the link (the dashboard's PRF test).
                          {"prf_hz", {settings_.prf[0], settings_.prf[1], settings_.prf[2]}},
                          // What $TT holds, in pulses (§8 "seconds * 3000"): the page's Short Timeout
                          // (§3 "8,000 laser pulses") checked from outside the link.

@@ -1,7 +1,6 @@
-// The LS5 firmware as a pure state machine (issue 5): one serial port, the
-// parameter memory of table 9.2 in RAM and ROM, the commands of table 9.1 and
-// the measurement pipeline of figure 8.7. No I/O: time comes only from `now`,
-// UDP packets leave through a callback, ROM through a StateStore.
+// The LS5 firmware as a pure state machine (docs/emulator-ls5.md): table 9.2's parameters,
+// table 9.1's commands, figure 8.7's measurement pipeline. No I/O: time only from `now`,
+// UDP packets through a callback, ROM through a StateStore.
 #pragma once
 
 #include <array>

@@ -1,7 +1,6 @@
-// The ULS firmware model (issue 4): a pure DeviceModel with the two serial
-// ports of §4 (0 = 4-pin configuration port, 1 = universal port), the §8
-// command set, the §3 measurement modes on a scene, the §6 current loop and
-// non-volatile memory. No I/O but the StateStore; time only from `now`.
+// The ULS firmware model (docs/emulator-uls.md): a pure DeviceModel with §4's two ports
+// (0 = configuration, 1 = universal), §8's commands, §3's modes on a scene, §6's current
+// loop and non-volatile memory. No I/O but the StateStore; time only from `now`.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -71,7 +70,7 @@ struct FirmwareOptions {
   Scene scene = default_scene();
 };
 
-// What the control socket reads (issue 4 "outputs").
+// What the control socket reads as the unit's outputs (docs/emulator-uls.md).
 struct Outputs {
   double current_ma = 0;
   bool trip = false;

@@ -1,4 +1,4 @@
-// What the emulated ULS looks at (issue 4, docs/emulator-uls.md): targets with
+// What the emulated ULS looks at (docs/emulator-uls.md): targets with
 // distance, reflectivity, cooperative flag and motion; dust; ambient noise.
 #pragma once
 #include <nlohmann/json.hpp>
