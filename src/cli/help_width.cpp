@@ -16,7 +16,7 @@ std::size_t hanging_indent(const std::string& line) {
   const std::size_t gap = line.find("  ", text);
   if (gap != std::string::npos) {
     const std::size_t description = line.find_first_not_of(' ', gap);
-    if (description != std::string::npos && description <= help_width / 2) return description;
+    if (description <= help_width / 2) return description;  // npos is past it too
   }
   return text == 0 ? 2 : text;
 }

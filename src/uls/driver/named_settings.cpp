@@ -169,8 +169,10 @@ std::string bare_number_refusal(const CommandInfo& command, const std::string& f
     const std::string name = value_key(entry.name);
     // "4 inches" for a typed 4: the quantity the user most likely meant.
     if (entry.name.substr(0, entry.name.find(' ')) == field) {
-      return what + "its unit, " + name + " (" + std::string(command.mnemonic) + " " + std::to_string(entry.value) +
-             ")" + code;
+      std::string refusal = what;
+      refusal += "its unit, " + name;
+      refusal += " (" + std::string(command.mnemonic) + " " + std::to_string(entry.value) + ")";
+      return refusal + code;
     }
     names += (names.empty() ? "" : ", ") + name;
   }
@@ -429,8 +431,10 @@ Status verify(Driver& driver, const std::vector<Written>& written) {
     // PF/PO with one value set the current mode's entry of the list they read back as (U14, U15).
     const bool one_of_list = one.fields.size() == 1 && ("," + read + ",").find("," + wanted + ",") != std::string::npos;
     if (read != wanted && !one_of_list) {
-      return make_error(Errc::device_error,
-                        assignment_name(one.assignment->target) + " reads back as " + read + ", not " + wanted);
+      std::string message = assignment_name(one.assignment->target);
+      message += " reads back as " + read;
+      message += ", not " + wanted;
+      return make_error(Errc::device_error, message);
     }
   }
   return ok_status();
