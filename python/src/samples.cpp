@@ -64,9 +64,7 @@ void raise_error(const Error& error, std::string_view family) {
   py::object text = py::none();
   if (error.code == Errc::device_error) {
     number = py::int_(error.device_code);
-    const FamilyDescriptor* described = find_family(family);
-    if (described != nullptr && described->error_text != nullptr)
-      text = py::str(described->error_text(error.device_code));
+    if (const std::string words = error_text_of(family, error.device_code); !words.empty()) text = py::str(words);
   }
   py::object exception = errors.attr(exception_name(error.code))(error.message, code_name(error.code), number, text);
   PyErr_SetObject(reinterpret_cast<PyObject*>(Py_TYPE(exception.ptr())), exception.ptr());

@@ -181,13 +181,17 @@ void note_broadcast(const ls5::Driver& driver) {
 
 // Each NAME of NAME=VALUE is a setting or a table 9.2 address; the values need the sensor's
 // range and model, so run_set checks them once it is open.
+// Why `set` refuses a name that is no writable setting: read-only, or unknown.
+Error not_settable(std::string_view name) {
+  for (const std::string_view read_only : identification_names)
+    if (name == read_only) return read_only_name(name);
+  return unknown_name(name);
+}
+
 Status check_set_names(const DeviceCommand& state) {
   for (const std::string& item : state.items) {
     const std::string name = item.substr(0, item.find('='));
-    if (raw_parameter(name) != nullptr || ls5::find_host_setting(name) != nullptr) continue;
-    for (const std::string_view read_only : identification_names)
-      if (name == read_only) return read_only_name(name);
-    return unknown_name(name);
+    if (raw_parameter(name) == nullptr && ls5::find_host_setting(name) == nullptr) return not_settable(name);
   }
   return ok_status();
 }
@@ -228,11 +232,7 @@ Status run_set(ls5::Driver& driver, const std::vector<std::string>& items) {
       planned.link = owner != nullptr && owner->link;
     } else {
       const ls5::HostSetting* setting = ls5::find_host_setting(planned.name);
-      if (setting == nullptr) {
-        for (const std::string_view read_only : identification_names)
-          if (planned.name == read_only) return read_only_name(planned.name);
-        return unknown_name(planned.name);
-      }
+      if (setting == nullptr) return not_settable(planned.name);
       auto writes = ls5::encode_setting(*setting, planned.value, *context);
       if (!writes) return writes.error();
       planned.link = setting->link;

@@ -78,10 +78,12 @@ std::optional<Reading> reading_of(const Sample& sample) {
   return family->reading(sample);
 }
 
-std::string error_text_of(const Sample& sample, int number) {
-  const FamilyDescriptor* family = find_family(sample.device);
+std::string error_text_of(std::string_view family_name, int number) {
+  const FamilyDescriptor* family = find_family(family_name);
   if (family == nullptr || family->error_text == nullptr) return {};
   return family->error_text(number);
 }
+
+std::string error_text_of(const Sample& sample, int number) { return error_text_of(sample.device, number); }
 
 }  // namespace rangekit

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <string_view>
+#include <vector>
 
 #include "web/auth.hpp"
 #include "web/resources.hpp"
@@ -92,29 +93,37 @@ constexpr std::array kScopes{
     Scope{"/api/sensors/{name}", find_sensor},
 };
 
-// The pattern's segments against the path's: all of them (whole), or the pattern's first.
-bool matches(std::string_view pattern, const std::vector<std::string>& path, bool whole) {
+// Calls visit(i, segment) for the pattern's segments in order ("/api/{name}": "api", "{name}")
+// until it returns false; the number of segments visited.
+template <class Visit>
+std::size_t each_segment(std::string_view pattern, Visit visit) {
   std::size_t i = 0;
   for (std::size_t at = 1; at <= pattern.size(); ++i) {
     const std::size_t slash = std::min(pattern.find('/', at), pattern.size());
-    const std::string_view segment = pattern.substr(at, slash - at);
-    if (i >= path.size() || (segment.front() != '{' && segment != path[i])) return false;
+    if (!visit(i, pattern.substr(at, slash - at))) return i;
     at = slash + 1;
   }
-  return !whole || i == path.size();
+  return i;
+}
+
+// The pattern's segments against the path's: all of them (whole), or the pattern's first.
+bool matches(std::string_view pattern, const std::vector<std::string>& path, bool whole) {
+  bool same = true;
+  const std::size_t count = each_segment(pattern, [&](std::size_t i, std::string_view segment) {
+    same = i < path.size() && (segment.front() == '{' || segment == path[i]);
+    return same;
+  });
+  return same && (!whole || count == path.size());
 }
 
 // The path's segments under the pattern's {name}, {id} and {action}.
 void bind(std::string_view pattern, const std::vector<std::string>& path, Matched& matched) {
-  std::size_t i = 0;
-  for (std::size_t at = 1; at <= pattern.size(); ++i) {
-    const std::size_t slash = std::min(pattern.find('/', at), pattern.size());
-    const std::string_view segment = pattern.substr(at, slash - at);
+  each_segment(pattern, [&](std::size_t i, std::string_view segment) {
     if (segment == "{name}") matched.name = path[i];
     if (segment == "{id}") matched.id = path[i];
     if (segment == "{action}") matched.action = path[i];
-    at = slash + 1;
-  }
+    return true;
+  });
 }
 
 }  // namespace
@@ -133,6 +142,7 @@ void route(Exchange& exchange) {
     bind(scope.pattern, path, matched);
     if (!scope.lookup(exchange, matched)) return;
   }
+  std::vector<http::verb> allowed;
   std::string allow;
   for (const Route& row : kRoutes) {
     if (!matches(row.pattern, path, true)) continue;
@@ -140,8 +150,9 @@ void route(Exchange& exchange) {
       bind(row.pattern, path, matched);
       return row.handler(exchange, matched);
     }
-    const std::string_view name = http::to_string(row.method);
-    if (allow.find(name) == std::string::npos) allow += (allow.empty() ? "" : ", ") + std::string(name);
+    if (std::find(allowed.begin(), allowed.end(), row.method) != allowed.end()) continue;
+    allowed.push_back(row.method);
+    allow += (allow.empty() ? "" : ", ") + std::string(http::to_string(row.method));
   }
   if (!allow.empty()) return exchange.wrong_method(allow);
   if (path.empty() || path[0] != "api") return get_static_file(exchange, matched);

@@ -3,13 +3,13 @@
 // channel its family defines (core/family.hpp), or a gap where there is none.
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "build_paths.hpp"
+#include "cli/cli_run.hpp"
 #include "mqtt/reading_window.hpp"
 #include "rangekit/core/family.hpp"
 #include "rangekit/record/capture.hpp"
@@ -175,12 +175,9 @@ TEST(SameReading, PythonReportsEachReading) {
   record::testing::write_file(script_path, script);
   const std::string command = std::string("PYTHONPATH='") + test::python_path() + "' '" + test::python_executable() +
                               "' '" + script_path + "' '" + path + "' 2>&1";
-  FILE* pipe = ::popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string output;
-  char buffer[4096];
-  while (const std::size_t got = std::fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, got);
-  ASSERT_EQ(::pclose(pipe), 0) << output;
+  const auto run = cli_test::run_shell(command);
+  const std::string& output = run.output;
+  ASSERT_EQ(run.exit_code, 0) << output;
   const auto rows = nlohmann::json::parse(output);
   ASSERT_EQ(rows.size(), all.size()) << output;
   for (std::size_t i = 0; i < all.size(); ++i) {

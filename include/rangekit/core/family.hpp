@@ -34,7 +34,8 @@ const ChannelDescriptor* find_channel(const FamilyDescriptor& family, std::strin
 
 // The sample's reading as its family defines it; none for a family not registered.
 std::optional<Reading> reading_of(const Sample& sample);
-// The family's words for the sample's error number, "" when it has none.
+// The family's words for an error number of its, "" when it has none.
+std::string error_text_of(std::string_view family, int number);
 std::string error_text_of(const Sample& sample, int number);
 
 }  // namespace rangekit

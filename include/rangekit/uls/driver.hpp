@@ -132,8 +132,11 @@ class Driver final {
   Result<UnitInfo> info();        // ID + US
   Status start_measuring();       // GO
   Status stop_measuring();        // ST (ends the stream's reader first when streaming)
-  Status save();                  // SU: user settings into non-volatile memory
-  Result<Sample> measure();       // BM: one reading (a whole target array in binning)
+  // ST when US says the unit measures, for commands it refuses then (31, U24); true when it
+  // did, so that the caller starts it again after.
+  Result<bool> stop_if_measuring();
+  Status save();             // SU: user settings into non-volatile memory
+  Result<Sample> measure();  // BM: one reading (a whole target array in binning)
 
   Result<Mode> mode();
   Status set_mode(Mode mode);

@@ -109,12 +109,9 @@ Status Bus::assign(std::optional<std::uint8_t> from, std::uint8_t to) {
                         "no unit answers at '" + address_text(*from) + "': " + present.error().message);
   }
   // A measuring unit refuses UA (error 31, U24): stopped for it, and started again at its new address.
-  auto status = driver_.status();
-  if (!status) return status.error();
-  const bool measuring = status->measuring();
-  if (measuring) {
-    if (auto stopped = driver_.stop_measuring(); !stopped) return stopped;
-  }
+  auto paused = driver_.stop_if_measuring();
+  if (!paused) return paused.error();
+  const bool measuring = *paused;
   auto assigned = driver_.set_unit_address(to);
   if (!assigned) {
     if (measuring) (void)driver_.start_measuring();  // left as found

@@ -249,12 +249,9 @@ std::vector<ConfigDifference> diff_config(const DeviceConfig& wanted, const Devi
 }
 
 Result<LoadReport> load_config(Driver& driver, const DeviceConfig& config) {
-  auto status = driver.status();
-  if (!status) return status.error();
-  const bool was_measuring = status->measuring();
-  if (was_measuring) {
-    if (auto stopped = driver.stop_measuring(); !stopped) return stopped.error();
-  }
+  auto paused = driver.stop_if_measuring();
+  if (!paused) return paused.error();
+  const bool was_measuring = *paused;
   LoadReport report;
   std::vector<const Setting*> later;
   Units units = Units::metres;

@@ -444,12 +444,9 @@ Status verify(Driver& driver, const std::vector<Written>& written) {
 
 Result<bool> write(Driver& driver, const std::vector<Assignment>& assignments,
                    const std::function<void(const Written&)>& written) {
-  auto status = driver.status();
-  if (!status) return status.error();
-  const bool measuring = status->measuring();
-  if (measuring) {
-    if (auto stopped = driver.stop_measuring(); !stopped) return stopped.error();
-  }
+  auto paused = driver.stop_if_measuring();
+  if (!paused) return paused.error();
+  const bool measuring = *paused;
   // BR and UA move the port or the unit: the others are sent and read back first.
   std::vector<Assignment> staying;
   std::vector<Assignment> moving;

@@ -85,6 +85,13 @@ Status Driver::stop_measuring() {
   stop_stream(AfterStream::keep_measuring);  // a running stream ends first; the unit is stopped below
   return action("ST");
 }
+Result<bool> Driver::stop_if_measuring() {
+  auto state = status();
+  if (!state) return std::move(state).error();
+  if (!state->measuring()) return false;
+  if (auto stopped = stop_measuring(); !stopped) return stopped.error();
+  return true;
+}
 Status Driver::save() { return action("SU"); }
 
 Result<Sample> Driver::measure() {
