@@ -193,7 +193,7 @@ TEST(UlsHostPty, ConfigSaveChangeDiffLoad) {
   std::ifstream in(file);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("mode = \"averaging\"  # MM"), std::string::npos) << text;
-  EXPECT_NE(text.find("prf = [2000, 2000, 2000]  # PF"), std::string::npos) << text;
+  EXPECT_NE(text.find("prf-hz = [2000, 2000, 2000]  # PF"), std::string::npos) << text;
 
   // docs/conformance.md U64: readable distances are metres; BR and UA stay out of the file.
   EXPECT_EQ(text.find("baud"), std::string::npos) << text;

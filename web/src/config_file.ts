@@ -84,7 +84,7 @@ export class ConfigFilePanel {
       });
       const body = (await response.json()) as Record<string, unknown> & { error?: { message: string } };
       if (!response.ok) {
-        // "the uploaded configuration:30: 'short-gate' is outside ...": named after the user's file.
+        // "the uploaded configuration:30: 'short-gate-m' is outside ...": named after the user's file.
         const message = (body.error?.message ?? String(response.status)).replace(/^the uploaded configuration/, file.name);
         // 400: refused by the tables before anything was sent; otherwise the unit or the link failed midway.
         this.say(response.status === 400 ? `Nothing sent: ${message}` : `Upload failed: ${message}`, 'error');

@@ -2,6 +2,9 @@
 // Program's .uls file, §2), loading with read-back verification, and diff.
 #include "rangekit/uls/host_config.hpp"
 
+#include <algorithm>
+#include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -11,6 +14,7 @@
 #include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/formulas.hpp"
+#include "rangekit/uls/named_settings.hpp"
 
 namespace rangekit::uls {
 
@@ -23,7 +27,7 @@ std::string unit_comment(const CommandInfo& command) {
   if (command.is_distance())
     text += ", metres";
   else if (command.kind == ValueKind::hex_pulses)
-    text += ", pulses (seconds x 3000)";
+    text += ", seconds (the unit counts 3000 pulses a second)";
   else if (!command.unit.empty())
     text += ", " + std::string(command.unit);
   if (!command.value_names.empty() && command.kind == ValueKind::enumeration) {
@@ -148,32 +152,82 @@ std::string config_to_toml(const DeviceConfig& config, std::string_view origin) 
   out << "# ULS settings, saved by rangekit (the Interface Program's .uls file as TOML).\n";
   out << "# " << origin << "\n";
   if (!config.version.empty()) out << "# unit: " << config.version << "\n";
-  out << "# Keys are the names of `rangekit uls get`; each comment gives the mnemonic (spec §8).\n";
-  out << "# Distances are metres whatever `units` is. Load with `rangekit uls config load FILE`.\n\n";
+  out << "# Names and values are those of `rangekit uls get`, which `set` takes too; each\n";
+  out << "# comment gives the mnemonic. Load with `rangekit uls config load FILE`.\n\n";
   out << "[settings]\n";
   for (const Setting& setting : config.settings) {
     const CommandInfo& command = *setting.command;
+    const std::string text = named::without_unit(command, readable(setting));
     std::string value;
-    if (command.kind == ValueKind::flag) {
-      value = setting.values.at(0) != 0 ? "true" : "false";
-    } else if (command.kind == ValueKind::enumeration) {
-      const auto name = command.value_name(static_cast<std::uint32_t>(setting.values.at(0)));
-      value = "\"" + (name.empty() ? integer_text(setting.values.at(0)) : value_key(name)) + "\"";
+    if (command.kind == ValueKind::flag || command.kind == ValueKind::enumeration) {
+      value = "\"" + text + "\"";
     } else if (command.kind == ValueKind::prf_list || command.kind == ValueKind::ppm_list) {
-      value = "[";
-      for (std::size_t i = 0; i < setting.values.size(); ++i)
-        value += (i == 0 ? "" : ", ") + integer_text(setting.values[i]);
-      value += "]";
-    } else if (command.is_distance() || command.kind == ValueKind::milliamps || command.kind == ValueKind::seconds) {
-      value = decimal_text(setting.values.at(0));
-      if (value.find('.') == std::string::npos) value += ".0";
+      value = "[" + text + "]";
+      for (std::size_t comma = value.find(','); comma != std::string::npos; comma = value.find(',', comma + 2))
+        value.insert(comma + 1, " ");
+    } else if (command.kind == ValueKind::unsigned_int) {
+      value = text;
     } else {
-      value = integer_text(setting.values.at(0));
+      // A float in TOML, so that a distance or a time reads as one.
+      value = text;
+      if (value.find('.') == std::string::npos) value += ".0";
     }
-    out << command.cli_name << " = " << value << "  " << unit_comment(command) << "\n";
+    out << named::setting_key(command) << " = " << value << "  " << unit_comment(command) << "\n";
   }
   return out.str();
 }
+
+namespace {
+
+// A TOML value as `set` would take it typed: "on", "binning", "10.5", "2000,2000,2000".
+std::optional<std::string> typed_value(const toml::node& node) {
+  if (auto flag = node.value_exact<bool>()) return std::string(*flag ? "on" : "off");
+  if (auto text = node.value_exact<std::string>()) return *text;
+  if (auto integer = node.value_exact<std::int64_t>()) return std::to_string(*integer);
+  if (auto number = node.value_exact<double>()) {
+    std::array<char, 32> buffer{};  // the shortest text that reads back as the same double
+    const auto end = std::to_chars(buffer.data(), buffer.data() + buffer.size(), *number).ptr;
+    return std::string(buffer.data(), end);
+  }
+  if (const toml::array* array = node.as_array()) {
+    std::string joined;
+    for (const auto& element : *array) {
+      if (element.is_array() || element.is_table()) return std::nullopt;
+      auto one = typed_value(element);
+      if (!one) return std::nullopt;
+      joined += (joined.empty() ? "" : ",") + *one;
+    }
+    return joined;
+  }
+  return std::nullopt;
+}
+
+// The setting a key names, as `get` names it; the reasons a key is not one, said.
+Result<const CommandInfo*> config_setting(std::string_view key, const std::vector<const CommandInfo*>& commands) {
+  auto target = named::find_setting(key, named::Purpose::get);
+  if (!target) {
+    const std::string& message = target.error().message;
+    const auto meant = message.find("; did you mean");
+    return make_error(Errc::unknown_command,
+                      "is not a ULS setting" + (meant == std::string::npos ? std::string(" (see `rangekit uls get`)")
+                                                                           : message.substr(meant)));
+  }
+  const CommandInfo* command = target->command;
+  if (target->raw)
+    return make_error(Errc::unknown_command, "is a mnemonic: a config file names it as `rangekit uls get` does, " +
+                                                 named::setting_key(*command));
+  if (std::find(commands.begin(), commands.end(), command) == commands.end())
+    return make_error(Errc::unknown_command,
+                      "is not kept in a config file (the baud rate and the address would "
+                      "cut the link; the others are only read)");
+  // The earlier name of TT counted pulses in saved files and seconds on the command line.
+  if (command->kind == ValueKind::hex_pulses && key != named::setting_key(*command))
+    return make_error(Errc::unknown_command,
+                      "names no unit: write " + named::setting_key(*command) + " in seconds (pulses / 3000)");
+  return command;
+}
+
+}  // namespace
 
 Result<DeviceConfig> config_from_toml(std::string_view text, std::string_view file_name) {
   auto parsed = parse_toml(text, file_name);
@@ -185,47 +239,29 @@ Result<DeviceConfig> config_from_toml(std::string_view text, std::string_view fi
   const auto commands = config_commands();
   for (const auto& [key, node] : *table) {
     const std::size_t line = node.source().begin.line;
-    const CommandInfo* command = nullptr;
-    for (const CommandInfo* candidate : commands)
-      if (candidate->cli_name == key.str()) command = candidate;
-    if (command == nullptr)
-      return toml_error(file_name, line, key.str(), "is not a ULS setting (see `rangekit uls get`)");
-    Setting setting;
-    setting.command = command;
-    if (command->kind == ValueKind::flag) {
-      auto value = node.value<bool>();
-      if (!value) return toml_error(file_name, line, key.str(), "must be true or false");
-      setting.values.push_back(*value ? 1 : 0);
-    } else if (command->kind == ValueKind::enumeration) {
-      std::optional<double> number;
-      if (auto name = node.value<std::string>()) {
-        for (const auto& entry : command->value_names)
-          if (value_key(entry.name) == *name) number = entry.value;
-      } else if (auto integer = node.value<std::int64_t>()) {
-        number = static_cast<double>(*integer);
-      }
-      if (!number)
-        return toml_error(file_name, line, key.str(), "must be one of: " + allowed_values(*command, Units::metres));
-      setting.values.push_back(*number);
-    } else if (const toml::array* array = node.as_array()) {
-      for (const auto& element : *array) {
-        auto integer = element.value<std::int64_t>();
-        if (!integer) return toml_error(file_name, line, key.str(), "must be a list of integers");
-        setting.values.push_back(static_cast<double>(*integer));
-      }
-    } else if (auto number = node.value<double>()) {
-      setting.values.push_back(*number);
-    } else {
-      return toml_error(file_name, line, key.str(), "must be a number");
+    auto command = config_setting(key.str(), commands);
+    if (!command) return toml_error(file_name, line, key.str(), command.error().message);
+    auto typed = typed_value(node);
+    if (!typed) return toml_error(file_name, line, key.str(), "must be a number, a name or a list of numbers");
+    // The same reading as `set`: distances in metres, trip-timeout-s in seconds.
+    const named::Target target{*command, false, ""};
+    auto fields = named::to_fields(target, *typed, Units::metres);
+    if (!fields) {
+      // set's refusal without its leading name, which the file's message gives, and without
+      // the mnemonic form, which a file does not take.
+      std::string message = fields.error().message;
+      const std::string named = std::string((*command)->cli_name) + ": ";
+      if (message.rfind(named, 0) == 0) message.erase(0, named.size());
+      if (const auto raw = message.find(", or the code as "); raw != std::string::npos) message.resize(raw);
+      return toml_error(file_name, line, key.str(), message);
     }
-    // Values are checked against the table as the unit would (metres).
-    const auto wire = to_wire(setting, Units::metres);
-    std::vector<std::string_view> fields(wire.begin(), wire.end());
-    const Verdict verdict = validate_request(*command, fields, Units::metres);
-    if (!verdict.ok())
+    const std::vector<std::string_view> views(fields->begin(), fields->end());
+    if (const Verdict verdict = validate_request(**command, views, Units::metres); !verdict.ok())
       return toml_error(file_name, line, key.str(),
-                        "is outside the allowed values: " + allowed_values(*command, Units::metres));
-    config.settings.push_back(std::move(setting));
+                        "is outside the allowed values: " + allowed_values(**command, Units::metres));
+    auto setting = from_wire(**command, *fields, Units::metres);
+    if (!setting) return toml_error(file_name, line, key.str(), "does not read: " + *typed);
+    config.settings.push_back(std::move(*setting));
   }
   // Keep the order config_commands() gives (MU first).
   DeviceConfig ordered;

@@ -181,6 +181,20 @@ std::string bare_number_refusal(const CommandInfo& command, const std::string& f
 
 }  // namespace
 
+namespace {
+
+// Seconds with up to 4 decimals, trailing zeros dropped: "360", "0.0003".
+std::string seconds_text(double seconds) {
+  std::array<char, 64> buffer{};
+  std::snprintf(buffer.data(), buffer.size(), "%.4f", seconds);
+  std::string text = buffer.data();
+  while (text.back() == '0') text.pop_back();
+  if (text.back() == '.') text.pop_back();
+  return text;
+}
+
+}  // namespace
+
 Result<std::vector<std::string>> to_fields(const Target& target, std::string_view value, Units device_units) {
   const CommandInfo& command = *target.command;
   std::vector<std::string> fields;
@@ -228,6 +242,9 @@ Result<std::vector<std::string>> to_fields(const Target& target, std::string_vie
       auto seconds = text::parse_decimal(number);
       if (!seconds || *seconds < 0)
         return make_error(Errc::out_of_range, "trip-timeout: '" + field + "' is not a number of seconds");
+      if (*seconds > trip_timeout_seconds(max_trip_timeout_pulses))
+        return make_error(Errc::out_of_range, "trip-timeout: " + field + " s is more than the unit counts (" +
+                                                  seconds_text(trip_timeout_seconds(max_trip_timeout_pulses)) + " s)");
       field = std::string(to_hex_text(trip_timeout_pulses(*seconds)).view());
     }
   }
@@ -235,16 +252,6 @@ Result<std::vector<std::string>> to_fields(const Target& target, std::string_vie
 }
 
 namespace {
-
-// Seconds with up to 4 decimals, trailing zeros dropped: "360", "0.0003".
-std::string seconds_text(double seconds) {
-  std::array<char, 64> buffer{};
-  std::snprintf(buffer.data(), buffer.size(), "%.4f", seconds);
-  std::string text = buffer.data();
-  while (text.back() == '0') text.pop_back();
-  if (text.back() == '.') text.pop_back();
-  return text;
-}
 
 bool is_numeric(const CommandInfo& command) {
   switch (command.kind) {
