@@ -4,6 +4,7 @@
 
 #include <array>
 #include <charconv>
+#include <optional>
 
 #include "rangekit/core/text.hpp"
 #include "rangekit/record/format.hpp"
@@ -11,13 +12,29 @@
 namespace rangekit::hub {
 namespace {
 
-// "12.5" and "2000" as JSON numbers, everything else as the text it is.
+// "12.5" and "2000" as a JSON number, or nothing.
+std::optional<nlohmann::json> number_json(std::string_view text) {
+  const auto number = text::parse_decimal(text);
+  if (!number) return std::nullopt;
+  if (text.find('.') == std::string_view::npos && text.size() < 16) return static_cast<std::int64_t>(*number);
+  return *number;
+}
+
+// Numbers as JSON numbers, a list of numbers ("2000,2000,2000") as an array, as `get --json`
+// prints them; everything else as the text it is.
 nlohmann::json value_json(const std::string& text) {
-  if (const auto number = text::parse_decimal(text)) {
-    if (text.find('.') == std::string::npos && text.size() < 16) return static_cast<std::int64_t>(*number);
-    return *number;
+  if (auto number = number_json(text)) return *number;
+  if (text.find(',') == std::string::npos) return text;
+  std::array<std::string_view, 8> parts{};
+  const std::size_t count = text::split(text, ',', parts);
+  if (count > parts.size()) return text;
+  nlohmann::json list = nlohmann::json::array();
+  for (std::size_t i = 0; i < count; ++i) {
+    auto number = number_json(parts[i]);
+    if (!number) return text;
+    list.push_back(*number);
   }
-  return text;
+  return list;
 }
 
 nlohmann::json fields_json(const std::vector<Field>& fields) {

@@ -61,6 +61,14 @@ bool PortWorker::try_connect(bool& was_connected, std::string& last_failure) {
   announce(was_connected ? StreamEventKind::reconnected : StreamEventKind::connected, "connected",
            Audience::answering_sensors);
   was_connected = true;
+  // Read before the streams start: nothing has to be paused for it.
+  for (Session* session : sessions_) {
+    if (!backend_->has_settings() || !backend_->answering(*session)) continue;
+    if (auto read = backend_->read_settings(*session); !read) {
+      publisher_.publish(*session,
+                         make_event(StreamEventKind::device_error, "settings not read: " + read.error().describe()));
+    }
+  }
   for (Session* session : sessions_) {
     bool wanted = false;
     {

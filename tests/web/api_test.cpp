@@ -72,7 +72,11 @@ TEST(WebApi, ListsEverySensorWithIdentityStatusAndHealth) {
   for (const auto& sensor : sensors) {
     EXPECT_TRUE(sensor["connected"].get<bool>()) << sensor["name"];
     EXPECT_GT(sensor["health"]["records"].get<int>(), 0) << sensor["name"];
+    // Read when the sensor connected, before anyone asked for them.
+    EXPECT_GT(sensor["settings"].size(), 10U) << sensor.dump();
   }
+  EXPECT_EQ(sensors[0]["settings"]["median-points"], 5) << sensors[0]["settings"].dump();
+  EXPECT_EQ(sensors[1]["settings"]["prf-hz"], nlohmann::json::parse("[2000,2000,2000]")) << sensors[1].dump();
   const Reply one = http(service.port, "GET", "/api/sensors/bay-C");
   ASSERT_EQ(one.status, 200);
   EXPECT_EQ(json_of(one)["identity"]["address"], "C");

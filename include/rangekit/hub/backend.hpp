@@ -69,6 +69,9 @@ class Backend {
   // a command or a reconnect wakes the worker.
   [[nodiscard]] virtual std::optional<std::chrono::steady_clock::time_point> next_due() const { return std::nullopt; }
   virtual Status set_streaming(Session& session, bool on) = 0;
+  // Whether the sensor has settings to read: the worker reads them once it connects, so that
+  // the service shows them before anyone asks. A listener without a port has none.
+  [[nodiscard]] virtual bool has_settings() const { return true; }
   virtual Result<std::vector<Field>> read_settings(Session& session) = 0;
   virtual Result<std::vector<Field>> write_settings(Session& session, const SettingValues& values) = 0;
   virtual Result<std::string> act(Session& session, Action action, std::string_view argument) = 0;

@@ -285,6 +285,7 @@ class Ls5UdpBackend final : public Backend {
     return make_error(Errc::unsupported,
                       "an LS5 heard over UDP only is always listened to; give it a port for commands");
   }
+  [[nodiscard]] bool has_settings() const override { return false; }
   Result<std::vector<Field>> read_settings(Session& /*session*/) override { return no_port(); }
   Result<std::vector<Field>> write_settings(Session& /*session*/, const SettingValues& /*values*/) override {
     return no_port();
