@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include "rangekit/core/text.hpp"
 #include "web/auth.hpp"
 #include "web/resources.hpp"
 
@@ -19,6 +20,7 @@ struct Route {
   http::verb method;
   std::string_view pattern;  // "/api/sensors/{name}/settings": a {placeholder} matches any one segment
   Handler handler;
+  std::string_view parameters = "";  // the query keys it reads, space-separated; `token` goes anywhere
 };
 
 // The first row whose method and pattern match answers. A path that matches only rows of
@@ -27,18 +29,18 @@ struct Route {
 constexpr std::array kRoutes{
     Route{http::verb::get, "/healthz", get_health},
     Route{http::verb::get, "/metrics", get_metrics},
-    Route{http::verb::get, "/api/events", get_all_events},
+    Route{http::verb::get, "/api/events", get_all_events, "after max_rate"},
     Route{http::verb::get, "/api/captures", list_captures},
     Route{http::verb::post, "/api/captures", start_capture},
     Route{http::verb::get, "/api/captures/{id}", get_capture},
     Route{http::verb::post, "/api/captures/{id}/stop", stop_capture},
-    Route{http::verb::get, "/api/captures/{id}/download", download_capture},
+    Route{http::verb::get, "/api/captures/{id}/download", download_capture, "format"},
     Route{http::verb::get, "/api/sensors", list_sensors},
     Route{http::verb::get, "/api/sensors/{name}", get_sensor},
     Route{http::verb::get, "/api/sensors/{name}/settings", get_settings},
     Route{http::verb::patch, "/api/sensors/{name}/settings", patch_settings},
     Route{http::verb::get, "/api/sensors/{name}/settings/schema", get_settings_schema},
-    Route{http::verb::post, "/api/sensors/{name}/actions/{action}", post_action},
+    Route{http::verb::post, "/api/sensors/{name}/actions/{action}", post_action, "argument"},
     // Reading a whole configuration pauses an LS5 stream, so even the export is a POST.
     Route{http::verb::post, "/api/sensors/{name}/config", export_config},
     Route{http::verb::put, "/api/sensors/{name}/config", import_config},
@@ -47,8 +49,8 @@ constexpr std::array kRoutes{
     Route{http::verb::post, "/api/sensors/{name}/bus/scan", scan_bus},
     Route{http::verb::post, "/api/sensors/{name}/bus/assign", assign_address},
     Route{http::verb::post, "/api/sensors/{name}/bus/{call}", no_such_bus_call},
-    Route{http::verb::get, "/api/sensors/{name}/samples", get_samples},
-    Route{http::verb::get, "/api/sensors/{name}/events", get_sensor_events},
+    Route{http::verb::get, "/api/sensors/{name}/samples", get_samples, "after limit"},
+    Route{http::verb::get, "/api/sensors/{name}/events", get_sensor_events, "after max_rate"},
 };
 
 using Lookup = bool (*)(Exchange&, Matched&);
@@ -126,6 +128,29 @@ void bind(std::string_view pattern, const std::vector<std::string>& path, Matche
   });
 }
 
+// A query key the route does not read is refused rather than ignored: `?limt=5` would
+// otherwise quietly answer with the default limit. False after answering.
+bool known_parameters(Exchange& exchange, const Route& row, const Target& target) {
+  std::vector<std::string> known{"token"};
+  for (std::size_t at = 0; at < row.parameters.size();) {
+    const std::size_t space = std::min(row.parameters.find(' ', at), row.parameters.size());
+    known.emplace_back(row.parameters.substr(at, space - at));
+    at = space + 1;
+  }
+  for (const auto& [key, value] : target.query) {
+    if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+    std::string message = "'" + key + "' is no query parameter of " + std::string(http::to_string(row.method)) + " " +
+                          std::string(row.pattern);
+    if (const auto meant = text::closest(key, known)) message += "; did you mean '" + *meant + "'?";
+    std::string takes;
+    for (std::size_t i = 1; i < known.size(); ++i) takes += (i == 1 ? "" : ", ") + known[i];
+    message += takes.empty() ? " (it takes none)" : " (it takes " + takes + ")";
+    exchange.respond(http::status::bad_request, error_json("unknown_parameter", message, key));
+    return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 void route(Exchange& exchange) {
@@ -147,6 +172,7 @@ void route(Exchange& exchange) {
   for (const Route& row : kRoutes) {
     if (!matches(row.pattern, path, true)) continue;
     if (row.method == method) {
+      if (!known_parameters(exchange, row, matched.target)) return;
       bind(row.pattern, path, matched);
       return row.handler(exchange, matched);
     }

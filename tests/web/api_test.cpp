@@ -253,6 +253,14 @@ TEST(WebApi, EveryBadRequestGetsA4xxThatNamesTheProblem) {
   expect(http(port, "GET", "/api/sensors/nope"), 404, "not_found");
   expect(http(port, "GET", "/api/nothing"), 404, "not_found");
   expect(http(port, "GET", "/api/sensors/bel%zzt"), 400, "bad_target");
+  // A query key no route reads is refused, not ignored (the default limit would answer).
+  const Reply typo = http(port, "GET", "/api/sensors/belt/samples?limt=5");
+  expect(typo, 400, "unknown_parameter", "limt");
+  EXPECT_EQ(json_of(typo)["error"]["message"],
+            "'limt' is no query parameter of GET /api/sensors/{name}/samples; did you mean 'limit'? (it takes after, "
+            "limit)");
+  expect(http(port, "GET", "/api/sensors?verbose=1"), 400, "unknown_parameter", "verbose");
+  EXPECT_EQ(http(port, "GET", "/api/sensors/belt/samples?limit=2").status, 200);
   const Reply wrong_method = http(port, "DELETE", "/api/sensors/belt");
   expect(wrong_method, 405, "method_not_allowed");
   EXPECT_EQ(wrong_method.headers.at("allow"), "GET");
