@@ -1,5 +1,11 @@
 #include "rangekit/core/family.hpp"
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
 #include "rangekit/core/registry.hpp"
 
 namespace rangekit {
@@ -46,6 +52,21 @@ const char* unit_symbol(Unit unit) noexcept {
       return "ps";
   }
   return "";
+}
+
+int decimals_of_step(double step) noexcept {
+  if (!std::isfinite(step) || step <= 0) return -1;
+  const double digits = std::ceil(-std::log10(step) - 1e-9);
+  return std::clamp(static_cast<int>(digits), 0, 9);
+}
+
+// Through the text a stream prints ("%.4f"), so a figure and a sample of the same value
+// read the same: 24.845 with 2 decimals is 24.84 in both (it is 24.84499... in binary).
+double rounded_to(double value, int decimals) noexcept {
+  if (decimals < 0 || !std::isfinite(value)) return value;
+  std::array<char, 64> text{};
+  std::snprintf(text.data(), text.size(), "%.*f", decimals, value);
+  return std::strtod(text.data(), nullptr);
 }
 
 std::optional<double> metres_per(Unit unit) noexcept {

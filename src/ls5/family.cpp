@@ -15,14 +15,16 @@ constexpr const ChannelDescriptor& distance = channels[1];
 constexpr const ChannelDescriptor& derivative = channels[2];
 
 // A result: its distance; a derivative: the change. 65534 and 65535 (§9.3) carry neither.
+// The decimals are those of the sensor's discreteness (table 3.1), as the stream prints them.
 std::optional<Reading> reading(const Sample& sample) {
   if (sample.signal.value_or(SignalState::ok) != SignalState::ok) return std::nullopt;
+  const int decimals = sample.resolution_mm ? decimals_of_step(*sample.resolution_mm) : 2;
   switch (sample.kind) {
     case SampleKind::ls5_result:
-      if (sample.distance_mm) return Reading{&distance, *sample.distance_mm};
+      if (sample.distance_mm) return Reading{&distance, *sample.distance_mm, decimals};
       return std::nullopt;
     case SampleKind::ls5_derivative:
-      if (sample.derivative_mm) return Reading{&derivative, *sample.derivative_mm};
+      if (sample.derivative_mm) return Reading{&derivative, *sample.derivative_mm, decimals};
       return std::nullopt;
     default:
       return std::nullopt;

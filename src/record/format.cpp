@@ -47,9 +47,8 @@ void append_metres(std::string& out, double metres) { append_printf(out, "%.4f",
 // As many decimals as the sensor's discreteness has (0.0001 mm: 4, 0.1 mm: 1; LS5
 // table 3.1, L63); 2 when it is not known, which is how captures without it printed.
 int millimetre_decimals(const Sample& sample) {
-  if (!sample.resolution_mm || !std::isfinite(*sample.resolution_mm) || *sample.resolution_mm <= 0) return 2;
-  const double digits = std::ceil(-std::log10(*sample.resolution_mm) - 1e-9);
-  return std::clamp(static_cast<int>(digits), 0, 6);
+  const int decimals = sample.resolution_mm ? decimals_of_step(*sample.resolution_mm) : -1;
+  return decimals < 0 ? 2 : std::min(decimals, 6);
 }
 
 // Appends millimetres with the sample's decimals; JSON has no NaN or infinity, so

@@ -20,6 +20,8 @@ constexpr std::array channels{
 constexpr const ChannelDescriptor& distance = channels[0];
 constexpr const ChannelDescriptor& targets = channels[2];
 constexpr const ChannelDescriptor& presence = channels[3];
+// Metres with the stream's 4 decimals: 1 mm, and 0.01 ft (3.048 mm) in feet (§9).
+constexpr int metre_decimals = 4;
 
 // Averaging: its distance. Binning: the nearest target, the Interface Program's "first target
 // the laser sees" (§2 Display/Target Selection). Look down: the edge, 1 or 0. A §10 error
@@ -27,17 +29,17 @@ constexpr const ChannelDescriptor& presence = channels[3];
 std::optional<Reading> reading(const Sample& sample) {
   switch (sample.kind) {
     case SampleKind::uls_averaging:
-      if (sample.distance_m) return Reading{&distance, *sample.distance_m};
+      if (sample.distance_m) return Reading{&distance, *sample.distance_m, metre_decimals};
       return std::nullopt;
     case SampleKind::uls_binning: {
       if (sample.targets.empty()) return std::nullopt;
       const auto nearest =
           std::min_element(sample.targets.begin(), sample.targets.end(),
                            [](const TargetHit& a, const TargetHit& b) { return a.distance_m < b.distance_m; });
-      return Reading{&targets, nearest->distance_m};
+      return Reading{&targets, nearest->distance_m, metre_decimals};
     }
     case SampleKind::uls_look_down:
-      if (sample.presence) return Reading{&presence, *sample.presence ? 1.0 : 0.0};
+      if (sample.presence) return Reading{&presence, *sample.presence ? 1.0 : 0.0, 0};
       return std::nullopt;
     default:
       return std::nullopt;

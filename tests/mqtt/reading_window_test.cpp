@@ -20,6 +20,7 @@ Sample ls5(std::optional<double> distance_mm, std::uint16_t code, SignalState si
   sample.code = code;
   sample.distance_mm = distance_mm;
   sample.signal = signal;
+  sample.resolution_mm = 0.001;  // an LS5 of 25 mm range (table 3.1): 3 decimals
   return sample;
 }
 
@@ -119,4 +120,25 @@ TEST(ReadingWindow, SuspectSamplesAreCountedAndKeptOutOfTheFigures) {
   EXPECT_DOUBLE_EQ(json["max"].get<double>(), 24.850);
   EXPECT_DOUBLE_EQ(json["mean"].get<double>(), 24.845);
   EXPECT_DOUBLE_EQ(json["last"].get<double>(), 24.850);
+}
+
+// The figures carry the decimals the sensor's discreteness gives (as its samples print), not
+// a binary fraction's tail: a mean of 15.7188 and 15.7187 mm with 0.0001 mm steps is 15.7188.
+TEST(ReadingWindow, FiguresAreRoundedToTheSensorsDiscreteness) {
+  mqtt::ReadingWindow window(10);
+  const auto start = Clock::now();
+  auto fine = [](double distance_mm) {
+    auto sample = ls5(distance_mm, 1, SignalState::ok);
+    sample.resolution_mm = 0.0001;
+    return sample;
+  };
+  ASSERT_TRUE(window.add(fine(15.7), start));  // the first goes out alone
+  EXPECT_FALSE(window.add(fine(15.718792959999998), start + 10ms));
+  EXPECT_FALSE(window.add(fine(15.7187), start + 20ms));
+  EXPECT_FALSE(window.add(fine(15.71879296), start + 30ms));
+  const auto text = window.flush_due(start + 100ms);
+  ASSERT_TRUE(text);
+  EXPECT_NE(text->find("\"mean\":15.7188,"), std::string::npos) << *text;
+  EXPECT_NE(text->find("\"last\":15.7188,"), std::string::npos) << *text;
+  EXPECT_NE(text->find("\"min\":15.7187,"), std::string::npos) << *text;
 }

@@ -16,6 +16,7 @@ Sample ls5(std::optional<double> distance_mm, bool suspect = false) {
   sample.distance_mm = distance_mm;
   sample.signal = distance_mm ? SignalState::ok : SignalState::lost;
   sample.suspect = suspect;
+  sample.resolution_mm = 0.001;  // an LS5 of 25 mm range (table 3.1): 3 decimals
   return sample;
 }
 

@@ -41,6 +41,15 @@ struct ChannelDescriptor {
 struct Reading {
   const ChannelDescriptor* channel = nullptr;
   double value = 0;
+  // The decimals the value deserves (the sensor's discreteness, as the stream prints it);
+  // -1 when not known. A mean of such values is rounded to them.
+  int decimals = -1;
 };
+
+// The decimals a step needs: 0.0001 -> 4, 0.1 -> 1, 5 -> 0; -1 for no step (0, NaN).
+int decimals_of_step(double step) noexcept;
+// `value` rounded to `decimals` (unchanged for -1), so that it prints as 15.7188, not
+// 15.718792959999998.
+double rounded_to(double value, int decimals) noexcept;
 
 }  // namespace rangekit

@@ -19,10 +19,11 @@ class ReadingStats {
   // Null while empty.
   [[nodiscard]] const ChannelDescriptor* channel() const noexcept { return channel_; }
   [[nodiscard]] const char* unit() const noexcept;  // "" while empty
-  [[nodiscard]] double min() const noexcept { return min_; }
-  [[nodiscard]] double max() const noexcept { return max_; }
+  // Rounded to the readings' decimals (the most any of them had).
+  [[nodiscard]] double min() const noexcept { return rounded_to(min_, decimals_); }
+  [[nodiscard]] double max() const noexcept { return rounded_to(max_, decimals_); }
   [[nodiscard]] double mean() const noexcept;
-  [[nodiscard]] double last() const noexcept { return last_; }
+  [[nodiscard]] double last() const noexcept { return rounded_to(last_, decimals_); }
 
  private:
   const ChannelDescriptor* channel_ = nullptr;
@@ -31,6 +32,7 @@ class ReadingStats {
   double max_ = 0;
   double sum_ = 0;
   double last_ = 0;
+  int decimals_ = -1;
 };
 
 }  // namespace rangekit
