@@ -138,8 +138,42 @@ class Firmware final : public DeviceModel {
   void handle_frame(std::size_t port, const FrameView& frame, Nanos now);
   // One byte after an overrun (U78); false when the byte starts a new frame instead.
   bool continue_overrun(std::size_t port, std::uint8_t byte, Nanos now);
+  // A checked request goes to its command's handler through one table (command_table.cpp).
   void execute(std::size_t port, Address reply_to, bool silent, const CommandInfo& command, RequestForm form,
                const FrameView& frame, Nanos now);
+  struct Request;  // what a handler acts on and answers to (command_handlers.hpp)
+  using CommandHandler = void (Firmware::*)(const Request&);
+  [[nodiscard]] static CommandHandler handler(CommandId id) noexcept;
+  void answer_ok(const Request& request);
+  void answer_error(const Request& request, int number);
+  void answer(const Request& request, std::initializer_list<std::string_view> values);
+  // Commands that act on the unit (command_table.cpp) or its memory (persistence.cpp).
+  void handle_start(const Request& request);
+  void handle_stop(const Request& request);
+  void handle_measure(const Request& request);
+  void handle_pointer(const Request& request);
+  void handle_version(const Request& request);
+  void handle_status(const Request& request);
+  void handle_save(const Request& request);
+  // Settings read and written alike, one instance per setting (command_handlers.hpp).
+  template <bool Settings::*field>
+  void handle_flag(const Request& request);
+  template <auto field>
+  void handle_count(const Request& request);
+  template <auto field, auto convert>
+  void handle_choice(const Request& request);
+  template <double Settings::*field>
+  void handle_decimal(const Request& request);
+  template <double Settings::*field>
+  void handle_distance(const Request& request);
+  // Settings with rules of their own (setting_commands.cpp).
+  void handle_averaging_weight(const Request& request);
+  void handle_ppm(const Request& request);
+  void handle_prf(const Request& request);
+  void handle_baud(const Request& request);
+  void handle_loop_range(const Request& request);  // AH and AL
+  void handle_trip_timeout(const Request& request);
+  void handle_address(const Request& request);
   void reply(std::size_t port, bool silent, const Result<FrameText>& frame, Nanos now);
   void reply_values(std::size_t port, Address to, bool silent, std::string_view mnemonic,
                     std::initializer_list<std::string_view> values, Nanos now);
