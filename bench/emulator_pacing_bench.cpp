@@ -20,8 +20,8 @@
 
 #include "filed_emulator_loop.hpp"
 #include "rangekit/core/serial_port.hpp"
+#include "rangekit/ls5/emulator/firmware.hpp"
 #include "rangekit/sim/emulator_runtime.hpp"
-#include "rangekit/sim/ls5/firmware.hpp"
 #include "rangekit/sim/pty.hpp"
 
 namespace {

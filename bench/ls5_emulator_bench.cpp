@@ -6,7 +6,7 @@
 #include <chrono>
 
 // The firmware header is internal to src/ (bench/ has no src include path).
-#include "rangekit/sim/ls5/firmware.hpp"
+#include "rangekit/ls5/emulator/firmware.hpp"
 
 namespace {
 

@@ -14,7 +14,7 @@
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/sim/emulator_runtime.hpp"
 #include "rangekit/sim/pty.hpp"
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 namespace {
 

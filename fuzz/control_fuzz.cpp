@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <string>
 
+#include "rangekit/ls5/emulator/firmware.hpp"
 #include "rangekit/sim/control_socket.hpp"
-#include "rangekit/sim/ls5/firmware.hpp"
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 namespace {
 

@@ -11,8 +11,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "rangekit/sim/ls5/firmware.hpp"
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/ls5/emulator/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 namespace {
 

@@ -7,9 +7,9 @@
 #include <string_view>
 
 #include "rangekit/hub/site_config.hpp"
+#include "rangekit/ls5/emulator/firmware.hpp"
 #include "rangekit/ls5/host_config.hpp"
-#include "rangekit/sim/ls5/firmware.hpp"
-#include "rangekit/sim/uls/scene.hpp"
+#include "rangekit/uls/emulator/scene.hpp"
 #include "rangekit/uls/host_config.hpp"
 
 namespace {

@@ -31,6 +31,10 @@ check_output() {
 
 cmake --install "$build" --prefix "$work/prefix" >/dev/null
 test -f "$work/prefix/include/rangekit/version.hpp"
+# rangekit::sim's headers: the runtime's and, beside each family's codec, its firmware model's.
+test -f "$work/prefix/include/rangekit/sim/emulator_runtime.hpp"
+test -f "$work/prefix/include/rangekit/uls/emulator/firmware.hpp"
+test -f "$work/prefix/include/rangekit/ls5/emulator/firmware.hpp"
 
 cmake -S "$root/tests/consumer" -B "$work/installed" -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null
 cmake --build "$work/installed" -j"$jobs" >/dev/null

@@ -9,7 +9,7 @@
 #include "cli/commands.hpp"
 #include "cli/sim.hpp"
 #include "rangekit/core/udp.hpp"
-#include "rangekit/sim/ls5/firmware.hpp"
+#include "rangekit/ls5/emulator/firmware.hpp"
 
 namespace rangekit::cli {
 

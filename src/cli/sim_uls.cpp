@@ -7,7 +7,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/sim.hpp"
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 namespace rangekit::cli {
 namespace {

@@ -105,17 +105,21 @@ TEST(Architecture, DriversAndEmulatorsNeverReachEachOther) {
   for (const std::string family : {"uls", "ls5"}) {
     expect_no_include("src/" + family + "/driver", R"(emulator|control_socket|emulator_runtime|device_model)",
                       "a host driver never depends on an emulator");
-    expect_no_include("src/" + family + "/emulator", R"(/driver/|driver\.hpp$|/bus\.hpp$|host_)",
-                      "an emulator never depends on a host driver");
+    for (const std::string& emulator : {"src/" + family + "/emulator", "include/rangekit/" + family + "/emulator"}) {
+      expect_no_include(emulator, R"(/driver/|driver\.hpp$|/bus\.hpp$|host_)",
+                        "an emulator never depends on a host driver");
+    }
   }
 }
 
 TEST(Architecture, HostLibrariesNeverReachTheEmulators) {
-  // An embedder of the drivers links no emulator (rangekit::sim), so nothing they compile includes one.
+  // An embedder of the drivers links no emulator (rangekit::sim), so nothing they compile includes
+  // one: neither the runtime (rangekit/sim/) nor a family's firmware model (rangekit/<family>/emulator/).
   for (const std::string folder : {"src/uls", "src/ls5", "src/record", "src/core", "include/rangekit/uls",
                                    "include/rangekit/ls5", "include/rangekit/record"}) {
-    expect_no_include(folder, R"(^rangekit/sim/)", "the host libraries never depend on rangekit::sim",
-                      "(?!src/(uls|ls5)/emulator/).*");
+    expect_no_include(folder, R"(^rangekit/(sim|uls/emulator|ls5/emulator)/)",
+                      "the host libraries never depend on rangekit::sim",
+                      "(?!(src|include/rangekit)/(uls|ls5)/emulator/).*");
   }
 }
 
@@ -158,7 +162,8 @@ TEST(Architecture, PythonModuleUsesThePublicHeadersOnly) {
   // runs the CLI's `rangekit sim` as a child process) and no hub.
   expect_no_include("python/src", R"(^(?!common\.hpp$|rangekit/))",
                     "the Python module uses the libraries' public headers only");
-  expect_no_include("python/src", R"(^rangekit/(sim|hub)/)", "the Python module binds no emulator or hub");
+  expect_no_include("python/src", R"(^rangekit/(sim|hub|uls/emulator|ls5/emulator)/)",
+                    "the Python module binds no emulator or hub");
 }
 
 }  // namespace

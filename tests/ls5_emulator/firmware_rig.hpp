@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <string>
 
-#include "rangekit/sim/ls5/firmware.hpp"
+#include "rangekit/ls5/emulator/firmware.hpp"
 
 namespace rangekit::ls5::emulator::testing {
 

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 #include "rangekit/uls/uls.hpp"
 #include "uls_emulator/helpers.hpp"
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 #include "uls_emulator/helpers.hpp"
 
 namespace rangekit::uls::emulator {

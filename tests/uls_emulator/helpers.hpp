@@ -6,7 +6,7 @@
 #include <variant>
 #include <vector>
 
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 #include "rangekit/uls/uls.hpp"
 
 namespace rangekit::uls::emulator::testing {

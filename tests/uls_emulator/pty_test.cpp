@@ -15,7 +15,7 @@
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/sim/control_socket.hpp"
 #include "rangekit/sim/emulator_runtime.hpp"
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 namespace rangekit::uls::emulator {
 namespace {

@@ -6,7 +6,7 @@
 #include <string>
 #include <variant>
 
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 #include "rangekit/uls/uls.hpp"
 #include "uls_emulator/helpers.hpp"
 

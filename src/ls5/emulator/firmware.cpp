@@ -1,6 +1,6 @@
 // The LS5 firmware model. Decisions: docs/conformance.md L25-L36,
 // behaviour and scene format: docs/emulator-ls5.md.
-#include "rangekit/sim/ls5/firmware.hpp"
+#include "rangekit/ls5/emulator/firmware.hpp"
 
 #include "rangekit/core/text.hpp"
 #include "rangekit/sim/control_socket.hpp"

@@ -3,7 +3,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "rangekit/sim/ls5/firmware.hpp"
+#include "rangekit/ls5/emulator/firmware.hpp"
 #include "sim/scene_toml.hpp"
 
 namespace rangekit::ls5::emulator {

@@ -1,5 +1,5 @@
 // Averaging mode (§3, §8 MM 1): timed, dithered returns, the noise filter and the mean.
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // Binning mode (§3, §8 MM 2): hits counted in range bins, up to 15 targets a burst.
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 #include <algorithm>
 #include <cmath>

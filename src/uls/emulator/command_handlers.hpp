@@ -8,7 +8,7 @@
 #include <string_view>
 #include <type_traits>
 
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 namespace rangekit::uls::emulator {
 

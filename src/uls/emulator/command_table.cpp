@@ -1,6 +1,6 @@
 // The ULS model's §8 commands: one handler per command id, the dispatch, and the commands
 // that act on the unit (start, stop, measure, pointer) or describe it (version, status).
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 #include <array>
 

@@ -1,6 +1,6 @@
 // The ULS firmware model; see firmware.hpp and docs/emulator-uls.md. Here: power, the unit's
 // outputs and the control socket; the commands, ports and modes have files of their own.
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 #include "rangekit/sim/control_socket.hpp"
 

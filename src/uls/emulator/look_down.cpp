@@ -1,6 +1,6 @@
 // Look-down mode (§3, §8 MM 3): a reference distance, presence decided over 30 pulses,
 // re-referencing, and the trip line or time between events it reports.
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // The ULS model's measuring: runs of pulses on the PRF's clock, the scene's returns, and the
 // readings each completed measurement sends.
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 #include <algorithm>
 #include <cmath>

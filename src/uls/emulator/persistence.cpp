@@ -1,6 +1,6 @@
 // The ULS settings in non-volatile memory: stored by SU (§8), read back at power-up,
 // keyed by mnemonic.
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 #include <type_traits>
 

@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 namespace rangekit::uls::emulator {
 

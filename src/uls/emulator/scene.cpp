@@ -1,5 +1,5 @@
 // Scene files for the ULS emulator (TOML, docs/emulator-uls.md "Scene").
-#include "rangekit/sim/uls/scene.hpp"
+#include "rangekit/uls/emulator/scene.hpp"
 
 #include <fstream>
 #include <sstream>

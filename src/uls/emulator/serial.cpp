@@ -1,6 +1,6 @@
 // The ULS model's two serial ports (§4): framing, overruns, addressing on the RS-485 bus (§7),
 // replies paced at the line's speed and the baud rate switch.
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 #include <algorithm>
 

@@ -1,6 +1,6 @@
 // The ULS settings commands with rules of their own: values that depend on each other
 // (AW and PO, AH and AL), one value per mode (PF, PO), a port's speed (BR), TT and UA.
-#include "rangekit/sim/uls/firmware.hpp"
+#include "rangekit/uls/emulator/firmware.hpp"
 
 #include <algorithm>
 

@@ -12,7 +12,7 @@
 #include "rangekit/sim/device_model.hpp"
 #include "rangekit/sim/serial_pacer.hpp"
 #include "rangekit/sim/state_store.hpp"
-#include "rangekit/sim/uls/scene.hpp"
+#include "rangekit/uls/emulator/scene.hpp"
 #include "rangekit/uls/uls.hpp"
 
 namespace rangekit::uls::emulator {
