@@ -275,7 +275,7 @@ Result<std::vector<Field>> Hub::import_config(std::string_view sensor, std::stri
           impl_->options.command_timeout);
 }
 
-Result<std::string> Hub::act(std::string_view sensor, Action action, std::string_view argument) {
+Result<ActionResult> Hub::act(std::string_view sensor, Action action, std::string_view argument) {
   Session* session = impl_->find(sensor);
   if (session == nullptr) return impl_->unknown(sensor);
   if (action == Action::start || action == Action::stop) {
@@ -283,9 +283,9 @@ Result<std::string> Hub::act(std::string_view sensor, Action action, std::string
     session->want_stream = action == Action::start;  // kept across reconnects
   }
   return impl_->worker_of.at(session->config.name)
-      ->run<std::string>([session, action, argument = std::string(argument)](
-                             Backend& backend) { return backend.act(*session, action, argument); },
-                         impl_->options.command_timeout);
+      ->run<ActionResult>([session, action, argument = std::string(argument)](
+                              Backend& backend) { return backend.act(*session, action, argument); },
+                          impl_->options.command_timeout);
 }
 
 namespace {

@@ -6,6 +6,7 @@
 #include <charconv>
 #include <optional>
 
+#include "rangekit/core/family.hpp"
 #include "rangekit/core/text.hpp"
 #include "rangekit/record/format.hpp"
 
@@ -132,6 +133,21 @@ SettingsBody settings_from_body(std::string_view body) {
     parsed.values.emplace_back(name, std::move(text));
   }
   return parsed;
+}
+
+nlohmann::json action_json(const ActionResult& result) {
+  nlohmann::json out{{"result", result.text}, {"reading", nullptr}, {"sample", nullptr}};
+  if (!result.sample) return out;
+  std::string line;
+  record::append_jsonl(line, *result.sample);
+  out["sample"] = nlohmann::json::parse(line, nullptr, false);
+  if (const auto reading = reading_of(*result.sample)) {
+    out["reading"] = {{"value", rounded_to(reading->value, reading->decimals)},
+                      {"unit", unit_symbol(reading->channel->unit)},
+                      {"channel", reading->channel->key},
+                      {"quantity", quantity_name(reading->channel->quantity)}};
+  }
+  return out;
 }
 
 ActionBody action_from_body(std::string_view body) {

@@ -25,7 +25,10 @@ nlohmann::json answer_command(hub::Hub& hub, const std::string& sensor, CommandK
   }
   auto done = hub.act(sensor, *action, body.argument);
   if (!done) return hub::error_object(hub::error_code_name(done.error().code), done.error().message);
-  return {{"ok", true}, {"action", hub::action_name(*action)}, {"result", *done}};
+  nlohmann::json answer = hub::action_json(*done);
+  answer["ok"] = true;
+  answer["action"] = hub::action_name(*action);
+  return answer;
 }
 
 }  // namespace rangekit::mqtt

@@ -74,9 +74,9 @@ void post_action(Exchange& exchange, const Matched& matched) {
   }
   exchange.off_loop([&hub = exchange.server().hub, name = matched.name, action = *action,
                      argument] { return hub.act(name, action, argument); },
-                    [self = exchange.shared_from_this()](Result<std::string> result) {
+                    [self = exchange.shared_from_this()](const Result<hub::ActionResult>& result) {
                       if (!result) return self->fail(result.error());
-                      self->respond(http::status::ok, nlohmann::json{{"result", *result}}.dump(
+                      self->respond(http::status::ok, hub::action_json(*result).dump(
                                                           -1, ' ', false, nlohmann::json::error_handler_t::replace));
                     });
 }

@@ -3,6 +3,8 @@
 // emulator seen disconnected, then reconnected.
 #include <gtest/gtest.h>
 
+#include "rangekit/core/family.hpp"
+
 #include <map>
 #include <regex>
 
@@ -55,7 +57,7 @@ TEST(HubPty, ServesAnLs5AUlsAndABusOfFourUnits) {
   });
   EXPECT_TRUE(every_sensor) << "sensors with samples: " << samples.size();
   for (const SensorSnapshot& sensor : hub->sensors()) {
-    EXPECT_TRUE(sensor.health.connected) << sensor.config.name;
+    EXPECT_TRUE(sensor.health.connected) << sensor.config.name << ": " << sensor.health.last_event;
     EXPECT_TRUE(sensor.streaming) << sensor.config.name;
     EXPECT_GE(sensor.health.records, 3u) << sensor.config.name;
     EXPECT_FALSE(sensor.identity.empty()) << sensor.config.name;
@@ -113,7 +115,13 @@ TEST(HubPty, SettingsAreCheckedBeforeSendingAndReadBack) {
   auto single = hub->act("silo", Action::single);
   ASSERT_TRUE(single.ok()) << single.error().message;
   // §9: "Resolution 1 mm or 0.01 ft": "27.881 m", not "27.881000 m".
-  EXPECT_TRUE(std::regex_match(*single, std::regex(R"(\d+\.\d{3} m)"))) << *single;
+  EXPECT_TRUE(std::regex_match(single->text, std::regex(R"(\d+\.\d{3} m)"))) << single->text;
+  // The measurement itself comes along, so a face gives its reading as a number with its unit.
+  ASSERT_TRUE(single->sample.has_value());
+  const auto reading = reading_of(*single->sample);
+  ASSERT_TRUE(reading.has_value());
+  EXPECT_EQ(reading->channel->key, "distance_m");
+  EXPECT_NEAR(reading->value, std::stod(single->text), 0.0005) << single->text;
   EXPECT_EQ(hub->act("silo", Action::latch).error().message, "'latch' is not an action of uls sensor 'silo'");
   EXPECT_EQ(hub->act("belt", Action::pointer, "on").error().code, Errc::unsupported);
 }

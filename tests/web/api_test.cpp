@@ -214,6 +214,13 @@ TEST(WebApi, ActionsRunOnTheSensor) {
   const Reply single = http(service.port, "POST", "/api/sensors/bay-A/actions/single");
   ASSERT_EQ(single.status, 200) << single.body;
   EXPECT_NE(json_of(single)["result"].get<std::string>().find(" m"), std::string::npos) << single.body;
+  // The measurement as a value with its unit, and as the stream's line: nothing to parse.
+  const auto reading = json_of(single)["reading"];
+  EXPECT_EQ(reading["unit"], "m") << single.body;
+  EXPECT_EQ(reading["quantity"], "distance") << single.body;
+  EXPECT_EQ(reading["channel"], "distance_m") << single.body;
+  EXPECT_NEAR(reading["value"].get<double>(), std::stod(json_of(single)["result"].get<std::string>()), 0.0005);
+  EXPECT_EQ(json_of(single)["sample"]["device"], "uls") << single.body;
   const Reply stop = http(service.port, "POST", "/api/sensors/belt/actions/stop");
   ASSERT_EQ(stop.status, 200) << stop.body;
   EXPECT_FALSE(json_of(http(service.port, "GET", "/api/sensors/belt"))["streaming"].get<bool>());
@@ -228,6 +235,12 @@ TEST(WebApi, ActionsRunOnTheSensor) {
   const Reply latch = http(service.port, "POST", "/api/sensors/belt/actions/latch");
   ASSERT_EQ(latch.status, 200) << latch.body;
   EXPECT_NE(json_of(latch)["result"].get<std::string>().find("(code "), std::string::npos) << latch.body;
+  const auto latched_code = json_of(latch)["sample"]["code"];
+  EXPECT_NE(json_of(latch)["result"].get<std::string>().find("(code " + latched_code.dump() + ")"), std::string::npos)
+      << latch.body;
+  if (!json_of(latch)["reading"].is_null()) {
+    EXPECT_EQ(json_of(latch)["reading"]["unit"], "mm") << latch.body;
+  }
   const Reply latched = http(service.port, "POST", "/api/sensors/belt/actions/latch?argument=read");
   ASSERT_EQ(latched.status, 200) << latched.body;
   EXPECT_EQ(json_of(latched)["result"], json_of(latch)["result"]);  // FR alone reads the same latch

@@ -74,7 +74,7 @@ class Backend {
   [[nodiscard]] virtual bool has_settings() const { return true; }
   virtual Result<std::vector<Field>> read_settings(Session& session) = 0;
   virtual Result<std::vector<Field>> write_settings(Session& session, const SettingValues& values) = 0;
-  virtual Result<std::string> act(Session& session, Action action, std::string_view argument) = 0;
+  virtual Result<ActionResult> act(Session& session, Action action, std::string_view argument) = 0;
   virtual Result<std::string> export_config(Session& session) = 0;
   virtual Result<std::vector<Field>> import_config(Session& session, std::string_view toml) = 0;
   // An RS-485 bus of ULS units only (§7); the other backends refuse.

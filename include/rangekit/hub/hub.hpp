@@ -92,6 +92,13 @@ enum class Action : std::uint8_t {
 std::optional<Action> parse_action(std::string_view name);
 const char* action_name(Action action) noexcept;
 
+// What an action answers: a line for a person, and the measurement it made (single, latch),
+// whose reading the faces give as a value with its unit.
+struct ActionResult {
+  std::string text;  // "25.3 mm (code 31629)"; empty when there is nothing to say
+  std::optional<Sample> sample;
+};
+
 class Hub {
  public:
   // Starts one worker per port. A sensor whose port cannot be opened is
@@ -135,7 +142,7 @@ class Hub {
   // the unit is assigned back (U106).
   Status assign_address(std::string_view sensor, std::optional<std::uint8_t> from, std::uint8_t to);
   // The action's result text ("10.123 m" for single, "" otherwise).
-  Result<std::string> act(std::string_view sensor, Action action, std::string_view argument = {});
+  Result<ActionResult> act(std::string_view sensor, Action action, std::string_view argument = {});
 
  private:
   struct Impl;

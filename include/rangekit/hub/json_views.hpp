@@ -36,6 +36,9 @@ struct ActionBody {
   std::optional<BodyError> error;
 };
 ActionBody action_from_body(std::string_view body);
+// An action's answer: {"result": text, "reading": {"value", "unit", "channel", "quantity"} or
+// null, "sample": the measurement as a stream line gives it, or null}.
+nlohmann::json action_json(const ActionResult& result);
 
 // "out of range" -> "out_of_range": one word a client can switch on.
 std::string error_code_name(Errc code);

@@ -63,6 +63,7 @@ class Ls5Backend final : public Backend {
     auto info = driver->info();
     if (!info) return make_error(info.error().code, config.port + ": " + info.error().message);
     const ls5::Identification& id = info->identification;
+    range_mm_ = id.range_mm;
     std::lock_guard lock(session_.mutex);
     session_.identity = {{"version", std::string(id.version_text.view()), ""},
                          {"lower-boundary", number_text(id.lower_boundary_mm), "mm"},
@@ -152,24 +153,24 @@ class Ls5Backend final : public Backend {
     });
   }
 
-  Result<std::string> act(Session& session, Action action, std::string_view argument) override {
+  Result<ActionResult> act(Session& session, Action action, std::string_view argument) override {
     switch (action) {
       case Action::start:
         if (auto started = set_streaming(session, true); !started) return std::move(started).error();
-        return std::string();
+        return ActionResult{};
       case Action::stop:
         if (auto stopped = set_streaming(session, false); !stopped) return std::move(stopped).error();
-        return std::string();
+        return ActionResult{};
       case Action::read: {
         auto settings = read_settings(session);
         if (!settings) return std::move(settings).error();
-        return std::string();
+        return ActionResult{};
       }
       case Action::single:
-        return paused([&]() -> Result<std::string> {
+        return paused([&]() -> Result<ActionResult> {
           auto last = driver_->measure();  // LR
           if (!last) return std::move(last).error();
-          return describe(*last);
+          return answer(*last);
         });
       case Action::save:
         return simple([&] { return driver_->store_to_flash(); });
@@ -177,13 +178,13 @@ class Ls5Backend final : public Backend {
         return simple([&] { return driver_->restore_defaults(); });
       case Action::latch:
         // FX then FR (table 9.1), as `rangekit ls5 latch` does; argument "read": FR alone.
-        return paused([&]() -> Result<std::string> {
+        return paused([&]() -> Result<ActionResult> {
           if (argument != "read") {
             if (auto latched = driver_->latch(); !latched) return std::move(latched).error();
           }
           auto result = driver_->read_latched();
           if (!result) return std::move(result).error();
-          return describe(*result);
+          return answer(*result);
         });
       case Action::pointer:
         break;
@@ -242,11 +243,17 @@ class Ls5Backend final : public Backend {
   }
 
   template <class F>
-  Result<std::string> simple(F&& call) {
-    return paused([&]() -> Result<std::string> {
+  Result<ActionResult> simple(F&& call) {
+    return paused([&]() -> Result<ActionResult> {
       if (auto done = call(); !done) return std::move(done).error();
-      return std::string();
+      return ActionResult{};
     });
+  }
+
+  // An LR or FR answer as text and as the sample a stream would have given for it.
+  ActionResult answer(const ls5::Measurement& result) const {
+    return {describe(result), ls5::make_ls5_sample(result.code, range_mm_, session_.config.port,
+                                                   session_.config.address.value_or(1), result.derivative)};
   }
 
   Session& session_;
@@ -254,6 +261,7 @@ class Ls5Backend final : public Backend {
   PortOpener open_;
   std::unique_ptr<ls5::Driver> driver_;
   std::unique_ptr<ls5::MeasurementStream> stream_;
+  std::optional<double> range_mm_;  // from the identification: the formulas need it
 };
 
 // An Ethernet LS5 heard over UDP only (§10): samples, no commands.
@@ -290,8 +298,8 @@ class Ls5UdpBackend final : public Backend {
   Result<std::vector<Field>> write_settings(Session& /*session*/, const SettingValues& /*values*/) override {
     return no_port();
   }
-  Result<std::string> act(Session& session, Action action, std::string_view /*argument*/) override {
-    if (action == Action::start) return std::string();
+  Result<ActionResult> act(Session& session, Action action, std::string_view /*argument*/) override {
+    if (action == Action::start) return ActionResult{};
     return refused(session, action);
   }
   Result<std::string> export_config(Session& /*session*/) override { return no_port(); }

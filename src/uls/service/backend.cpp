@@ -99,10 +99,10 @@ std::string sample_text(const Sample& sample, uls::Units units) {
 }
 
 // Actions on one unit that need no stream of their own.
-Result<std::string> unit_action(uls::Driver& driver, Session& session, Action action, std::string_view argument) {
-  const auto done = [](Status status) -> Result<std::string> {
+Result<ActionResult> unit_action(uls::Driver& driver, Session& session, Action action, std::string_view argument) {
+  const auto done = [](Status status) -> Result<ActionResult> {
     if (!status) return std::move(status).error();
-    return std::string();
+    return ActionResult{};
   };
   switch (action) {
     case Action::single: {
@@ -110,7 +110,7 @@ Result<std::string> unit_action(uls::Driver& driver, Session& session, Action ac
       if (!sample) return std::move(sample).error();
       auto units = driver.units();  // the reply's resolution: 1 mm, or 0.01 ft (§9)
       if (!units) return std::move(units).error();
-      return sample_text(*sample, *units);
+      return ActionResult{sample_text(*sample, *units), std::move(*sample)};
     }
     case Action::pointer:
       if (argument != "on" && argument != "off") {
@@ -124,12 +124,12 @@ Result<std::string> unit_action(uls::Driver& driver, Session& session, Action ac
       if (!report) return std::move(report).error();
       auto fields = read_fields(driver, session);
       if (!fields) return std::move(fields).error();
-      return std::string();
+      return ActionResult{};
     }
     case Action::read: {
       auto fields = read_fields(driver, session);
       if (!fields) return std::move(fields).error();
-      return std::string();
+      return ActionResult{};
     }
     case Action::latch:
     case Action::start:
@@ -195,10 +195,10 @@ class UlsBackend final : public Backend {
     return paused([&] { return write_fields(*driver_, session, values); });
   }
 
-  Result<std::string> act(Session& session, Action action, std::string_view argument) override {
+  Result<ActionResult> act(Session& session, Action action, std::string_view argument) override {
     if (action == Action::start || action == Action::stop) {
       if (auto changed = set_streaming(session, action == Action::start); !changed) return std::move(changed).error();
-      return std::string();
+      return ActionResult{};
     }
     return paused([&] { return unit_action(*driver_, session, action, argument); });
   }
@@ -358,10 +358,10 @@ class UlsBusBackend final : public Backend {
     return addressed(session, [&](uls::Driver& driver) { return write_fields(driver, session, values); });
   }
 
-  Result<std::string> act(Session& session, Action action, std::string_view argument) override {
+  Result<ActionResult> act(Session& session, Action action, std::string_view argument) override {
     if (action == Action::start || action == Action::stop) {
       if (auto changed = set_streaming(session, action == Action::start); !changed) return std::move(changed).error();
-      return std::string();
+      return ActionResult{};
     }
     forget_plan(session);  // a reset restores the default rates
     return addressed(session, [&](uls::Driver& driver) { return unit_action(driver, session, action, argument); });
