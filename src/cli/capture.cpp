@@ -1,11 +1,11 @@
-// `rangekit capture`: several sensors (ULS and LS5 ports) streamed into one
+// `rangekit capture`: several sensors (ports of any family) streamed into one
 // SQLite capture, for long unattended runs; `replay` reads it back.
 #include <fmt/core.h>
 
 #include <vector>
 
+#include "cli/cli_family.hpp"
 #include "cli/commands.hpp"
-#include "cli/host_sources.hpp"
 #include "cli/stream_runner.hpp"
 #include "rangekit/record/merge.hpp"
 
@@ -13,40 +13,33 @@ namespace rangekit::cli {
 namespace {
 
 struct CaptureArguments {
-  std::vector<std::string> uls_ports;
-  std::uint32_t uls_baud = 115200;
-  std::vector<std::string> ls5_ports;
-  std::uint32_t ls5_baud = 115200;
-  unsigned ls5_address = 1;
-  std::optional<unsigned> ls5_thinning;
-  std::string echo;  // "" = nothing on stdout
+  std::vector<SourceStarter> starters;  // each family's, from its options
+  std::string echo;                     // "" = nothing on stdout
   StreamOptions stream;
 };
 
+// "--a PORT or --b PORT"
+std::string port_options() {
+  std::string text;
+  for (const CliFamily* family : cli_families()) {
+    text += (text.empty() ? "--" : " or --") + std::string(family->name) + " PORT";
+  }
+  return text;
+}
+
 int run_capture(CaptureArguments& arguments) {
-  if (arguments.uls_ports.empty() && arguments.ls5_ports.empty()) {
-    fmt::print(stderr, "rangekit capture: give at least one --uls PORT or --ls5 PORT\n");
-    return exit_usage;
-  }
   std::vector<SampleSourcePtr> sources;
-  for (const auto& port : arguments.uls_ports) {
-    auto source = start_uls_source(UlsSourceOptions{port, arguments.uls_baud, std::nullopt, port});
-    if (!source) {
-      fmt::print(stderr, "rangekit capture: {}\n", source.error().message);
-      return exit_code_for(source.error());
+  for (const SourceStarter& start : arguments.starters) {
+    auto started = start();
+    if (!started) {
+      fmt::print(stderr, "rangekit capture: {}\n", started.error().message);
+      return exit_code_for(started.error());
     }
-    sources.push_back(std::move(source).value());
+    for (auto& source : *started) sources.push_back(std::move(source));
   }
-  for (const auto& port : arguments.ls5_ports) {
-    std::optional<std::uint8_t> thinning;
-    if (arguments.ls5_thinning) thinning = static_cast<std::uint8_t>(*arguments.ls5_thinning);
-    auto source = start_ls5_source(
-        Ls5SourceOptions{port, arguments.ls5_baud, static_cast<std::uint8_t>(arguments.ls5_address), thinning});
-    if (!source) {
-      fmt::print(stderr, "rangekit capture: {}\n", source.error().message);
-      return exit_code_for(source.error());
-    }
-    sources.push_back(std::move(source).value());
+  if (sources.empty()) {
+    fmt::print(stderr, "rangekit capture: give at least one {}\n", port_options());
+    return exit_usage;
   }
   auto merged = record::merge_sources(std::move(sources));
   StreamOptions options = arguments.stream;
@@ -71,19 +64,12 @@ int run_capture(CaptureArguments& arguments) {
 
 void add_capture_command(CLI::App& app, int& exit_code) {
   static CaptureArguments arguments;
-  auto* command = app.add_subcommand(
-      "capture", "Stream ULS and LS5 sensors into one SQLite capture (append-only, WAL; see docs/capture.md)");
+  auto* command =
+      app.add_subcommand("capture", "Stream " + cli_family_labels(" and ") +
+                                        " sensors into one SQLite capture (append-only, WAL; see docs/capture.md)");
   command->add_option("--out", arguments.stream.capture, "SQLite capture file (appended to when it exists)")
       ->required();
-  command->add_option("--uls", arguments.uls_ports, "ULS serial port (repeat for several)");
-  command->add_option("--uls-baud", arguments.uls_baud, "baud rate of the ULS ports")->capture_default_str();
-  command->add_option("--ls5", arguments.ls5_ports, "LS5 serial port (repeat for several)");
-  command->add_option("--ls5-baud", arguments.ls5_baud, "baud rate of the LS5 ports")->capture_default_str();
-  command->add_option("--ls5-address", arguments.ls5_address, "LS5 network address")
-      ->check(CLI::Range(1, 255))
-      ->capture_default_str();
-  command->add_option("--ls5-thinning", arguments.ls5_thinning, "LS5 stream thinning n (§8.4)")
-      ->check(CLI::Range(1, 255));
+  for (const CliFamily* family : cli_families()) arguments.starters.push_back(family->add_capture_options(*command));
   command->add_option("--count", arguments.stream.count, "stop after this many samples")->check(sample_count());
   command->add_option("--duration", arguments.stream.duration_s, "stop after this many seconds")
       ->check(duration_seconds());

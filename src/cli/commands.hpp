@@ -20,7 +20,7 @@ inline constexpr int exit_write_failed = 7;   // output or capture file could no
 inline constexpr int exit_link_lost = 8;      // the link went away and did not come back in time
 inline constexpr int exit_interrupted = 130;  // Ctrl-C; files were closed cleanly
 
-// The one map from a library error to an exit code, for both families and every
+// The one map from a library error to an exit code, for every family and every
 // subcommand (the table "Which error gives which code" in docs/cli.md). A port that
 // cannot be opened, whatever the reason, is turned into Errc::io by open_port
 // (host_sources.hpp) before it gets here.
@@ -48,9 +48,7 @@ inline CLI::Validator range_millimetres() { return in_range(0, max_range_mm, "mm
 void add_tables_command(CLI::App& app, int& exit_code);
 void add_decode_command(CLI::App& app, int& exit_code);
 void add_demo_command(CLI::App& app, int& exit_code);
-// Host side: one file per family, plus replay of captures.
-void add_uls_command(CLI::App& app, int& exit_code);
-void add_ls5_command(CLI::App& app, int& exit_code);
+// Host side: each family's own subcommand (cli_family.hpp), plus replay of captures.
 void add_replay_command(CLI::App& app, int& exit_code);
 void add_detect_command(CLI::App& app, int& exit_code);
 void add_capture_command(CLI::App& app, int& exit_code);

@@ -2,16 +2,17 @@
 // and prints each frame decoded, or why bytes were rejected.
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <iterator>
-#include <map>
+#include <utility>
+#include <vector>
 
+#include "cli/cli_family.hpp"
 #include "cli/commands.hpp"
 #include "cli/describe.hpp"
-#include "rangekit/ls5/frame.hpp"
-#include "rangekit/uls/frame.hpp"
 
 namespace rangekit::cli {
 namespace {
@@ -20,23 +21,8 @@ struct DecodeOptions {
   std::string family;
   std::string file;
   std::string from = "device";
-  std::string mode = "averaging";
-  std::string display = "range";
-  std::string units = "m";
-  bool time_between_events = false;
-  double range_mm = 0;
+  std::vector<std::pair<const CliFamily*, DecoderFactory>> decoders;  // each family's, from its options
 };
-
-uls::MeasurementContext context_of(const DecodeOptions& options) {
-  static const std::map<std::string, uls::Mode> modes{
-      {"averaging", uls::Mode::averaging}, {"binning", uls::Mode::binning}, {"look-down", uls::Mode::look_down}};
-  static const std::map<std::string, uls::DisplayMode> displays{{"range", uls::DisplayMode::range},
-                                                                {"both", uls::DisplayMode::range_and_intensity},
-                                                                {"intensity", uls::DisplayMode::intensity}};
-  return uls::MeasurementContext{modes.at(options.mode), displays.at(options.display),
-                                 options.units == "ft" ? uls::Units::feet : uls::Units::metres,
-                                 options.time_between_events};
-}
 
 int run_decode(const DecodeOptions& options) {
   std::string bytes;
@@ -50,12 +36,12 @@ int run_decode(const DecodeOptions& options) {
     }
     bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
-  const bool uls = options.family == "uls";
   const Direction direction = options.from == "host" ? Direction::to_device : Direction::from_device;
-  ScanFunction scan =
-      uls ? &uls::scan_frame : (direction == Direction::to_device ? &ls5::scan_request_frame : &ls5::scan_reply_frame);
-  const auto context = context_of(options);
-  FrameAssembler assembler(scan, 4096);
+  const auto chosen = std::find_if(options.decoders.begin(), options.decoders.end(),
+                                   [&](const auto& entry) { return entry.first->name == options.family; });
+  if (chosen == options.decoders.end()) return exit_usage;  // the option's check lets only a family through
+  const FrameDecoder decoder = chosen->second(direction);
+  FrameAssembler assembler(decoder.scan, 4096);
   FrameAssembler::Event event;
   int frames = 0;
   int rejected = 0;
@@ -67,8 +53,7 @@ int run_decode(const DecodeOptions& options) {
         continue;
       }
       ++frames;
-      const std::string description = uls ? describe_uls_frame(event.frame, direction, context)
-                                          : describe_ls5_frame(event.frame, direction, options.range_mm);
+      const std::string description = decoder.describe(event.frame);
       if (description.rfind("rejected", 0) == 0 || description.rfind("not a", 0) == 0) ++rejected;
       fmt::print("{:<24} {}\n", printable(event.frame), description);
     }
@@ -89,19 +74,16 @@ int run_decode(const DecodeOptions& options) {
 
 void add_decode_command(CLI::App& app, int& exit_code) {
   auto options = std::make_shared<DecodeOptions>();
-  auto* command = app.add_subcommand("decode", "Decode ULS or LS5 frames from a file or stdin");
-  command->add_option("family", options->family, "uls | ls5")->required()->check(CLI::IsMember({"uls", "ls5"}));
+  auto* command = app.add_subcommand("decode", "Decode " + cli_family_labels(" or ") + " frames from a file or stdin");
+  command->add_option("family", options->family, cli_family_names(" | "))
+      ->required()
+      ->check(CLI::IsMember(cli_family_name_list()));
   command->add_option("file", options->file, "file of raw bytes (default: stdin)");
   command->add_option("--from", options->from, "who sent the bytes: device (replies, measurements) or host (commands)")
       ->check(CLI::IsMember({"device", "host"}));
-  command->add_option("--mode", options->mode, "ULS measurement mode the BM lines come from")
-      ->check(CLI::IsMember({"averaging", "binning", "look-down"}));
-  command->add_option("--display", options->display, "ULS averaging display mode (DM)")
-      ->check(CLI::IsMember({"range", "both", "intensity"}));
-  command->add_option("--units", options->units, "ULS units (MU)")->check(CLI::IsMember({"m", "ft"}));
-  command->add_flag("--time-between-events", options->time_between_events, "ULS look down with TB on");
-  command->add_option("--range-mm", options->range_mm, "LS5 measurement range, to print millimetres")
-      ->check(range_millimetres());
+  for (const CliFamily* family : cli_families()) {
+    options->decoders.emplace_back(family, family->add_decode_options(*command));
+  }
   command->footer("Exit codes: 0 every frame decoded, 3 some bytes or frames rejected, 4 file not readable.");
   command->callback([options, &exit_code] { exit_code = run_decode(*options); });
 }

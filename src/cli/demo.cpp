@@ -1,7 +1,7 @@
-// `rangekit demo`: the first thing a newcomer runs. Starts a ULS and an LS5
-// emulator (child processes of this binary) on pseudo-terminals with moving
-// targets, streams both live through the same drivers a real sensor uses,
-// captures both into one SQLite file and says how to replay it.
+// `rangekit demo`: the first thing a newcomer runs. Starts an emulator of each
+// family (child processes of this binary) on pseudo-terminals with moving
+// targets, streams them live through the same drivers a real sensor uses,
+// captures them into one SQLite file and says how to replay it.
 #include <fmt/core.h>
 #include <unistd.h>
 
@@ -10,17 +10,17 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <vector>
 
+#include "cli/cli_family.hpp"
 #include "cli/commands.hpp"
 #include "cli/demo.hpp"
 #include "cli/demo_scenes.hpp"
-#include "cli/host_sources.hpp"
 #include "cli/sim_process.hpp"
 #include "cli/stream_runner.hpp"
 #include "rangekit/record/merge.hpp"
 #include "rangekit/sim/control_socket.hpp"
-#include "rangekit/uls/driver.hpp"
 
 namespace rangekit::cli {
 namespace {
@@ -65,62 +65,55 @@ int fail(const std::string& message) {
   return exit_io;
 }
 
+// A family's emulator in the demo and its files.
+struct DemoSensor {
+  const CliFamily* family;
+  DemoFiles files;
+  std::optional<SimProcess> emulator;
+};
+
 int run_live_demo(const DemoOptions& options) {
   std::string pattern = (fs::temp_directory_path() / "rangekit-demo-XXXXXX").string();
   if (::mkdtemp(pattern.data()) == nullptr)
     return fail("cannot create a directory in " + fs::temp_directory_path().string());
   const fs::path dir = pattern;
-  if (auto status = demo_scenes::write_file(dir / "uls-scene.toml", demo_scenes::uls); !status)
-    return fail(status.error().message);
-  if (auto status = demo_scenes::write_file(dir / "ls5-scene.toml", demo_scenes::ls5); !status)
-    return fail(status.error().message);
-
-  const std::string uls_port = (dir / "uls").string();
-  const std::string uls_config_port = (dir / "uls-config").string();
-  const std::string ls5_port = (dir / "ls5").string();
-  fmt::print("rangekit demo: starting two emulated sensors on pseudo-terminals in {}\n", dir.string());
-  const std::string uls_control = (dir / "uls.control").string();
-  const std::string ls5_control = (dir / "ls5.control").string();
-  auto uls_sim = SimProcess::start({"uls", "--port", uls_port, "--config-port", uls_config_port, "--scene",
-                                    (dir / "uls-scene.toml").string(), "--control", uls_control},
-                                   (dir / "uls-sim.log").string(), std::chrono::seconds(15));
-  if (!uls_sim) return fail(uls_sim.error().message);
-  auto ls5_sim = SimProcess::start(
-      {"ls5", "--port", ls5_port, "--scene", (dir / "ls5-scene.toml").string(), "--control", ls5_control},
-      (dir / "ls5-sim.log").string(), std::chrono::seconds(15));
-  if (!ls5_sim) return fail(ls5_sim.error().message);
-  fmt::print("  {}\n  {}\n", uls_sim->ready_line(), ls5_sim->ready_line());
-
-  // ULS: its measurement output is the configuration port (§2 Output Setup).
-  // 5000 pulses/s over 1024 pulses per reading is about 4.9 readings a second,
-  // each with its pulse width (§8 DM).
-  {
-    auto link = open_serial(uls_config_port, 115200);
-    if (!link) return fail(link.error().describe());
-    uls::Driver setup(std::move(link).value());
-    auto version = setup.version();
-    if (!version) return fail("ULS: " + version.error().describe());
-    if (auto status = setup.set_prf(5000); !status) return fail("ULS PF: " + status.error().describe());
-    if (auto status = setup.set_display_mode(uls::DisplayMode::range_and_intensity); !status) {
-      return fail("ULS DM: " + status.error().describe());
-    }
-    fmt::print("  ULS  {}  averaging, PRF 5000, 1024 pulses per reading, range and pulse width\n", *version);
+  std::vector<DemoSensor> sensors;
+  for (const CliFamily* family : cli_families()) {
+    if (family->demo.start_source == nullptr) continue;
+    const std::string name(family->name);
+    sensors.push_back(DemoSensor{family,
+                                 DemoFiles{dir, (dir / name).string(), (dir / (name + "-scene.toml")).string(),
+                                           (dir / (name + ".control")).string()},
+                                 std::nullopt});
   }
-  auto uls_source = start_uls_source(UlsSourceOptions{uls_config_port, 115200, std::nullopt, "uls-config"});
-  if (!uls_source) return fail(uls_source.error().describe());
-  // LS5: T = n × t (§8.4), 20 × 10 ms (factory period): 5 readings a second.
-  auto ls5_source = start_ls5_source(Ls5SourceOptions{ls5_port, 115200, 0x01, std::uint8_t{20}});
-  if (!ls5_source) return fail(ls5_source.error().describe());
-  fmt::print("  LS5  address 01  streaming every 20th measurement (§8.4)\n");
+  for (const DemoSensor& sensor : sensors) {
+    if (auto status = demo_scenes::write_file(sensor.files.scene, sensor.family->demo.scene); !status)
+      return fail(status.error().message);
+  }
+
+  fmt::print("rangekit demo: starting {} emulated sensors on pseudo-terminals in {}\n", count_in_words(sensors.size()),
+             dir.string());
+  for (DemoSensor& sensor : sensors) {
+    auto emulator =
+        SimProcess::start(sensor.family->demo.sim_arguments(sensor.files),
+                          (dir / (std::string(sensor.family->name) + "-sim.log")).string(), std::chrono::seconds(15));
+    if (!emulator) return fail(emulator.error().message);
+    sensor.emulator = std::move(emulator).value();
+  }
+  for (const DemoSensor& sensor : sensors) fmt::print("  {}\n", sensor.emulator->ready_line());
+
+  std::vector<SampleSourcePtr> sources;
+  for (const DemoSensor& sensor : sensors) {
+    auto source = sensor.family->demo.start_source(sensor.files);
+    if (!source) return fail(source.error().message);
+    sources.push_back(std::move(source).value());
+  }
 
   remove_capture(options.capture);
-  fmt::print("Streaming both for {:.0f} s (Ctrl-C stops early) and capturing to {}\n\n", options.seconds,
+  fmt::print("Streaming {} for {:.0f} s (Ctrl-C stops early) and capturing to {}\n\n", both_or_all(), options.seconds,
              options.capture);
   std::fflush(stdout);
 
-  std::vector<SampleSourcePtr> sources;
-  sources.push_back(std::move(uls_source).value());
-  sources.push_back(std::move(ls5_source).value());
   auto merged = record::merge_sources(std::move(sources));
   StreamOptions stream_options;
   stream_options.format = options.format;
@@ -128,19 +121,27 @@ int run_live_demo(const DemoOptions& options) {
   stream_options.capture = options.capture;
   record::StreamStats stats;
   const int code = run_stream_as(*merged, stream_options, "demo", &stats);
-  merged.reset();  // stops both streams before the drivers and emulators go
+  merged.reset();  // stops every stream before the drivers and emulators go
 
   if (code != exit_ok && code != exit_interrupted) return code;
-  // U86: the host stops what it started (ULS ST, LS5 SB); the emulators confirm it.
-  fmt::print("\nLeft as found: ULS {}, LS5 {}\n", emulator_state(uls_control, "measuring", "not measuring"),
-             emulator_state(ls5_control, "streaming", "not streaming"));
-  fmt::print("Captured {} samples from both sensors into {}\n", stats.samples, options.capture);
+  // U86: the host stops what it started; the emulators confirm it.
+  std::string left;
+  for (const DemoSensor& sensor : sensors) {
+    left += fmt::format(
+        "{}{} {}", left.empty() ? "" : ", ", sensor.family->label,
+        emulator_state(sensor.files.control, sensor.family->demo.busy_output, sensor.family->demo.idle_text));
+  }
+  fmt::print("\nLeft as found: {}\n", left);
+  fmt::print("Captured {} samples from {} sensors into {}\n", stats.samples, both_or_all(), options.capture);
   const std::string binary = this_binary();
   std::error_code ignored;
   fmt::print("Replay it:  {} replay {} --format jsonl\n", binary, fs::absolute(options.capture, ignored).string());
-  fmt::print("Emulators:  {} sim uls --help, {} sim ls5 --help\n", binary, binary);
-  uls_sim->stop();
-  ls5_sim->stop();
+  std::string emulators;
+  for (const DemoSensor& sensor : sensors) {
+    emulators += fmt::format("{}{} sim {} --help", emulators.empty() ? "" : ", ", binary, sensor.family->name);
+  }
+  fmt::print("Emulators:  {}\n", emulators);
+  for (DemoSensor& sensor : sensors) sensor.emulator->stop();
   fs::remove_all(dir, ignored);
   return code;
 }
@@ -149,7 +150,8 @@ int run_live_demo(const DemoOptions& options) {
 
 void add_demo_command(CLI::App& app, int& exit_code) {
   static DemoOptions options;
-  auto* command = app.add_subcommand("demo", "Run the demonstration: two emulated sensors streamed live and captured");
+  auto* command = app.add_subcommand("demo", "Run the demonstration: " + count_in_words(cli_families().size()) +
+                                                 " emulated sensors streamed live and captured");
   command->add_option("--seconds", options.seconds, "how long to stream")
       ->check(duration_seconds())
       ->capture_default_str();

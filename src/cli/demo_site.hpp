@@ -1,10 +1,11 @@
-// The site `rangekit serve --demo` serves: an LS5 emulator (serial and Ethernet), a ULS
-// and an RS-485 bus of four ULS units, each a child process, and their SiteConfig.
-// Destroying it stops the emulators and removes their temporary directory.
+// The site `rangekit serve --demo` serves: each family's emulators (cli_family.hpp), each a
+// child process, and their SiteConfig. Destroying it stops the emulators and removes their
+// temporary directory.
 #pragma once
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli/sim_process.hpp"
@@ -13,10 +14,26 @@
 
 namespace rangekit::cli {
 
+// A family's part of the demo site.
+struct CliDemoSite {
+  std::string_view summary;  // for `serve --demo`'s help: what it runs
+  int position = 0;          // where its sensors stand in the site, lowest first
+  // Starts its emulators in `dir` (start_site_emulator) and adds their sensors to `site`.
+  Status (*start)(const std::filesystem::path& dir, std::vector<SimProcess>& emulators,
+                  hub::SiteConfig& site) = nullptr;
+};
+
+// Runs `rangekit sim <arguments>` with its log in `dir`, says it is ready on stdout and keeps it.
+Status start_site_emulator(const std::filesystem::path& dir, const std::vector<std::string>& arguments,
+                           std::vector<SimProcess>& emulators);
+// A sensor of the site on a serial port (or none, for a UDP listener).
+hub::SensorConfig site_sensor(std::string name, std::string family, std::string port);
+// The families' summaries in site order: "an A, a B and a bus of four B".
+std::string demo_site_summary();
+
 class DemoSite {
  public:
-  // Starts the emulators and sets the bus units up (Continuous Output off, §7;
-  // one in binning, one in look down). Progress goes to stdout.
+  // Starts every family's emulators and sets them up. Progress goes to stdout.
   static Result<DemoSite> start();
 
   DemoSite(DemoSite&& other) noexcept;

@@ -1,6 +1,6 @@
 // `rangekit detect`: which sensors answer on the given ports, at which baud, byte
-// format and with which protocol. Only read requests are sent (ULS ID/US, LS5 ID),
-// so a device is left as it was found.
+// format and with which protocol. Each family probes with read requests only
+// (cli_family.hpp), so a device is left as it was found.
 #include <fcntl.h>
 #include <fmt/core.h>
 #include <unistd.h>
@@ -14,42 +14,34 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_family.hpp"
 #include "cli/commands.hpp"
-#include "cli/ls5_cli.hpp"
+#include "cli/host_sources.hpp"
 #include "rangekit/core/fd_transport.hpp"
-#include "rangekit/ls5/driver.hpp"
-#include "rangekit/ls5/settings.hpp"
-#include "rangekit/uls/driver.hpp"
-#include "rangekit/uls/formulas.hpp"
+#include "rangekit/core/serial_port.hpp"
 
 namespace rangekit::cli {
 namespace {
 
 struct DetectOptions {
   std::vector<std::string> ports;
-  std::vector<std::uint32_t> bauds;  // empty: every rate of both documents
-  std::vector<std::uint8_t> ls5_addresses{0x01};
-  std::vector<std::string> byte_formats;  // empty: 8N1, then the LS5's other five where 8N1 found nothing
+  std::vector<std::uint32_t> bauds;       // empty: every rate of every document
+  std::vector<std::string> byte_formats;  // empty: 8N1, then the others where 8N1 found nothing
   int timeout_ms = 300;
   bool jsonl = false;
-  bool all_bauds = false;  // keep scanning a port after the first answer
+  bool all_bauds = false;                                        // keep scanning a port after the first answer
+  std::vector<std::pair<const CliFamily*, DetectProbe>> probes;  // each family's, from its options
 };
 
-struct Finding {
-  std::string port;
-  std::string family;
-  std::uint32_t baud = 0;
-  std::string address;
-  std::string version;
-  std::string detail;
-  std::string byte_format = "8N1";
-};
+// Every byte format a family may speak, in table order; 8N1 is every family's factory one.
+const std::vector<std::string> byte_format_names{"8N1", "8E1", "8O1", "8N2", "8E2", "8O2"};
 
-// Every rate either document lists, the factory rate (115200) first.
+// Every rate a document lists, the factory rate (115200) first.
 std::vector<std::uint32_t> candidate_bauds() {
   std::vector<std::uint32_t> bauds{115200};
-  for (const auto baud : uls::baud_choices()) bauds.push_back(baud);
-  for (const auto& row : ls5::baud_rate_table()) bauds.push_back(row.baud);
+  for (const CliFamily* family : cli_families()) {
+    for (const auto baud : family->detect.bauds()) bauds.push_back(baud);
+  }
   std::vector<std::uint32_t> unique;
   for (const auto baud : bauds) {
     if (std::find(unique.begin(), unique.end(), baud) == unique.end()) unique.push_back(baud);
@@ -57,34 +49,26 @@ std::vector<std::uint32_t> candidate_bauds() {
   return unique;
 }
 
-std::optional<Finding> probe_uls(Transport& port, const std::string& path, std::uint32_t baud,
-                                 std::chrono::milliseconds timeout) {
-  auto found = uls::probe(port, std::nullopt, timeout);
-  if (!found) return std::nullopt;
-  Finding finding{path,           "uls",
-                  baud,           found->address ? fmt::format("0x{:02X}", *found->address) : "-",
-                  found->version, found->status.measuring() ? "measuring" : "idle"};
-  return finding;
+// Whether the family may answer at this rate in this byte format: 8N1 is tried at every
+// rate; another format only at a rate of the family's own document.
+bool may_answer(const CliFamily& family, std::uint32_t baud, const std::string& format) {
+  if (format == "8N1") return true;
+  if (!family.detect.other_byte_formats) return false;
+  const auto bauds = family.detect.bauds();
+  return std::find(bauds.begin(), bauds.end(), baud) != bauds.end();
 }
 
-std::optional<Finding> probe_ls5(Transport& port, const std::string& path, std::uint32_t baud, std::uint8_t address,
-                                 std::chrono::milliseconds timeout) {
-  auto found = ls5::probe(port, address, timeout);
-  if (!found) return std::nullopt;
-  // Decimal, as --ls5-address takes it and `ls5 info` prints it (§9 "from 1 to 255", L70).
-  Finding finding{path, "ls5", baud, fmt::format("{}", found->address), "", ""};
-  if (found->identification) {
-    const auto& id = *found->identification;
-    finding.version = std::string(id.version_text.view());
-    finding.detail = fmt::format("lower boundary {} mm, range {} mm, serial {}", id.lower_boundary_mm, id.range_mm,
-                                 id.serial_number);
-  } else if (found->streaming) {
-    finding.detail = "streaming (records arriving; address and ID not asked)";
+// The families that speak formats besides 8N1, for the help: "the A's".
+std::string other_format_speakers() {
+  std::string text;
+  for (const CliFamily* family : cli_families()) {
+    if (family->detect.other_byte_formats)
+      text += (text.empty() ? "the " : ", the ") + std::string(family->label) + "'s";
   }
-  return finding;
+  return text;
 }
 
-void print_finding(const Finding& finding, bool jsonl) {
+void print_finding(const DetectFinding& finding, bool jsonl) {
   if (jsonl) {
     nlohmann::json line{{"port", finding.port},       {"family", finding.family},
                         {"baud", finding.baud},       {"byte_format", finding.byte_format},
@@ -92,7 +76,8 @@ void print_finding(const Finding& finding, bool jsonl) {
                         {"detail", finding.detail}};
     fmt::print("{}\n", line.dump());
   } else {
-    fmt::print("{}  {}  {} baud {}  address {}  {}  {}\n", finding.port, finding.family == "uls" ? "ULS" : "LS5",
+    const CliFamily* family = find_cli_family(finding.family);
+    fmt::print("{}  {}  {} baud {}  address {}  {}  {}\n", finding.port, family ? family->label : finding.family,
                finding.baud, finding.byte_format, finding.address, finding.version, finding.detail);
   }
   std::fflush(stdout);
@@ -128,16 +113,10 @@ Status check_is_terminal(const std::string& path) {
   return ok_status();
 }
 
-// The byte formats to try: 8N1 (the ULS's only one, the LS5's default) and the LS5's
-// other five of table 9.2 (04), parity-free first; or those given with --byte-format.
+// The byte formats to try: 8N1 and the others, parity-free first; or those given with --byte-format.
 std::vector<std::string> candidate_formats(const DetectOptions& options) {
   if (!options.byte_formats.empty()) return options.byte_formats;
   return {"8N1", "8N2", "8E1", "8O1", "8E2", "8O2"};
-}
-
-bool is_ls5_baud(std::uint32_t baud) {
-  const auto table = ls5::baud_rate_table();
-  return std::any_of(table.begin(), table.end(), [baud](const auto& row) { return row.baud == baud; });
 }
 
 struct PortScan {
@@ -145,15 +124,15 @@ struct PortScan {
   bool failed = false;  // the port could not be opened: reported, scan ended
 };
 
-// One port. First pass: 8N1 at every rate, ULS and LS5. Second pass, only when the first
-// found nothing: the LS5's other byte formats (§8.3) at the LS5's rates, factory rate
-// first, so that a sensor moved to 8N2 at 115200 is found at the first try (L66).
+// One port. First pass: 8N1 at every rate, every family. Second pass, only when the first
+// found nothing: the other byte formats at the rates of the families that speak them,
+// factory rate first, so that a sensor moved to 8N2 at 115200 is found at the first try.
 PortScan scan_port(const DetectOptions& options, const std::string& path, const std::vector<std::uint32_t>& bauds,
                    std::chrono::milliseconds timeout) {
   PortScan scan;
   const auto formats = candidate_formats(options);
   const bool try_8n1 = std::find(formats.begin(), formats.end(), "8N1") != formats.end();
-  auto report = [&](const Finding& finding) {
+  auto report = [&](const DetectFinding& finding) {
     clear_progress();
     print_finding(finding, options.jsonl);
     ++scan.found;
@@ -161,7 +140,7 @@ PortScan scan_port(const DetectOptions& options, const std::string& path, const 
   // Opens the port at a rate and format; nothing when the rate cannot be set here, or when
   // the port failed (scan.failed).
   auto open_at = [&](std::uint32_t baud, const std::string& format) -> std::optional<TransportPtr> {
-    auto settings = ls5_serial_settings(baud, format);
+    auto settings = serial_settings(baud, format);
     if (!settings) {
       fmt::print(stderr, "rangekit detect: {}\n", settings.error().message);
       scan.failed = true;
@@ -179,13 +158,21 @@ PortScan scan_port(const DetectOptions& options, const std::string& path, const 
     }
     return TransportPtr(std::move(*port));
   };
-  auto probe_ls5_addresses = [&](Transport& port, std::uint32_t baud, const std::string& format) {
-    for (const auto address : options.ls5_addresses) {
-      if (auto finding = probe_ls5(port, path, baud, address, timeout)) {
-        finding->byte_format = format;
-        report(*finding);
+  // Each family that may answer here asks in turn; the first that hears a sensor ends the turn.
+  auto probe_families = [&](Transport& port, std::uint32_t baud, const std::string& format) {
+    for (const auto& [family, probe] : options.probes) {
+      if (!may_answer(*family, baud, format)) continue;
+      auto findings = probe(port, path, baud, timeout);
+      for (auto& finding : findings) {
+        finding.byte_format = format;
+        report(finding);
       }
+      if (!findings.empty()) return;
     }
+  };
+  auto anyone_may_answer = [&](std::uint32_t baud, const std::string& format) {
+    return std::any_of(options.probes.begin(), options.probes.end(),
+                       [&](const auto& entry) { return may_answer(*entry.first, baud, format); });
   };
 
   if (try_8n1) {
@@ -194,24 +181,19 @@ PortScan scan_port(const DetectOptions& options, const std::string& path, const 
       auto port = open_at(baud, "8N1");
       if (scan.failed) return scan;
       if (!port) continue;
-      if (auto finding = probe_uls(**port, path, baud, timeout)) {
-        report(*finding);
-        continue;
-      }
-      probe_ls5_addresses(**port, baud, "8N1");
+      probe_families(**port, baud, "8N1");
     }
   }
   if (scan.found > 0) return scan;
   for (const auto baud : bauds) {
-    if (!is_ls5_baud(baud)) continue;
     for (const auto& format : formats) {
-      if (format == "8N1") continue;
+      if (format == "8N1" || !anyone_may_answer(baud, format)) continue;
       auto port = open_at(baud, format);
       if (scan.failed) return scan;
       if (!port) continue;
       const int before = scan.found;
-      probe_ls5_addresses(**port, baud, format);
-      if (scan.found > before) break;  // one format per rate: over a pty parity is not seen (H2)
+      probe_families(**port, baud, format);
+      if (scan.found > before) break;  // one format per rate: over a pty parity is not seen
     }
     if (scan.found > 0 && !options.all_bauds) return scan;
   }
@@ -246,19 +228,23 @@ int run_detect(const DetectOptions& options) {
 
 void add_detect_command(CLI::App& app, int& exit_code) {
   static DetectOptions options;
+  const std::string both = std::string(both_or_all());
   auto* command = app.add_subcommand(
-      "detect",
-      "Find ULS and LS5 sensors on serial ports: tries every baud rate of both documents and both protocols, and the "
-      "LS5's byte formats");
+      "detect", "Find " + cli_family_labels(" and ") + " sensors on serial ports: tries every baud rate of " + both +
+                    " documents and " + both + " protocols, and " + other_format_speakers() + " byte formats");
   command->add_option("--port", options.ports, "serial port or pty to scan (repeat for several)")->required();
-  command->add_option("--baud", options.bauds, "only these rates (default: all of both documents, 115200 first)");
-  command->add_option("--ls5-address", options.ls5_addresses, "LS5 network addresses to ask (default 1)")
-      ->check(CLI::Range(1, 255));
+  command->add_option("--baud", options.bauds,
+                      "only these rates (default: all of " + both + " documents, 115200 first)");
+  for (const CliFamily* family : cli_families()) {
+    options.probes.emplace_back(family, family->detect.add_options(*command));
+  }
+  std::string formats_list;
+  for (const auto& name : byte_format_names) formats_list += (formats_list.empty() ? "" : " ") + name;
   command
       ->add_option("--byte-format", options.byte_formats,
-                   "only these byte formats (8N1 8E1 8O1 8N2 8E2 8O2; default: 8N1, then the LS5's other five where "
-                   "nothing answered at 8N1)")
-      ->check(CLI::IsMember({"8N1", "8E1", "8O1", "8N2", "8E2", "8O2"}));
+                   "only these byte formats (" + formats_list + "; default: 8N1, then " + other_format_speakers() +
+                       " other " + count_in_words(byte_format_names.size() - 1) + " where nothing answered at 8N1)")
+      ->check(CLI::IsMember(byte_format_names));
   command->add_option("--timeout-ms", options.timeout_ms)->check(timeout_milliseconds())->group("");  // old spelling
   command->add_option("--timeout", options.timeout_ms, "milliseconds to wait per request")
       ->check(timeout_milliseconds())

@@ -21,7 +21,7 @@ int exit_code_for(const Error& error) {
       return exit_io;
     // What the user asked for cannot be done as asked: a value out of range, a name
     // that is no setting, a read-only setting, or a feature this device, firmware or
-    // state does not have ("needs firmware LS5.8", "measure() while streaming").
+    // state does not have ("needs a newer firmware", "measure() while streaming").
     case Errc::out_of_range:
     case Errc::wrong_form:
     case Errc::unknown_command:

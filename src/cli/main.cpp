@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_family.hpp"
 #include "cli/commands.hpp"
 #include "cli/help_width.hpp"
 #include "cli/sim.hpp"
@@ -13,7 +14,7 @@
 
 namespace {
 
-// The subcommands chosen, outermost first, and their words ("rangekit uls set").
+// The subcommands chosen, outermost first, and their words ("rangekit sim <family>").
 std::vector<CLI::App*> chosen_chain(CLI::App& app, std::string& path) {
   std::vector<CLI::App*> chain{&app};
   path = "rangekit";
@@ -30,7 +31,7 @@ std::string did_you_mean(std::string_view typed, const std::vector<std::string>&
   return meant ? "; did you mean '" + *meant + "'?" : "";
 }
 
-// "rangekit ls5 frob" ends in CLI11's "A subcommand is required": say instead which word was
+// "rangekit sim frob" ends in CLI11's "A subcommand is required": say instead which word was
 // not understood and what would have been. Nothing printed for an error of another kind.
 bool reported_unknown_subcommand(CLI::App& app) {
   std::string path;
@@ -72,7 +73,8 @@ bool reported_unknown_option(CLI::App& app) {
 }
 
 int run(int argc, char** argv) {
-  CLI::App app{"rangekit: configure, stream and emulate ULS and LS5 laser distance sensors"};
+  CLI::App app{"rangekit: configure, stream and emulate " + rangekit::cli::cli_family_labels(" and ") +
+               " laser distance sensors"};
   app.formatter(std::make_shared<rangekit::cli::WrappingFormatter>());  // before the subcommands: they copy it
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("rangekit ") + rangekit::version_string);
@@ -81,8 +83,7 @@ int run(int argc, char** argv) {
   rangekit::cli::add_decode_command(app, exit_code);
   rangekit::cli::add_tables_command(app, exit_code);
   rangekit::cli::add_sim_command(app, exit_code);
-  rangekit::cli::add_uls_command(app, exit_code);
-  rangekit::cli::add_ls5_command(app, exit_code);
+  for (const rangekit::cli::CliFamily* family : rangekit::cli::cli_families()) family->add_command(app, exit_code);
   rangekit::cli::add_replay_command(app, exit_code);
   rangekit::cli::add_detect_command(app, exit_code);
   rangekit::cli::add_capture_command(app, exit_code);

@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "cli/cli_family.hpp"
 #include "cli/commands.hpp"
 #include "cli/stream_runner.hpp"
 #include "rangekit/record/replay.hpp"
@@ -62,7 +63,7 @@ void add_replay_command(CLI::App& app, int& exit_code) {
   speed->check(pace_factor())->excludes(full_speed)->excludes(pace);
   pace->excludes(full_speed);
   command->add_option("--device", arguments->device, "only samples of this family (events always)")
-      ->check(CLI::IsMember({"uls", "ls5"}));
+      ->check(CLI::IsMember(cli_family_name_list()));
   add_stream_options(*command, arguments->stream, false);
   command->callback([arguments, speed, &exit_code] {
     arguments->speed_given = speed->count() > 0;

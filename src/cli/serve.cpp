@@ -277,8 +277,7 @@ void add_serve_command(CLI::App& app, int& exit_code) {
   CLI::App* serve_app = app.add_subcommand("serve", "Keep every sensor of a site live (site.toml, docs/service.md)");
   serve_app->add_option("--config", options->config, "site file: the sensors, their ports and what to do at start");
   serve_app->add_option("--check", options->check, "validate a site file without opening anything");
-  serve_app->add_flag("--demo", options->demo,
-                      "serve a site of emulators started here: an LS5 (serial and UDP), a ULS and a bus of four ULS");
+  serve_app->add_flag("--demo", options->demo, "serve a site of emulators started here: " + demo_site_summary());
   serve_app->add_option("--listen", options->listen,
                         "HOST:PORT of the HTTP API (default: the site file's, else 127.0.0.1:8080; port 0 picks one)");
   serve_app->add_option("--mqtt", options->mqtt,

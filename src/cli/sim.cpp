@@ -14,6 +14,7 @@
 #include <cstring>
 #include <thread>
 
+#include "cli/cli_family.hpp"
 #include "cli/commands.hpp"
 #include "rangekit/sim/pty.hpp"
 
@@ -70,13 +71,21 @@ void remove_if_stale_socket(const std::string& path) {
                path);
 }
 
+// Each family's emulator document: "docs/emulator-<name>.md, ...".
+std::string emulator_docs() {
+  std::string docs;
+  for (const CliFamily* family : cli_families()) {
+    docs += (docs.empty() ? "docs/emulator-" : ", docs/emulator-") + std::string(family->name) + ".md";
+  }
+  return docs;
+}
+
 }  // namespace
 
 void add_common_sim_options(CLI::App& command, SimCommonOptions& options) {
-  command.add_option("--control", options.control,
-                     "Unix socket taking JSON-line commands (docs/emulator-uls.md, docs/emulator-ls5.md)");
+  command.add_option("--control", options.control, "Unix socket taking JSON-line commands (" + emulator_docs() + ")");
   command.add_option("--state", options.state_dir, "directory for the non-volatile memory (default: none)");
-  command.add_option("--scene", options.scene, "TOML scene file (docs/emulator-uls.md, docs/emulator-ls5.md)");
+  command.add_option("--scene", options.scene, "TOML scene file (" + emulator_docs() + ")");
   command.add_option("--seed", options.seed, "seed for repeatable noise");
   command.add_option("--time-scale", options.time_scale, "run the clock X times faster than real time")
       ->check(in_range(0.001, 1000, "times real time"));
@@ -126,8 +135,7 @@ int run_emulator(std::vector<LineConfig> lines, const SimCommonOptions& options,
 void add_sim_command(CLI::App& app, int& exit_code) {
   auto* sim = app.add_subcommand("sim", "Run an emulated sensor on pseudo-terminals (no hardware needed)");
   sim->require_subcommand(1);
-  add_sim_uls(*sim, exit_code);
-  add_sim_ls5(*sim, exit_code);
+  for (const CliFamily* family : cli_families()) family->add_sim_command(*sim, exit_code);
 }
 
 }  // namespace rangekit::cli

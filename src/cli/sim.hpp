@@ -1,4 +1,4 @@
-// `rangekit sim uls|ls5`: the emulators. This part is shared by both: the
+// `rangekit sim <family>`: the emulators. This part is shared by every family: the
 // runtime options, signal handling and the ready line tests wait for.
 #pragma once
 
@@ -29,14 +29,12 @@ void add_common_sim_options(CLI::App& command, SimCommonOptions& options);
 int run_emulator(std::vector<LineConfig> lines, const SimCommonOptions& options, const std::string& title,
                  EmulatorRuntime::ControlExtension extension);
 
-// The exit code of a --scene file that cannot be used, the same for both families:
+// The exit code of a --scene file that cannot be used, the same for every family:
 // 4 when it cannot be read, else 3, input that does not
 // decode (docs/cli.md, exit codes), whatever the scene loader's error code.
 int scene_exit_code(const Error& error);
 
+// Each family adds its own subcommand of `sim` (cli_family.hpp).
 void add_sim_command(CLI::App& app, int& exit_code);
-// Each family registers its own subcommand of `sim` (src/cli/sim_uls.cpp, sim_ls5.cpp).
-void add_sim_uls(CLI::App& sim, int& exit_code);
-void add_sim_ls5(CLI::App& sim, int& exit_code);
 
 }  // namespace rangekit::cli

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_family.hpp"
 #include "cli/commands.hpp"
 #include "cli/stop_signals.hpp"
 #include "rangekit/record/diagnostic_limiter.hpp"
@@ -77,6 +78,15 @@ int exit_code_for(const record::StreamOutcome& outcome, const StreamOptions& opt
   return exit_ok;
 }
 
+// Each family's default in words: "A 25, B its range a second".
+std::string default_max_speeds() {
+  std::string text;
+  for (const CliFamily* family : cli_families()) {
+    text += (text.empty() ? "" : ", ") + std::string(family->label) + " " + std::string(family->default_max_speed);
+  }
+  return text;
+}
+
 }  // namespace
 
 void add_stream_options(CLI::App& command, StreamOptions& options, bool live) {
@@ -97,8 +107,7 @@ void add_quality_options(CLI::App& command, StreamOptions& options, bool live) {
   if (live) {
     command
         .add_option("--max-speed", options.max_speed_mps,
-                    "fastest the target moves, m/s: a faster jump is suspect (default: ULS 25, LS5 its range a "
-                    "second)")
+                    "fastest the target moves, m/s: a faster jump is suspect (default: " + default_max_speeds() + ")")
         ->check(target_speed());
   }
 }

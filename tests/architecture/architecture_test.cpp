@@ -117,9 +117,10 @@ TEST(Architecture, HostLibrariesNeverReachTheEmulators) {
   // one: neither the runtime (rangekit/sim/) nor a family's firmware model (rangekit/<family>/emulator/).
   for (const std::string folder : {"src/uls", "src/ls5", "src/record", "src/core", "include/rangekit/uls",
                                    "include/rangekit/ls5", "include/rangekit/record"}) {
+    // A family's emulator and CLI parts are no part of its host library.
     expect_no_include(folder, R"(^rangekit/(sim|uls/emulator|ls5/emulator)/)",
                       "the host libraries never depend on rangekit::sim",
-                      "(?!(src|include/rangekit)/(uls|ls5)/emulator/).*");
+                      "(?!(src|include/rangekit)/(uls|ls5)/(emulator|cli)/).*");
   }
 }
 
@@ -152,8 +153,21 @@ TEST(Architecture, FacesReachTheSensorsOnlyThroughTheHub) {
 }
 
 TEST(Architecture, CliIncludesNoPrivateHeaderOfALibrary) {
-  // Its own headers (cli/...) and the libraries' public ones (rangekit/...) only.
+  // Its own headers (cli/...) and the libraries' public ones (rangekit/...) only; a family's
+  // CLI part (src/<family>/cli) its own headers too.
   expect_no_include("src/cli", R"(^(?!cli/|rangekit/))", "the CLI uses the libraries' public headers only");
+  for (const std::string family : {"uls", "ls5"}) {
+    expect_no_include("src/" + family + "/cli", "^(?!cli/|rangekit/|" + family + "/cli/)",
+                      "a family's CLI part uses the CLI's headers, its own and the libraries' public ones only");
+  }
+}
+
+TEST(Architecture, GenericCliKnowsNoFamily) {
+  // Each family adds its subcommands and its part of decode, detect, ... (cli/cli_family.hpp).
+  expect_no_include("src/cli", R"(^(rangekit/)?(sim/)?(uls|ls5)/)",
+                    "the generic commands name no family: each registers its part from src/<family>/cli");
+  expect_no_include("src/uls/cli", R"(^(rangekit/)?(sim/)?ls5/)", "a family's CLI part knows no other family");
+  expect_no_include("src/ls5/cli", R"(^(rangekit/)?(sim/)?uls/)", "a family's CLI part knows no other family");
 }
 
 TEST(Architecture, PythonModuleUsesThePublicHeadersOnly) {

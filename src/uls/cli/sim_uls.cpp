@@ -8,6 +8,7 @@
 #include "cli/commands.hpp"
 #include "cli/sim.hpp"
 #include "rangekit/uls/emulator/firmware.hpp"
+#include "uls/cli/uls_cli.hpp"
 
 namespace rangekit::cli {
 namespace {

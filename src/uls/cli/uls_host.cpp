@@ -20,6 +20,7 @@
 #include "rangekit/uls/formulas.hpp"
 #include "rangekit/uls/host_config.hpp"
 #include "rangekit/uls/named_settings.hpp"
+#include "uls/cli/uls_cli.hpp"
 
 namespace rangekit::cli {
 

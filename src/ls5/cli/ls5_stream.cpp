@@ -9,8 +9,8 @@
 #include <string>
 
 #include "cli/commands.hpp"
-#include "cli/ls5_cli.hpp"
 #include "cli/stream_runner.hpp"
+#include "ls5/cli/ls5_cli.hpp"
 #include "rangekit/core/udp.hpp"
 #include "rangekit/ls5/udp_receiver.hpp"
 

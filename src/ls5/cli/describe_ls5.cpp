@@ -1,6 +1,6 @@
 #include <fmt/core.h>
 
-#include "cli/describe.hpp"
+#include "ls5/cli/ls5_cli.hpp"
 #include "rangekit/ls5/parameters.hpp"
 #include "rangekit/ls5/request.hpp"
 #include "rangekit/ls5/result_code.hpp"

@@ -1,9 +1,9 @@
 #include <fmt/core.h>
 
-#include "cli/describe.hpp"
 #include "rangekit/uls/commands.hpp"
 #include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/reply.hpp"
+#include "uls/cli/uls_cli.hpp"
 
 namespace rangekit::cli {
 namespace {
@@ -129,17 +129,6 @@ std::string describe_reply(const uls::FrameView& frame, const uls::MeasurementCo
 }
 
 }  // namespace
-
-std::string printable(Bytes frame) {
-  std::string text;
-  for (const auto byte : frame) {
-    if (byte >= 0x20 && byte < 0x7f)
-      text.push_back(static_cast<char>(byte));
-    else
-      text += fmt::format("<{:02X}>", byte);
-  }
-  return text;
-}
 
 std::string describe_uls_frame(Bytes frame, Direction direction, const uls::MeasurementContext& context) {
   auto parsed = uls::parse_frame(frame);

@@ -5,7 +5,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/config_diff.hpp"
-#include "cli/ls5_cli.hpp"
+#include "ls5/cli/ls5_cli.hpp"
 #include "rangekit/ls5/host_config.hpp"
 
 namespace rangekit::cli {

@@ -6,7 +6,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/host_sources.hpp"
-#include "cli/ls5_cli.hpp"
+#include "ls5/cli/ls5_cli.hpp"
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/ls5/settings.hpp"
 

@@ -8,6 +8,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/sim.hpp"
+#include "ls5/cli/ls5_cli.hpp"
 #include "rangekit/core/udp.hpp"
 #include "rangekit/ls5/emulator/firmware.hpp"
 

@@ -1,14 +1,17 @@
-// Shared pieces of the `rangekit ls5` subcommands: the connection options every
-// one takes, opening the driver (with a reopen function for reconnects), and the
-// mapping of library errors to messages and exit codes (docs/cli.md).
+// The LS5's part of the rangekit binary (cli/cli_family.hpp), and what its subcommands
+// share: the connection options, opening the driver (with a reopen function for
+// reconnects), and the mapping of library errors to messages and exit codes (docs/cli.md).
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
+#include "cli/cli_family.hpp"
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/ls5/driver.hpp"
@@ -42,7 +45,26 @@ Result<std::unique_ptr<ls5::Driver>> open_ls5_driver(const Ls5Connection& connec
 // when the sensor did not answer) and returns the exit code for the error.
 int report_ls5_failure(std::string_view command, const Error& error, const Ls5Connection& connection);
 
+// One LS5 frame (without CR); `range_mm` turns result codes into millimetres (0: codes only).
+std::string describe_ls5_frame(Bytes frame, Direction direction, double range_mm);
+
+struct Ls5SourceOptions {
+  std::string port;
+  std::uint32_t baud = 115200;
+  std::uint8_t address = 0x01;
+  std::optional<std::uint8_t> thinning;  // n of §8.4; the sensor's setting when empty
+};
+Result<SampleSourcePtr> start_ls5_source(const Ls5SourceOptions& options);
+
 // Registration, one file each.
+void add_ls5_command(CLI::App& app, int& exit_code);
+void add_sim_ls5(CLI::App& sim, int& exit_code);
+DecoderFactory add_ls5_decode_options(CLI::App& decode);
+SourceStarter add_ls5_capture_options(CLI::App& capture);
+DetectProbe add_ls5_detect_options(CLI::App& detect);
+extern const std::span<const CliTable> ls5_tables;
+extern const CliDemo ls5_demo;
+extern const CliDemoSite ls5_demo_site;
 void add_ls5_device_commands(CLI::App& ls5, int& exit_code);  // info get set latch measure start stop save reset
 void add_ls5_stream_commands(CLI::App& ls5, int& exit_code);  // stream udp
 void add_ls5_config_command(CLI::App& ls5, int& exit_code);   // config save|load|diff

@@ -13,7 +13,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/key_values.hpp"
-#include "cli/ls5_cli.hpp"
+#include "ls5/cli/ls5_cli.hpp"
 #include "rangekit/core/text.hpp"
 #include "rangekit/ls5/parameters.hpp"
 #include "rangekit/ls5/settings.hpp"
