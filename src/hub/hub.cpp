@@ -303,7 +303,7 @@ const ServiceFamily* bus_family(const Session& session) {
 Error not_on_a_bus(const Session& session) {
   return make_error(Errc::unsupported, "'" + session.config.name +
                                            "' is not on an RS-485 bus (no `address` in the site file): " +
-                                           "the RS-485 network (§7) is for units addressed on a bus");
+                                           "the RS-485 network is for units addressed on a bus");
 }
 
 }  // namespace

@@ -392,13 +392,13 @@ Status check_shared_port(const SiteConfig& site, const PortGroup& group, std::si
                                                " there, " + describe(other.serial) + " here)");
   }
   if (!first.address || !other.address) {
-    return make_error(Errc::invalid_frame, where + clash + ": units sharing an RS-485 port each need an address (§7)");
+    return make_error(Errc::invalid_frame, where + clash + ": units sharing an RS-485 port each need an address");
   }
   for (std::size_t j = 0; j < i; ++j) {
     if (group.sensors[j]->address == other.address) {
       return make_error(Errc::invalid_frame, where + "address of '" + other.name + "' is also the address of '" +
                                                  group.sensors[j]->name + "' (" + line_of(*group.sensors[j]) +
-                                                 ") on port " + group.port + " (§7: one unit per address)");
+                                                 ") on port " + group.port + " (one unit per address)");
     }
   }
   return ok_status();

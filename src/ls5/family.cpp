@@ -6,10 +6,10 @@ namespace rangekit::ls5 {
 namespace {
 
 constexpr std::array channels{
-    ChannelDescriptor{"code", Quantity::result_code, Unit::none, "the result code as sent, 0 to 65535 (§9.3)"},
-    ChannelDescriptor{"distance_mm", Quantity::distance, Unit::millimetre, "distance (formula 8.1)"},
+    ChannelDescriptor{"code", Quantity::result_code, Unit::none, "the result code as sent, 0 to 65535"},
+    ChannelDescriptor{"distance_mm", Quantity::distance, Unit::millimetre, "distance within the measuring range"},
     ChannelDescriptor{"derivative_mm", Quantity::distance_change, Unit::millimetre,
-                      "difference of two results (formula 8.2, §8.8)"},
+                      "difference of two results (a derivative)"},
 };
 constexpr const ChannelDescriptor& distance = channels[1];
 constexpr const ChannelDescriptor& derivative = channels[2];

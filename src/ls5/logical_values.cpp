@@ -160,8 +160,8 @@ Result<ParameterWrites> split_value(const LogicalValueInfo& info, std::uint64_t 
 namespace {
 // Where a number's combined range comes from, for error messages.
 const char* range_source(const LogicalValueInfo& info) {
-  return info.max == max_code ? "§8.10, §8.11: limits and swings are codes 0-50000"
-                              : "table 9.2: \"For the parameter itself: 0001-FFFF\"";
+  return info.max == max_code ? "limits and swings are codes 0-50000 over the range"
+                              : "the parameter itself takes 0001-FFFF";
 }
 
 bool in_range(const LogicalValueInfo& info, std::uint64_t value) { return value >= info.min && value <= info.max; }

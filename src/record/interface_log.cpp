@@ -27,7 +27,7 @@ void append_log_time(std::string& out, std::chrono::system_clock::time_point tim
 Status InterfaceLogWriter::append(std::string& out, const Sample& sample) {
   if (sample.device != "uls") {
     return make_error(Errc::unsupported,
-                      "the .log layout is the ULS Interface Program's (§2); an LS5 capture downloads as sqlite, csv "
+                      "the .log layout is the ULS Interface Program's; an LS5 capture downloads as sqlite, csv "
                       "or jsonl");
   }
   const int mode = static_cast<int>(sample.kind);

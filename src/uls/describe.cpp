@@ -71,7 +71,7 @@ std::string allowed_values(const CommandInfo& command, Units units) {
 Error device_error(int number, std::string_view context) {
   const ErrorInfo* info = find_error(number);
   std::string text = "device error " + std::to_string(number) + ": " +
-                     (info != nullptr ? std::string(info->explanation) : std::string("(not listed in §10)"));
+                     (info != nullptr ? std::string(info->explanation) : std::string("(not in the ULS's error table)"));
   if (info != nullptr && info->service_required) text += " (must be resolved by LTI)";
   if (!context.empty()) text = std::string(context) + ": " + text;
   Error error = make_error(Errc::device_error, text);

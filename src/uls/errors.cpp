@@ -112,7 +112,7 @@ const ErrorInfo* find_error(int number) noexcept {
 
 std::string error_text(int number) {
   const ErrorInfo* info = find_error(number);
-  if (info == nullptr) return "not listed in §10";
+  if (info == nullptr) return "not in the ULS's error table";
   std::string text(info->explanation);
   if (info->display != info->explanation) text += " (display: " + std::string(info->display) + ")";
   return text;

@@ -15,7 +15,7 @@ constexpr std::array channels{
     ChannelDescriptor{"presence", Quantity::presence, Unit::none, "look down: 1 a target is there, 0 it left"},
     ChannelDescriptor{"pulses_between_events", Quantity::pulse_count, Unit::none,
                       "look down: laser pulses between the last two edges"},
-    ChannelDescriptor{"error", Quantity::error_number, Unit::none, "the §10 error number the unit sent"},
+    ChannelDescriptor{"error", Quantity::error_number, Unit::none, "the error number the unit sent"},
 };
 constexpr const ChannelDescriptor& distance = channels[0];
 constexpr const ChannelDescriptor& targets = channels[2];

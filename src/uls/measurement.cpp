@@ -234,7 +234,7 @@ Result<FieldText> range_field(const Range& range) {
   const std::optional<FieldText> text = format_distance(range.user, range.units);
   if (!text || text->size > max_range_chars) {
     return line_error(Errc::out_of_range, "range " + std::to_string(range.user) + " " + units_word(range.units) +
-                                              " does not fit the 8-character field (§9)");
+                                              " does not fit the 8-character field");
   }
   return *text;
 }

@@ -68,7 +68,7 @@ Status check_values(const CommandInfo& command, std::span<const std::string_view
       if (!port) return port;
       const std::optional<std::uint64_t> baud = text::parse_unsigned(values[1], 6);
       if (!baud || !is_baud_choice(static_cast<std::uint32_t>(*baud))) {
-        return value_error(command, values[1], "is not a §9 baud rate");
+        return value_error(command, values[1], "is not a baud rate the ULS offers");
       }
       return ok_status();
     }
@@ -76,7 +76,7 @@ Status check_values(const CommandInfo& command, std::span<const std::string_view
       return check_integer(command, values[0], command.min, command.max);
     case ValueKind::status:
       if (!to_unit_status(text::parse_unsigned(values[0], 2).value_or(99))) {
-        return value_error(command, values[0], "is not a status of §8 (0, 1, 3, 7, 11)");
+        return value_error(command, values[0], "is not a unit status (0, 1, 3, 7, 11)");
       }
       return ok_status();
     case ValueKind::measurement:  // depends on the mode: decode_measurement reads it

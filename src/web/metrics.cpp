@@ -43,7 +43,7 @@ std::string prometheus_text(const hub::Hub& hub, const ServerStats& server) {
   family(out, "rangekit_sensor_reconnects_total", "counter", "Times the link came back.", sensors,
          [](S s) { return count(s.health.reconnects); });
   out +=
-      "# HELP rangekit_sensor_device_errors_by_number_total Device errors by their number (ULS §10).\n"
+      "# HELP rangekit_sensor_device_errors_by_number_total Device errors by the number the sensor sent.\n"
       "# TYPE rangekit_sensor_device_errors_by_number_total counter\n";
   for (const auto& sensor : sensors) {
     for (const auto& [number, total] : sensor.health.errors_by_number) {

@@ -116,11 +116,11 @@ TEST(SiteConfig, RefusesWithFileLineAndReason) {
             "site.toml:5: baud 12 is not a baud of the ULS (1200, 2400, 4800, 9600, 14400, 19200, 38400, 57600, "
             "115200, 230400)");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nformat = \"8E1\"\n"),
-            "site.toml:5: format '8E1': the ULS speaks 8N1 only (§9)");
+            "site.toml:5: format '8E1': the ULS speaks 8N1 only");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"ls5\"\nport = \"/dev/x\"\naddress = 0\n"),
             "site.toml:5: address 0 is out of range 1-255 (LS5 network address, parameter 01)");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\naddress = \"!\"\n"),
-            "site.toml:5: address '!' is not a ULS unit address (0x30-0xEF, e.g. \"A\" or \"0x41\", §7)");
+            "site.toml:5: address '!' is not a ULS unit address (0x30-0xEF, e.g. \"A\" or \"0x41\")");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nudp = \"0.0.0.0:5000\"\n"),
             "site.toml:4: udp is for LS5 Ethernet models only\nsite.toml:2: sensor 'a' needs a port");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\n"), "site.toml:2: sensor 'a' needs a port");
@@ -178,9 +178,9 @@ TEST(SiteConfig, RefusesTwoSensorsThatCannotShareAPort) {
       "8N1 here)");
   EXPECT_EQ(refusal(a + "[[sensor]]\nname = \"b\"\nfamily = \"uls\"\nport = \"/dev/x\"\n"),
             "site.toml:6: port /dev/x is also claimed by 'a' (line 1): units sharing an RS-485 port each need an "
-            "address (§7)");
+            "address");
   EXPECT_EQ(refusal(a + "[[sensor]]\nname = \"b\"\nfamily = \"uls\"\nport = \"/dev/x\"\naddress = 65\n"),
-            "site.toml:6: address of 'b' is also the address of 'a' (line 1) on port /dev/x (§7: one unit per "
+            "site.toml:6: address of 'b' is also the address of 'a' (line 1) on port /dev/x (one unit per "
             "address)");
   EXPECT_EQ(refusal(a + "[[sensor]]\nname = \"b\"\nfamily = \"ls5\"\nport = \"/dev/x\"\n"),
             "site.toml:6: port /dev/x is also claimed by 'a' (line 1) as uls: one port carries one family");

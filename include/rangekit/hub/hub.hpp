@@ -75,7 +75,7 @@ struct BusScan {
 // (nullopt when it is none of the family's): the faces need no family header of their own.
 std::string bus_address_text(std::string_view family, std::uint8_t address);
 std::optional<std::uint8_t> parse_bus_address(std::string_view family, std::string_view text);
-// What a bus address of the family looks like, for messages: "0x30..0xEF (§8 RS485 Protocol), e.g. 'E'".
+// What a bus address of the family looks like, for messages: "0x30..0xEF, e.g. 'E'".
 std::string bus_address_help(std::string_view family);
 
 // A sensor action (POST …/actions/{action}); the family decides what each means.

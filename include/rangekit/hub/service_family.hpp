@@ -47,7 +47,7 @@ struct ServiceFamily {
   // Bus addresses as the family writes them, such text read back, and what a bus scan asks.
   std::string (*address_text)(std::uint8_t address) = nullptr;
   std::optional<std::uint8_t> (*parse_address_text)(std::string_view text) = nullptr;
-  std::string_view address_help;  // "0x30..0xEF (§8 RS485 Protocol), e.g. 'E'"
+  std::string_view address_help;  // "0x30..0xEF, e.g. 'E'"
   std::vector<std::uint8_t> (*scan_addresses)() = nullptr;
 
   // GET /api/sensors/{name}/settings/schema: every setting with its range, unit and values.

@@ -68,7 +68,7 @@ std::string config_to_toml(const DeviceConfig& config) {
     out << "# Sensor: " << id.version_text.view() << ", lower boundary " << number_text(id.lower_boundary_mm)
         << " mm, range " << number_text(id.range_mm) << " mm, serial " << id.serial_number << ".\n";
   }
-  out << "# Names and units: docs/host-ls5.md; codes are 0-50000 over the range (LS5 manual §8.9).\n"
+  out << "# Names and units: docs/host-ls5.md; codes are 0-50000 over the sensor's range.\n"
       << "# `config load` uploads [parameters] only; [link] is compared by `config diff` but never written.\n\n"
       << "[sensor]\naddress = " << unsigned{config.address} << "  # network address the file was read from\n";
   for (const char* section : {"link", "parameters"}) {

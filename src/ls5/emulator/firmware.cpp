@@ -74,7 +74,7 @@ Result<std::unique_ptr<Firmware>> Firmware::create(FirmwareConfig config, Nanos 
                       "version '" + config.version_text + "' is not LS5.<major>.<minor> (e.g. LS5.12.0)");
   }
   if (config.factory_address == broadcast_address) {
-    return make_error(Errc::out_of_range, "address 00 is the broadcast address; a sensor has 01-FF (§8.1)");
+    return make_error(Errc::out_of_range, "address 00 is the broadcast address; a sensor has 01-FF");
   }
   auto identification =
       make_identification(config.version_text, config.lower_boundary_mm, config.range_mm, config.serial_number);

@@ -94,8 +94,7 @@ std::vector<BusUnit> Bus::scan(const std::vector<std::uint8_t>& addresses, std::
 }
 
 Status Bus::assign(std::optional<std::uint8_t> from, std::uint8_t to) {
-  if (!Address::unit(to).is_unit())
-    return make_error(Errc::out_of_range, "unit addresses are 0x30..0xEF (§8 RS485 Protocol)");
+  if (!Address::unit(to).is_unit()) return make_error(Errc::out_of_range, "unit addresses are 0x30..0xEF");
   if (from && *from == to) return ok_status();
   // Refuse an address in use (§7: "will not function correctly with same address assigned to 2 or more units").
   const auto taken = scan({to});

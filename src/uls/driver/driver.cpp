@@ -130,7 +130,7 @@ Address Driver::request_address() const noexcept {
 
 Status Driver::set_address(std::optional<std::uint8_t> address) {
   if (address && !Address::unit(*address).is_unit())
-    return make_error(Errc::out_of_range, "unit addresses are 0x30..0xEF (§8 RS485 Protocol)");
+    return make_error(Errc::out_of_range, "unit addresses are 0x30..0xEF");
   std::lock_guard request_lock(request_mutex_);
   std::lock_guard lock(state_mutex_);
   if (streaming_) return make_error(Errc::unsupported, "cannot change the address while streaming");
@@ -489,8 +489,7 @@ Status Driver::broadcast(std::string_view mnemonic, std::span<const std::string_
   const CommandInfo* command = find_command(mnemonic);
   if (command == nullptr)
     return make_error(Errc::unknown_command, "unknown ULS command '" + std::string(mnemonic) + "'");
-  if (address < first_broadcast_address)
-    return make_error(Errc::out_of_range, "broadcast addresses are 0xF0..0xFF (§8 RS485 Protocol)");
+  if (address < first_broadcast_address) return make_error(Errc::out_of_range, "broadcast addresses are 0xF0..0xFF");
   const FormResult form = request_form(*command, values.size());
   if (form.form == RequestForm::get && command->access != Access::action && command->mnemonic != "BM")
     return make_error(Errc::wrong_form,

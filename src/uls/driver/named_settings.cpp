@@ -132,14 +132,14 @@ Result<Target> find_setting(std::string_view name, Purpose purpose) {
                                                    "'? (`rangekit uls " + (purpose == Purpose::set ? "set" : "get") +
                                                    " --help` lists every name)");
     }
-    return make_error(Errc::unknown_command, target.error().message + "; " +
-                                                 (purpose == Purpose::set ? "writable names: " : "names: ") +
-                                                 names_for(purpose) + " (or the 2-letter mnemonics of §8)");
+    return make_error(Errc::unknown_command,
+                      target.error().message + "; " + (purpose == Purpose::set ? "writable names: " : "names: ") +
+                          names_for(purpose) + " (or the 2-letter mnemonics: `rangekit tables uls-commands`)");
   }
   if (purpose == Purpose::set && !target->command->has_set())
     return make_error(Errc::wrong_form, "'" + std::string(name) + "' is read-only (" +
                                             std::string(target->command->mnemonic) +
-                                            " is only read, §8); writable names: " + writable_names());
+                                            " is only read); writable names: " + writable_names());
   return target;
 }
 

@@ -326,7 +326,8 @@ void Driver::reader_loop(detail::LiveStream& live) {
         // sends its lines to the other port (MO) is worth knowing about.
         emit_event(StreamEventKind::polling,
                    options_.source +
-                       ": no continuous lines on this port (CO on, MO elsewhere?): polling with BM every " +
+                       ": no continuous lines on this port (is continuous output off, or sent to the other port?): "
+                       "polling every " +
                        std::to_string(std::chrono::ceil<std::chrono::milliseconds>(poll_plan_.period).count()) + " ms");
       }
     }

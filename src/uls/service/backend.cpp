@@ -114,7 +114,7 @@ Result<ActionResult> unit_action(uls::Driver& driver, Session& session, Action a
     }
     case Action::pointer:
       if (argument != "on" && argument != "off") {
-        return make_error(Errc::out_of_range, "pointer takes on or off (§8 PT), not '" + std::string(argument) + "'");
+        return make_error(Errc::out_of_range, "pointer takes on or off, not '" + std::string(argument) + "'");
       }
       return done(driver.set_pointer(argument == "on"));
     case Action::save:
@@ -301,7 +301,7 @@ class UlsBusBackend final : public Backend {
       if (bus->driver().set_address(units[i].address) && bus->driver().continuous().value_or(false)) {
         publisher_.publish(*sessions_[i],
                            make_event(StreamEventKind::device_error,
-                                      "Continuous Output is on: on an RS-485 bus it must be off (§7), or this unit "
+                                      "continuous output is on: on an RS-485 bus it must be off, or this unit "
                                       "talks unasked and collides with the others; set continuous=off"));
       }
     }

@@ -17,14 +17,14 @@ Result<int> parse_address(const hub::AddressValue& value) {
   const auto parsed = parse_unit_address(text);
   if (!parsed) {
     return make_error(Errc::out_of_range,
-                      "address '" + text + "' is not a ULS unit address (0x30-0xEF, e.g. \"A\" or \"0x41\", §7)");
+                      "address '" + text + "' is not a ULS unit address (0x30-0xEF, e.g. \"A\" or \"0x41\")");
   }
   return static_cast<int>(*parsed);
 }
 
 Result<SerialSettings> byte_format(std::string_view format, SerialSettings settings) {
   if (format != "8N1") {
-    return make_error(Errc::out_of_range, "format '" + std::string(format) + "': the ULS speaks 8N1 only (§9)");
+    return make_error(Errc::out_of_range, "format '" + std::string(format) + "': the ULS speaks 8N1 only");
   }
   return settings;
 }
@@ -43,7 +43,7 @@ const hub::ServiceFamily descriptor{
     .udp_backend = nullptr,
     .address_text = address_text,
     .parse_address_text = parse_unit_address,
-    .address_help = "0x30..0xEF (§8 RS485 Protocol), e.g. 'E'",
+    .address_help = "0x30..0xEF, e.g. 'E'",
     .scan_addresses = typable_addresses,  // §8 UA: a-z, A-Z, 0-9
     .settings_schema = settings_schema,
 };
