@@ -141,6 +141,39 @@ TEST(OneVocabulary, EveryNameGetPrintsIsAcceptedBySetAndReadOnlyNamesAreRefusedA
   }
 }
 
+// docs/cli.md: "get's output can be fed back to set". Whole, through --from: the version's
+// spaces survive, read-only names are skipped and said, an unassigned address is left so.
+TEST(OneVocabulary, GetsOutputGoesBackIntoSetWholeThroughFrom) {
+  VocabularyEmulators sims;
+  ASSERT_TRUE(sims.ready());
+  const auto saved = sims.dir.path / "uls-get.txt";
+  auto uls_get = run_cli("uls get --port " + sims.uls_port);
+  ASSERT_EQ(uls_get.exit_code, 0) << uls_get.output;
+  ASSERT_TRUE(contains(uls_get.output, "address=unassigned")) << uls_get.output;
+  std::string edited = uls_get.output;
+  const auto gate = edited.find("long-gate-m=0");
+  ASSERT_NE(gate, std::string::npos) << edited;
+  edited.replace(gate, std::string("long-gate-m=0").size(), "long-gate-m=12.5");
+  std::ofstream(saved) << edited;
+  const auto uls_set = run_cli("uls set --port " + sims.uls_port + " --from " + saved.string());
+  EXPECT_EQ(uls_set.exit_code, 0) << uls_set.output;
+  EXPECT_TRUE(contains(uls_set.output, "note: skipped version, status of the file: read-only")) << uls_set.output;
+  EXPECT_TRUE(contains(run_cli("uls get --port " + sims.uls_port + " long-gate-m").output, "long-gate-m=12.5"));
+
+  // Through a pipe, for the LS5 too.
+  const auto ls5_get = run_cli("ls5 get --port " + sims.ls5_port);
+  ASSERT_EQ(ls5_get.exit_code, 0) << ls5_get.output;
+  const auto ls5_set = run_cli("ls5 set --port " + sims.ls5_port + " --from -", ls5_get.output);
+  EXPECT_EQ(ls5_set.exit_code, 0) << ls5_set.output;
+
+  // A line that is no assignment is named with its line number, before anything is sent.
+  std::ofstream(sims.dir.path / "bad.txt") << "mode=binning\nnot an assignment\n";
+  const auto bad = run_cli("uls set --port " + sims.uls_port + " --from " + (sims.dir.path / "bad.txt").string());
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_TRUE(contains(bad.output, "bad.txt:2: 'not an assignment' is not NAME=VALUE")) << bad.output;
+  EXPECT_TRUE(contains(run_cli("uls get --port " + sims.uls_port + " mode").output, "mode=averaging"));
+}
+
 // U96: "The same `config diff` output for `uls config diff` and `ls5 config diff`": one line
 // `name: file=X device=Y` per difference, names as get prints them, a summary line, exit 1.
 TEST(OneVocabulary, ConfigDiffPrintsTheSameLinesForBothFamilies) {

@@ -67,7 +67,7 @@ test('U104: Save downloads the settings; Open of that file puts a changed settin
   saved = readFileSync(await download.path(), 'utf8');
   // The TOML of `rangekit uls config save` (docs/cli.md): [settings], keys as `rangekit uls get` names them.
   assert.match(saved, /^\[settings\]$/m);
-  assert.match(saved, /^prf = \[2000, 2000, 2000\]/m);
+  assert.match(saved, /^prf-hz = \[2000, 2000, 2000\]/m);
   await page.waitForFunction(() => /^Saved bay-C\.toml/.test(document.querySelector('.config-status').textContent),
     null, WAIT);
 
@@ -90,13 +90,13 @@ test('U104: Save downloads the settings; Open of that file puts a changed settin
 test('U104: a bad file shows its line, key and range, and nothing reaches the unit', async () => {
   assert.ok(saved, 'the first test saved a file');
   // A valid PRF change before the bad value: had anything been sent, the PRF would change.
-  const lines = saved.split('\n').map((line) => line.replace(/^prf = .*/, 'prf = [3000, 3000, 3000]')
-    .replace(/^short-gate = .*/, 'short-gate = 5000.0'));
-  const gateLine = lines.findIndex((line) => line.startsWith('short-gate =')) + 1;
-  assert.ok(lines.findIndex((line) => line.startsWith('prf =')) + 1 < gateLine);
+  const lines = saved.split('\n').map((line) => line.replace(/^prf-hz = .*/, 'prf-hz = [3000, 3000, 3000]')
+    .replace(/^short-gate-m = .*/, 'short-gate-m = 5000.0'));
+  const gateLine = lines.findIndex((line) => line.startsWith('short-gate-m =')) + 1;
+  assert.ok(lines.findIndex((line) => line.startsWith('prf-hz =')) + 1 < gateLine);
   // §8 Set/Get Short Gate "0-1700 m" (U18).
   assert.equal(await open('out-of-range.toml', lines.join('\n')),
-    `Nothing sent: out-of-range.toml:${gateLine}: 'short-gate' is outside the allowed values: 0..1700 metres`);
+    `Nothing sent: out-of-range.toml:${gateLine}: 'short-gate-m' is outside the allowed values: 0..1700 metres`);
   assert.equal(await page.getAttribute('.config-status', 'data-state'), 'error');
   assert.deepEqual(await prfOfUnit('C'), [2000, 2000, 2000]);
   await page.screenshot({ path: path.join(screenshots, 'config-file-refused.png'), fullPage: true });

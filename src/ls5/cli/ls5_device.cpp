@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "cli/assignment_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/key_values.hpp"
 #include "ls5/cli/ls5_cli.hpp"
@@ -24,10 +25,11 @@ namespace {
 struct DeviceCommand {
   Ls5Connection connection;
   std::vector<std::string> items;  // get: names; set: NAME=VALUE
+  std::string from;                // set --from FILE: more NAME=VALUE items
   bool read_only = false;          // latch --read-only
   bool json = false;               // info, get --json
   // What can be checked before the port is opened (set: the names), so a typo costs no wait.
-  Status (*check_first)(const DeviceCommand& state) = nullptr;
+  Status (*check_first)(DeviceCommand& state) = nullptr;
 };
 
 // "0B" -> parameter 0B when it is a table 9.2 address.
@@ -188,7 +190,15 @@ Error not_settable(std::string_view name) {
   return unknown_name(name);
 }
 
-Status check_set_names(const DeviceCommand& state) {
+Status check_set_names(DeviceCommand& state) {
+  if (!state.from.empty()) {
+    auto lines = read_assignments(state.from);
+    if (!lines) return lines.error();
+    state.items.insert(state.items.begin(), lines->begin(), lines->end());
+  }
+  if (state.items.empty()) {
+    return make_error(Errc::wrong_form, "give NAME=VALUE (e.g. median-points=5, 0B=01) or --from FILE");
+  }
   for (const std::string& item : state.items) {
     const std::string name = item.substr(0, item.find('='));
     if (raw_parameter(name) == nullptr && ls5::find_host_setting(name) == nullptr) return not_settable(name);
@@ -329,7 +339,8 @@ void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
       ls5, exit_code, "set", "write settings NAME=VALUE (median-points=5, analog-lower-mm=12.5, 0B=01), checked first",
       [](ls5::Driver& driver, DeviceCommand& state) { return run_set(driver, state.items); }, set_state,
       Broadcast::allowed);
-  set->add_option("settings", set_state->items, "NAME=VALUE or AA=DD (hex)")->required();
+  set->add_option("settings", set_state->items, "NAME=VALUE or AA=DD (hex)");
+  add_from_option(*set, set_state->from);
   set->footer("Writable names (as `get` prints them): " + setting_names());
 
   auto latch_state = std::make_shared<DeviceCommand>();

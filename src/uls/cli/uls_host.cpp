@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli/assignment_file.hpp"
 #include "cli/commands.hpp"
 #include "cli/config_diff.hpp"
 #include "cli/host_sources.hpp"
@@ -136,29 +137,78 @@ int run_get(const LinkOptions& link, const std::vector<std::string>& names) {
 
 // --- set -------------------------------------------------------------------
 
-int run_set(const LinkOptions& link, const std::vector<std::string>& assignments) {
-  if (assignments.empty())
-    return fail("set", make_error(Errc::wrong_form, "give NAME=VALUE (e.g. mode=binning prf-hz=2000)"));
+// What `get` prints that there is nothing to write: read-only names, and an unassigned address
+// (a unit's address can be changed, not taken away), which holds only when the unit has none.
+struct Skipped {
+  std::vector<std::string> read_only;
+  bool unassigned = false;
+};
+
+bool skipped_from_file(const std::string& name, const std::string& value, Skipped& skipped) {
+  auto target = named::find_setting(name, named::Purpose::get);
+  if (!target) return false;
+  if (!target->command->has_set()) {
+    skipped.read_only.push_back(name);
+    return true;
+  }
+  if (target->command->mnemonic == "UA" && value == "unassigned") {
+    skipped.unassigned = true;
+    return true;
+  }
+  return false;
+}
+
+Status check_still_unassigned(Driver& driver) {
+  auto address = driver.get("UA");
+  if (!address && address.error().device_code == error_number::unit_address_not_assigned) return ok_status();
+  if (!address) return address.error();
+  const auto reading = named::describe_reply(*find_command("UA"), *address, Units::metres);
+  return make_error(Errc::wrong_form, "address=unassigned: the unit has address " + reading.text +
+                                          "; an address can be changed (address=B), not taken away");
+}
+
+int run_set(const LinkOptions& link, std::vector<std::string> assignments, const std::string& from) {
+  Skipped skipped;
   std::vector<std::pair<std::string, std::string>> pairs;
+  if (!from.empty()) {
+    auto lines = read_assignments(from);
+    if (!lines) return fail("set", lines.error());
+    for (const auto& line : *lines) {
+      const auto equals = line.find('=');
+      if (!skipped_from_file(line.substr(0, equals), line.substr(equals + 1), skipped))
+        pairs.emplace_back(line.substr(0, equals), line.substr(equals + 1));
+    }
+  }
+  if (assignments.empty() && pairs.empty() && !skipped.unassigned)
+    return fail("set", make_error(Errc::wrong_form, "give NAME=VALUE (e.g. mode=binning prf-hz=2000) or --from FILE"));
   for (const auto& assignment : assignments) {
     const auto equals = assignment.find('=');
     if (equals == std::string::npos)
       return fail("set", make_error(Errc::wrong_form, "'" + assignment + "' is not NAME=VALUE"));
     pairs.emplace_back(assignment.substr(0, equals), assignment.substr(equals + 1));
   }
+  if (!skipped.read_only.empty()) {
+    std::string names;
+    for (const auto& name : skipped.read_only) names += (names.empty() ? "" : ", ") + name;
+    fmt::print(stderr, "note: skipped {} of the file: read-only\n", names);
+  }
   auto work = named::plan(pairs);  // every value checked before the first is sent
   if (!work) return fail("set", work.error());
   auto driver = open_driver(link);
   if (!driver) return fail("set", driver.error());
-  const auto echo = [](const named::Written& written) {
+  if (skipped.unassigned) {
+    if (Status unassigned = check_still_unassigned(**driver); !unassigned) return fail("set", unassigned.error());
+  }
+  const auto echo = [&link](const named::Written& written) {
     std::string wire;
     for (const auto& field : written.fields) wire += (wire.empty() ? "" : ",") + field;
     const named::Target& target = written.assignment->target;
     fmt::print("{}={}  # {}={} OK\n", named::assignment_name(target), written.assignment->value,
                target.command->mnemonic, wire);
-    if (target.command->mnemonic == "BR" && written.fields.size() == 2)
-      fmt::print(stderr, "note: port {} now runs at {} baud (the change follows the $OK, §8); use --baud {}\n",
-                 written.fields[0], written.fields[1], written.fields[1]);
+    if (target.command->mnemonic == "BR" && written.fields.size() == 2 &&
+        written.fields[1] != std::to_string(link.baud))
+      fmt::print(stderr, "note: port {} now runs at {} baud, from this answer on; use --baud {}\n", written.fields[0],
+                 written.fields[1], written.fields[1]);
   };
   auto done = named::write(**driver, *work, echo);
   if (!done) return fail("set", done.error());
@@ -455,9 +505,11 @@ void add_uls_command(CLI::App& app, int& exit_code) {
   auto assignments = std::make_shared<std::vector<std::string>>();
   auto* set = uls->add_subcommand("set", "write settings: mode=binning prf-hz=2000 units=m short-gate-m=10 PF=2000");
   add_link_options(set, *link);
-  set->add_option("assignments", *assignments, "NAME=VALUE ...")->required();
+  auto from_file = std::make_shared<std::string>();
+  set->add_option("assignments", *assignments, "NAME=VALUE ...");
+  add_from_option(*set, *from_file);
   set->footer("Writable names (as `get` prints them): " + named::writable_names());
-  set->callback([&exit_code, link, assignments] { exit_code = run_set(*link, *assignments); });
+  set->callback([&exit_code, link, assignments, from_file] { exit_code = run_set(*link, *assignments, *from_file); });
 
   auto stream_options = std::make_shared<StreamOptions>();
   auto stream_mode = std::make_shared<std::string>("auto");

@@ -256,9 +256,12 @@ Result<DeviceConfig> config_from_toml(std::string_view text, std::string_view fi
       return toml_error(file_name, line, key.str(), message);
     }
     const std::vector<std::string_view> views(fields->begin(), fields->end());
-    if (const Verdict verdict = validate_request(**command, views, Units::metres); !verdict.ok())
+    if (const Verdict verdict = validate_request(**command, views, Units::metres); !verdict.ok()) {
+      const bool named_values = (*command)->kind == ValueKind::enumeration || (*command)->kind == ValueKind::flag;
       return toml_error(file_name, line, key.str(),
-                        "is outside the allowed values: " + allowed_values(**command, Units::metres));
+                        (named_values ? "must be one of: " : "is outside the allowed values: ") +
+                            allowed_values(**command, Units::metres));
+    }
     auto setting = from_wire(**command, *fields, Units::metres);
     if (!setting) return toml_error(file_name, line, key.str(), "does not read: " + *typed);
     config.settings.push_back(std::move(*setting));
