@@ -81,7 +81,7 @@ void init_capture(py::module_& parent) {
       },
       py::arg("path"), py::arg("device") = "",
       "(samples as a NumPy structured array of rangekit.sample_dtype, [Event, ...]) of a capture file; "
-      "device 'uls' or 'ls5' keeps one family's samples");
+      "device (a family's name) keeps that family's samples");
 }
 
 }  // namespace rangekit::python

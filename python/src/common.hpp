@@ -26,7 +26,7 @@ namespace rangekit::python {
 namespace py = pybind11;
 
 // Raises the rangekit.errors class for the error's code, carrying the code's name,
-// the device's error number and, for the ULS, its §10 text.
+// the device's error number and the family's text for it (FamilyDescriptor::error_text).
 [[noreturn]] void raise_error(const Error& error, std::string_view family = {});
 
 template <class T>
@@ -47,30 +47,39 @@ auto without_gil(Call&& call) {
 
 double to_seconds(std::chrono::system_clock::time_point time) noexcept;
 
-// Bits of SampleRecord::flags (rangekit.FLAG_* in Python).
+// An optional field as its value, or None.
+template <class T>
+py::object optional_object(const std::optional<T>& value) {
+  return value ? py::cast(*value) : py::none();
+}
+
+// Bits of SampleRecord::flags (rangekit.FLAG_* in Python). Beyond valid and suspect, a
+// family's part (python_family.hpp) sets those its samples can carry; docs/python.md says which.
 namespace flag {
-inline constexpr std::uint8_t valid = 0x01;            // the sample holds a distance
-inline constexpr std::uint8_t no_signal = 0x02;        // LS5 65535 / ULS $ER,4 (target not found)
-inline constexpr std::uint8_t no_result_yet = 0x04;    // LS5 65534 / ULS $ER,5 (average not filled)
-inline constexpr std::uint8_t derivative = 0x08;       // LS5 distance derivative (§8.8)
-inline constexpr std::uint8_t presence = 0x10;         // ULS look down: a target present
-inline constexpr std::uint8_t pulses_overflow = 0x20;  // ULS look down: more than 65535 pulses (U88)
-inline constexpr std::uint8_t device_error = 0x40;     // ULS $ER,n in the stream
+inline constexpr std::uint8_t valid = 0x01;            // distance_m holds the sample's reading
+inline constexpr std::uint8_t no_signal = 0x02;        // the sensor found no target
+inline constexpr std::uint8_t no_result_yet = 0x04;    // the sensor has no result yet (its average not filled)
+inline constexpr std::uint8_t derivative = 0x08;       // a distance derivative, not a distance
+inline constexpr std::uint8_t presence = 0x10;         // look down: a target present
+inline constexpr std::uint8_t pulses_overflow = 0x20;  // look down: more pulses than the count holds
+inline constexpr std::uint8_t device_error = 0x40;     // an error number in the stream
 inline constexpr std::uint8_t suspect = 0x80;          // marked by the quality checks (Sample.suspect_reason)
 }  // namespace flag
 
-// One row of the structured arrays read() and captures return (docs/python.md).
+// One row of the structured arrays read() and captures return (docs/python.md). The shared
+// part fills time, distance_m (the reading, in metres), address, kind and the valid and
+// suspect flags; the sample's family fills the rest, which stay NaN or 0 otherwise.
 struct SampleRecord {
   double time;           // host receive time, seconds since the Unix epoch (UTC)
   double distance_m;     // metres; NaN when the sample holds none
-  double intensity;      // ULS pulse width in ns, or binning strength of the first target; NaN otherwise
-  std::uint32_t pulses;  // ULS look down: pulses between events; 0 when none
-  std::uint16_t code;    // LS5 result code (§9.3); 0 for the ULS
-  std::int16_t error;    // ULS §10 error number; 0 when none
+  double intensity;      // pulse width in ns, or strength of the first target; NaN otherwise
+  std::uint32_t pulses;  // look down: pulses between events; 0 when none
+  std::uint16_t code;    // the result code as sent; 0 when none
+  std::int16_t error;    // the device's error number; 0 when none
   std::int16_t address;  // bus address; -1 when the protocol has none
   std::uint8_t kind;     // rangekit::SampleKind
   std::uint8_t flags;    // flag::*
-  std::uint8_t targets;  // ULS binning: targets in the array
+  std::uint8_t targets;  // targets in the sample's target list
 };
 SampleRecord to_record(const Sample& sample) noexcept;
 // The records as a NumPy array (one copy, without the GIL).
@@ -80,7 +89,7 @@ py::array records_to_array(const std::vector<SampleRecord>& records);
 py::object to_python(StreamItem item);
 
 // The Python stream object over a driver's MeasurementStream or a replay.
-// The per-sample quality checks a stream applies, as `rangekit ls5|uls stream` does
+// The per-sample quality checks a stream applies, as `rangekit <family> stream` does
 // (--max-speed, --drop-suspect; core/sample_quality.hpp).
 struct StreamQuality {
   bool check = true;
@@ -137,8 +146,7 @@ StreamQuality stream_quality(bool check, std::optional<double> max_speed_mps, bo
 
 void init_samples(py::module_& module);
 void init_streams(py::module_& module);
-void init_uls(py::module_& module);
-void init_ls5(py::module_& module);
+void init_families(py::module_& module);
 void init_capture(py::module_& module);
 
 }  // namespace rangekit::python

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "common.hpp"
+#include "python_family.hpp"
 #include "rangekit/core/family.hpp"
-#include "rangekit/uls/errors.hpp"
 
 namespace rangekit::python {
 namespace {
@@ -51,11 +51,6 @@ std::string code_name(Errc code) {
 
 constexpr double not_a_number = std::numeric_limits<double>::quiet_NaN();
 
-template <class T>
-py::object optional_object(const std::optional<T>& value) {
-  return value ? py::cast(*value) : py::none();
-}
-
 }  // namespace
 
 void raise_error(const Error& error, std::string_view family) {
@@ -82,33 +77,15 @@ SampleRecord to_record(const Sample& sample) noexcept {
   record.intensity = not_a_number;
   record.address = static_cast<std::int16_t>(sample.address);
   record.kind = static_cast<std::uint8_t>(sample.kind);
-  std::uint8_t flags = 0;
   // The sample's reading (core/family.hpp) in metres, when it is a length at all.
   if (const auto reading = reading_of(sample)) {
     if (const auto scale = metres_per(reading->channel->unit)) record.distance_m = reading->value * *scale;
   }
-  if (!std::isnan(record.distance_m)) flags |= flag::valid;
-  if (sample.pulse_width) {
-    record.intensity = static_cast<double>(*sample.pulse_width) / 1000.0;  // ps on the wire (U8), ns here
-  } else if (!sample.targets.empty()) {
-    record.intensity = static_cast<double>(sample.targets.front().strength);
-  }
-  record.targets = static_cast<std::uint8_t>(sample.targets.size());
-  record.pulses = sample.pulses_between_events.value_or(0);
-  record.code = sample.code.value_or(0);
-  if (sample.device_error) {
-    record.error = static_cast<std::int16_t>(*sample.device_error);
-    flags |= flag::device_error;
-    if (*sample.device_error == uls::error_number::target_not_found) flags |= flag::no_signal;
-    if (*sample.device_error == uls::error_number::average_not_filled) flags |= flag::no_result_yet;
-  }
-  if (sample.signal == SignalState::lost) flags |= flag::no_signal;
-  if (sample.signal == SignalState::none_yet) flags |= flag::no_result_yet;
-  if (sample.kind == SampleKind::ls5_derivative) flags |= flag::derivative;
-  if (sample.presence.value_or(false)) flags |= flag::presence;
-  if (sample.pulses_overflow) flags |= flag::pulses_overflow;
-  if (sample.suspect) flags |= flag::suspect;
-  record.flags = flags;
+  // The columns only some families fill, by the sample's own family.
+  if (const PythonFamily* family = find_python_family(sample.device); family != nullptr && family->fill_record)
+    family->fill_record(sample, record);
+  if (!std::isnan(record.distance_m)) record.flags |= flag::valid;
+  if (sample.suspect) record.flags |= flag::suspect;
   return record;
 }
 
@@ -138,73 +115,29 @@ void init_samples(py::module_& module) {
   module.attr("FLAG_PULSES_OVERFLOW") = flag::pulses_overflow;
   module.attr("FLAG_DEVICE_ERROR") = flag::device_error;
   module.attr("FLAG_SUSPECT") = flag::suspect;
+  // SampleKind numbers its kinds from 0 without a gap; past the last, the name is "unknown".
   py::list kinds;
-  for (auto kind : {SampleKind::uls_averaging, SampleKind::uls_binning, SampleKind::uls_look_down,
-                    SampleKind::uls_error, SampleKind::ls5_result, SampleKind::ls5_derivative})
-    kinds.append(sample_kind_name(kind));
+  for (unsigned value = 0; value <= std::numeric_limits<std::uint8_t>::max(); ++value) {
+    const std::string_view name = sample_kind_name(static_cast<SampleKind>(value));
+    if (name == "unknown") break;
+    kinds.append(py::str(std::string(name)));
+  }
   module.attr("sample_kinds") = kinds;  // the `kind` column's values, by number
 
-  py::class_<Sample>(module, "Sample",
-                     "One measurement as the host received it (ULS or LS5); the fields of docs/cli.md's JSON.")
+  py::class_<Sample> sample_class(module, "Sample",
+                                  "One measurement as the host received it; the fields of docs/cli.md's JSON. "
+                                  "A field of another family than the sample's reads None.");
+  sample_class
       .def_property_readonly(
           "time", [](const Sample& s) { return to_seconds(s.time); },
           "host receive time, seconds since the Unix epoch (UTC)")
-      .def_readonly("device", &Sample::device, "'uls' or 'ls5'")
+      .def_readonly("device", &Sample::device, "its family's name, one of rangekit.families()")
       .def_property_readonly(
           "source", [](const Sample& s) { return s.source.str(); }, "port path it came from")
       .def_readonly("address", &Sample::address, "bus address, -1 when the protocol has none")
       .def_property_readonly(
           "kind", [](const Sample& s) { return std::string(sample_kind_name(s.kind)); },
-          "averaging, binning, look_down, error (ULS); result, derivative (LS5)")
-      .def_property_readonly(
-          "distance_m", [](const Sample& s) { return optional_object(s.distance_m); },
-          "ULS averaging distance in metres, or None")
-      .def_property_readonly(
-          "pulse_width", [](const Sample& s) { return optional_object(s.pulse_width); },
-          "ULS pulse width in picoseconds as on the wire, or None")
-      .def_property_readonly(
-          "pulse_width_ns",
-          [](const Sample& s) {
-            return s.pulse_width ? py::cast(static_cast<double>(*s.pulse_width) / 1000.0) : py::none();
-          },
-          "ULS pulse width in nanoseconds, or None")
-      .def_property_readonly(
-          "targets",
-          [](const Sample& s) {
-            py::list targets;
-            for (const TargetHit& hit : s.targets) targets.append(py::make_tuple(hit.distance_m, hit.strength));
-            return targets;
-          },
-          "ULS binning: [(distance_m, strength), ...], strength in hits of the target's bin")
-      .def_property_readonly(
-          "presence", [](const Sample& s) { return optional_object(s.presence); },
-          "ULS look down: a target present, or None")
-      .def_property_readonly(
-          "pulses_between_events", [](const Sample& s) { return optional_object(s.pulses_between_events); },
-          "ULS look down with TB: pulses between the edges (1-65535), or None")
-      .def_readonly("pulses_overflow", &Sample::pulses_overflow, "ULS look down: more than 65535 pulses (U88)")
-      .def_property_readonly(
-          "device_error", [](const Sample& s) { return optional_object(s.device_error); },
-          "ULS $ER,n error number (§10), or None")
-      .def_property_readonly(
-          "error_text",
-          [](const Sample& s) { return s.device_error ? py::cast(error_text_of(s, *s.device_error)) : py::none(); },
-          "the §10 text of device_error, or None")
-      .def_property_readonly(
-          "code", [](const Sample& s) { return optional_object(s.code); }, "LS5 result code 0-65535 (§9.3), or None")
-      .def_property_readonly(
-          "distance_mm", [](const Sample& s) { return optional_object(s.distance_mm); },
-          "LS5 distance in millimetres (formula 8.1), None for 65534/65535")
-      .def_property_readonly(
-          "derivative_mm", [](const Sample& s) { return optional_object(s.derivative_mm); },
-          "LS5 distance derivative in millimetres (formula 8.2), or None")
-      .def_property_readonly(
-          "signal",
-          [](const Sample& s) { return s.signal ? py::cast(std::string(signal_state_name(*s.signal))) : py::none(); },
-          "LS5: 'ok', 'none_yet' (65534) or 'lost' (65535), or None")
-      .def_property_readonly(
-          "resolution_mm", [](const Sample& s) { return optional_object(s.resolution_mm); },
-          "LS5: the sensor's discreteness in millimetres (table 3.1), or None")
+          "the kind's name, one of rangekit.sample_kinds")
       .def_property_readonly(
           "reading",
           [](const Sample& s) {
@@ -234,13 +167,14 @@ void init_samples(py::module_& module) {
       .def_property_readonly("is_event", [](const Sample&) { return false; })
       .def("__repr__", [](const Sample& s) {
         std::string text = "<rangekit.Sample " + std::string(sample_kind_name(s.kind));
-        if (s.distance_m) text += " distance_m=" + std::to_string(*s.distance_m);
-        if (s.distance_mm) text += " distance_mm=" + std::to_string(*s.distance_mm);
-        if (s.code) text += " code=" + std::to_string(*s.code);
-        if (s.device_error) text += " device_error=" + std::to_string(*s.device_error);
+        if (const PythonFamily* family = find_python_family(s.device); family != nullptr && family->describe)
+          text += family->describe(s);
         if (s.suspect) text += " suspect";
         return text + ">";
       });
+  // Each family's own fields, from its folder (python/src/<family>/).
+  for (const PythonFamily* family : python_families())
+    if (family->sample_properties) family->sample_properties(sample_class);
 
   py::class_<StreamEvent>(module, "Event",
                           "A link event in a stream: connected, disconnected, reconnected, bad_frame, lost_records, "

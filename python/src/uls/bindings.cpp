@@ -11,8 +11,12 @@
 #include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/measurement.hpp"
 #include "rangekit/uls/named_settings.hpp"
+#include "uls/parts.hpp"
 
-namespace rangekit::python {
+namespace rangekit::uls::python {
+
+using namespace rangekit::python;  // the module's shared helpers: py, unwrap, check, Stream, ...
+
 namespace {
 
 Result<TransportPtr> open_line(const std::string& path, std::uint32_t baud) {
@@ -126,7 +130,7 @@ void write_many(UlsDevice& device, const std::vector<std::pair<std::string, std:
 
 }  // namespace
 
-void init_uls(py::module_& parent) {
+void bind(py::module_& parent) {
   py::module_ module = parent.def_submodule("uls", "LTI ULS: driver and codec");
 
   py::class_<UlsDevice>(module, "Driver", "A ULS unit on a serial port (rangekit::uls::Driver).")
@@ -277,4 +281,4 @@ void init_uls(py::module_& parent) {
       "Every setting name and what set accepts for it (§8's ranges, distances in metres)");
 }
 
-}  // namespace rangekit::python
+}  // namespace rangekit::uls::python

@@ -6,12 +6,16 @@
 #include <string>
 
 #include "common.hpp"
+#include "ls5/parts.hpp"
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/ls5/driver.hpp"
 #include "rangekit/ls5/host_settings.hpp"
 #include "rangekit/ls5/udp_packet.hpp"
 
-namespace rangekit::python {
+namespace rangekit::ls5::python {
+
+using namespace rangekit::python;  // the module's shared helpers: py, unwrap, check, Stream, ...
+
 namespace {
 
 constexpr std::string_view family = "ls5";
@@ -70,7 +74,7 @@ py::dict info_dict(const ls5::SensorInfo& info) {
 
 }  // namespace
 
-void init_ls5(py::module_& parent) {
+void bind(py::module_& parent) {
   py::module_ module = parent.def_submodule("ls5", "Prizma LS5: driver and codec");
 
   py::class_<Ls5Device>(module, "Driver", "An LS5 on a serial port (rangekit::ls5::Driver).")
@@ -276,4 +280,4 @@ void init_ls5(py::module_& parent) {
       "Every table 9.2 setting name and the values set accepts (newest firmware; -mm ones need the range)");
 }
 
-}  // namespace rangekit::python
+}  // namespace rangekit::ls5::python
