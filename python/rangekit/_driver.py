@@ -1,4 +1,4 @@
-"""What the ULS and LS5 drivers share: settings, context manager, close."""
+"""What every family's driver shares: settings, context manager, close."""
 
 from __future__ import annotations
 

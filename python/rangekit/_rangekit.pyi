@@ -1,6 +1,6 @@
-# Type stubs of the compiled module (python/src); the public names are re-exported by
-# rangekit/__init__.py, rangekit.uls, rangekit.ls5 and rangekit.capture.
-from typing import Any, Iterator, List, Optional, Tuple, Union
+# Type stubs of the compiled module (python/src), re-exported by the package. They describe the
+# module as built, so they name each family's submodule and Sample fields (python/src/<family>/).
+from typing import Any, Dict, Iterator, List, Optional, Tuple, Union
 
 import numpy
 
@@ -20,6 +20,8 @@ FLAG_PRESENCE: int  # 0x10 ULS look down: target present
 FLAG_PULSES_OVERFLOW: int  # 0x20 ULS look down: > 65535 pulses
 FLAG_DEVICE_ERROR: int  # 0x40 ULS $ER,n
 FLAG_SUSPECT: int  # 0x80 marked by the quality checks (Sample.suspect_reason)
+
+def families() -> List[Dict[str, Any]]: ...  # [{name, title, channels: [{key, quantity, unit, description}]}]
 
 class Sample:
     """One measurement (ULS or LS5); fields that do not apply are None."""

@@ -59,5 +59,6 @@ def sample_objects(path: Union[str, "os.PathLike[str]"], device: str = "") -> Li
 
 
 def open(path: Union[str, "os.PathLike[str]"], device: str = "") -> Capture:
-    """Reads a capture file; ``device`` ``"uls"`` or ``"ls5"`` keeps one family's samples."""
+    """Reads a capture file; ``device``, a family's name (:func:`rangekit.families`), keeps that
+    family's samples."""
     return Capture(path, device)

@@ -4,8 +4,9 @@ Every error of the C++ library arrives as a :class:`RangekitError` (or a subclas
 
 * ``code``: the library's error code name (``"out_of_range"``, ``"device_error"``,
   ``"timeout"``, ...),
-* ``number``: the device's error number for ``device_error`` (ULS §10, e.g. 31), else None,
-* ``text``: the document's text for that number (ULS §10, e.g. "Already Measuring"), else None.
+* ``number``: the device's error number for ``device_error`` (e.g. 31), else None,
+* ``text``: its family's text for that number, from the sensor's document (e.g. "Already
+  Measuring"), else None.
 
 Subclasses also derive from the built-in exception a Python user would expect, so
 ``except ValueError`` catches a refused setting and ``except TimeoutError`` a silent unit.
@@ -38,7 +39,7 @@ class RangekitError(Exception):
 
 
 class DeviceError(RangekitError):
-    """The device answered with an error number (ULS ``$ER,n``; see ``number`` and ``text``)."""
+    """The device answered with an error number (see ``number`` and ``text``)."""
 
 
 class SettingError(RangekitError, ValueError):

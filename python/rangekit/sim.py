@@ -1,10 +1,11 @@
-"""The emulators, for your own tests: ``with rangekit.sim.uls() as unit: ...``.
+"""The emulators, for your own tests: ``with rangekit.sim.<family>() as unit: ...``, one
+function for each family of :func:`rangekit.families`.
 
-Each emulator is the ``rangekit sim uls|ls5`` command of the CLI run as a child process
+Each emulator is the ``rangekit sim <family>`` command of the CLI run as a child process
 (the same firmware model the CLI's tests use), on pseudo-terminals in a fresh temporary
 directory: ``unit.port`` is the path to open, ``unit.control`` the path of its JSON-lines
-control socket and ``unit.command({...})`` sends one command there (docs/emulator-uls.md,
-docs/emulator-ls5.md). ``unit.kill()`` ends it as a cable pulled out; ``unit.restart()``
+control socket and ``unit.command({...})`` sends one command there
+(docs/emulator-<family>.md). ``unit.kill()`` ends it as a cable pulled out; ``unit.restart()``
 brings it back on the same paths, so a driver's stream reconnects.
 
 The CLI is found as ``$RANGEKIT_CLI``, else beside the build tree's module, else
@@ -13,17 +14,19 @@ The CLI is found as ``$RANGEKIT_CLI``, else beside the build tree's module, else
 
 from __future__ import annotations
 
+import importlib
 import json
 import os
 import shutil
 import socket
 import subprocess
 import tempfile
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Union
 
+from ._families import FAMILIES
 from .errors import LinkError
 
-__all__ = ["Emulator", "uls", "ls5", "cli_path"]
+__all__ = ["Emulator", "cli_path", *FAMILIES]
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -81,14 +84,16 @@ class Emulator:
 
     def __init__(self, family: str, scene: Optional[Union[PathLike, Mapping[str, Any]]] = None,
                  arguments: Sequence[str] = ()):
-        if family not in ("uls", "ls5"):
-            raise ValueError("family must be 'uls' or 'ls5'")
+        if family not in FAMILIES:
+            raise ValueError("family must be " + " or ".join(repr(name) for name in FAMILIES))
         self.family = family
         self._directory = tempfile.mkdtemp(prefix=f"rangekit-sim-{family}-")
-        #: The serial port path to open (the ULS universal port; the LS5's line).
+        #: The serial port path to open (the sensor's measuring line).
         self.port = os.path.join(self._directory, family)
-        #: The ULS configuration port (None for the LS5).
-        self.config_port: Optional[str] = os.path.join(self._directory, "uls-config") if family == "uls" else None
+        # A family whose emulator has a configuration port too names its file in its module.
+        config_name = getattr(importlib.import_module(f".{family}", __package__), "_SIM_CONFIG_PORT", None)
+        #: The configuration port, for a family that has one (``--config-port``); else None.
+        self.config_port: Optional[str] = os.path.join(self._directory, config_name) if config_name else None
         #: The control socket's path (JSON lines).
         self.control = os.path.join(self._directory, "control")
         self._scene = scene
@@ -174,13 +179,18 @@ class Emulator:
         return f"<rangekit.sim.Emulator {self.family} on {self.port}>"
 
 
-def uls(scene: Optional[Union[PathLike, Mapping[str, Any]]] = None, arguments: Sequence[str] = ()) -> Emulator:
-    """A ULS emulator: ``scene`` is a TOML file (docs/emulator-uls.md) or a dict of its keys;
-    ``arguments`` are more ``rangekit sim uls`` options (``["--seed", "2"]``)."""
-    return Emulator("uls", scene, arguments)
+def _starter(family: str) -> Callable[..., Emulator]:
+    def start(scene: Optional[Union[PathLike, Mapping[str, Any]]] = None, arguments: Sequence[str] = ()) -> Emulator:
+        return Emulator(family, scene, arguments)
+
+    start.__name__ = start.__qualname__ = family
+    start.__doc__ = (
+        f"An emulator of the family {family!r}: ``scene`` is a TOML file (docs/emulator-{family}.md) or a "
+        f"dict of its tables; ``arguments`` are more ``rangekit sim {family}`` options."
+    )
+    return start
 
 
-def ls5(scene: Optional[Union[PathLike, Mapping[str, Any]]] = None, arguments: Sequence[str] = ()) -> Emulator:
-    """An LS5 emulator: ``scene`` as for :func:`uls` (docs/emulator-ls5.md); ``arguments`` such as
-    ``["--model", "0/100", "--version", "LS5.12.0"]``."""
-    return Emulator("ls5", scene, arguments)
+# rangekit.sim.<family>(scene, arguments), one for each family.
+for _family in FAMILIES:
+    globals()[_family] = _starter(_family)

@@ -15,6 +15,8 @@ from . import _rangekit
 from ._driver import BaseDriver
 
 _impl = _rangekit.uls
+# rangekit.sim.uls(): the emulator's configuration port (`rangekit sim uls --config-port`), by file name.
+_SIM_CONFIG_PORT = "uls-config"
 
 __all__ = ["open", "Driver", "setting_ranges", "decode_line", "error_text", "readable_names", "writable_names"]
 
