@@ -93,7 +93,7 @@ bool format_number_field(double value, std::size_t width, char* out) noexcept {
 Result<Identification> decode_identification_field(std::string_view field) {
   if (field.size() != identification_field_length) {
     return id_error(field.size() < identification_field_length ? Errc::truncated : Errc::overlong,
-                    "the field has " + std::to_string(field.size()) + " characters, expected 35 (§9.2)");
+                    "the field has " + std::to_string(field.size()) + " characters, expected 35");
   }
   if (!printable(field)) return id_error(Errc::invalid_frame, "control or non-ASCII byte in " + detail::quote(field));
 

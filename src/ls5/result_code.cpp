@@ -11,7 +11,7 @@ Result<ResultCode> make_result_code(std::uint32_t raw) {
   if (raw == code_no_signal) return ResultCode{code_no_signal, CodeKind::no_signal};
   return make_error(Errc::out_of_range, "LS5 result code " + std::to_string(raw) +
                                             " is invalid: results are 0-50000, 65534 no measurement yet, "
-                                            "65535 no signal (§8.9)");
+                                            "65535 no signal");
 }
 
 double distance_mm(std::uint16_t code, double range_mm) noexcept { return range_mm * code / max_result_code; }
@@ -41,12 +41,12 @@ Result<double> distance_from_code(ResultCode code, double range_mm) {
 
 Result<std::uint16_t> code_from_distance(double distance, double range_mm) {
   if (!std::isfinite(distance) || !std::isfinite(range_mm) || range_mm <= 0.0) {
-    return make_error(Errc::out_of_range, "LS5 formula 8.5 needs a finite distance and a positive range");
+    return make_error(Errc::out_of_range, "a code needs a finite distance and a positive range");
   }
   const double code = std::round(distance / range_mm * max_result_code);  // std::round: halves away from zero
   if (code < 0.0 || code > max_result_code) {
     return make_error(Errc::out_of_range, "LS5 distance " + std::to_string(distance) + " mm is outside the range 0-" +
-                                              std::to_string(range_mm) + " mm (formula 8.5)");
+                                              std::to_string(range_mm) + " mm");
   }
   return static_cast<std::uint16_t>(code);
 }

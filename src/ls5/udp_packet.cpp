@@ -28,7 +28,7 @@ Error state_error(std::size_t record, std::uint8_t state) {
   const char* why =
       (state & udp_state::always_one) == 0 ? "bit 1 must always be 1" : "bits 4-7 are reserved and must be 0";
   return make_error(Errc::invalid_frame, "LS5 UDP packet: state word 0x" + text::hex_byte(state) + " of measurement " +
-                                             std::to_string(record + 1) + ": " + why + " (§10.1)");
+                                             std::to_string(record + 1) + ": " + why);
 }
 
 // Eight bytes at a time, folded to one at the end: a byte at a time ran at a
@@ -58,7 +58,7 @@ std::uint8_t udp_checksum(std::span<const std::uint8_t, udp_packet_size> datagra
 Result<UdpPacket> decode_udp_packet(Bytes datagram) {
   if (datagram.size() != udp_packet_size) {
     return make_error(datagram.size() < udp_packet_size ? Errc::truncated : Errc::overlong,
-                      "LS5 UDP packet has " + std::to_string(datagram.size()) + " bytes, expected 512 (§10.1)");
+                      "LS5 UDP packet has " + std::to_string(datagram.size()) + " bytes, expected 512");
   }
   const std::uint8_t computed = xor_of(datagram.first(udp_offset::counter));
   if (computed != datagram[udp_offset::checksum]) {
@@ -112,11 +112,11 @@ Result<double> udp_distance_mm(const UdpRecord& record, double range_mm) {
   if (!record.in_range()) return make_error(Errc::out_of_range, "LS5 UDP record: out of range (state bit 2)");
   if (record.derivative()) {
     return make_error(Errc::unsupported,
-                      "LS5 UDP record holds a derivative (state bit 3); §10.1 gives no scale for it (L19)");
+                      "LS5 UDP record holds a derivative (state bit 3), for which a UDP record gives no scale");
   }
   if (record.code > udp_full_scale_code) {
     return make_error(Errc::out_of_range,
-                      "LS5 UDP record code " + std::to_string(record.code) + " is above 0x4000 (formula 10.1)");
+                      "LS5 UDP record code " + std::to_string(record.code) + " is above 0x4000, the full range");
   }
   return range_mm * record.code / udp_full_scale_code;
 }

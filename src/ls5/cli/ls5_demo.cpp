@@ -33,7 +33,7 @@ std::vector<std::string> sim_arguments(const DemoFiles& files) {
 Result<SampleSourcePtr> start_source(const DemoFiles& files) {
   auto source = start_ls5_source(Ls5SourceOptions{files.port, 115200, 0x01, std::uint8_t{20}});
   if (!source) return make_error(source.error().code, source.error().describe());
-  fmt::print("  LS5  address 01  streaming every 20th measurement (§8.4)\n");
+  fmt::print("  LS5  address 01  streaming every 20th measurement\n");
   return source;
 }
 
@@ -73,7 +73,7 @@ int walk_through_udp_packet() {
     return exit_bad_input;
   }
   const auto first = ls5::udp_distance_mm(decoded->records[0], decoded->range_mm);
-  fmt::print("\nLS5 Ethernet (§10.1): 512-byte packet, checksum {:02X} verified, counter {}, serial {}, {} records;\n",
+  fmt::print("\nLS5 Ethernet: 512-byte packet, checksum {:02X} verified, counter {}, serial {}, {} records;\n",
              datagram[511], decoded->counter, decoded->serial_number, decoded->records.size());
   fmt::print("  first record code 0x{:04X} = {:.4f} mm (formula 10.1, range {} mm)\n", decoded->records[0].code,
              first ? *first : 0.0, decoded->range_mm);

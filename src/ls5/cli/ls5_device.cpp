@@ -69,8 +69,8 @@ constexpr std::array<std::string_view, 5> identification_names{"version", "lower
 
 Error read_only_name(std::string_view name) {
   return make_error(Errc::wrong_form, "'" + std::string(name) +
-                                          "' is read-only (the identification, ID §9.2); writable names: " +
-                                          setting_names() + " (or a two-digit address)");
+                                          "' is read-only (the identification); writable names: " + setting_names() +
+                                          " (or a two-digit address)");
 }
 
 // Numbers as JSON numbers (--json); named values, addresses and hex bytes as text.
@@ -322,7 +322,7 @@ Status echo_done(const ls5::Driver& driver, Status status, std::string_view what
 void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
   auto info_state = std::make_shared<DeviceCommand>();
   auto* info = add_device_command(
-      ls5, exit_code, "info", "identification (ID, §9.2): version, lower boundary, range, serial",
+      ls5, exit_code, "info", "identification (ID): version, lower boundary, range, serial",
       [](ls5::Driver& driver, DeviceCommand& state) { return run_info(driver, state.json); }, info_state);
   info->add_flag("--json", info_state->json, "one JSON object instead of NAME=VALUE lines");
 
@@ -389,7 +389,7 @@ void add_ls5_device_commands(CLI::App& ls5, int& exit_code) {
   }
   for (const auto& [name, hidden] : {std::pair{"stop", false}, std::pair{"off", true}}) {
     auto* stop = add_device_command(
-        ls5, exit_code, name, "turn the sensor off (OF): no measurements (§8.2)",
+        ls5, exit_code, name, "turn the sensor off (OF): no measurements",
         [](ls5::Driver& driver, DeviceCommand&) { return echo_done(driver, driver.stop_measuring(), "stopped"); },
         nullptr, Broadcast::allowed);
     if (hidden) stop->group("");

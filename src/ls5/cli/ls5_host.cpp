@@ -51,7 +51,7 @@ Result<std::uint8_t> parse_ls5_address(std::string_view text, bool allow_broadca
   const unsigned lowest = allow_broadcast ? 0 : 1;
   if (text.empty() || error != std::errc{} || end != text.data() + text.size() || value < lowest || value > 255) {
     return make_error(Errc::out_of_range, "--address '" + std::string(text) + "' must be " + std::to_string(lowest) +
-                                              "-255 (decimal, or hex as 0x1A) (§8.1)");
+                                              "-255 (decimal, or hex as 0x1A)");
   }
   return static_cast<std::uint8_t>(value);
 }
@@ -88,6 +88,8 @@ int report_ls5_failure(std::string_view command, const Error& error, const Ls5Co
 void add_ls5_command(CLI::App& app, int& exit_code) {
   auto* ls5 = app.add_subcommand("ls5", "configure, read and stream a Prizma LS5 laser triangulation sensor");
   ls5->require_subcommand(1);
+  // The document's sections stay here and in docs/conformance.md, out of the messages.
+  ls5->footer("The manual: §8 protocol, table 9.1 commands, table 9.2 parameters, §10 Ethernet; docs/host-ls5.md.");
   add_ls5_device_commands(*ls5, exit_code);
   add_ls5_stream_commands(*ls5, exit_code);
   add_ls5_config_command(*ls5, exit_code);

@@ -40,7 +40,8 @@ SourceStarter add_ls5_capture_options(CLI::App& capture) {
   capture.add_option("--ls5-address", options->address, "LS5 network address")
       ->check(CLI::Range(1, 255))
       ->capture_default_str();
-  capture.add_option("--ls5-thinning", options->thinning, "LS5 stream thinning n (§8.4)")->check(CLI::Range(1, 255));
+  capture.add_option("--ls5-thinning", options->thinning, "LS5 stream thinning: every n-th result")
+      ->check(CLI::Range(1, 255));
   return [options]() -> Result<std::vector<SampleSourcePtr>> {
     std::optional<std::uint8_t> thinning;
     if (options->thinning) thinning = static_cast<std::uint8_t>(*options->thinning);

@@ -100,7 +100,7 @@ void add_ls5_stream_commands(CLI::App& ls5, int& exit_code) {
       "stream", "start the result stream (ST) and print or capture the records; reconnects when the link returns");
   add_ls5_connection_options(*stream, serial->connection);
   add_stream_options(*stream, serial->stream);
-  stream->add_option("--thinning", serial->thinning, "write thinning n (parameter 08, §8.4: every n-th result) first")
+  stream->add_option("--thinning", serial->thinning, "write thinning n (parameter 08: every n-th result) first")
       ->check(CLI::Range(1, 255));
   stream->add_option("--reconnect-ms", serial->reconnect_ms, "retry interval after the link went away (default 500)")
       ->check(CLI::Range(10, 60000));
@@ -136,7 +136,7 @@ void add_ls5_stream_commands(CLI::App& ls5, int& exit_code) {
 
   auto udp = std::make_shared<UdpStreamCommand>();
   auto* udp_command =
-      ls5.add_subcommand("udp", "receive the Ethernet stream (§10.1 UDP packets), checksum and counter checked");
+      ls5.add_subcommand("udp", "receive the Ethernet stream (UDP packets), checksum and counter checked");
   udp_command->add_option("--udp-listen", udp->listen, "HOST:PORT to bind (the sensor's destination, default port 603)")
       ->required();
   udp_command->add_option("--address", udp->address, "network address to put in the samples (packets carry none)");
@@ -167,7 +167,7 @@ void add_ls5_stream_commands(CLI::App& ls5, int& exit_code) {
     HintWhenSilent watched(**receiver, std::chrono::seconds(3),
                            fmt::format("rangekit ls5 udp: nothing has arrived on {} for 3 s: is the sensor's "
                                        "destination IP address this host and its destination port {} (its Ethernet "
-                                       "settings, §10.1), and is it streaming?",
+                                       "settings), and is it streaming?",
                                        endpoint->to_string(), endpoint->port));
     exit_code = run_stream_as(watched, udp->stream, "ls5 udp");
     (*receiver)->stop();

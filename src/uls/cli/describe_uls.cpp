@@ -98,7 +98,8 @@ std::string describe_measurement(const uls::Measurement& measurement) {
   }
   const auto& error = std::get<uls::MeasurementError>(measurement.reading);
   const auto* info = uls::find_error(error.number);
-  return fmt::format("{}measurement error {}: {}", prefix, error.number, info ? info->display : "not in §10");
+  return fmt::format("{}measurement error {}: {}", prefix, error.number,
+                     info ? info->display : "not in the ULS's error table");
 }
 
 std::string describe_reply(const uls::FrameView& frame, const uls::MeasurementContext& context) {
@@ -119,7 +120,7 @@ std::string describe_reply(const uls::FrameView& frame, const uls::MeasurementCo
       return who(reply->source) + "accepted (OK)";
     case uls::ReplyKind::error:
       return fmt::format("{}error {}: {} (display \"{}\")", who(reply->source), reply->error_number,
-                         reply->error ? reply->error->explanation : "not in §10",
+                         reply->error ? reply->error->explanation : "not in the ULS's error table",
                          reply->error ? reply->error->display : "");
     case uls::ReplyKind::value:
       return fmt::format("{}{} = {}", who(reply->source), short_title(*reply->command),

@@ -88,7 +88,7 @@ int run(const SimUlsOptions& options) {
     return exit_usage;
   }
   if (options.addresses.size() > 64) {
-    fmt::print(stderr, "rangekit sim uls: at most 64 units on one bus (§8 RS485 Protocol)\n");
+    fmt::print(stderr, "rangekit sim uls: at most 64 units on one bus\n");
     return exit_usage;
   }
   uls::emulator::Scene scene = uls::emulator::default_scene();

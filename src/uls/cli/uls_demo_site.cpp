@@ -87,7 +87,8 @@ Status start(const fs::path& dir, std::vector<SimProcess>& emulators, hub::SiteC
     if (auto status = set_scene(path("bus.control"), unit, *scene); !status) return status;
   }
   if (auto status = set_up_bus(path("bus")); !status) return status;
-  fmt::print("  bus: Continuous Output off (§7); bay-A binning, bay-B look down, bay-C and bay-D averaging\n");
+  fmt::print(
+      "  bus: continuous output off (a bus is polled); bay-A binning, bay-B look down, bay-C and bay-D averaging\n");
 
   site.sensors.push_back(site_sensor("silo", "uls", path("uls")));
   for (const char unit : {'A', 'B', 'C', 'D'}) {

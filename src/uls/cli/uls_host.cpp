@@ -39,7 +39,7 @@ struct LinkOptions {
 
 void add_link_options(CLI::App* command, LinkOptions& link) {
   command->add_option("--port", link.port, "serial port or pty (/dev/ttyUSB0, the emulator's symlink)")->required();
-  command->add_option("--baud", link.baud, "baud rate of the port (factory 115200, §9)")->capture_default_str();
+  command->add_option("--baud", link.baud, "baud rate of the port (115200 from the factory)")->capture_default_str();
   command->add_option("--address", link.address,
                       "RS-485 unit address: one character 0x30-0xEF ('A'), 0xNN or decimal; "
                       "without it the '$' protocol");
@@ -57,8 +57,7 @@ Result<std::optional<std::uint8_t>> address_of(const LinkOptions& link) {
   if (link.address.empty()) return std::optional<std::uint8_t>{};
   auto address = parse_unit_address(link.address);
   if (!address)
-    return make_error(Errc::out_of_range,
-                      "--address '" + link.address + "' is not a unit address 0x30..0xEF (§8 RS485 Protocol)");
+    return make_error(Errc::out_of_range, "--address '" + link.address + "' is not a unit address 0x30..0xEF");
   return std::optional<std::uint8_t>{*address};
 }
 
@@ -485,8 +484,10 @@ int run_bus(const LinkOptions& link, const std::string& what, const std::string&
 }  // namespace
 
 void add_uls_command(CLI::App& app, int& exit_code) {
-  auto* uls = app.add_subcommand("uls", "configure, read and stream a ULS (spec §8) on a serial port or pty");
+  auto* uls = app.add_subcommand("uls", "configure, read and stream a ULS on a serial port or pty");
   uls->require_subcommand(1);
+  // The document's sections stay here and in docs/conformance.md, out of the messages.
+  uls->footer("The spec: §7 RS-485 network, §8 commands and formats, §9 rates, §10 errors; docs/host-uls.md.");
   auto link = std::make_shared<LinkOptions>();
 
   auto* info = uls->add_subcommand("info", "version (ID), status bits (US) and the main settings");
@@ -527,7 +528,7 @@ void add_uls_command(CLI::App& app, int& exit_code) {
   });
 
   auto count = std::make_shared<int>(1);
-  auto* measure = uls->add_subcommand("measure", "one measurement with BM (starts the unit if idle, §2 Autostart)");
+  auto* measure = uls->add_subcommand("measure", "one measurement with BM (starts the unit if idle)");
   add_link_options(measure, *link);
   measure->add_option("--count", *count, "measurements to read")->check(sample_count())->capture_default_str();
   measure->callback([&exit_code, link, count] { exit_code = run_measure(*link, *count); });
@@ -547,7 +548,7 @@ void add_uls_command(CLI::App& app, int& exit_code) {
   save->callback([&exit_code, link] { exit_code = run_action(*link, "save", "SU", {"saved", 0, ""}); });
 
   auto save_after_reset = std::make_shared<bool>(false);
-  auto* reset = uls->add_subcommand("reset", "write the factory settings (§2; §8 has no reset command) and verify");
+  auto* reset = uls->add_subcommand("reset", "write the factory settings (the unit has no reset command) and verify");
   add_link_options(reset, *link);
   reset->add_flag("--save", *save_after_reset, "also save them (SU)");
   reset->callback([&exit_code, link, save_after_reset] { exit_code = run_reset(*link, *save_after_reset); });
@@ -565,7 +566,7 @@ void add_uls_command(CLI::App& app, int& exit_code) {
     sub->callback([&exit_code, link, path, what = what] { exit_code = run_config(*link, what, *path); });
   }
 
-  auto* bus = uls->add_subcommand("bus", "RS-485 bus of addressed units (§7)");
+  auto* bus = uls->add_subcommand("bus", "RS-485 bus of addressed units");
   bus->require_subcommand(1);
   auto units = std::make_shared<std::string>();
   auto all = std::make_shared<bool>(false);
@@ -590,7 +591,7 @@ void add_uls_command(CLI::App& app, int& exit_code) {
   assign->add_option("--to", *to, "the new address")->required();
   assign->callback(
       [&exit_code, link, from, to] { exit_code = run_bus(*link, "assign", "", false, *from, *to, false, 1); });
-  auto* poll = bus->add_subcommand("poll", "round-robin status (and --measure) of each unit (the network poll, §2/§7)");
+  auto* poll = bus->add_subcommand("poll", "round-robin status (and --measure) of each unit (the network poll)");
   add_link_options(poll, *link);
   poll->add_option("--units", *units, "addresses to poll, e.g. ABC (default: those a scan finds)");
   poll->add_flag("--measure", *poll_measure, "also read a measurement (BM) from each unit");
