@@ -1,10 +1,34 @@
 #include "web/json_views.hpp"
 
+#include <array>
+#include <charconv>
+#include <cmath>
 #include <variant>
 
+#include "rangekit/core/family.hpp"
 #include "rangekit/record/format.hpp"
 
 namespace rangekit::web {
+namespace {
+
+// `"reading":{"channel":"distance_m","value":12.34,"unit":"m"}`: the one number the sample's
+// family defines (core/family.hpp), rounded to its decimals; nothing for a gap.
+void append_reading(std::string& out, const Sample& sample) {
+  const auto reading = reading_of(sample);
+  if (!reading || reading->channel == nullptr || !std::isfinite(reading->value)) return;
+  std::array<char, 64> number{};
+  const auto written =
+      std::to_chars(number.data(), number.data() + number.size(), rounded_to(reading->value, reading->decimals));
+  out += ",\"reading\":{\"channel\":\"";
+  out += reading->channel->key;
+  out += "\",\"value\":";
+  out.append(number.data(), written.ptr);
+  out += ",\"unit\":\"";
+  out += unit_symbol(reading->channel->unit);
+  out += "\"}";
+}
+
+}  // namespace
 
 nlohmann::json capture_json(const hub::CaptureInfo& capture) {
   std::string started;
@@ -36,6 +60,7 @@ std::string item_json(const hub::HubItem& item) {
   std::string out = "{\"id\":" + std::to_string(item.sequence) + ",\"sensor\":\"" + item.sensor + "\",\"type\":\"" +
                     item_type(item) + "\",\"data\":";
   out += data;
+  if (const auto* sample = std::get_if<Sample>(&item.item)) append_reading(out, *sample);
   out += '}';
   return out;
 }

@@ -22,7 +22,8 @@ using hub::sensor_json;
 using hub::settings_from_body;
 using hub::SettingsBody;
 
-// {"id":N,"sensor":"...","type":"sample"|"event","data":{...}} (data as in `stream --format jsonl`).
+// {"id":N,"sensor":"...","type":"sample"|"event","data":{...}} (data as in `stream --format jsonl`),
+// and a sample's "reading":{"channel","value","unit"} when it has one.
 std::string item_json(const hub::HubItem& item);
 // The event name an SSE client sees: "sample" or "event".
 const char* item_type(const hub::HubItem& item);

@@ -1,6 +1,6 @@
 // The handlers the route table (web/routes.cpp) names, one group of resources per file:
-// resources_health.cpp, resources_sensors.cpp, resources_captures.cpp, resources_events.cpp,
-// and static_files.cpp for the dashboard's files.
+// resources_health.cpp, resources_families.cpp, resources_sensors.cpp, resources_captures.cpp,
+// resources_events.cpp, and static_files.cpp for the dashboard's files.
 #pragma once
 
 #include "web/exchange.hpp"
@@ -11,6 +11,9 @@ namespace rangekit::web {
 // GET /healthz, GET /metrics.
 void get_health(Exchange& exchange, const Matched& matched);
 void get_metrics(Exchange& exchange, const Matched& matched);
+
+// GET /api/families: the registered families' descriptors.
+void list_families(Exchange& exchange, const Matched& matched);
 
 // /api/sensors and what lies under one sensor, but for its samples and events.
 void list_sensors(Exchange& exchange, const Matched& matched);

@@ -1,0 +1,42 @@
+// GET /api/families: every registered family as its descriptors tell it, so a client (the
+// dashboard) learns titles, channels and settings from the service instead of knowing them.
+#include "rangekit/core/family.hpp"
+#include "rangekit/hub/service_family.hpp"
+#include "web/resources.hpp"
+
+namespace rangekit::web {
+namespace {
+
+nlohmann::json channel_json(const ChannelDescriptor& channel) {
+  return {{"key", channel.key},
+          {"quantity", quantity_name(channel.quantity)},
+          {"unit", unit_symbol(channel.unit)},
+          {"description", channel.description}};
+}
+
+nlohmann::json family_json(const FamilyDescriptor& family) {
+  nlohmann::json channels = nlohmann::json::array();
+  for (const ChannelDescriptor& channel : family.channels) channels.push_back(channel_json(channel));
+  nlohmann::json out{{"name", family.name}, {"title", family.title}, {"channels", channels}};
+  // What the service adds, for a family it runs: the make, whether it shares a bus or is
+  // heard over UDP, and its settings schema (as GET /api/sensors/{name}/settings/schema).
+  if (const hub::ServiceFamily* service = hub::find_service_family(family.name)) {
+    out["manufacturer"] = service->manufacturer;
+    out["model"] = service->model;
+    out["bus"] = service->bus;
+    out["udp"] = service->udp;
+    if (service->settings_schema != nullptr) out["settings_schema"] = service->settings_schema();
+  }
+  return out;
+}
+
+}  // namespace
+
+void list_families(Exchange& exchange, const Matched& /*matched*/) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const FamilyDescriptor* family : families()) list.push_back(family_json(*family));
+  exchange.respond(http::status::ok,
+                   nlohmann::json{{"families", list}}.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+}
+
+}  // namespace rangekit::web

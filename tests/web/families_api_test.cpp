@@ -1,0 +1,84 @@
+// GET /api/families against the registries it reads (core/family.hpp, hub/service_family.hpp),
+// and each sample item's reading against core's reading_of: the dashboard's only source of both.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "hub/site_fixture.hpp"
+#include "rangekit/core/family.hpp"
+#include "rangekit/hub/service_family.hpp"
+#include "rangekit/web/server.hpp"
+#include "web/http_client.hpp"
+#include "web/json_views.hpp"
+
+namespace {
+
+using namespace rangekit;
+
+TEST(WebFamilies, ListsEveryRegisteredFamilyAsItsDescriptorsSay) {
+  // A hub with one sensor whose port does not exist: the families do not depend on the site.
+  auto site = hub::parse_site_config(
+      "[[sensor]]\nname = \"x\"\nfamily = \"ls5\"\nport = \"/nonexistent/rangekit-port\"\n", "site.toml");
+  ASSERT_TRUE(site.ok());
+  auto hub = hub::Hub::start(*site);
+  web::ServerOptions options;
+  options.listen = "127.0.0.1:0";
+  auto server = web::Server::start(*hub, options);
+  ASSERT_TRUE(server.ok());
+  const auto reply = web_test::http((*server)->local_endpoint().port, "GET", "/api/families");
+  ASSERT_EQ(reply.status, 200) << reply.body;
+  const auto listed = nlohmann::json::parse(reply.body)["families"];
+
+  const auto registered = families();
+  ASSERT_EQ(listed.size(), registered.size());
+  ASSERT_GE(registered.size(), 2U);
+  for (std::size_t i = 0; i < registered.size(); ++i) {
+    const FamilyDescriptor& family = *registered[i];
+    const auto& json = listed[i];
+    EXPECT_EQ(json["name"], family.name);
+    EXPECT_EQ(json["title"], family.title);
+    ASSERT_EQ(json["channels"].size(), family.channels.size()) << family.name;
+    for (std::size_t c = 0; c < family.channels.size(); ++c) {
+      const ChannelDescriptor& channel = family.channels[c];
+      const auto& row = json["channels"][c];
+      EXPECT_EQ(row["key"], channel.key);
+      EXPECT_EQ(row["quantity"], quantity_name(channel.quantity));
+      EXPECT_EQ(row["unit"], unit_symbol(channel.unit));
+      EXPECT_EQ(row["description"], channel.description);
+    }
+    const hub::ServiceFamily* service = hub::find_service_family(family.name);
+    ASSERT_NE(service, nullptr) << family.name;
+    EXPECT_EQ(json["model"], service->model);
+    EXPECT_EQ(json["bus"], service->bus);
+    EXPECT_EQ(json["settings_schema"], service->settings_schema()) << family.name;
+  }
+}
+
+// A sample item carries the reading reading_of gives (channel, value, unit) beside its
+// unchanged `data`; a gap carries none.
+TEST(WebFamilies, ASampleItemCarriesItsReading) {
+  hub::HubItem item;
+  item.sequence = 7;
+  item.sensor = "belt";
+  Sample sample;
+  sample.device = "ls5";
+  sample.kind = SampleKind::ls5_result;
+  sample.distance_mm = 12.3456;
+  sample.resolution_mm = 0.001;
+  item.item = sample;
+  const auto json = nlohmann::json::parse(web::item_json(item));
+  const auto reading = reading_of(sample);
+  ASSERT_TRUE(reading.has_value());
+  EXPECT_EQ(json["reading"]["channel"], reading->channel->key);
+  EXPECT_EQ(json["reading"]["unit"], unit_symbol(reading->channel->unit));
+  EXPECT_DOUBLE_EQ(json["reading"]["value"].get<double>(), 12.346);  // the 3 decimals of a 0.001 mm step
+  EXPECT_EQ(json["data"]["device"], "ls5");
+
+  sample.distance_mm.reset();
+  sample.signal = SignalState::lost;
+  item.item = sample;
+  const auto gap = nlohmann::json::parse(web::item_json(item));
+  EXPECT_FALSE(gap.contains("reading")) << gap.dump();
+  EXPECT_EQ(gap["type"], "sample");
+}
+
+}  // namespace
