@@ -9,8 +9,11 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
+
+#include "rangekit/core/family.hpp"
 
 namespace {
 
@@ -194,6 +197,28 @@ TEST(Architecture, PythonSharedPartKnowsNoFamily) {
     const std::string other = family == "uls" ? "ls5" : "uls";
     expect_no_include("python/src/" + family, "^(rangekit/)?" + other + "/",
                       "a family's binding never reaches another family's");
+  }
+}
+
+TEST(Architecture, TheDashboardsSharedFilesNameNoFamily) {
+  // A family's part of the dashboard lives in web/src/<family>/; web/src/families.ts, the
+  // registration list, is the one shared file that names them (docs/architecture.md).
+  const auto families = rangekit::families();
+  ASSERT_FALSE(families.empty());
+  for (const rangekit::FamilyDescriptor* family : families) {
+    EXPECT_TRUE(fs::is_regular_file(root / "web/src" / family->name / "index.ts")) << family->name;
+  }
+  for (const auto& entry : fs::directory_iterator(root / "web/src")) {
+    if (!entry.is_regular_file() || entry.path().filename() == "families.ts") continue;
+    std::ifstream in(entry.path());
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string content = text.str();
+    for (const rangekit::FamilyDescriptor* family : families) {
+      const std::regex name("\\b" + std::string(family->name) + "\\b", std::regex::icase);
+      EXPECT_FALSE(std::regex_search(content, name))
+          << fs::relative(entry.path(), root).string() << " names the family " << family->name;
+    }
   }
 }
 

@@ -1,5 +1,5 @@
-// The service's API as the page uses it (docs/api.md): the sensor list and the one
-// Server-Sent Events stream of every sensor, merged per sensor to max_rate points a second.
+// The service's API as the page uses it (docs/api.md): the families' descriptors, the sensor
+// list and the one Server-Sent Events stream of every sensor, merged to max_rate points a second.
 
 export interface Health {
   connected: boolean;
@@ -17,7 +17,7 @@ export interface Health {
 
 export interface Sensor {
   name: string;
-  family: 'uls' | 'ls5';
+  family: string;  // a name of GET /api/families
   port: string;
   address?: number;
   udp?: string;
@@ -37,7 +37,7 @@ export interface Aggregate {
   max?: number;
   last?: number;
   unit?: string;
-  channel?: string;  // what min/max/last are of: 'distance_m', 'targets', 'presence', 'distance_mm', ...
+  channel?: string;  // what min/max/last are of: a channel key of GET /api/families
 }
 
 // `event: event`: a link event (connected, disconnected, reconnected, lost_records, ...).
@@ -53,6 +53,28 @@ export interface Item<T> {
   sensor: string;
   type: string;
   data: T;
+  reading?: Reading;  // a sample's one number, absent for a gap
+}
+
+// The number a sample's family defines for it, named by one of the family's channels.
+export interface Reading {
+  channel: string;
+  value: number;
+  unit: string;
+}
+
+// GET /api/families: what each family's descriptors say, so the page needs no list of its own.
+export interface Channel {
+  key: string;
+  quantity: string;  // 'distance', 'distance_change', 'presence', ...
+  unit: string;      // 'm', 'mm', 'ps'; '' for a count or a state
+  description: string;
+}
+
+export interface Family {
+  name: string;
+  title: string;
+  channels: Channel[];
 }
 
 // Beyond loopback the service wants its token on every read, stream and write (docs/security.md).
@@ -81,6 +103,13 @@ export async function listSensors(): Promise<Sensor[]> {
   if (!response.ok) throw new ReadError(response.status, `GET /api/sensors: ${response.status} ${response.statusText}`);
   const body = (await response.json()) as { sensors: Sensor[] };
   return body.sensors;
+}
+
+export async function listFamilies(): Promise<Family[]> {
+  const response = await authorisedFetch('/api/families');
+  if (!response.ok) throw new ReadError(response.status, `GET /api/families: ${response.status} ${response.statusText}`);
+  const body = (await response.json()) as { families: Family[] };
+  return body.families;
 }
 
 // One sensor's own stream, every sample unmerged (a sensor page's live plot).

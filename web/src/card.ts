@@ -3,6 +3,8 @@
 // disconnected, lost records, silence) are nulls, drawn as breaks and never joined.
 import uPlot from 'uplot';
 import type { Aggregate, LinkEvent, Sensor } from './api';
+import { channelOf, familyTitle } from './descriptors';
+import type { FamilyView } from './family_view';
 
 export const WINDOW_S = 60;
 // Longer than this between two points is a silence, drawn as a gap.
@@ -40,12 +42,13 @@ export class Card {
   private values: (number | null)[] = [];
   private connected = false;
   private problem = false;
-  private family: string;
+  private readonly familyLabel: string;  // the name in capitals: the badge and the tooltip
   private valueText = '';
-  private lookDown = false;
+  private noReading: string | undefined;  // the family's words for no value, when it has some
 
-  constructor(readonly name: string, family: string) {
-    this.family = family.toUpperCase();
+  // `view`: the family's part (families.ts), if the dashboard has one for it.
+  constructor(readonly name: string, private readonly familyName: string, private readonly view?: FamilyView) {
+    this.familyLabel = familyName.toUpperCase();
     const id = `card-${name}`;
     this.root = element('article', 'card');
     this.root.dataset.sensor = name;
@@ -58,8 +61,8 @@ export class Card {
     link.href = `#/sensor/${encodeURIComponent(name)}`;
     link.setAttribute('aria-describedby', `${id}-value ${id}-state`);
     title.append(link);
-    const badge = element('span', 'family', this.family);
-    badge.title = family === 'uls' ? 'LTI ULS' : 'Prizma LS5';
+    const badge = element('span', 'family', this.familyLabel);
+    badge.title = familyTitle(familyName) ?? this.familyLabel;
     this.state = element('span', 'state');
     this.state.id = `${id}-state`;
     head.append(title, badge, this.state);
@@ -103,18 +106,16 @@ export class Card {
     const event = sensor.health.last_event;
     this.lastEvent.textContent = prefix && event.startsWith(prefix) ? event.slice(prefix.length) : event;
     this.lastEvent.title = sensor.port ? `${sensor.port} · ${event}` : event;
-    // U113: §3 look down "A distance is not produced", so its aggregates carry no value; §8 Get
-    // Unit Status "n = 3 = laser firing and Look Down Mode" says which unit that is.
-    this.lookDown = sensor.family === 'uls' && sensor.status.status === 3;
+    this.noReading = this.view?.noReading?.(sensor);
   }
 
   aggregate(data: Aggregate): void {
     const time = Date.parse(data.time) / 1000;
     if (data.last === undefined) {
-      this.showValue(this.lookDown ? 'look down: no distance' : 'no signal', '', 'none');
+      this.showValue(this.noReading ?? 'no signal', '', 'none');
       this.push(time, null);
-    } else if (data.channel === 'presence') {
-      // A look-down edge reads as its presence, 1 or 0 (U107): said in words, drawn as a step.
+    } else if (data.channel && channelOf(this.familyName, data.channel)?.quantity === 'presence') {
+      // A presence reads 1 or 0: said in words, drawn as a step.
       this.showValue(data.last ? 'target present' : 'no target', '', 'live');
       this.push(time, data.last);
     } else {
@@ -221,6 +222,6 @@ export class Card {
   }
 
   private updateLabel(): void {
-    this.root.title = `${this.name} (${this.family}): ${this.connected ? 'connected' : 'disconnected'}, ${this.valueText}`;
+    this.root.title = `${this.name} (${this.familyLabel}): ${this.connected ? 'connected' : 'disconnected'}, ${this.valueText}`;
   }
 }

@@ -1,6 +1,6 @@
-// §2 File Menu on the ULS page: save and open the TOML of `rangekit uls config save|load`,
-// made and read by the service (docs/api.md), so a bad file is refused by the CLI's tables,
-// with its line, key and range, before anything reaches the sensor (U104).
+// A sensor page's configuration files: save and open the TOML of `rangekit FAMILY config
+// save|load`, made and read by the service (docs/api.md), so a bad file is refused by the CLI's
+// tables, with its line, key and range, before anything reaches the sensor (U104).
 import { authorisedFetch } from './api';
 
 function element<K extends keyof HTMLElementTagNameMap>(tag: K, className?: string, text?: string) {
@@ -16,14 +16,16 @@ export class ConfigFilePanel {
   private readonly openInput = element('input');
   private readonly status = element('p', 'config-status', 'Save writes the unit\'s settings, read now, to a TOML file; Open uploads one.');
 
-  // `loaded`: the settings as read back after an upload, for the panels.
-  constructor(private readonly name: string, private readonly loaded: (settings: Record<string, unknown>) => void) {
+  // `loaded`: the settings as read back after an upload, for the panels; `accept`: the file
+  // types Open offers, as the family's own tools name them.
+  constructor(private readonly name: string, private readonly loaded: (settings: Record<string, unknown>) => void,
+    accept = '.toml,text/plain,application/toml') {
     this.root.append(element('legend', undefined, 'Configuration file'));
     this.saveButton.type = 'button';
     this.saveButton.addEventListener('click', () => void this.save());
     this.openInput.type = 'file';
     this.openInput.id = `config-open-${name}`;
-    this.openInput.accept = '.toml,.uls,text/plain,application/toml';
+    this.openInput.accept = accept;
     this.openInput.addEventListener('change', () => void this.open());
     const openLabel = element('label', 'config-open', 'Open Configuration');
     openLabel.htmlFor = this.openInput.id;
@@ -38,7 +40,7 @@ export class ConfigFilePanel {
     this.status.dataset.state = state;
   }
 
-  // The TOML `rangekit uls config save` writes, read from the unit now, downloaded as NAME.toml.
+  // The TOML `rangekit FAMILY config save` writes, read from the unit now, downloaded as NAME.toml.
   private async save(): Promise<void> {
     this.saveButton.disabled = true;
     this.say('Reading the settings for the file…', '');

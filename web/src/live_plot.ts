@@ -1,7 +1,9 @@
-// The live plot of a sensor page (uPlot): a window of 10 s to 1 h, Pause and zoom; each mode
-// drawn as docs/dashboard.md shows, an LS5's derivative on an axis of its own (L80: it is no
-// distance). No signal, an error, a disconnection or a silence over 2 s leaves a gap.
+// The live plot of a sensor page (uPlot): a window of 10 s to 1 h, Pause and zoom. It draws the
+// readings the service sends, a series per channel: a quantity of its own gets an axis of its
+// own, a presence an ON/OFF step, several values at once points. Gaps are never joined.
 import uPlot from 'uplot';
+import type { Reading } from './api';
+import { channelOf } from './descriptors';
 
 const WINDOWS: [number, string][] = [[10, '10 s'], [60, '1 min'], [600, '10 min'], [3600, '1 h']];
 const KEEP_S = 3600;
@@ -11,25 +13,33 @@ const TRIM_S = 60;
 const DRAW_MS = 250;
 const SILENCE_S = 2;
 const X_SPACE = 64;  // px at least between two time labels
-const MAX_TARGETS = 15;  // §3: "The maximum number of targets allowed in Binning Mode is 15"
 
+// What a sensor page gives the plot for one sample: the server's reading (absent: a gap), and
+// when the reading's channel holds several numbers at once (a burst's targets), all of them.
 export interface PlotSample {
   time: string;
-  kind?: string;
-  distance_m?: number;
-  targets?: { distance_m: number }[];
-  presence?: boolean;
-  distance_mm?: number;  // LS5 result, formula 8.1
-  derivative_mm?: number;  // LS5 derivative, formula 8.2 (signed)
+  plot?: string;  // which plot it is drawn on; a change starts a new one; none: the current plot
+  reading?: Reading;
+  values?: number[];
 }
 
-// The plot a sample's kind is drawn on: an LS5's results and derivatives share one plot with two axes.
-function plotMode(kind: string): string {
-  return kind === 'result' || kind === 'derivative' ? 'ls5' : kind;
+// One series: a channel's value, or the n-th of its values; its quantity and unit from the
+// channel's descriptor (GET /api/families).
+interface Column {
+  channel: string;
+  index: number;
+  quantity: string;
+  unit: string;
+  several: boolean;
 }
 
-const DISTANCE_MM = 'distance (mm)';
-const DERIVATIVE_MM = 'derivative (mm)';
+// "distance_mm" in mm reads "distance (mm)": the key without its unit, then the unit.
+function channelLabel(column: Column): string {
+  const name = column.channel.replace(new RegExp(`_${column.unit}$`), '').replace(/_/g, ' ');
+  return column.unit ? `${name} (${column.unit})` : name;
+}
+
+const STROKES = ['#1d4ed8', '#b45309', '#047857', '#7c3aed'];
 
 function element<K extends keyof HTMLElementTagNameMap>(tag: K, className?: string, text?: string) {
   const made = document.createElement(tag);
@@ -45,7 +55,7 @@ export class LivePlot {
   private readonly windowSelect = element('select');
   private plot: uPlot | null = null;
   private mode = '';
-  private withDerivative = false;  // an LS5 plot shows its derivative axis once a derivative came
+  private columns: Column[] = [];  // the series, in the order their channels first came
   private times: number[] = [];
   private values: (number | null)[][] = [];  // one row per series
   private valueCounts: number[] = [];  // values (not gaps) per series, for the page's tests
@@ -59,7 +69,8 @@ export class LivePlot {
   private pushed = 0;  // rows ever pushed: a redraw is due when it moved
   private drawnPushed = -1;
 
-  constructor() {
+  // `family`: whose channels the readings name (GET /api/families).
+  constructor(private readonly family: string) {
     this.root.setAttribute('aria-label', 'Live plot');
     const controls = element('div', 'plot-controls');
     const label = element('label', undefined, 'Time window');
@@ -83,7 +94,7 @@ export class LivePlot {
     this.root.dataset.paused = 'false';
   }
 
-  // Samples only land in the arrays (a 1 kHz LS5 sends 1000 a second); the plot is redrawn
+  // Samples only land in the arrays (a 1 kHz sensor sends 1000 a second); the plot is redrawn
   // every DRAW_MS at the start of an animation frame, and only when something came since.
   start(): void {
     this.timer = window.setInterval(() => {
@@ -111,26 +122,41 @@ export class LivePlot {
   }
 
   add(sample: PlotSample): void {
-    const kind = sample.kind && sample.kind !== 'error' ? sample.kind : this.mode;
-    if (!kind) return;
-    const mode = plotMode(kind);
+    const mode = sample.plot ?? this.mode;
+    if (!mode) return;
     if (mode !== this.mode) this.build(mode);
-    if (kind === 'derivative' && !this.withDerivative) this.showDerivative();
     const time = Date.parse(sample.time) / 1000;
     if (!Number.isFinite(time)) return;
     const last = this.times[this.times.length - 1];
     if (last !== undefined && time - last > SILENCE_S) this.push((last + time) / 2, this.values.map(() => null));
-    if (kind === 'binning') {
-      const row = this.values.map((_, index) => sample.targets?.[index]?.distance_m ?? null);
-      this.push(time, row);
-    } else if (kind === 'look_down') {
-      this.push(time, [sample.presence === undefined ? null : sample.presence ? 1 : 0]);
-    } else if (mode === 'ls5') {
-      // One of the two is a gap in every row: the distance line ends where the derivative begins.
-      this.push(time, kind === 'derivative' ? [null, sample.derivative_mm ?? null] : [sample.distance_mm ?? null, null]);
-    } else {
-      this.push(time, [sample.distance_m ?? null]);
+    const reading = sample.reading;
+    if (!reading) {
+      this.push(time, this.values.map(() => null));
+      return;
     }
+    const numbers = sample.values ?? [reading.value];
+    this.ensureColumns(reading, numbers.length, sample.values !== undefined);
+    // Every other series is a gap in this row: one channel's line ends where another's begins.
+    const row: (number | null)[] = this.values.map(() => null);
+    this.columns.forEach((column, index) => {
+      if (column.channel === reading.channel) row[index] = numbers[column.index] ?? null;
+    });
+    this.push(time, row);
+  }
+
+  // The series a reading needs: its channel's, as many as its values; the plot is made again
+  // with them, the rows so far kept (gaps in the new series).
+  private ensureColumns(reading: Reading, count: number, several: boolean): void {
+    const have = this.columns.filter((column) => column.channel === reading.channel).length;
+    if (have >= count) return;
+    const channel = channelOf(this.family, reading.channel);
+    for (let index = have; index < count; index++) {
+      this.columns.push({ channel: reading.channel, index, quantity: channel?.quantity ?? '', unit: channel?.unit ?? reading.unit,
+        several });
+      this.values.push(this.times.map(() => null));
+      this.valueCounts.push(0);
+    }
+    this.create();
   }
 
   private push(time: number, row: (number | null)[]): void {
@@ -168,53 +194,49 @@ export class LivePlot {
 
   private build(mode: string): void {
     this.mode = mode;
-    this.withDerivative = false;
     this.root.dataset.mode = mode;
+    this.columns = [];
     this.times = [];
-    this.values = (mode === 'binning' ? Array.from({ length: MAX_TARGETS }) : mode === 'ls5' ? [0, 1] : [0])
-      .map(() => []);
-    this.valueCounts = this.values.map(() => 0);
+    this.values = [];
+    this.valueCounts = [];
     this.gapRows = 0;
     this.lastGapTime = NaN;
     this.lastValueTime = NaN;
     this.create();
   }
 
-  // The LS5 plot again, now with the derivative's own axis; the data drawn so far stays.
-  private showDerivative(): void {
-    this.withDerivative = true;
-    this.create();
-  }
-
   private create(): void {
     this.plot?.destroy();
-    const mode = this.mode;
-    const stroke = '#1d4ed8';
-    const derivativeStroke = '#b45309';
-    let series: uPlot.Series[];
-    let axes: uPlot.Axis[];
+    // Descriptors read after the series began (the token came later) still set their look.
+    for (const column of this.columns) {
+      const channel = channelOf(this.family, column.channel);
+      if (channel) Object.assign(column, { quantity: channel.quantity, unit: channel.unit });
+    }
+    const series: uPlot.Series[] = [];
+    const axes: uPlot.Axis[] = [{}];
     const scales: uPlot.Scales = { x: { time: true } };
-    if (mode === 'binning') {
-      series = Array.from({ length: MAX_TARGETS }, (_, index) => ({
-        label: `target ${index + 1}`, stroke, paths: () => null, points: { show: true, size: 4, fill: stroke },
-      }));
-      axes = [{}, { label: 'm' }];
-    } else if (mode === 'look_down') {
-      series = [{ label: 'ON/OFF', stroke, width: 2, spanGaps: false, paths: uPlot.paths.stepped!({ align: 1 }) }];
-      scales.y = { range: [-0.2, 1.2] };
-      axes = [{}, { values: (_plot, ticks) => ticks.map((tick) => (tick === 1 ? 'ON' : tick === 0 ? 'OFF' : '')), splits: () => [0, 1] }];
-    } else if (mode === 'ls5') {
-      series = [{ label: DISTANCE_MM, scale: 'mm', stroke, width: 1.5, spanGaps: false, points: { show: false } }];
-      axes = [{}, { scale: 'mm', label: DISTANCE_MM, stroke }];
-      if (this.withDerivative) {
-        series.push({ label: DERIVATIVE_MM, scale: 'derivative', stroke: derivativeStroke, width: 1.5, spanGaps: false,
-          points: { show: false } });
-        axes.push({ scale: 'derivative', side: 1, label: DERIVATIVE_MM, stroke: derivativeStroke, grid: { show: false },
-          size: 64 });  // room for signed ticks such as -0.025 beside the label
+    const several = this.columns.some((column) => column.several);
+    // A scale per quantity and unit: the first on the left, each other one on the right, each
+    // in its series' colour when there are several.
+    const scaleOf = (column: Column) => `${column.quantity}:${column.unit}`;
+    const scaleNames = [...new Set(this.columns.map(scaleOf))];
+    const strokeOf = (column: Column) => STROKES[scaleNames.indexOf(scaleOf(column)) % STROKES.length];
+    scaleNames.forEach((scale, index) => {
+      const column = this.columns.find((one) => scaleOf(one) === scale)!;
+      axes.push(this.axis(column, scale, scaleNames.length > 1 ? strokeOf(column) : undefined, index > 0));
+      if (column.quantity === 'presence') scales[scale] = { range: [-0.2, 1.2] };
+    });
+    for (const column of this.columns) {
+      const scale = scaleOf(column);
+      const stroke = strokeOf(column);
+      if (column.several) {
+        series.push({ label: `${column.channel} ${column.index + 1}`, scale, stroke, paths: () => null,
+          points: { show: true, size: 4, fill: stroke } });
+      } else if (column.quantity === 'presence') {
+        series.push({ label: 'ON/OFF', scale, stroke, width: 2, spanGaps: false, paths: uPlot.paths.stepped!({ align: 1 }) });
+      } else {
+        series.push({ label: channelLabel(column), scale, stroke, width: 1.5, spanGaps: false, points: { show: false } });
       }
-    } else {
-      series = [{ label: 'distance (m)', stroke, width: 1.5, spanGaps: false, points: { show: false } }];
-      axes = [{}, { label: 'm' }];
     }
     // Time labels at least X_SPACE px apart: in the 10 s window uPlot's default (50) gave
     // half seconds, ":26.500 :27.000", almost touching; whole seconds read clearly.
@@ -227,7 +249,7 @@ export class LivePlot {
       width,
       height: 240,
       scales,
-      legend: { show: mode !== 'binning' },
+      legend: { show: !several },
       axes,
       series: [{}, ...series],
       hooks: {
@@ -248,10 +270,20 @@ export class LivePlot {
     }, this.data(), this.area);
   }
 
-  // What uPlot draws: the LS5's derivative row only once its axis is there.
+  // A presence as ON and OFF; a further quantity on the right, with room for signed ticks
+  // such as -0.025 beside its label.
+  private axis(column: Column, scale: string, stroke: string | undefined, right: boolean): uPlot.Axis {
+    if (column.quantity === 'presence') {
+      return { scale, values: (_plot, ticks) => ticks.map((tick) => (tick === 1 ? 'ON' : tick === 0 ? 'OFF' : '')),
+        splits: () => [0, 1] };
+    }
+    const axis: uPlot.Axis = { scale, label: channelLabel(column) };
+    if (stroke) axis.stroke = stroke;
+    return right ? { ...axis, side: 1, grid: { show: false }, size: 64 } : axis;
+  }
+
   private data(): uPlot.AlignedData {
-    const shown = this.mode === 'ls5' && !this.withDerivative ? this.values.slice(0, 1) : this.values;
-    return [this.times, ...shown] as uPlot.AlignedData;
+    return [this.times, ...this.values] as uPlot.AlignedData;
   }
 
   private draw(force: boolean): void {

@@ -1,13 +1,14 @@
 // The overview: a card per sensor, live from one Server-Sent Events stream at MAX_RATE points
-// a second each (the service merges samples, so a 1 kHz LS5 costs 4 points a second), and the
-// counters from GET /api/sensors every POLL_MS.
+// a second each (the service merges samples, so a 1 kHz sensor costs 4 points a second), and the
+// counters from GET /api/sensors every POLL_MS. A sensor's page is its family's (families.ts).
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
 import { eventsUrl, listSensors, ReadError, setToken, streamRefusal, token } from './api';
 import type { Aggregate, Item, LinkEvent, Sensor } from './api';
 import { Card } from './card';
-import { Ls5Page } from './ls5_page';
-import { UlsPage } from './uls_page';
+import { loadFamilies } from './descriptors';
+import { familyView } from './families';
+import type { SensorPage } from './family_view';
 
 const MAX_RATE = 4;
 const POLL_MS = 2000;
@@ -24,7 +25,7 @@ const sensorView = document.getElementById('sensor-view') as HTMLElement;
 const controls = document.querySelector('.controls') as HTMLElement;
 const cards = new Map<string, Card>();
 let families = new Map<string, string>();
-let sensorPage: UlsPage | Ls5Page | null = null;
+let sensorPage: SensorPage | null = null;
 let streamState: 'connecting' | 'live' | 'interrupted' = 'connecting';
 // The service's clock, advanced by ours between items, so the sparklines slide smoothly.
 let serverTime = Date.now() / 1000;
@@ -80,7 +81,7 @@ function updateSummary(): void {
 function cardFor(sensor: Pick<Sensor, 'name' | 'family'>): Card {
   let card = cards.get(sensor.name);
   if (!card) {
-    card = new Card(sensor.name, sensor.family);
+    card = new Card(sensor.name, sensor.family, familyView(sensor.family));
     cards.set(sensor.name, card);
     grid.append(card.root);
   }
@@ -90,7 +91,7 @@ function cardFor(sensor: Pick<Sensor, 'name' | 'family'>): Card {
 async function poll(): Promise<void> {
   try {
     const requestedAt = performance.now();
-    const sensors = await listSensors();
+    const [sensors] = await Promise.all([listSensors(), loadFamilies()]);
     families = new Map(sensors.map((sensor) => [sensor.name, sensor.family]));
     for (const sensor of sensors) cardFor(sensor).update(sensor);
     const shown = sensorPage && sensors.find((sensor) => sensor.name === sensorPage!.name);
@@ -191,9 +192,9 @@ function route(): void {
   controls.hidden = true;
   sensorView.hidden = false;
   document.title = `rangekit · ${name}`;
-  const family = families.get(name);
-  if (family === 'uls' || family === 'ls5') {
-    sensorPage ??= family === 'uls' ? new UlsPage(name) : new Ls5Page(name);
+  const view = familyView(families.get(name));
+  if (view) {
+    sensorPage ??= view.page(name);
     sensorView.append(sensorPage.root);
     sensorPage.open();
     void poll();

@@ -1,4 +1,4 @@
-// What the settings panels of every sensor page share (ULS §2 panels, LS5 table 9.2 groups):
+// What the settings panels of every sensor page share (each family's groups of settings):
 // an element helper, one labelled field (its range, its problem, wired for screen readers),
 // and the check of one number against the document's range, made before anything is sent, and
 // the upload of what changed.
@@ -66,7 +66,7 @@ export interface NumberRule {
   max?: number;
   unit?: string;
   whole?: boolean;  // integers only
-  step?: number;    // a multiple of step above min (LS5 period 0.1 ms, median points odd)
+  step?: number;    // a multiple of step above min (a period in 0.1 ms steps, an odd count of points)
 }
 
 // '' when `text` is a number the rule allows; otherwise what is wrong, naming the range.

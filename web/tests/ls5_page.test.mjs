@@ -88,7 +88,7 @@ test('no select of the page is too narrow for its choices', async () => {
 
 test('the §8 formulas of the page give the numbers of §8 and §9.5', async () => {
   // The page's module, bundled as the page gets it, run here (node) on numbers typed from the manual.
-  const bundle = await esbuild.build({ entryPoints: ['src/ls5_outputs.ts'], bundle: true, format: 'esm', write: false });
+  const bundle = await esbuild.build({ entryPoints: ['src/ls5/ls5_outputs.ts'], bundle: true, format: 'esm', write: false });
   const outputsModule = await import(`data:text/javascript;base64,${Buffer.from(bundle.outputFiles[0].text).toString('base64')}`);
   const { analogOutput, ANALOG_RANGES, codeFromDistance, decodeDiscreteOutputs, discreteOutput, distanceMm, latchLimits } = outputsModule;
   const mA = ANALOG_RANGES['4-20mA'];

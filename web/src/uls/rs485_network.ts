@@ -1,8 +1,8 @@
 // §7 RS-485 Network on the ULS page: which units answer on the bus (as `rangekit uls bus
 // scan`), and §7's Assign window with the addresses in use marked. The service refuses an
 // address a unit answers at (U105); the site file keeps the old address (U106).
-import type { Sensor } from './api';
-import { authorisedFetch, listSensors } from './api';
+import type { Sensor } from '../api';
+import { authorisedFetch, listSensors } from '../api';
 
 interface ScannedUnit {
   address: string;

@@ -1,12 +1,12 @@
 // The ULS page, mirroring the §2 main screen: indicators, the live reading, the mode's display
 // choice and §2's buttons, with the parameter panels, configuration files, capture, RS-485
 // network and live plot from their own modules.
-import type { Sensor } from './api';
-import { authorisedFetch, sensorEventsUrl } from './api';
-import { CapturePanel } from './capture_panel';
-import { ConfigFilePanel } from './config_file';
+import type { Reading, Sensor } from '../api';
+import { authorisedFetch, sensorEventsUrl } from '../api';
+import { CapturePanel } from '../capture_panel';
+import { ConfigFilePanel } from '../config_file';
 import { Rs485Network } from './rs485_network';
-import { LivePlot } from './live_plot';
+import { LivePlot } from '../live_plot';
 import { UlsPanels } from './uls_panels';
 
 // §2 "Icons: Displayed above the black measurement window".
@@ -56,7 +56,7 @@ export class UlsPage {
   private readonly capture: CapturePanel;
   private readonly configFile: ConfigFilePanel;
   private readonly network: Rs485Network;
-  private readonly plot = new LivePlot();
+  private readonly plot = new LivePlot('uls');
   private readonly singleButton = element('button', 'action', 'Single Measurement');
   private mode = '';
   private display = '';
@@ -112,7 +112,9 @@ export class UlsPage {
     this.message.textContent = 'G, CT, O and the panels below show the settings once they have been read: press Read.';
     this.caption.className = 'caption';
     this.capture = new CapturePanel(name);
-    this.configFile = new ConfigFilePanel(name, (settings) => this.panels.update(settings, true));
+    // Open offers .uls files as well as TOML.
+    this.configFile = new ConfigFilePanel(name, (settings) => this.panels.update(settings, true),
+      '.toml,.uls,text/plain,application/toml');
     this.network = new Rs485Network(name);
     this.root.append(back, title, row, this.box, this.caption, this.choices, buttons, this.message, this.plot.root,
       this.configFile.root, this.capture.root, this.network.root,
@@ -147,8 +149,8 @@ export class UlsPage {
     this.source?.close();
     this.source = new EventSource(sensorEventsUrl(this.name));
     this.source.addEventListener('sample', (message) => {
-      const item = JSON.parse((message as MessageEvent<string>).data) as { data: UlsSample };
-      this.sample(item.data);
+      const item = JSON.parse((message as MessageEvent<string>).data) as { data: UlsSample; reading?: Reading };
+      this.sample(item.data, item.reading);
     });
     this.source.addEventListener('event', (message) => {
       const item = JSON.parse((message as MessageEvent<string>).data) as { data: { event: string } };
@@ -175,9 +177,13 @@ export class UlsPage {
 
   private tick = 0;
 
-  private sample(sample: UlsSample): void {
+  private sample(sample: UlsSample, reading: Reading | undefined): void {
     this.lastSample = sample;
-    this.plot.add(sample);
+    // A plot per mode; an error stays on the mode's plot as a gap. Binning's reading is the
+    // nearest target, and the plot shows every target of the burst.
+    const plot = sample.kind && sample.kind !== 'error' ? sample.kind : undefined;
+    const values = reading && sample.kind === 'binning' ? sample.targets?.map((target) => target.distance_m) : undefined;
+    this.plot.add({ time: sample.time, plot, reading, values });
     if (sample.kind && sample.kind !== this.mode && sample.kind !== 'error') this.setMode(sample.kind);
     const valid = sample.distance_m !== undefined || (sample.targets?.length ?? 0) > 0 || sample.presence !== undefined;
     if (valid) this.validTimes.push(performance.now());

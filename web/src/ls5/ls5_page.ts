@@ -1,15 +1,15 @@
 // The LS5 page: decoded ID, live result, outputs computed by §8's formulas (ls5_outputs.ts),
 // latching (FX/FR), table 9.2's parameters (ls5_panels.ts) and the live plot. An LS5 heard
 // over UDP only (§10) gets the stream and a word on why it has no settings.
-import type { Sensor } from './api';
-import { authorisedFetch, sensorEventsUrl } from './api';
-import { LivePlot } from './live_plot';
+import type { Reading, Sensor } from '../api';
+import { authorisedFetch, sensorEventsUrl } from '../api';
+import { LivePlot } from '../live_plot';
 import { Ls5Panels } from './ls5_panels';
 import {
   analogOutput, ANALOG_RANGES, decodeDiscreteOutputs, derivativeMm, discreteOutput, distanceMm, latchLimits,
   LATCHING_EFFECT, MAX_CODE, NO_SIGNAL,
 } from './ls5_outputs';
-import { element } from './settings_fields';
+import { element } from '../settings_fields';
 import './ls5_page.css';
 
 interface Ls5Sample {
@@ -41,7 +41,7 @@ export class Ls5Page {
   private readonly codeLine = element('p', 'caption');
   private readonly message = element('p', 'page-message');
   private readonly panels: Ls5Panels;
-  private readonly plot = new LivePlot();
+  private readonly plot = new LivePlot('ls5');
   private newest: Ls5Sample | null = null;
   private renderPending = false;
   private readonly outputs = element('section', 'ls5-outputs');
@@ -215,8 +215,8 @@ export class Ls5Page {
     this.source?.close();
     this.source = new EventSource(sensorEventsUrl(this.name));
     this.source.addEventListener('sample', (message) => {
-      const item = JSON.parse((message as MessageEvent<string>).data) as { data: Ls5Sample };
-      this.sample(item.data);
+      const item = JSON.parse((message as MessageEvent<string>).data) as { data: Ls5Sample; reading?: Reading };
+      this.sample(item.data, item.reading);
     });
     this.source.addEventListener('event', (message) => {
       const item = JSON.parse((message as MessageEvent<string>).data) as { data: { event: string } };
@@ -233,10 +233,10 @@ export class Ls5Page {
     this.plot.stop();
   }
 
-  private sample(sample: Ls5Sample): void {
-    // Results in mm on the left axis; with «Type of preliminary result» 01 the derivatives on
-    // their own right axis (L80); no-signal records (no distance) are gaps.
-    this.plot.add({ time: sample.time, kind: sample.kind ?? 'result', distance_mm: sample.distance_mm, derivative_mm: sample.derivative_mm });
+  private sample(sample: Ls5Sample, reading: Reading | undefined): void {
+    // Results and derivatives on one plot: the derivatives' channel (a distance change) gets a
+    // right axis of its own once one comes (L80); no-signal records (no reading) are gaps.
+    this.plot.add({ time: sample.time, plot: 'ls5', reading });
     // The box, the code and the outputs show the newest sample once per animation frame: at
     // 1 kHz, writing them for every sample would cost the page its frame rate.
     if (!this.udpOnly && sample.code !== undefined && sample.code <= MAX_CODE) this.lastResultCode = sample.code;

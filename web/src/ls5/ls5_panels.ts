@@ -1,9 +1,9 @@
 // The LS5 page's parameters: table 9.2 grouped as §8 explains them, built from the settings
 // schema the CLI uses and checked before sending (settings_fields.ts). Upload sends only the
 // changed fields, as one PATCH; the service checks again and reads every byte back.
-import { authorisedFetch } from './api';
-import { buildField, element, numberProblem, patchSettings } from './settings_fields';
-import type { FieldView } from './settings_fields';
+import { authorisedFetch } from '../api';
+import { buildField, element, numberProblem, patchSettings } from '../settings_fields';
+import type { FieldView } from '../settings_fields';
 import { distanceMm, MAX_CODE } from './ls5_outputs';
 
 export interface Ls5SchemaRow {

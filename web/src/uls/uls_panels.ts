@@ -1,8 +1,8 @@
 // The ULS page's parameter panels (§2 "Basic Setup" ... "Current Loop"), built from the
 // settings schema (§8's command table, as the CLI) and checked before sending. Upload sends
 // only the changed fields, as one PATCH; a refusal shows the §10 number and its text.
-import { authorisedFetch } from './api';
-import { buildField, element, numberProblem, patchSettings } from './settings_fields';
+import { authorisedFetch } from '../api';
+import { buildField, element, numberProblem, patchSettings } from '../settings_fields';
 
 export interface SchemaRow {
   key: string;
