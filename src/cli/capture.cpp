@@ -54,9 +54,17 @@ int run_capture(CaptureArguments& arguments) {
   // No silent end (docs/cli.md): what the file holds and how to look at it; said
   // only when there is a file to replay (not after "cannot open" it).
   const bool file_written = code == exit_ok || code == exit_interrupted || stats.samples > 0;
-  if (file_written)
-    fmt::print(stderr, "rangekit capture: {} samples \u2192 {}; replay with: rangekit replay {}\n", stats.samples,
-               options.capture, options.capture);
+  if (file_written) {
+    // Each sensor's share, so one that sent nothing is seen ("uls /dev/ttyUSB0 0").
+    std::string shares;
+    if (stats.sources.size() > 1) {
+      for (const record::SourceCount& source : stats.sources)
+        shares += (shares.empty() ? " (" : ", ") + source.name + " " + std::to_string(source.samples);
+      shares += ")";
+    }
+    fmt::print(stderr, "rangekit capture: {} samples{} \u2192 {}; replay with: rangekit replay {}\n", stats.samples,
+               shares, options.capture, options.capture);
+  }
   return code;
 }
 

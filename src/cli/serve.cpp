@@ -2,6 +2,7 @@
 // `--config` keeps its sensors live through the hub with a summary line per sensor each
 // second; `--demo` does the same for emulators it starts itself (cli/demo_site.hpp).
 #include <fmt/core.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdlib>
@@ -11,6 +12,7 @@
 #include "cli/commands.hpp"
 #include "cli/dashboard.hpp"
 #include "cli/demo_site.hpp"
+#include "cli/serve_monitor.hpp"
 #include "cli/stop_signals.hpp"
 #include "rangekit/core/descriptor_limit.hpp"
 #include "rangekit/hub/captures.hpp"
@@ -29,15 +31,8 @@ struct ServeOptions {
   std::string listen;     // overrides [service] listen
   std::string mqtt;       // overrides [mqtt] broker
   double duration_s = 0;  // 0: until Ctrl-C or SIGTERM
+  bool table = false;     // redraw the table each second even when stdout is no terminal
 };
-
-std::string summary_line(const hub::SensorSnapshot& sensor) {
-  const hub::SensorHealth& health = sensor.health;
-  return fmt::format("{:<16} {:<3} {:<12} {:>8.1f}/s  records {}  errors {}  lost {}  bad frames {}  reconnects {}",
-                     sensor.config.name, sensor.config.family,
-                     health.connected ? (sensor.streaming ? "streaming" : "connected") : "disconnected", health.rate_hz,
-                     health.records, health.errors, health.lost, health.bad_frames, health.reconnects);
-}
 
 // One line per mistake, all of them (the site file's reader gathers every one).
 int site_refused(const std::string& path, const Error& error) {
@@ -199,12 +194,12 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   const auto started = std::chrono::steady_clock::now();
   const auto limit = std::chrono::duration<double>(options.duration_s);
   auto next_summary = started + std::chrono::seconds(1);
+  ServeMonitor monitor(stdout, options.table || ::isatty(STDOUT_FILENO) == 1);
   while (!signals.stopped() && (options.duration_s <= 0 || std::chrono::steady_clock::now() - started < limit)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));  // polls the stop flag; not a synchronisation
     if (std::chrono::steady_clock::now() < next_summary) continue;
     next_summary += std::chrono::seconds(1);
-    for (const hub::SensorSnapshot& sensor : hub->sensors()) fmt::print("{}\n", summary_line(sensor));
-    std::fflush(stdout);
+    monitor.tick(hub->sensors());
   }
   (*server)->stop();           // no new requests; streams closed
   if (bridge) bridge->stop();  // every sensor marked offline on the broker, then a clean disconnect
@@ -283,6 +278,8 @@ void add_serve_command(CLI::App& app, int& exit_code) {
   serve_app->add_option("--mqtt", options->mqtt,
                         "broker URL mqtt://HOST[:PORT] or mqtts://HOST[:PORT]: publish every sensor there (overrides "
                         "[mqtt] broker; --demo without it starts a local mosquitto when one is installed)");
+  serve_app->add_flag("--table", options->table,
+                      "redraw every sensor's line each second, as on a terminal, also when stdout is not one");
   serve_app->add_option("--duration", options->duration_s, "stop after S seconds (default: until Ctrl-C)")
       ->check(duration_seconds());
   serve_app->callback([options, &exit_code] {

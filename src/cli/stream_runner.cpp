@@ -26,6 +26,13 @@ std::string status_text(const record::StreamStats& stats) {
                                  stats.errors, stats.lost, stats.disconnects);
   if (stats.suspect > 0) text += fmt::format("  suspect {}", stats.suspect);
   if (stats.dropped_suspect > 0) text += fmt::format(" ({} dropped)", stats.dropped_suspect);
+  // Several sensors (capture): each one's rate, so a silent one is seen, not summed away.
+  if (stats.sources.size() > 1) {
+    for (const record::SourceCount& source : stats.sources) {
+      const double own = stats.elapsed_s > 0 ? static_cast<double>(source.samples) / stats.elapsed_s : 0.0;
+      text += fmt::format("  | {} {:.1f}/s", source.name, own);
+    }
+  }
   return text;
 }
 

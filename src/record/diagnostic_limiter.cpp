@@ -62,6 +62,15 @@ std::vector<std::string> DiagnosticLimiter::on_event(const StreamEvent& event, T
   std::vector<std::string> lines = tick(now);
   const auto kind = static_cast<std::size_t>(event.kind);
   if (kind >= kind_count) return lines;
+  // A link's comings and goings are few and each names its sensor: merged, "1 more connects"
+  // would hide which of several sensors came up or went away.
+  if (event.kind == StreamEventKind::connected || event.kind == StreamEventKind::disconnected ||
+      event.kind == StreamEventKind::reconnected) {
+    std::string line;
+    append_text(line, event);
+    lines.push_back(std::move(line));
+    return lines;
+  }
   KindState& state = kinds_[kind];
   if (state.open) {
     ++state.unprinted;

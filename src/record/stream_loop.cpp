@@ -124,6 +124,7 @@ class StreamLoop {
       }
     }
     ++stats_.samples;
+    count_source(sample);
     if (sample.kind == SampleKind::uls_error) ++stats_.errors;
     if (output_) {
       if (auto status = output_->write(sample); !status) return status;
@@ -160,6 +161,26 @@ class StreamLoop {
     }
     if (capture_) return capture_->write_event(event);
     return ok_status();
+  }
+
+  // The last source found is tried first: samples come in runs from one source.
+  void count_source(const Sample& sample) {
+    if (last_source_ < stats_.sources.size() && same_source(stats_.sources[last_source_], sample)) {
+      ++stats_.sources[last_source_].samples;
+      return;
+    }
+    for (last_source_ = 0; last_source_ < stats_.sources.size(); ++last_source_) {
+      if (same_source(stats_.sources[last_source_], sample)) {
+        ++stats_.sources[last_source_].samples;
+        return;
+      }
+    }
+    stats_.sources.push_back({sample.device + " " + std::string(sample.source.view()), 1});
+  }
+  static bool same_source(const SourceCount& known, const Sample& sample) {
+    const std::string_view name = known.name;
+    return name.size() == sample.device.size() + 1 + sample.source.view().size() && name.starts_with(sample.device) &&
+           name.ends_with(sample.source.view());
   }
 
   void update_lost() { stats_.lost = std::max(lost_from_events_, source_.lost()); }
@@ -233,6 +254,7 @@ class StreamLoop {
   std::vector<StreamItem> released_;  // what the spike check let go, reused
   std::vector<StreamItem> batch_;     // what the source handed over last; its storage is reused
   std::uint64_t lost_from_events_ = 0;
+  std::size_t last_source_ = 0;  // stats_.sources index of the latest sample's source
   Clock::time_point start_;
   Clock::time_point last_flush_;
   Clock::time_point last_status_;

@@ -40,8 +40,15 @@ TEST(Capture, BothFamiliesIntoOneFileThatReplays) {
   EXPECT_TRUE(contains(replay.out, R"("device":"ls5")")) << replay.out;
   // "`capture` ends with "N samples → FILE; replay with …"", and N is
   // what the file holds: one replayed line per sample.
-  const std::string closing = " samples \u2192 " + file + "; replay with: rangekit replay " + file;
+  const std::string closing = " \u2192 " + file + "; replay with: rangekit replay " + file;
   ASSERT_TRUE(contains(captured_err, closing)) << captured_err;
+  // Each sensor is named: its connect, and its share of the samples.
+  EXPECT_TRUE(contains(captured_err, "connected: " + uls_config)) << captured_err;
+  EXPECT_TRUE(contains(captured_err, "connected: " + ls5_port)) << captured_err;
+  ASSERT_NE(captured_err.rfind(" samples ("), std::string::npos) << captured_err;
+  const std::string shares = captured_err.substr(captured_err.rfind(" samples ("));
+  EXPECT_TRUE(contains(shares, "uls " + uls_config + " ")) << captured_err;
+  EXPECT_TRUE(contains(shares, "ls5 " + ls5_port + " ")) << captured_err;
   const auto said = captured_err.rfind("rangekit capture: ", captured_err.find(closing));
   ASSERT_NE(said, std::string::npos) << captured_err;
   const auto count = std::stoull(captured_err.substr(said + std::string("rangekit capture: ").size()));

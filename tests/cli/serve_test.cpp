@@ -51,6 +51,47 @@ TEST(Serve, CheckDescribesAGoodFileAndRefusesABadOneWithItsLine) {
   EXPECT_EQ(run_cli(dir.path, {"serve"}).exit_code, 2);
 }
 
+std::size_t count_of(const std::string& text, const std::string& part) {
+  std::size_t count = 0;
+  for (auto at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++count;
+  return count;
+}
+
+// A sensor's change of state is said once, with its reason; piped (a journal), nothing is
+// said again each second, and the table comes once, at the end.
+TEST(Serve, AChangeOfStateIsSaidOnceWithItsReasonAndNotEverySecond) {
+  TempDir dir;
+  const auto port = (dir.path / "ls5").string();
+  const auto missing = (dir.path / "unplugged").string();
+  Child sim({"sim", "ls5", "--port", port});
+  ASSERT_NE(sim.read_line().find("ready"), std::string::npos);
+  const auto site =
+      write_site(dir, "[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"" + port +
+                          "\"\n[[sensor]]\nname = \"ghost\"\nfamily = \"ls5\"\nport = \"" + missing + "\"\n");
+  const auto run = run_cli(dir.path, {"serve", "--config", site, "--listen", "127.0.0.1:0", "--duration", "3.5"});
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(count_of(run.out, " ghost: disconnected: cannot open serial port " + missing + ": "), 1U) << run.out;
+  EXPECT_EQ(count_of(run.out, " belt: streaming\n"), 1U) << run.out;
+  // The table's lines ("ghost            ls5 disconnected ...") once each: the summary at the end.
+  EXPECT_EQ(count_of(run.out, "\nghost "), 1U) << run.out;
+  EXPECT_EQ(run.out.find("\x1b["), std::string::npos) << "no cursor movement into a pipe";
+}
+
+// --table draws the table as a terminal shows it: redrawn in place, the changes above it.
+TEST(Serve, TheTableIsRedrawnInPlaceOnATerminal) {
+  TempDir dir;
+  const auto port = (dir.path / "ls5").string();
+  Child sim({"sim", "ls5", "--port", port});
+  ASSERT_NE(sim.read_line().find("ready"), std::string::npos);
+  const auto site = write_site(dir, "[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"" + port + "\"\n");
+  const auto run =
+      run_cli(dir.path, {"serve", "--config", site, "--listen", "127.0.0.1:0", "--duration", "2.5", "--table"});
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  // Up one line (the table is one sensor) and cleared, then drawn again.
+  EXPECT_GE(count_of(run.out, "\x1b[1A\x1b[J"), 1U) << run.out;
+  EXPECT_GE(count_of(run.out, "\nbelt "), 2U) << run.out;
+}
+
 TEST(Serve, ServesTheSiteForItsDurationAndLeavesTheSensorAsFound) {
   TempDir dir;
   const auto port = (dir.path / "ls5").string();

@@ -56,6 +56,22 @@ TEST(DiagnosticLimiter, FirstOfAKindPrintedThenOneSummaryASecond) {
   EXPECT_TRUE(limiter.finish(start + 2600ms).empty());
 }
 
+// Each sensor's connect and disconnect is said: with two sensors, "1 more connects" would
+// hide which one came up.
+TEST(DiagnosticLimiter, ALinksComingsAndGoingsAreEachSaid) {
+  DiagnosticLimiter limiter;
+  const TimePoint start{};
+  EXPECT_EQ(limiter.on_event(testing::event(StreamEventKind::connected, "/dev/ttyUSB0: streaming"), start).size(), 1U);
+  const auto second =
+      limiter.on_event(testing::event(StreamEventKind::connected, "/dev/ttyUSB1: streaming"), start + 5ms);
+  ASSERT_EQ(second.size(), 1U);
+  EXPECT_NE(second[0].find("/dev/ttyUSB1: streaming"), std::string::npos) << second[0];
+  EXPECT_EQ(limiter.on_event(testing::event(StreamEventKind::disconnected, "/dev/ttyUSB0: gone"), start + 9ms).size(),
+            1U);
+  EXPECT_TRUE(limiter.tick(start + 2s).empty());
+  EXPECT_EQ(limiter.merged(), 0U);
+}
+
 TEST(DiagnosticLimiter, AMillionBadFramesInTenSecondsGiveAboutElevenLinesAndExactCounts) {
   DiagnosticLimiter limiter;
   const TimePoint start{};

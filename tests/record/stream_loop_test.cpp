@@ -44,6 +44,25 @@ TEST(StreamLoop, SourceFinishedWritesEveryItemAsJsonLines) {
             "\"signal\":\"lost\"}\n");
 }
 
+// Several sensors in one stream (capture): each one's samples are counted apart, so one that
+// sends nothing is not summed away.
+TEST(StreamLoop, CountsEachSourcesSamplesApart) {
+  TempDir dir;
+  auto second = uls_error();
+  second.source = "/dev/ttyUSB1";
+  FakeSource source(
+      {uls_error(), ls5_result(65535, std::nullopt, SignalState::lost), uls_error(), second, uls_error()});
+  const std::atomic<bool> stop{false};
+  const auto outcome = run_stream_loop(source, to_file(dir.file("out.jsonl")), stop);
+  ASSERT_EQ(outcome.stats.sources.size(), 3U);
+  EXPECT_EQ(outcome.stats.sources[0].name, "uls /dev/ttyUSB0");
+  EXPECT_EQ(outcome.stats.sources[0].samples, 3U);
+  EXPECT_EQ(outcome.stats.sources[1].name, "ls5 udp:127.0.0.1:5000");
+  EXPECT_EQ(outcome.stats.sources[1].samples, 1U);
+  EXPECT_EQ(outcome.stats.sources[2].name, "uls /dev/ttyUSB1");
+  EXPECT_EQ(outcome.stats.sources[2].samples, 1U);
+}
+
 TEST(StreamLoop, StopsAfterCountSamplesAndStopsTheSource) {
   TempDir dir;
   const auto path = dir.file("out.csv");

@@ -9,6 +9,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/sample.hpp"
@@ -34,8 +35,15 @@ struct StreamLoopOptions {
   bool drop_suspect = false;  // leave suspect samples out of the output and the capture
 };
 
+// One sensor of a stream that merges several (capture): its samples, so a silent one shows.
+struct SourceCount {
+  std::string name;  // "uls /dev/ttyUSB0": the family and where the samples came from
+  std::uint64_t samples = 0;
+};
+
 struct StreamStats {
   std::uint64_t samples = 0;
+  std::vector<SourceCount> sources;  // in the order each was first heard
   std::uint64_t events = 0;
   std::uint64_t errors = 0;  // device error samples/events and undecodable frames
   std::uint64_t lost = 0;    // lost records reported by events or the source

@@ -89,7 +89,7 @@ void add_ls5_command(CLI::App& app, int& exit_code) {
   auto* ls5 = app.add_subcommand("ls5", "configure, read and stream a Prizma LS5 laser triangulation sensor");
   ls5->require_subcommand(1);
   // The document's sections stay here and in docs/conformance.md, out of the messages.
-  ls5->footer("The manual: §8 protocol, table 9.1 commands, table 9.2 parameters, §10 Ethernet; docs/host-ls5.md.");
+  ls5->footer("Manual: §8, tables 9.1 and 9.2, §10 Ethernet; docs/host-ls5.md");
   add_ls5_device_commands(*ls5, exit_code);
   add_ls5_stream_commands(*ls5, exit_code);
   add_ls5_config_command(*ls5, exit_code);

@@ -487,7 +487,7 @@ void add_uls_command(CLI::App& app, int& exit_code) {
   auto* uls = app.add_subcommand("uls", "configure, read and stream a ULS on a serial port or pty");
   uls->require_subcommand(1);
   // The document's sections stay here and in docs/conformance.md, out of the messages.
-  uls->footer("The spec: §7 RS-485 network, §8 commands and formats, §9 rates, §10 errors; docs/host-uls.md.");
+  uls->footer("Spec: §7 bus, §8 commands, §9 rates, §10 errors; docs/host-uls.md");
   auto link = std::make_shared<LinkOptions>();
 
   auto* info = uls->add_subcommand("info", "version (ID), status bits (US) and the main settings");
