@@ -21,7 +21,7 @@ function element<K extends keyof HTMLElementTagNameMap>(tag: K, className?: stri
   return made;
 }
 
-const FORMATS: [string, string][] = [['log', '.log (§2 layout)'], ['csv', 'CSV'], ['jsonl', 'JSON lines'], ['sqlite', 'SQLite']];
+const FORMATS: [string, string][] = [['log', '.log (Interface Program layout)'], ['csv', 'CSV'], ['jsonl', 'JSON lines'], ['sqlite', 'SQLite']];
 
 export class CapturePanel {
   readonly root = element('fieldset', 'panel capture');
@@ -45,11 +45,11 @@ export class CapturePanel {
     this.viewButton.disabled = true;
     this.view.hidden = true;
     this.view.tabIndex = 0;  // scrollable from the keyboard
-    this.view.setAttribute('aria-label', 'The capture in the §2 .log layout');
+    this.view.setAttribute('aria-label', 'The capture in the Interface Program\'s .log layout');
     const buttons = element('div', 'buttons');
     buttons.append(this.startButton, this.stopButton, this.viewButton);
     // What the §2 columns hold here (U100): §2 names them but gives no units for time or intensity.
-    const note = element('p', 'hint', 'The .log has §2\'s columns for the mode: time of day in UTC, distances in m, ' +
+    const note = element('p', 'hint', 'The .log has the Interface Program\'s columns for the mode: time of day in UTC, distances in m, ' +
       'intensity as the unit sends it (pulse width in ps). The file stays with the service.');
     this.root.append(buttons, this.status, this.links, note, this.view);
   }

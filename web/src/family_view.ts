@@ -15,4 +15,7 @@ export interface FamilyView {
   page(sensorName: string): SensorPage;
   // The card's words for a moment without a value, when the sensor's state says more than "no signal".
   noReading?(sensor: Sensor): string | undefined;
+  // The page's foot: the document and the sections the page follows, the one place they are named
+  // (as a command's --help footer). tests/architecture/section_numbers_test.cpp allows § only there.
+  documentSections: string;
 }

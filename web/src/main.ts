@@ -195,7 +195,10 @@ function route(): void {
   const view = familyView(families.get(name));
   if (view) {
     sensorPage ??= view.page(name);
-    sensorView.append(sensorPage.root);
+    const foot = document.createElement('footer');
+    foot.className = 'document-sections';
+    foot.textContent = view.documentSections;
+    sensorView.append(sensorPage.root, foot);
     sensorPage.open();
     void poll();
   } else {

@@ -7,7 +7,7 @@ import path from 'node:path';
 import { after, before, test } from 'node:test';
 import * as esbuild from 'esbuild';
 import {
-  WAIT, cli, controlRequest, launch, screenshots, selectsTooNarrow, stopped, waitForLine, watchErrors,
+  WAIT, cli, controlRequest, launch, screenshots, sectionsOutsideFoot, selectsTooNarrow, stopped, waitForLine, watchErrors,
 } from './support.mjs';
 
 let serve;
@@ -66,9 +66,9 @@ test('the decoded ID shows version, lower boundary, range and serial (§9.2)', a
   assert.equal(await page.inputValue('#ls5-period-ms'), '10');
   assert.equal(await page.inputValue('#ls5-discrete-outputs'), 'low-high');
   const legends = await page.$$eval('.ls5-page .panels:not(.ls5-outputs) .panel legend', (items) => items.map((item) => item.textContent));
-  assert.deepEqual(legends, ['Serial interface (§8.1–8.3)', 'Measurement and output period (§8.4)', 'Exposure (§8.5)',
-    'Signal absence (§8.6)', 'Pre-filtering (§8.7)', 'Preliminary result (§8.8)', 'Analog output (§8.10)',
-    'Discrete outputs (§8.11)', 'Triggering and latching (§8.13–8.14)', 'Ethernet (§10)']);
+  // The groups of §8.1–8.14 and §10, named in words.
+  assert.deepEqual(legends, ['Serial interface', 'Measurement and output period', 'Exposure', 'Signal absence',
+    'Pre-filtering', 'Preliminary result', 'Analog output', 'Discrete outputs', 'Triggering and latching', 'Ethernet']);
   // Table 9.2 "Measurement period (discrete – 0.1 ms, minimum value – 0.1 ms) ... 0001-FFFF".
   assert.match(await page.textContent('#ls5-period-ms-range'), /^0\.1 – 6553\.5 ms · address 06\/07/);
   // §8.10 limits "only in the range 0÷50000", shown in mm by formula 8.1 with the ID's range.
@@ -199,7 +199,8 @@ test('an out-of-range value shows the error and sends nothing', async () => {
   // §8.11: "The first swing of the discrete output must be less than (or equal to) the second swing".
   await page.fill('#ls5-output1-first-swing', '45000');
   await page.fill('#ls5-output1-second-swing', '40000');
-  assert.match(await page.textContent('#ls5-output1-second-swing-problem'), /must not be above the second/);
+  assert.equal(await page.textContent('#ls5-output1-second-swing-problem'),
+    'the first swing (45000) must not be above the second (40000)');
   await page.getByRole('button', { name: 'Upload Settings' }).click();
   await page.waitForFunction(() => /^Nothing sent: /.test(document.querySelector('.ls5-page .panel-message').textContent), null, WAIT);
   assert.equal(patches.length, before);  // no request left the page
@@ -247,6 +248,14 @@ test('every control has a label and Tab reaches every writable field', async () 
   await page.screenshot({ path: path.join(screenshots, 'ls5-page-keyboard.png') });
 });
 
+test('the page names the manual\'s sections once, in its foot, and says everything else in words', async () => {
+  // With the parameters read, the outputs computed and a result latched: every text of the page is shown.
+  assert.match(await page.textContent('#ls5-latched'), /code \d+/);
+  assert.equal(await page.textContent('#sensor-view > footer.document-sections'), 'LS5 manual: §5 ordering code, §8 protocol and formulas, table 9.1 commands, table 9.2 parameters, ' +
+    '§10 Ethernet; docs/conformance.md.');
+  assert.deepEqual(await sectionsOutsideFoot(page), []);
+});
+
 test('an LS5 heard over UDP only shows its stream and why it has no parameters (§10)', async () => {
   await page.goto(`${url}#/sensor/belt-udp`);
   await page.waitForFunction(() => {
@@ -254,7 +263,10 @@ test('an LS5 heard over UDP only shows its stream and why it has no parameters (
     return Number(plot?.dataset.points) > 500 && plot.dataset.drawnEnd !== undefined;  // several packets of 168 (§10)
   }, null, WAIT);
   assert.match(await page.textContent('[data-id="udp"]'), /^127\.0\.0\.1:\d+$/);
-  assert.match(await page.textContent('.ls5-page .panel-message'), /heard over UDP only/);
+  assert.equal(await page.textContent('.ls5-page .panel-message'), 'An LS5 heard over UDP only (its manual: "The ' +
+    'Ethernet interface is only used for the one-way transmission of the measurement stream"): its parameters ' +
+    'need its serial port in the site file.');
+  assert.deepEqual(await sectionsOutsideFoot(page), []);
   await page.screenshot({ path: path.join(screenshots, 'ls5-page-udp.png'), fullPage: true });
 });
 

@@ -146,7 +146,8 @@ test('the ULS page: §2 indicators with their meanings, the live reading, the di
   for (const [label, meaning] of Object.entries(ICON_MEANINGS)) {
     const found = indicators.find(([text]) => text === label);
     assert.ok(found, `no ${label} indicator`);
-    assert.ok(found[1].includes(meaning), `${label}'s tooltip "${found[1]}" lacks §2's "${meaning}"`);
+    assert.ok(found[1].startsWith('The specification: "') && found[1].includes(meaning) && !found[1].includes('§'),
+      `${label}'s tooltip "${found[1]}" does not quote the specification's "${meaning}" in words`);
   }
   await page.waitForFunction(() => /^\d+\.\d{3} m$/.test(document.querySelector('.measurement').textContent),
     null, WAIT);

@@ -5,7 +5,9 @@ import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
-import { WAIT, cli, controlRequest, launch, screenshots, stopped, waitForLine, watchErrors } from './support.mjs';
+import {
+  WAIT, cli, controlRequest, launch, screenshots, sectionsOutsideFoot, stopped, waitForLine, watchErrors,
+} from './support.mjs';
 
 let serve;
 let url;
@@ -111,6 +113,9 @@ test('a ULS alone on its port says the network is for bus units', async () => {
   await page.evaluate(() => { location.hash = '#/sensor/silo'; });
   await page.waitForFunction(() => /alone on its port/.test(document.querySelector('.sensor-page[data-sensor="silo"] .rs485')?.textContent ?? ''),
     null, WAIT);
+  assert.equal(await page.textContent('.sensor-page[data-sensor="silo"] .rs485 .hint'), 'silo is alone on its port (the $ ' +
+    'protocol; no address in the site file): the RS-485 network is for units addressed on a bus.');
+  assert.deepEqual(await sectionsOutsideFoot(page), []);
   const refused = await fetch(`${url}api/sensors/silo/bus/scan`, { method: 'POST' });
   assert.equal(refused.status, 409);
 });

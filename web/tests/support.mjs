@@ -125,3 +125,21 @@ export function selectsTooNarrow(page, selector) {
     return width + 0.5 < natural ? [`${select.id}: ${width.toFixed(0)} px < ${natural.toFixed(0)} px`] : [];
   }));
 }
+
+// Where the open sensor page cites a section of its document outside its foot: each text or
+// title, aria-label or placeholder (hidden ones too, as tooltips and screen readers show them)
+// with "§", "table 9.2" or "formula 8.3", as "tag: text". Empty when the page says it in words.
+export function sectionsOutsideFoot(page) {
+  return page.$eval('#sensor-view', (view) => {
+    const citing = /§|\b(table|formulas?) \d+\.\d/i;
+    const found = [];
+    for (const node of view.querySelectorAll('*')) {
+      if (node.closest('.document-sections')) continue;
+      const own = [...node.childNodes].filter((child) => child.nodeType === Node.TEXT_NODE).map((child) => child.data).join('');
+      for (const text of [own, ...['title', 'aria-label', 'placeholder'].map((name) => node.getAttribute(name) ?? '')]) {
+        if (citing.test(text)) found.push(`${node.tagName.toLowerCase()}: ${text.trim()}`);
+      }
+    }
+    return found;
+  });
+}

@@ -6,7 +6,7 @@ import { spawn } from 'node:child_process';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
 import {
-  WAIT, cli, controlRequest, launch, screenshots, selectsTooNarrow, stopped, waitForLine, watchErrors,
+  WAIT, cli, controlRequest, launch, screenshots, sectionsOutsideFoot, selectsTooNarrow, stopped, waitForLine, watchErrors,
 } from './support.mjs';
 
 let serve;
@@ -152,8 +152,8 @@ test('U109: Short Timeout sets the re-reference time to 8000 pulses in the unit,
 // for either, so each is an explanation in its panel, with no input.
 test('U108: Minimum Pulse Width and current loop calibration are explanations without an input', async () => {
   for (const [panel, id, words] of [
-    ['Averaging Parameters', 'note-min-pulse-width', /reject returned receive pulses.*§8 has no command.*U41/s],
-    ['Current Loop', 'note-current-loop-calibration', /DAC values.*SAVE.*§8 has no command.*U108/s],
+    ['Averaging Parameters', 'note-min-pulse-width', /The specification: "This value is used to reject returned receive pulses.*The serial protocol has no command.*U41/s],
+    ['Current Loop', 'note-current-loop-calibration', /The specification's "Calibrating the Current Loop".*DAC values.*SAVE.*The serial protocol has no command.*U108/s],
   ]) {
     const found = await page.$eval(`#${id}`, (note) => ({
       legend: note.closest('fieldset')?.querySelector('legend')?.textContent,
@@ -168,6 +168,13 @@ test('U108: Minimum Pulse Width and current loop calibration are explanations wi
   }
   await page.$eval('#note-current-loop-calibration', (note) => note.scrollIntoView());
   await page.screenshot({ path: path.join(screenshots, 'uls-panels-no-command.png') });
+});
+
+test('the page names the specification\'s sections once, in its foot, and says everything else in words', async () => {
+  // Panels, notes, tooltips of the fields and indicators, the network and capture windows: all read.
+  assert.equal(await page.textContent('#sensor-view > footer.document-sections'), 'ULS interface specification: §2 Interface Program, §3 measurement modes, §7 RS-485 network, ' +
+    '§8 commands and formats, §9 rates and resolution, §10 errors; docs/conformance.md.');
+  assert.deepEqual(await sectionsOutsideFoot(page), []);
 });
 
 test('no select of the panels is too narrow for its choices', async () => {

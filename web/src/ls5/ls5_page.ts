@@ -81,9 +81,9 @@ export class Ls5Page {
     this.buildButtons();
     this.buildOutputs();
     const stream = element('h2', 'section-title', 'Stream');
-    this.streamNote.textContent = 'Results in mm; derivatives (result type 01, §8.8) on an axis of their own.';
+    this.streamNote.textContent = 'Results in mm; derivatives (result type 01) on an axis of their own.';
     this.root.append(back, title, this.idList, this.box, this.codeLine, this.buttons, this.message, this.outputs,
-      stream, this.streamNote, this.plot.root, element('h2', 'section-title', 'Parameters (table 9.2)'), this.panels.message,
+      stream, this.streamNote, this.plot.root, element('h2', 'section-title', 'Parameters'), this.panels.message,
       this.panels.root);
     this.root.dataset.sensor = name;
   }
@@ -98,19 +98,19 @@ export class Ls5Page {
   }
 
   private buildButtons(): void {
-    this.button('Read', () => this.read(), 'Read every parameter (R, table 9.1)');
+    this.button('Read', () => this.read(), 'Read every parameter (R)');
     this.button('Upload Settings', () => this.panels.upload(), 'Write the changed parameters (W) and read them back');
-    this.button('Save to flash', () => this.act('save', '', 'Save to flash (FL)'), 'FL: keep the parameters after power off (§9.3)');
-    this.button('Start stream', () => this.act('start', '', 'Start stream (ST)'), 'ST (table 9.1)');
-    this.button('Stop stream', () => this.act('stop', '', 'Stop stream (SB)'), 'SB (table 9.1)');
-    this.button('Read last result', () => this.act('single', '', 'Read last result (LR)'), 'LR (table 9.1)');
+    this.button('Save to flash', () => this.act('save', '', 'Save to flash (FL)'), 'FL: keep the parameters after power off');
+    this.button('Start stream', () => this.act('start', '', 'Start stream (ST)'), 'ST: start the stream of results');
+    this.button('Stop stream', () => this.act('stop', '', 'Stop stream (SB)'), 'SB: stop the stream');
+    this.button('Read last result', () => this.act('single', '', 'Read last result (LR)'), 'LR: read the last result');
   }
 
   private buildOutputs(): void {
     this.outputs.setAttribute('aria-label', 'Outputs and latching');
     const analog = element('fieldset', 'panel');
-    analog.append(element('legend', undefined, 'Analog output (§8.10, formula 8.3)'));
-    const typeLabel = element('label', undefined, 'Output type (ordering code, §5)');
+    analog.append(element('legend', undefined, 'Analog output'));
+    const typeLabel = element('label', undefined, 'Output type (from the ordering code)');
     typeLabel.htmlFor = 'ls5-analog-type';
     this.analogSelect.id = 'ls5-analog-type';
     for (const [value, range] of Object.entries(ANALOG_RANGES)) {
@@ -134,7 +134,7 @@ export class Ls5Page {
     analog.append(typeRow, now, this.analogNote);
 
     const discrete = element('fieldset', 'panel');
-    discrete.append(element('legend', undefined, 'Discrete outputs (§8.11, formula 8.4)'));
+    discrete.append(element('legend', undefined, 'Discrete outputs'));
     const list = element('dl', 'discrete-list');
     this.discrete.forEach((output, index) => {
       output.id = `ls5-oc${index + 1}`;
@@ -147,7 +147,7 @@ export class Ls5Page {
     discrete.append(list);
 
     const latch = element('fieldset', 'panel');
-    latch.append(element('legend', undefined, 'Latching (§8.13–8.14, formulas 8.6/8.7)'));
+    latch.append(element('legend', undefined, 'Latching'));
     this.latchMode.id = 'ls5-latch-mode';
     this.latchResult.id = 'ls5-latched';
     this.latchResult.setAttribute('aria-label', 'Latched result');
@@ -188,10 +188,10 @@ export class Ls5Page {
       this.idList.replaceChildren();
       definition(this.idList, 'Heard over UDP at', 'udp').textContent = String(identity.udp ?? sensor.udp);
       this.buttons.hidden = true;
-      this.streamNote.textContent += ' A packet brings 168 results (§10) with the time it arrived, so they are ' +
+      this.streamNote.textContent += ' A packet brings 168 results with the time it arrived, so they are ' +
         'drawn at one instant: the plot moves in steps.';
       this.outputs.hidden = true;
-      this.panels.message.textContent = 'An LS5 heard over UDP only (§10: "The Ethernet interface is only used for ' +
+      this.panels.message.textContent = 'An LS5 heard over UDP only (its manual: "The Ethernet interface is only used for ' +
         'the one-way transmission of the measurement stream"): its parameters need its serial port in the site file.';
       return;
     }
@@ -206,7 +206,7 @@ export class Ls5Page {
       this.panels.message.textContent = `The parameters could not be shown: ${error.message}`;
     });
     if (identity.ethernet === 'yes') {
-      this.streamNote.textContent += ' An Ethernet model: it also sends its results as UDP packets of 168 (§10) while ' +
+      this.streamNote.textContent += ' An Ethernet model: it also sends its results as UDP packets of 168 results while ' +
         '"UDP data auto-stream" is on; a site file lists that stream as a sensor with `udp`.';
     }
   }
@@ -263,10 +263,10 @@ export class Ls5Page {
     if (code === NO_SIGNAL) text = 'no signal';
     else if (code > MAX_CODE) text = 'no measurement yet';
     else if (sample.kind === 'derivative' || this.panels.settings['result-type'] === 'derivative') {
-      text = `${sample.derivative_mm ?? derivativeMm(code, range).toFixed(4)} mm (derivative, 8.2)`;
+      text = `${sample.derivative_mm ?? derivativeMm(code, range).toFixed(4)} mm (derivative)`;
     } else text = `${distance ?? distanceMm(code, range).toFixed(4)} mm`;  // the service keeps the discreteness (L63)
     this.box.textContent = text;
-    this.codeLine.textContent = `Code K = ${code} (§8.9: 0…50000 over the range${code > MAX_CODE ? '; 65534 nothing yet, 65535 no signal' : ''})`;
+    this.codeLine.textContent = `Code K = ${code} (0…50000 over the range${code > MAX_CODE ? '; 65534 nothing yet, 65535 no signal' : ''})`;
     this.codeLine.dataset.code = String(code);
     this.showOutputs();
   }
@@ -295,7 +295,7 @@ export class Ls5Page {
     this.analogMeter.value = value;
     this.analogNote.textContent = enabled
       ? `Limits K_n = ${lower}, K_v = ${upper}${upper < lower ? ' (inverted)' : ''}; K = ${code}.`
-      : 'Disabled (03 = 00): the output holds its value of the last measurement before it was disabled (§8.10); ' +
+      : 'Disabled (03 = 00): the output holds its value of the last measurement before it was disabled; ' +
         `with the output enabled it would be ${value.toFixed(3)} ${range.unit}.`;
     const byte = this.discreteByte(String(settings['discrete-outputs']));
     const setting = byte ? decodeDiscreteOutputs(byte) : null;
@@ -342,7 +342,7 @@ export class Ls5Page {
     }
     const limits = latchLimits(code, fixed);
     this.latchPreview.textContent = `Latched now (K = ${code}, D = ${fixed}): G_min = ${limits.lower}, ` +
-      `G_max = ${limits.upper} (8.6/8.7).`;
+      `G_max = ${limits.upper}.`;
   }
 
   private async read(): Promise<void> {

@@ -24,17 +24,17 @@ export interface Ls5SchemaRow {
 
 // §8's sections and the table 9.2 values each explains (L73: the page's grouping).
 export const GROUPS: [string, string[]][] = [
-  ['Serial interface (§8.1–8.3)', ['network-address', 'power-on-state', 'byte-format', 'baud-rate']],
-  ['Measurement and output period (§8.4)', ['period-ms', 'thinning']],
-  ['Exposure (§8.5)', ['max-exposure-us', 'priority']],
-  ['Signal absence (§8.6)', ['signal-absence-ms']],
-  ['Pre-filtering (§8.7)', ['pre-filter', 'averaging-points', 'median-points']],
-  ['Preliminary result (§8.8)', ['result-type']],
-  ['Analog output (§8.10)', ['analog-output', 'analog-lower', 'analog-upper', 'analog-fixed-range']],
-  ['Discrete outputs (§8.11)', ['discrete-outputs', 'output1-first-swing', 'output1-second-swing',
+  ['Serial interface', ['network-address', 'power-on-state', 'byte-format', 'baud-rate']],
+  ['Measurement and output period', ['period-ms', 'thinning']],
+  ['Exposure', ['max-exposure-us', 'priority']],
+  ['Signal absence', ['signal-absence-ms']],
+  ['Pre-filtering', ['pre-filter', 'averaging-points', 'median-points']],
+  ['Preliminary result', ['result-type']],
+  ['Analog output', ['analog-output', 'analog-lower', 'analog-upper', 'analog-fixed-range']],
+  ['Discrete outputs', ['discrete-outputs', 'output1-first-swing', 'output1-second-swing',
     'output2-first-swing', 'output2-second-swing', 'discrete-fixed-range']],
-  ['Triggering and latching (§8.13–8.14)', ['triggering', 'latching']],
-  ['Ethernet (§10)', ['ip-address', 'gateway', 'subnet-mask', 'destination-ip', 'mac-address', 'destination-mac',
+  ['Triggering and latching', ['triggering', 'latching']],
+  ['Ethernet', ['ip-address', 'gateway', 'subnet-mask', 'destination-ip', 'mac-address', 'destination-mac',
     'destination-port', 'source-port', 'udp-auto-stream']],
 ];
 
@@ -112,7 +112,7 @@ export class Ls5Panels {
       for (const row of shown) panel.append(this.field(row));
       if (shown.some((row) => row.link)) {
         panel.append(element('p', 'hint', 'Address, byte format and baud rate change how the service reaches the ' +
-          'sensor: change them in the site file and with `rangekit ls5 set` (§8.1, §8.3).'));
+          'sensor: change them in the site file and with `rangekit ls5 set`.'));
       }
       this.root.append(panel);
     }
@@ -143,7 +143,7 @@ export class Ls5Panels {
       label: row.unit && row.unit !== 'code' ? `${row.title}, ${row.unit}` : row.title,
       key: row.key,
       range: this.rangeText(row, available),
-      title: `${row.key} (table 9.2, ${row.addresses.join('/')})`,
+      title: `${row.key} (parameter ${row.addresses.join('/')})`,
       choices: row.values?.map((value) => ({
         value: value.value,
         label: choiceLabel(value),
@@ -209,7 +209,7 @@ export class Ls5Panels {
       const first = swing[2] === 'first' ? Number(text) : otherValue;
       const second = swing[2] === 'first' ? otherValue : Number(text);
       if (Number.isFinite(first) && Number.isFinite(second) && first > second) {
-        return `the first swing (${first}) must not be above the second (${second}) (§8.11)`;
+        return `the first swing (${first}) must not be above the second (${second})`;
       }
     }
     return '';
@@ -253,7 +253,7 @@ export class Ls5Panels {
     }
     this.update(answer, true);
     this.message.textContent = `Uploaded and read back: ${Object.keys(body).join(', ')}. ` +
-      'The sensor keeps them until power off; Save to flash (FL) keeps them after (§9.3).';
+      'The sensor keeps them until power off; Save to flash (FL) keeps them after.';
     this.message.dataset.state = 'done';
   }
 }

@@ -57,8 +57,8 @@ export class Rs485Network {
     this.built = true;
     const address = sensor.address;
     if (address === undefined || address === null) {
-      this.root.append(element('p', 'hint', `${this.name} is alone on its port (the $ protocol, §8; no address in the ` +
-        'site file): the RS-485 network (§7) is for units addressed on a bus.'));
+      this.root.append(element('p', 'hint', `${this.name} is alone on its port (the $ protocol; no address in the ` +
+        'site file): the RS-485 network is for units addressed on a bus.'));
       return;
     }
     this.address = String.fromCharCode(address);
@@ -91,14 +91,14 @@ export class Rs485Network {
     this.assignButton.type = 'button';
     this.assignButton.addEventListener('click', () => void this.assign());
     assign.append(currentLabel, this.current, selectLabel, this.select, this.assignButton);
-    const key = element('p', 'hint', '* already assigned in the network (§7): a unit of the site file on this port, or one ' +
+    const key = element('p', 'hint', '* already assigned in the network: a unit of the site file on this port, or one ' +
       'that answered the last scan. The service refuses an address a unit answers at; one of the site file may be ' +
       'used when that unit is being replaced.');
     key.id = `rs485-key-${this.name}`;
     this.warning.setAttribute('role', 'status');
     this.root.append(this.scanButton, this.status, this.table, assign, key, this.warning);
     this.fillSelect();
-    this.status.textContent = `Unit ${this.address} on ${this.name}'s bus. Scan asks each address of §8's table.`;
+    this.status.textContent = `Unit ${this.address} on ${this.name}'s bus. Scan asks every address a unit can have (a-z, A-Z, 0-9).`;
   }
 
   // §7: "Values with an asterisk have already been assigned in the network".
@@ -128,12 +128,12 @@ export class Rs485Network {
     this.warning.textContent = address === this.address ? `${address} is this unit's address now.`
       : heard ? `${address} is in use: a unit answers there${sensor ? ` (${sensor})` : ''}; Assign will be refused.`
         : sensor ? `${address} is ${sensor}'s address in the site file, and did not answer the last scan: use it only ` +
-          'if that unit is being replaced (§7).' : '';
+          'if that unit is being replaced.' : '';
   }
 
   private async scan(): Promise<void> {
     this.scanButton.disabled = true;
-    this.status.textContent = `Scanning: asking the ${ADDRESSES.length} addresses of §8's table a few at a time ` +
+    this.status.textContent = `Scanning: asking the ${ADDRESSES.length} possible addresses a few at a time ` +
       'between the polls (about 15 s)…';
     try {
       const response = await authorisedFetch(`/api/sensors/${encodeURIComponent(this.name)}/bus/scan`, { method: 'POST' });

@@ -11,12 +11,12 @@ import { UlsPanels } from './uls_panels';
 
 // §2 "Icons: Displayed above the black measurement window".
 const INDICATORS = [
-  ['connected', 'Connected', 'The service talks to the ULS (§2 Connect: "Activates the communication between the computer and the ULS").'],
-  ['laser', 'Laser On', '§2: "Laser On: The laser is firing."'],
-  ['gates', 'G', '§2: "G: Gates are set."'],
-  ['cooperative', 'CT', '§2: "CT: Cooperative Target."'],
-  ['offset', 'O', '§2: "O: an Offset value is being applied to measurements."'],
-  ['basic', 'BM', '§2: "BM (Basic Measurement): The ULS is producing valid measurements more than once every two seconds."'],
+  ['connected', 'Connected', 'The service talks to the ULS (Connect, in the specification: "Activates the communication between the computer and the ULS").'],
+  ['laser', 'Laser On', 'The specification: "Laser On: The laser is firing."'],
+  ['gates', 'G', 'The specification: "G: Gates are set."'],
+  ['cooperative', 'CT', 'The specification: "CT: Cooperative Target."'],
+  ['offset', 'O', 'The specification: "O: an Offset value is being applied to measurements."'],
+  ['basic', 'BM', 'The specification: "BM (Basic Measurement): The ULS is producing valid measurements more than once every two seconds."'],
 ] as const;
 type Indicator = (typeof INDICATORS)[number][0];
 
@@ -226,12 +226,12 @@ export class UlsPage {
     const legend = element('legend', undefined, 'Display');
     this.choices.append(legend);
     this.caption.textContent = mode === 'averaging'
-      ? 'Intensity: the received pulse width, in ns (§8, §9).'
+      ? 'Intensity: the received pulse width, in ns.'
       : mode === 'binning' ? 'A target of the last measurement, and how many it found.' : '';
     const choices = DISPLAY_CHOICES[mode];
     if (!choices) {
       this.display = '';
-      this.choices.append(element('p', 'hint', 'Look down: the ON/OFF condition of the trip signal (§2).'));
+      this.choices.append(element('p', 'hint', 'Look down: the ON/OFF condition of the trip signal.'));
       return;
     }
     this.display = choices[0][0];

@@ -48,16 +48,16 @@ const NO_COMMAND_NOTES: Record<string, { id: string; title: string; text: string
   'Averaging Parameters': {
     id: 'note-min-pulse-width',
     title: 'Minimum Pulse Width (not settable from a host)',
-    text: '§2: "This value is used to reject returned receive pulses less then the value specified, in nano-seconds", ' +
-      'so weak returns can be rejected. §8 has no command to set or read it, so neither this page nor the CLI can; ' +
+    text: 'The specification: "This value is used to reject returned receive pulses less then the value specified, in nano-seconds", ' +
+      'so weak returns can be rejected. The serial protocol has no command to set or read it, so neither this page nor the CLI can; ' +
       "the emulator keeps it as a unit setting on its control socket (docs/conformance.md U41).",
   },
   'Current Loop': {
     id: 'note-current-loop-calibration',
     title: 'Calibration (not possible from a host)',
-    text: '§2 "Calibrating the Current Loop": with the unit stopped and the current loop on, adjust the coarse and fine ' +
+    text: 'The specification\'s "Calibrating the Current Loop": with the unit stopped and the current loop on, adjust the coarse and fine ' +
       'DAC values of the 4 mA and 20 mA set points, press Set 4 mA or Set 20 mA to output them while a precision meter ' +
-      "measures the current, then SAVE them to the unit's non-volatile memory. §8 has no command for the DAC values, " +
+      "measures the current, then SAVE them to the unit's non-volatile memory. The serial protocol has no command for the DAC values, " +
       "the set buttons or SAVE, so only LTI's Interface Program can calibrate (docs/conformance.md U108).",
   },
 };
@@ -139,7 +139,7 @@ export class UlsPanels {
       label,
       key: row.key,
       range: rangeText(row),
-      title: `${row.title} (${row.mnemonic}, ${row.reference})`,
+      title: `${row.title} (${row.mnemonic})`,
       choices: row.values?.map((value) => ({ value: String(value.value), label: value.label ?? value.name })),
     });
     input.addEventListener('input', () => this.check(this.fields.get(row.key)!));
@@ -160,10 +160,10 @@ export class UlsPanels {
     const label = element('label', undefined, 'Short Timeout');
     label.htmlFor = box.id;
     const hint = element('span', 'range',
-      `${SHORT_TIMEOUT_PULSES} pulses (§2: about 3 s at 3000 PRF), for setting up: a presence longer than that is lost`);
+      `${SHORT_TIMEOUT_PULSES} pulses (about 3 s at 3000 PRF), for setting up: a presence longer than that is lost`);
     hint.id = `${box.id}-range`;
     box.setAttribute('aria-describedby', hint.id);
-    box.title = 'Short Timeout (§2 Look Down; TT 1F40, §3 "re-reference in 8,000 laser pulses")';
+    box.title = 'Short Timeout (sent as TT 1F40): the unit re-references in 8,000 laser pulses';
     box.addEventListener('change', () => {
       const field = this.fields.get('trip-timeout-s');
       if (!field) return;
