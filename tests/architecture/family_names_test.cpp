@@ -1,0 +1,283 @@
+// Generic code names no sensor family: outside a family's own folders and the registration
+// lists, no code token in the tree is a family's name (docs/architecture.md, "Families").
+#include <gtest/gtest.h>
+#include "build_paths.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The files that name every family by design, one line each; a web or Python list joins them here.
+const std::vector<std::string> registration_lists = {"src/families/list.hpp"};
+
+// Generic files that still name a family, and why. The list only shrinks: a file that no longer
+// names one fails the test until it is taken out of the list.
+const std::map<std::string, std::string> known_remaining = {
+    {"CMakeLists.txt", "declares each family's libraries and service parts, and links them into the others"},
+    {"cmake/architecture.cmake", "the link rule names each family library's allowed links"},
+    {"include/rangekit/core/sample.hpp", "SampleKind's values are the families' kinds (uls_averaging, ls5_result)"},
+    {"include/rangekit/core/sample_quality.hpp", "the spike check's defaults: each family's speed and accuracy"},
+    {"python/CMakeLists.txt", "builds each family's bindings (src/uls.cpp, src/ls5.cpp) and links its library"},
+    {"python/rangekit/__init__.py", "imports and exports the family modules rangekit.uls and rangekit.ls5"},
+    {"python/rangekit/_rangekit.pyi", "the stub declares each family's submodule of _rangekit"},
+    {"python/rangekit/sim.py", "Emulator checks the family, has uls() and ls5() and the ULS config port"},
+    {"python/src/capture.cpp", "read_capture's docstring gives the families' device values"},
+    {"python/src/common.hpp", "declares each family's binding function (init_uls, init_ls5)"},
+    {"python/src/ls5.cpp", "the LS5 bindings, not yet in python/src/ls5/"},
+    {"python/src/module.cpp", "calls each family's binding function"},
+    {"python/src/samples.cpp", "Sample's per-family fields and docstrings; flags from ULS error numbers"},
+    {"python/src/uls.cpp", "the ULS bindings, not yet in python/src/uls/"},
+    {"src/core/sample.cpp", "the names of SampleKind's per-family values"},
+    {"src/core/sample_quality.cpp", "each family's speed, accuracy and range for the spike check"},
+    {"src/core/spike_check.cpp", "judges ULS averaging and LS5 result samples with their family's accuracy"},
+    {"src/record/capture.cpp", "core::Sample still carries each family's fields: a ULS binning's targets"},
+    {"src/record/capture_pages.cpp", "core::Sample still carries each family's fields: ULS look down's overflow"},
+    {"src/record/format.cpp", "core::Sample still carries each family's fields"},
+    {"src/record/interface_log.cpp", "the .log layout is the ULS Interface Program's, for ULS samples only"},
+    {"src/record/names.cpp", "the table of SampleKind's per-family names"},
+    {"src/record/replay.cpp", "core::Sample still carries each family's fields: ULS look down's overflow"},
+    {"src/record/stream_loop.cpp", "counts ULS error samples as errors"},
+    {"src/web/metrics.cpp", "the no-signal metric's help says what an LS5 reports"},
+    {"web/src/api.ts", "a sensor's family is the type 'uls' | 'ls5'"},
+    {"web/src/card.ts", "a card's badge title per family and the ULS look-down status"},
+    {"web/src/config_file.ts", "the file picker accepts ULS .uls config files"},
+    {"web/src/live_plot.ts", "an LS5 plot mode: result and derivative on two axes"},
+    {"web/src/ls5_page.css", "the LS5 page's styles, not yet in web/src/ls5/"},
+    {"web/src/ls5_page.ts", "the LS5 page, not yet in web/src/ls5/"},
+    {"web/src/ls5_panels.ts", "the LS5 page's panels, not yet in web/src/ls5/"},
+    {"web/src/main.ts", "picks the UlsPage or Ls5Page for a sensor's family"},
+    {"web/src/uls_page.ts", "the ULS page, not yet in web/src/uls/"},
+    {"web/src/uls_panels.ts", "the ULS page's panels, not yet in web/src/uls/"},
+};
+
+// The generic parts of the tree: each generic library's src/<library> and include/rangekit/<library>
+// (the CLI has no public headers), the Python and web folders and the CMake files. In a folder, a
+// family's own part beside the shared one (a folder or a Python module named after it,
+// web/src/uls/, python/rangekit/uls.py) is not generic.
+const std::vector<std::string> generic_libraries = {"core", "record", "hub", "web", "mqtt", "sim", "cli"};
+const std::vector<std::string> generic_folders = {"python/src", "python/rangekit", "web/src"};
+const std::vector<std::string> generic_files = {"CMakeLists.txt", "python/CMakeLists.txt"};  // and cmake/*.cmake
+
+const fs::path tree = rangekit::test::source_dir();
+
+std::string text_of(const fs::path& file) {
+  std::ifstream in(file);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The families, from the FAMILY(name) lines of the C++ registration list.
+std::vector<std::string> registered_family_names() {
+  const std::string list = text_of(tree / registration_lists.front());
+  const std::regex entry(R"(FAMILY\((\w+)\))");
+  std::vector<std::string> names;
+  for (std::sregex_iterator it(list.begin(), list.end(), entry), end; it != end; ++it) names.push_back((*it)[1]);
+  return names;
+}
+
+enum class Syntax { cpp, typescript, css, python, cmake };
+
+// Other files (py.typed, .clang-tidy) hold no code.
+std::optional<Syntax> syntax_of(const fs::path& file) {
+  const auto extension = file.extension();
+  if (extension == ".cpp" || extension == ".hpp" || extension == ".h") return Syntax::cpp;
+  if (extension == ".ts" || extension == ".js" || extension == ".mjs") return Syntax::typescript;
+  if (extension == ".css") return Syntax::css;
+  if (extension == ".py" || extension == ".pyi") return Syntax::python;
+  if (extension == ".cmake" || file.filename() == "CMakeLists.txt") return Syntax::cmake;
+  return std::nullopt;
+}
+
+// Where the string literal opening at `open` ends (one past its closing quote).
+std::size_t string_end(const std::string& text, std::size_t open) {
+  for (std::size_t at = open + 1; at < text.size(); ++at) {
+    if (text[at] == '\\') {
+      ++at;
+    } else if (text[at] == text[open]) {
+      return at + 1;
+    }
+  }
+  return text.size();
+}
+
+// Where the C++ raw string R"delimiter(...)delimiter" opening at `open` ends.
+std::size_t raw_string_end(const std::string& text, std::size_t open) {
+  const std::size_t paren = text.find('(', open);
+  if (paren == std::string::npos) return text.size();
+  const std::string close = ")" + text.substr(open + 2, paren - open - 2) + "\"";
+  const std::size_t end = text.find(close, paren);
+  return end == std::string::npos ? text.size() : end + close.size();
+}
+
+bool is_alnum(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0; }
+bool is_identifier(char c) { return is_alnum(c) || c == '_'; }
+
+// The text with its comments blanked out, lines kept. String literals stay ("uls" in one is
+// code); Python's docstrings go, since they are documentation like comments.
+std::string without_comments(std::string text, Syntax syntax) {
+  const bool slashes = syntax == Syntax::cpp || syntax == Syntax::typescript;
+  const bool blocks = slashes || syntax == Syntax::css;
+  const bool hashes = syntax == Syntax::python || syntax == Syntax::cmake;
+  const std::string quotes = syntax == Syntax::cmake ? "\"" : syntax == Syntax::typescript ? "\"'`" : "\"'";
+  const auto blank = [&](std::size_t from, std::size_t to) {
+    for (std::size_t at = from; at < to && at < text.size(); ++at) {
+      if (text[at] != '\n') text[at] = ' ';
+    }
+  };
+  std::size_t at = 0;
+  while (at < text.size()) {
+    const std::string_view rest = std::string_view(text).substr(at);
+    const char previous = at > 0 ? text[at - 1] : '\n';
+    std::size_t end = at + 1;
+    if ((slashes && rest.starts_with("//")) || (hashes && rest[0] == '#')) {
+      end = std::min(text.find('\n', at), text.size());
+      blank(at, end);
+    } else if (blocks && rest.starts_with("/*")) {
+      end = text.find("*/", at + 2);
+      end = end == std::string::npos ? text.size() : end + 2;
+      blank(at, end);
+    } else if (syntax == Syntax::python && (rest.starts_with(R"(""")") || rest.starts_with("'''"))) {
+      end = text.find(rest.substr(0, 3), at + 3);
+      end = end == std::string::npos ? text.size() : end + 3;
+      blank(at, end);
+    } else if (syntax == Syntax::cpp && rest.starts_with("R\"") && !is_identifier(previous)) {
+      end = raw_string_end(text, at);
+    } else if (quotes.find(rest[0]) != std::string::npos &&
+               !(rest[0] == '\'' && syntax == Syntax::cpp && is_alnum(previous))) {
+      end = string_end(text, at);  // in C++ a ' after a digit separates digits (16'384)
+    }
+    at = end;
+  }
+  return text;
+}
+
+struct Hit {
+  int line;
+  std::string token;
+};
+
+// Each place `code` names a family as a code token: as an identifier or a part of one, between
+// non-alphanumerics (`_` included: add_uls_command, "uls", rangekit/uls/) or at a camelCase
+// step (UlsPage, Ls5Page, readULS), in any case.
+std::vector<Hit> family_tokens(const std::string& code, const std::vector<std::string>& names) {
+  std::string lower = code;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const auto upper_at = [&](std::size_t at) { return std::isupper(static_cast<unsigned char>(code[at])) != 0; };
+  const auto lower_or_digit_at = [&](std::size_t at) { return is_alnum(code[at]) && !upper_at(at); };
+  std::map<std::size_t, Hit> hits;  // by position, so they come in the file's order
+  for (const std::string& name : names) {
+    for (std::size_t start = lower.find(name); start != std::string::npos; start = lower.find(name, start + 1)) {
+      const std::size_t end = start + name.size();
+      const bool starts = start == 0 || !is_alnum(code[start - 1]) || (upper_at(start) && lower_or_digit_at(start - 1));
+      const bool ends =
+          end == code.size() || !is_alnum(code[end]) ||
+          (upper_at(end) && (lower_or_digit_at(end - 1) || (end + 1 < code.size() && lower_or_digit_at(end + 1))));
+      if (!starts || !ends) continue;
+      std::size_t first = start;
+      std::size_t last = end;
+      while (first > 0 && is_identifier(code[first - 1])) --first;
+      while (last < code.size() && is_identifier(code[last])) ++last;
+      const auto line = 1 + std::count(code.begin(), code.begin() + static_cast<std::ptrdiff_t>(start), '\n');
+      hits[start] = {static_cast<int>(line), code.substr(first, last - first)};
+    }
+  }
+  std::vector<Hit> ordered;
+  ordered.reserve(hits.size());
+  for (auto& [position, hit] : hits) ordered.push_back(std::move(hit));
+  return ordered;
+}
+
+// Every generic file, relative to the tree.
+std::vector<std::string> generic_paths(const std::vector<std::string>& names) {
+  std::vector<std::string> paths = generic_files;
+  for (const auto& entry : fs::directory_iterator(tree / "cmake")) {
+    if (entry.path().extension() == ".cmake") paths.push_back(fs::relative(entry.path(), tree).string());
+  }
+  const auto family_part = [&](const fs::path& path) {
+    const std::string name = path.extension() == ".py" ? path.stem().string() : path.filename().string();
+    return std::find(names.begin(), names.end(), name) != names.end();
+  };
+  std::vector<std::string> folders = generic_folders;
+  for (const std::string& library : generic_libraries) {
+    folders.push_back("src/" + library);
+    if (fs::exists(tree / "include/rangekit" / library)) folders.push_back("include/rangekit/" + library);
+  }
+  for (const std::string& folder : folders) {
+    for (auto it = fs::recursive_directory_iterator(tree / folder); it != fs::recursive_directory_iterator(); ++it) {
+      if (it.depth() == 0 && family_part(it->path())) {
+        it.disable_recursion_pending();
+        continue;
+      }
+      if (it->is_regular_file()) paths.push_back(fs::relative(it->path(), tree).string());
+    }
+  }
+  std::erase_if(paths, [](const std::string& path) {
+    return std::find(registration_lists.begin(), registration_lists.end(), path) != registration_lists.end();
+  });
+  return paths;
+}
+
+// The generic files that name a family, with where.
+std::map<std::string, std::vector<Hit>> generic_files_naming_a_family() {
+  const std::vector<std::string> names = registered_family_names();
+  std::map<std::string, std::vector<Hit>> found;
+  for (const std::string& path : generic_paths(names)) {
+    const auto syntax = syntax_of(path);
+    if (!syntax) continue;
+    auto hits = family_tokens(without_comments(text_of(tree / path), *syntax), names);
+    if (!hits.empty()) found[path] = std::move(hits);
+  }
+  return found;
+}
+
+std::string where(const std::string& path, const std::vector<Hit>& hits) {
+  constexpr std::size_t shown = 5;
+  std::string text;
+  for (std::size_t i = 0; i < hits.size() && i < shown; ++i) {
+    text += "\n  " + path + ":" + std::to_string(hits[i].line) + ": `" + hits[i].token + "`";
+  }
+  if (hits.size() > shown) text += "\n  ... and " + std::to_string(hits.size() - shown) + " more";
+  return text;
+}
+
+TEST(FamilyNames, GenericFilesNameNoFamily) {
+  for (const std::string& list : registration_lists) {
+    ASSERT_TRUE(fs::exists(tree / list)) << list << " is missing: it is the registration list of the families";
+  }
+  ASSERT_FALSE(registered_family_names().empty()) << registration_lists.front() << " has no FAMILY(name) line";
+  const auto found = generic_files_naming_a_family();
+  for (const auto& [path, hits] : found) {
+    if (known_remaining.contains(path)) continue;
+    ADD_FAILURE() << path << " is generic but names a family:" << where(path, hits)
+                  << "\nGeneric code names no family: move the family's part into its folder, or ask the family "
+                     "(core/family.hpp, hub/service_family.hpp, cli/cli_family.hpp).";
+  }
+  for (const auto& [path, why] : known_remaining) {
+    if (!found.contains(path)) {
+      ADD_FAILURE() << path << " names no family any more: remove it from the list known_remaining in "
+                    << "tests/architecture/family_names_test.cpp.";
+    }
+  }
+}
+
+TEST(FamilyNames, CountOfGenericFilesNamingAFamily) {
+  const auto count = generic_files_naming_a_family().size();
+  RecordProperty("generic_files_naming_a_family", static_cast<int>(count));
+  std::cout << count << " generic files still name a family\n";
+}
+
+}  // namespace
