@@ -23,7 +23,7 @@ class ServeMonitor {
  private:
   std::FILE* out_;
   bool table_;
-  std::size_t drawn_ = 0;                     // table lines on the screen, redrawn in place
+  std::size_t drawn_ = 0;                    // table lines on the screen, redrawn in place
   std::map<std::string, std::string> said_;  // sensor -> the state last said
 };
 

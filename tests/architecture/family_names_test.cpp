@@ -21,7 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // The files that name every family by design, one line each; a web or Python list joins them here.
-const std::vector<std::string> registration_lists = {"src/families/list.hpp"};
+const std::vector<std::string> registration_lists = {"src/families/list.hpp", "web/src/families.ts"};
 
 // Generic files that still name a family, and why. The list only shrinks: a file that no longer
 // names one fails the test until it is taken out of the list.
@@ -30,16 +30,8 @@ const std::map<std::string, std::string> known_remaining = {
     {"cmake/architecture.cmake", "the link rule names each family library's allowed links"},
     {"include/rangekit/core/sample.hpp", "SampleKind's values are the families' kinds (uls_averaging, ls5_result)"},
     {"include/rangekit/core/sample_quality.hpp", "the spike check's defaults: each family's speed and accuracy"},
-    {"python/CMakeLists.txt", "builds each family's bindings (src/uls.cpp, src/ls5.cpp) and links its library"},
-    {"python/rangekit/__init__.py", "imports and exports the family modules rangekit.uls and rangekit.ls5"},
+    {"python/CMakeLists.txt", "links each family's library into the module by name"},
     {"python/rangekit/_rangekit.pyi", "the stub declares each family's submodule of _rangekit"},
-    {"python/rangekit/sim.py", "Emulator checks the family, has uls() and ls5() and the ULS config port"},
-    {"python/src/capture.cpp", "read_capture's docstring gives the families' device values"},
-    {"python/src/common.hpp", "declares each family's binding function (init_uls, init_ls5)"},
-    {"python/src/ls5.cpp", "the LS5 bindings, not yet in python/src/ls5/"},
-    {"python/src/module.cpp", "calls each family's binding function"},
-    {"python/src/samples.cpp", "Sample's per-family fields and docstrings; flags from ULS error numbers"},
-    {"python/src/uls.cpp", "the ULS bindings, not yet in python/src/uls/"},
     {"src/core/sample.cpp", "the names of SampleKind's per-family values"},
     {"src/core/sample_quality.cpp", "each family's speed, accuracy and range for the spike check"},
     {"src/core/spike_check.cpp", "judges ULS averaging and LS5 result samples with their family's accuracy"},
@@ -51,16 +43,6 @@ const std::map<std::string, std::string> known_remaining = {
     {"src/record/replay.cpp", "core::Sample still carries each family's fields: ULS look down's overflow"},
     {"src/record/stream_loop.cpp", "counts ULS error samples as errors"},
     {"src/web/metrics.cpp", "the no-signal metric's help says what an LS5 reports"},
-    {"web/src/api.ts", "a sensor's family is the type 'uls' | 'ls5'"},
-    {"web/src/card.ts", "a card's badge title per family and the ULS look-down status"},
-    {"web/src/config_file.ts", "the file picker accepts ULS .uls config files"},
-    {"web/src/live_plot.ts", "an LS5 plot mode: result and derivative on two axes"},
-    {"web/src/ls5_page.css", "the LS5 page's styles, not yet in web/src/ls5/"},
-    {"web/src/ls5_page.ts", "the LS5 page, not yet in web/src/ls5/"},
-    {"web/src/ls5_panels.ts", "the LS5 page's panels, not yet in web/src/ls5/"},
-    {"web/src/main.ts", "picks the UlsPage or Ls5Page for a sensor's family"},
-    {"web/src/uls_page.ts", "the ULS page, not yet in web/src/uls/"},
-    {"web/src/uls_panels.ts", "the ULS page's panels, not yet in web/src/uls/"},
 };
 
 // The generic parts of the tree: each generic library's src/<library> and include/rangekit/<library>

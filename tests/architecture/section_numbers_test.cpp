@@ -160,11 +160,11 @@ std::vector<ScriptLiteral> script_literals_of(const std::string& source) {
 const std::regex dashboard_foot_file(R"(web/src/[a-z0-9_]+/index\.ts$)");
 
 TEST(Messages, NameNoSectionOfTheDocuments) {
-  const fs::path tree = rangekit::test::source_dir();
+  const fs::path source_tree = rangekit::test::source_dir();
   std::vector<std::string> offenders;
   for (const char* top : {"src", "include"}) {
-    for (const auto& entry : fs::recursive_directory_iterator(tree / top)) {
-      const std::string path = fs::relative(entry.path(), tree).string();
+    for (const auto& entry : fs::recursive_directory_iterator(source_tree / top)) {
+      const std::string path = fs::relative(entry.path(), source_tree).string();
       if (!entry.is_regular_file() || std::regex_search(path, section_citing_file)) continue;
       if (entry.path().extension() != ".cpp" && entry.path().extension() != ".hpp") continue;
       std::ifstream in(entry.path());
@@ -188,13 +188,13 @@ TEST(Messages, NameNoSectionOfTheDocuments) {
 // The dashboard's texts too, and also "table 9.2" or "formula 8.3": a label, hint or message
 // says it in words; the foot of a family's page names the document's sections once.
 TEST(Messages, DashboardNamesNoSectionOutsideAPagesFoot) {
-  const fs::path tree = rangekit::test::source_dir();
+  const fs::path source_tree = rangekit::test::source_dir();
   const std::regex cites(R"(§|\b(table|formulas?) [0-9]+\.[0-9])", std::regex::icase);
   std::vector<std::string> offenders;
   std::size_t feet = 0;
-  for (const auto& entry : fs::recursive_directory_iterator(tree / "web/src")) {
+  for (const auto& entry : fs::recursive_directory_iterator(source_tree / "web/src")) {
     if (!entry.is_regular_file() || entry.path().extension() != ".ts") continue;
-    const std::string path = fs::relative(entry.path(), tree).string();
+    const std::string path = fs::relative(entry.path(), source_tree).string();
     std::ifstream in(entry.path());
     std::stringstream source;
     source << in.rdbuf();
