@@ -113,11 +113,32 @@ export async function listFamilies(): Promise<Family[]> {
 }
 
 // One sensor's own stream, every sample unmerged (a sensor page's live plot).
-export function sensorEventsUrl(name: string): string {
+function sensorEventsUrl(name: string): string {
   const query = new URLSearchParams();
   const value = token();
   if (value) query.set('token', value);
   return `/api/sensors/${encodeURIComponent(name)}/events?${query.toString()}`;
+}
+
+// What a sensor page does with its stream: each sample with its reading, each event by its
+// name, and a resume that skipped items (the service restarted, or kept no more of them).
+export interface SensorEventHandlers<S> {
+  sample(data: S, reading: Reading | undefined): void;
+  event(kind: string): void;
+  resumed(): void;
+}
+
+export function openSensorEvents<S>(name: string, on: SensorEventHandlers<S>): EventSource {
+  const source = new EventSource(sensorEventsUrl(name));
+  source.addEventListener('sample', (message) => {
+    const item = JSON.parse((message as MessageEvent<string>).data) as { data: S; reading?: Reading };
+    on.sample(item.data, item.reading);
+  });
+  source.addEventListener('event', (message) => {
+    on.event((JSON.parse((message as MessageEvent<string>).data) as { data: { event: string } }).data.event);
+  });
+  source.addEventListener('resume', () => on.resumed());
+  return source;
 }
 
 export function eventsUrl(maxRate: number): string {

@@ -2,7 +2,7 @@
 // latching (FX/FR), table 9.2's parameters (ls5_panels.ts) and the live plot. An LS5 heard
 // over UDP only (§10) gets the stream and a word on why it has no settings.
 import type { Reading, Sensor } from '../api';
-import { authorisedFetch, sensorEventsUrl } from '../api';
+import { authorisedFetch, openSensorEvents } from '../api';
 import { LivePlot } from '../live_plot';
 import { Ls5Panels } from './ls5_panels';
 import {
@@ -213,17 +213,14 @@ export class Ls5Page {
 
   open(): void {
     this.source?.close();
-    this.source = new EventSource(sensorEventsUrl(this.name));
-    this.source.addEventListener('sample', (message) => {
-      const item = JSON.parse((message as MessageEvent<string>).data) as { data: Ls5Sample; reading?: Reading };
-      this.sample(item.data, item.reading);
+    const gap = () => this.plot.gap(Date.now() / 1000);
+    this.source = openSensorEvents<Ls5Sample>(this.name, {
+      sample: (data, reading) => this.sample(data, reading),
+      event: (kind) => {
+        if (kind === 'disconnected' || kind === 'lost_records') gap();
+      },
+      resumed: gap,  // nothing is drawn across skipped items
     });
-    this.source.addEventListener('event', (message) => {
-      const item = JSON.parse((message as MessageEvent<string>).data) as { data: { event: string } };
-      if (item.data.event === 'disconnected' || item.data.event === 'lost_records') this.plot.gap(Date.now() / 1000);
-    });
-    // A resume that skipped items (the service restarted, or kept no more of them): nothing is drawn across it.
-    this.source.addEventListener('resume', () => this.plot.gap(Date.now() / 1000));
     this.plot.start();
   }
 

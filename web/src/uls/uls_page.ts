@@ -2,7 +2,7 @@
 // choice and §2's buttons, with the parameter panels, configuration files, capture, RS-485
 // network and live plot from their own modules.
 import type { Reading, Sensor } from '../api';
-import { authorisedFetch, sensorEventsUrl } from '../api';
+import { authorisedFetch, openSensorEvents } from '../api';
 import { CapturePanel } from '../capture_panel';
 import { ConfigFilePanel } from '../config_file';
 import { Rs485Network } from './rs485_network';
@@ -147,22 +147,16 @@ export class UlsPage {
 
   open(): void {
     this.source?.close();
-    this.source = new EventSource(sensorEventsUrl(this.name));
-    this.source.addEventListener('sample', (message) => {
-      const item = JSON.parse((message as MessageEvent<string>).data) as { data: UlsSample; reading?: Reading };
-      this.sample(item.data, item.reading);
+    const gap = () => this.plot.gap(Date.now() / 1000);
+    this.source = openSensorEvents<UlsSample>(this.name, {
+      sample: (data, reading) => this.sample(data, reading),
+      event: (kind) => {
+        if (kind === 'disconnected') this.set('connected', false);
+        if (kind === 'disconnected' || kind === 'lost_records') gap();
+        if (kind === 'connected' || kind === 'reconnected') this.set('connected', true);
+      },
+      resumed: gap,  // nothing is drawn across skipped items
     });
-    this.source.addEventListener('event', (message) => {
-      const item = JSON.parse((message as MessageEvent<string>).data) as { data: { event: string } };
-      if (item.data.event === 'disconnected') {
-        this.set('connected', false);
-        this.plot.gap(Date.now() / 1000);
-      }
-      if (item.data.event === 'lost_records') this.plot.gap(Date.now() / 1000);
-      if (item.data.event === 'connected' || item.data.event === 'reconnected') this.set('connected', true);
-    });
-    // A resume that skipped items (the service restarted, or kept no more of them): nothing is drawn across it.
-    this.source.addEventListener('resume', () => this.plot.gap(Date.now() / 1000));
     this.tick = window.setInterval(() => this.updateBasic(), 500);
     this.plot.start();
   }
