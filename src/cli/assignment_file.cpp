@@ -1,9 +1,9 @@
 #include "cli/assignment_file.hpp"
 
 #include <cerrno>
-#include <cstring>
 #include <fstream>
 #include <iostream>
+#include <system_error>
 
 #include "rangekit/core/text.hpp"
 
@@ -30,7 +30,7 @@ Result<std::vector<std::string>> read_assignments(const std::string& path) {
   std::ifstream file;
   if (path != "-") {
     file.open(path);
-    if (!file) return make_error(Errc::io, "cannot read " + path + ": " + std::strerror(errno));
+    if (!file) return make_error(Errc::io, "cannot read " + path + ": " + std::generic_category().message(errno));
   }
   std::istream& in = path == "-" ? std::cin : file;
   const std::string name = path == "-" ? "standard input" : path;

@@ -166,7 +166,7 @@ Status check_still_unassigned(Driver& driver) {
                                           "; an address can be changed (address=B), not taken away");
 }
 
-int run_set(const LinkOptions& link, std::vector<std::string> assignments, const std::string& from) {
+int run_set(const LinkOptions& link, const std::vector<std::string>& assignments, const std::string& from) {
   Skipped skipped;
   std::vector<std::pair<std::string, std::string>> pairs;
   if (!from.empty()) {

@@ -203,7 +203,7 @@ std::optional<std::string> typed_value(const toml::node& node) {
 }
 
 // The setting a key names, as `get` names it; the reasons a key is not one, said.
-Result<const CommandInfo*> config_setting(std::string_view key, const std::vector<const CommandInfo*>& commands) {
+Result<const CommandInfo*> config_setting(std::string_view key, const std::vector<const CommandInfo*>& kept) {
   auto target = named::find_setting(key, named::Purpose::get);
   if (!target) {
     const std::string& message = target.error().message;
@@ -216,7 +216,7 @@ Result<const CommandInfo*> config_setting(std::string_view key, const std::vecto
   if (target->raw)
     return make_error(Errc::unknown_command, "is a mnemonic: a config file names it as `rangekit uls get` does, " +
                                                  named::setting_key(*command));
-  if (std::find(commands.begin(), commands.end(), command) == commands.end())
+  if (std::find(kept.begin(), kept.end(), command) == kept.end())
     return make_error(Errc::unknown_command,
                       "is not kept in a config file (the baud rate and the address would "
                       "cut the link; the others are only read)");
