@@ -53,10 +53,12 @@ Firmware::CommandHandler Firmware::handler(CommandId id) noexcept {
       {Id::address, &Firmware::handle_address},
       {Id::offset, &Firmware::handle_distance<&Settings::offset_m>},
   }};
+  // A row left out leaves a default one, whose id 0 is out of order too. (Comparing the member
+  // pointers with nullptr is no constant expression under the sanitizers.)
   static_assert(
       [] {
         for (std::size_t i = 0; i < rows.size(); ++i) {
-          if (static_cast<std::size_t>(rows[i].id) != i || rows[i].handle == nullptr) return false;
+          if (static_cast<std::size_t>(rows[i].id) != i) return false;
         }
         return true;
       }(),
