@@ -107,4 +107,10 @@ std::string error_text_of(std::string_view family_name, int number) {
 
 std::string error_text_of(const Sample& sample, int number) { return error_text_of(sample.device, number); }
 
+std::string address_text_of(std::string_view family_name, int address) {
+  const FamilyDescriptor* family = find_family(family_name);
+  if (family == nullptr || family->address_text == nullptr) return std::to_string(address);
+  return family->address_text(address);
+}
+
 }  // namespace rangekit

@@ -6,17 +6,14 @@
 #include <map>
 
 #include "hub/port_worker.hpp"
+#include "rangekit/core/family.hpp"
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/hub/backend.hpp"
 #include "rangekit/hub/service_family.hpp"
 
 namespace rangekit::hub {
 
-std::string bus_address_text(std::string_view family, std::uint8_t address) {
-  const ServiceFamily* found = find_service_family(family);
-  if (found == nullptr || found->address_text == nullptr) return std::to_string(address);
-  return found->address_text(address);
-}
+std::string bus_address_text(std::string_view family, std::uint8_t address) { return address_text_of(family, address); }
 
 std::optional<std::uint8_t> parse_bus_address(std::string_view family, std::string_view text) {
   const ServiceFamily* found = find_service_family(family);

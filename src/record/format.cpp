@@ -319,9 +319,9 @@ void append_text(std::string& out, const Sample& sample) {
   append_clock_time(out, sample.time);
   out += ' ';
   out += sample.device;
-  if (sample.address >= 0) {
-    out += " #";
-    append_int(out, sample.address);
+  if (sample.address >= 0) {  // as the family writes it, the site file's "A" for a bus unit
+    out += ' ';
+    out += address_text_of(sample.device, sample.address);
   }
   switch (sample.kind) {
     case SampleKind::uls_averaging:

@@ -4,6 +4,7 @@
 #include <array>
 
 #include "rangekit/uls/errors.hpp"
+#include "rangekit/uls/formulas.hpp"
 
 namespace rangekit::uls {
 namespace {
@@ -46,12 +47,19 @@ std::optional<Reading> reading(const Sample& sample) {
   }
 }
 
+// A unit address is one byte (0x30-0xEF, §8 RS485 Protocol): its character, or hex.
+std::string unit_address_text(int address) {
+  if (address < 0 || address > 0xFF) return std::to_string(address);
+  return address_text(static_cast<std::uint8_t>(address));
+}
+
 constexpr FamilyDescriptor descriptor{
     .name = "uls",
     .title = "LTI Universal Laser Sensor",
     .channels = channels,
     .reading = reading,
     .error_text = error_text,
+    .address_text = unit_address_text,
 };
 
 }  // namespace

@@ -147,4 +147,22 @@ std::optional<std::uint8_t> unit_address_char(std::uint64_t value) noexcept {
   return static_cast<std::uint8_t>(value);
 }
 
+std::string address_text(std::uint8_t address) {
+  if (address >= 0x21 && address < 0x7F) return std::string(1, static_cast<char>(address));
+  return "0x" + text::hex_byte(address);
+}
+
+std::optional<std::uint8_t> parse_unit_address(std::string_view text) {
+  std::optional<std::uint64_t> value;
+  if (text.size() == 1) {
+    value = static_cast<unsigned char>(text[0]);
+  } else if (text.size() > 2 && text[0] == '0' && (text[1] == 'x' || text[1] == 'X')) {
+    value = text::parse_hex(text.substr(2), 2);
+  } else {
+    value = text::parse_unsigned(text, 3);
+  }
+  if (!value || *value < first_unit_address || *value > last_unit_address) return std::nullopt;
+  return static_cast<std::uint8_t>(*value);
+}
+
 }  // namespace rangekit::uls

@@ -82,7 +82,7 @@ TEST(Jsonl, U88_UlsLookDownOverflowIsMoreThan65535PulsesNotZero) {
             "\"kind\":\"look_down\",\"presence\":true,\"pulses_between_events\":null,\"pulses_overflow\":true}\n");
   EXPECT_EQ(csv(uls_look_down_overflow()),
             "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,,,,,,,true,,false,\n");
-  EXPECT_EQ(text(uls_look_down_overflow()), "01:02:03.456 uls #0  present  pulses >65535\n");
+  EXPECT_EQ(text(uls_look_down_overflow()), "01:02:03.456 uls 0x00  present  pulses >65535\n");
 }
 
 TEST(Jsonl, UlsError) {
@@ -145,15 +145,31 @@ TEST(Csv, QuotesFieldsWithCommasOrQuotes) {
 
 TEST(Text, ReadableLinePerFamily) {
   // U92: the pulse width with its unit (ps on the wire, U8, shown in ns).
-  EXPECT_EQ(text(uls_averaging()), "01:02:03.456 uls #3  12.345 m  pw 18.000 ns\n");
+  EXPECT_EQ(text(uls_averaging()), "01:02:03.456 uls 0x03  12.345 m  pw 18.000 ns\n");
   EXPECT_EQ(text(uls_binning()), "01:02:03.456 uls  4.572 m (42)  7.100 m (13)\n");
-  EXPECT_EQ(text(uls_look_down()), "01:02:03.456 uls #0  present  pulses 250\n");
+  EXPECT_EQ(text(uls_look_down()), "01:02:03.456 uls 0x00  present  pulses 250\n");
   // U90: §10 "4 | Lock Not Found | Target Not Found", not a bare number.
-  EXPECT_EQ(text(uls_error()), "01:02:03.456 uls #3  error 4: Lock Not Found (display: Target Not Found)\n");
+  EXPECT_EQ(text(uls_error()), "01:02:03.456 uls 0x03  error 4: Lock Not Found (display: Target Not Found)\n");
   EXPECT_EQ(text(ls5_result(12345, 1234.5, SignalState::ok)), "01:02:03.456 ls5  1234.50 mm  code 12345\n");
   EXPECT_EQ(text(ls5_result(65535, std::nullopt, SignalState::lost)), "01:02:03.456 ls5  no signal  code 65535\n");
   EXPECT_EQ(text(ls5_result(65534, std::nullopt, SignalState::none_yet)),
             "01:02:03.456 ls5  no measurement yet  code 65534\n");
+}
+
+// docs/cli.md "One vocabulary": a person reads a unit address as its family writes it, a ULS
+// unit's as the §8 UA table's character ('A', not 65) or in hex where there is none; an LS5
+// network address in decimal. The machine formats keep the byte on the wire.
+TEST(Text, TheAddressIsSpeltAsItsFamilyWritesIt) {
+  auto bus_unit = uls_averaging();
+  bus_unit.address = 'A';
+  EXPECT_EQ(text(bus_unit), "01:02:03.456 uls A  12.345 m  pw 18.000 ns\n");
+  EXPECT_EQ(csv(bus_unit), "2026-11-26T01:02:03.456Z,uls,65,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,,,,false,\n");
+  EXPECT_NE(jsonl(bus_unit).find("\"address\":65,"), std::string::npos);
+  bus_unit.address = 0x9C;  // §8 RS485 Protocol: 0x30-0xEF, beyond what a terminal shows
+  EXPECT_EQ(text(bus_unit), "01:02:03.456 uls 0x9C  12.345 m  pw 18.000 ns\n");
+  auto networked = ls5_result(12345, 1234.5, SignalState::ok);
+  networked.address = 26;
+  EXPECT_EQ(text(networked), "01:02:03.456 ls5 26  1234.50 mm  code 12345\n");
 }
 
 // docs/conformance.md L63. Table 3.1: discreteness "up to 10 mm inclusive 0.0001",

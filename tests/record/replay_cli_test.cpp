@@ -94,12 +94,14 @@ TEST(ReplayCli, U102_L71_ReplayKeepsTheRecordedFlagsAndDropSuspectLeavesThemOut)
 
 TEST(ReplayCli, TextToAFile) {
   TempDir dir;
-  const auto capture = make_capture(dir, {uls_averaging()});
+  auto bus_unit = uls_averaging();
+  bus_unit.address = 'A';  // the capture keeps the byte (65); a person reads the character
+  const auto capture = make_capture(dir, {bus_unit});
   const auto out = dir.file("out.txt");
   const auto result = run({"replay", capture, "--full-speed", "--out", out});
   EXPECT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(result.out, "");
-  EXPECT_EQ(read_file(out), "01:02:03.456 uls #3  12.345 m  pw 18.000 ns\n");
+  EXPECT_EQ(read_file(out), "01:02:03.456 uls A  12.345 m  pw 18.000 ns\n");
 }
 
 TEST(ReplayCli, NotACaptureIsExitFourNamingTheFile) {

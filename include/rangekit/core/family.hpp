@@ -21,6 +21,9 @@ struct FamilyDescriptor {
   std::optional<Reading> (*reading)(const Sample& sample) = nullptr;
   // The sensor's own words for its error number, or "" when it has none.
   std::string (*error_text)(int number) = nullptr;
+  // A unit address as the family's documents and site file write it ("A", "0x9C"); none: in
+  // decimal, as every other number. Whatever a person reads spells an address this way.
+  std::string (*address_text)(int address) = nullptr;
 };
 
 // Adds a family; a second one of the same name replaces the first. Called from the
@@ -37,5 +40,7 @@ std::optional<Reading> reading_of(const Sample& sample);
 // The family's words for an error number of its, "" when it has none.
 std::string error_text_of(std::string_view family, int number);
 std::string error_text_of(const Sample& sample, int number);
+// The family's spelling of a unit address; decimal for a family not registered.
+std::string address_text_of(std::string_view family, int address);
 
 }  // namespace rangekit

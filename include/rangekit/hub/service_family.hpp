@@ -44,8 +44,8 @@ struct ServiceFamily {
                                            const PortOpener& open) = nullptr;
   std::unique_ptr<Backend> (*udp_backend)(Session& session, Publisher& publisher) = nullptr;
 
-  // Bus addresses as the family writes them, such text read back, and what a bus scan asks.
-  std::string (*address_text)(std::uint8_t address) = nullptr;
+  // A bus address's text read back ("A", "0x41"; the FamilyDescriptor writes it), and what a
+  // bus scan asks.
   std::optional<std::uint8_t> (*parse_address_text)(std::string_view text) = nullptr;
   std::string_view address_help;  // "0x30..0xEF, e.g. 'E'"
   std::vector<std::uint8_t> (*scan_addresses)() = nullptr;

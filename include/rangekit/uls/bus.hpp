@@ -14,6 +14,7 @@
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/sample.hpp"
 #include "rangekit/uls/driver.hpp"
+#include "rangekit/uls/formulas.hpp"  // IWYU pragma: export (unit addresses as text)
 
 namespace rangekit::uls {
 
@@ -47,10 +48,6 @@ struct PollResult {
 std::vector<std::uint8_t> typable_addresses();
 // Every unit address 0x30..0xEF.
 std::vector<std::uint8_t> all_unit_addresses();
-// "A", or "0xC5" for bytes a terminal cannot show.
-std::string address_text(std::uint8_t address);
-// Reads "A", "0x41" or "65"; none when it is not a unit address 0x30..0xEF.
-std::optional<std::uint8_t> parse_unit_address(std::string_view text);
 
 class Bus {
  public:

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "rangekit/uls/types.hpp"
@@ -120,5 +121,9 @@ double distance_to_metres(double value, Units units, double min_m, double max_m)
 constexpr int unit_address_value(std::uint8_t address_char) noexcept { return address_char; }
 // The character for a decimal value in 0x30..0xEF, none otherwise.
 std::optional<std::uint8_t> unit_address_char(std::uint64_t value) noexcept;
+// "A", or "0xC5" for bytes a terminal cannot show.
+std::string address_text(std::uint8_t address);
+// Reads "A", "0x41" or "65"; none when it is not a unit address 0x30..0xEF.
+std::optional<std::uint8_t> parse_unit_address(std::string_view text);
 
 }  // namespace rangekit::uls

@@ -55,7 +55,6 @@ const hub::ServiceFamily descriptor{
     .one_per_port = "an LS5 stream holds its line, so one LS5 per port",
     .port_backend = make_port_backend,
     .udp_backend = make_udp_backend,
-    .address_text = nullptr,
     .parse_address_text = nullptr,
     .address_help = {},
     .scan_addresses = nullptr,

@@ -1,7 +1,5 @@
 #include "rangekit/uls/bus.hpp"
 
-#include "rangekit/core/text.hpp"
-
 namespace rangekit::uls {
 
 namespace {
@@ -28,24 +26,6 @@ std::vector<std::uint8_t> all_unit_addresses() {
   std::vector<std::uint8_t> list;
   for (int a = first_unit_address; a <= last_unit_address; ++a) list.push_back(static_cast<std::uint8_t>(a));
   return list;
-}
-
-std::string address_text(std::uint8_t address) {
-  if (address >= 0x21 && address < 0x7F) return std::string(1, static_cast<char>(address));
-  return "0x" + text::hex_byte(address);
-}
-
-std::optional<std::uint8_t> parse_unit_address(std::string_view text) {
-  std::optional<std::uint64_t> value;
-  if (text.size() == 1) {
-    value = static_cast<unsigned char>(text[0]);
-  } else if (text.size() > 2 && text[0] == '0' && (text[1] == 'x' || text[1] == 'X')) {
-    value = text::parse_hex(text.substr(2), 2);
-  } else {
-    value = text::parse_unsigned(text, 3);
-  }
-  if (!value || *value < first_unit_address || *value > last_unit_address) return std::nullopt;
-  return static_cast<std::uint8_t>(*value);
 }
 
 Bus::Bus(TransportPtr transport, BusOptions options)

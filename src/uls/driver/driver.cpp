@@ -9,6 +9,7 @@
 #include "rangekit/core/text.hpp"
 #include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/errors.hpp"
+#include "rangekit/uls/formulas.hpp"
 #include "rangekit/uls/frame.hpp"
 #include "uls/driver/binning_array.hpp"
 
@@ -428,8 +429,7 @@ Result<std::vector<std::string>> Driver::transact(const CommandInfo& command, st
     }
     if (link_error) return *link_error;
   }
-  const std::string who =
-      options_.address ? " at address '" + std::string(1, static_cast<char>(*options_.address)) + "'" : std::string();
+  const std::string who = options_.address ? " at address '" + address_text(*options_.address) + "'" : std::string();
   return make_error(Errc::timeout, "no reply to $" + std::string(command.mnemonic) + " from " + options_.source + who +
                                        " within " + std::to_string(timeout.count()) +
                                        " ms (check the port, the baud rate and the address)");

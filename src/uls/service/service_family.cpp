@@ -41,7 +41,6 @@ const hub::ServiceFamily descriptor{
     .one_per_port = {},
     .port_backend = make_port_backend,
     .udp_backend = nullptr,
-    .address_text = address_text,
     .parse_address_text = parse_unit_address,
     .address_help = "0x30..0xEF, e.g. 'E'",
     .scan_addresses = typable_addresses,  // §8 UA: a-z, A-Z, 0-9
