@@ -69,7 +69,12 @@ nlohmann::json sensor_json(const SensorSnapshot& sensor) {
     if (!field.unit.empty()) units[field.key] = field.unit;
   }
   out["setting_units"] = units;
-  if (config.address) out["address"] = *config.address;
+  // One spelling per object: the family's, as the site file and `identity` write it; the byte
+  // on the wire apart, as samples carry it.
+  if (config.address) {
+    out["address"] = address_text_of(config.family, *config.address);
+    out["address_code"] = *config.address;
+  }
   if (!config.udp.empty()) out["udp"] = config.udp;
   // Quality settings from the site file; null max_speed = the family default.
   out["max_speed"] = config.max_speed_mps ? nlohmann::json(*config.max_speed_mps) : nlohmann::json(nullptr);

@@ -49,8 +49,8 @@ struct Ls5 {
   hub::SiteConfig site;
   Ls5() {
     EXPECT_NE(sim.read_line().find("ready"), std::string::npos);
-    auto parsed =
-        hub::parse_site_config("[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"" + port + "\"\n", "site.toml");
+    auto parsed = hub::parse_site_config(
+        "[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"" + port + "\"\naddress = 1\n", "site.toml");
     EXPECT_TRUE(parsed.ok());
     if (parsed) site = *parsed;
   }
@@ -264,6 +264,9 @@ TEST(MqttBridge, RetainedStatusAvailabilityAndDiscoveryAreThereForALateSubscribe
   const auto status_json = nlohmann::json::parse(status->payload);
   EXPECT_EQ(status_json["name"], "belt");
   EXPECT_EQ(status_json["identity"]["serial"], 157);  // `sim ls5` default serial number (its --help)
+  // The address as the API spells it (docs/api.md): the LS5's in decimal, the byte apart.
+  EXPECT_EQ(status_json["address"], "1");
+  EXPECT_EQ(status_json["address_code"], 1);
   EXPECT_TRUE(status_json["health"]["connected"].get<bool>());
   const Heard* config = find(heard, distance);
   EXPECT_TRUE(config->retained);

@@ -79,8 +79,11 @@ TEST(WebApi, ListsEverySensorWithIdentityStatusAndHealth) {
   EXPECT_EQ(sensors[1]["settings"]["prf-hz"], nlohmann::json::parse("[2000,2000,2000]")) << sensors[1].dump();
   const Reply one = http(service.port, "GET", "/api/sensors/bay-C");
   ASSERT_EQ(one.status, 200);
+  // One spelling in one object: the site file's "C" (§8 UA table) beside `identity`'s, the byte once.
   EXPECT_EQ(json_of(one)["identity"]["address"], "C");
-  EXPECT_EQ(json_of(one)["address"], 0x43);  // §8 UA table: 'C'
+  EXPECT_EQ(json_of(one)["address"], "C");
+  EXPECT_EQ(json_of(one)["address_code"], 0x43);
+  EXPECT_FALSE(sensors[1].contains("address")) << sensors[1].dump();  // alone on its port: none
   const Reply health = http(service.port, "GET", "/healthz");
   EXPECT_EQ(health.status, 200);
   EXPECT_EQ(json_of(health)["status"], "ok");

@@ -19,7 +19,8 @@ export interface Sensor {
   name: string;
   family: string;  // a name of GET /api/families
   port: string;
-  address?: number;
+  address?: string;       // the unit address as its family writes it: "A", "0x9C", "26"
+  address_code?: number;  // the same address as the byte on the wire
   udp?: string;
   connected: boolean;
   streaming: boolean;

@@ -61,12 +61,12 @@ export class Rs485Network {
         'site file): the RS-485 network is for units addressed on a bus.'));
       return;
     }
-    this.address = String.fromCharCode(address);
+    this.address = address;
     this.siteAddress = this.address;
     // The site file's other units on this port, marked from the start (§7's asterisks).
     listSensors().then((sensors) => {
       for (const other of sensors) {
-        if (other.port === sensor.port && typeof other.address === 'number') this.site.set(String.fromCharCode(other.address), other.name);
+        if (other.port === sensor.port && other.address !== undefined) this.site.set(other.address, other.name);
       }
       this.fillSelect();
     }).catch(() => undefined);
