@@ -142,7 +142,8 @@ Result<Reading> decode_averaging(std::span<const std::string_view> fields, const
       break;
     }
     case DisplayMode::range_and_intensity: {
-      if (fields.size() != 2) return wrong_field_count("averaging line (display both)", fields.size(), 2);
+      if (fields.size() != 2)
+        return wrong_field_count("averaging line (display range-and-intensity)", fields.size(), 2);
       auto range = read_range(fields[0], context.units);
       if (!range) return std::move(range).error();
       auto width = read_unsigned(fields[1], max_pulse_width_digits, 9'999'999, "pulse width");

@@ -89,6 +89,24 @@ TEST(Cli, DecodeUlsBinningLines) {
   EXPECT_NE(run.output.find("binning target 2 of 2: 1234.567 m, strength 7"), std::string::npos) << run.output;
 }
 
+TEST(Cli, DecodeUlsTakesTheDisplaySettingsOwnValueNames) {
+  // §8 DM 2 "range and intensity", §9 "$BM,xxxx.xxx,yyyyyyy": the width in ps (U8), shown in ns.
+  // The names are the ones `uls get` prints for `display` and `mode`.
+  const auto both = run_cli("decode uls --display range-and-intensity", "$BM,50.000,33238\r");
+  EXPECT_EQ(both.exit_code, 0) << both.output;
+  EXPECT_NE(both.output.find("averaging: 50.000 m pulse width 33.238 ns"), std::string::npos) << both.output;
+  const auto intensity = run_cli("decode uls --display intensity", "$BM,33238\r");
+  EXPECT_EQ(intensity.exit_code, 0) << intensity.output;
+  EXPECT_NE(intensity.output.find("averaging: pulse width 33.238 ns"), std::string::npos) << intensity.output;
+  const auto look_down = run_cli("decode uls --mode look-down", "$BM,1\r");
+  EXPECT_EQ(look_down.exit_code, 0) << look_down.output;
+  EXPECT_NE(look_down.output.find("look down: ON (presence)"), std::string::npos) << look_down.output;
+  // The dashboard's word for DM 2 is not a value of the setting.
+  const auto refused = run_cli("decode uls --display both", "$BM,50.000,33238\r");
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("range-and-intensity"), std::string::npos) << refused.output;
+}
+
 TEST(Cli, DecodeLs5RequestsFromTheHost) {
   const auto run = run_cli("decode ls5 --from host", "#01ON\r#02W0B01\r");  // §9.4
   EXPECT_EQ(run.exit_code, 0) << run.output;

@@ -1,8 +1,12 @@
 // The ULS's options of `rangekit decode`: how the BM lines were configured, since a
 // measurement line reads differently in each mode (§8).
+#include <cstdint>
 #include <map>
 #include <memory>
+#include <string>
+#include <vector>
 
+#include "rangekit/uls/commands.hpp"
 #include "rangekit/uls/frame.hpp"
 #include "uls/cli/uls_cli.hpp"
 
@@ -16,25 +20,37 @@ struct UlsDecodeOptions {
   bool time_between_events = false;
 };
 
+// A setting's values as `get` prints them ("look-down", "range-and-intensity") with their
+// wire codes, so decode's options take the names a unit's settings are read and set by.
+std::map<std::string, std::uint32_t> codes_by_name(uls::CommandId id) {
+  std::map<std::string, std::uint32_t> codes;
+  for (const uls::ValueName& entry : uls::command_info(id).value_names) codes[uls::value_key(entry.name)] = entry.value;
+  return codes;
+}
+
+// The names in the document's order (the wire codes'), for the option's help.
+std::vector<std::string> names_of(uls::CommandId id) {
+  std::vector<std::string> names;
+  for (const uls::ValueName& entry : uls::command_info(id).value_names) names.push_back(uls::value_key(entry.name));
+  return names;
+}
+
 uls::MeasurementContext context_of(const UlsDecodeOptions& options) {
-  static const std::map<std::string, uls::Mode> modes{
-      {"averaging", uls::Mode::averaging}, {"binning", uls::Mode::binning}, {"look-down", uls::Mode::look_down}};
-  static const std::map<std::string, uls::DisplayMode> displays{{"range", uls::DisplayMode::range},
-                                                                {"both", uls::DisplayMode::range_and_intensity},
-                                                                {"intensity", uls::DisplayMode::intensity}};
-  return uls::MeasurementContext{modes.at(options.mode), displays.at(options.display),
-                                 options.units == "ft" ? uls::Units::feet : uls::Units::metres,
-                                 options.time_between_events};
+  static const auto modes = codes_by_name(uls::CommandId::mode);
+  static const auto displays = codes_by_name(uls::CommandId::display);
+  return uls::MeasurementContext{
+      static_cast<uls::Mode>(modes.at(options.mode)), static_cast<uls::DisplayMode>(displays.at(options.display)),
+      options.units == "ft" ? uls::Units::feet : uls::Units::metres, options.time_between_events};
 }
 
 }  // namespace
 
 DecoderFactory add_uls_decode_options(CLI::App& decode) {
   auto options = std::make_shared<UlsDecodeOptions>();
-  decode.add_option("--mode", options->mode, "ULS measurement mode the BM lines come from")
-      ->check(CLI::IsMember({"averaging", "binning", "look-down"}));
+  decode.add_option("--mode", options->mode, "ULS measurement mode the BM lines come from (MM)")
+      ->check(CLI::IsMember(names_of(uls::CommandId::mode)));
   decode.add_option("--display", options->display, "ULS averaging display mode (DM)")
-      ->check(CLI::IsMember({"range", "both", "intensity"}));
+      ->check(CLI::IsMember(names_of(uls::CommandId::display)));
   decode.add_option("--units", options->units, "ULS units (MU)")->check(CLI::IsMember({"m", "ft"}));
   decode.add_flag("--time-between-events", options->time_between_events, "ULS look down with TB on");
   return [options](Direction sender) {
