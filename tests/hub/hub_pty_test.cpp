@@ -67,7 +67,8 @@ TEST(HubPty, ServesAnLs5AUlsAndABusOfFourUnits) {
   ASSERT_TRUE(belt.ok());
   EXPECT_EQ(value_of(belt->identity, "version"), "LS5.12.0");
   EXPECT_EQ(value_of(belt->identity, "serial"), "157");
-  EXPECT_EQ(value_of(belt->identity, "range"), "40.001");
+  EXPECT_EQ(value_of(belt->identity, "range-mm"), "40.001");
+  EXPECT_EQ(value_of(belt->identity, "lower-boundary-mm"), "8.1234");
   EXPECT_EQ(value_of(hub->sensor("bay-C")->identity, "address"), "C");
   // Sequence numbers are one order across sensors; the ring resumes after any of them.
   const auto since = hub->since("", 0);

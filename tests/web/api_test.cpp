@@ -69,6 +69,11 @@ TEST(WebApi, ListsEverySensorWithIdentityStatusAndHealth) {
   EXPECT_EQ(sensors[0]["name"], "belt");
   EXPECT_EQ(sensors[0]["identity"]["version"], "LS5.12.0");  // `sim ls5` default firmware
   EXPECT_EQ(sensors[0]["identity"]["serial"], 157);
+  // L68: the names `ls5 info --json` prints, the unit last (docs/cli.md "One vocabulary"); the
+  // `sim ls5` default model 8.1234/40.001.
+  EXPECT_EQ(sensors[0]["identity"]["lower-boundary-mm"], 8.1234) << sensors[0]["identity"].dump();
+  EXPECT_EQ(sensors[0]["identity"]["range-mm"], 40.001) << sensors[0]["identity"].dump();
+  EXPECT_FALSE(sensors[0]["identity"].contains("range")) << sensors[0]["identity"].dump();
   for (const auto& sensor : sensors) {
     EXPECT_TRUE(sensor["connected"].get<bool>()) << sensor["name"];
     EXPECT_GT(sensor["health"]["records"].get<int>(), 0) << sensor["name"];

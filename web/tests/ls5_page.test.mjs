@@ -56,8 +56,8 @@ test('the decoded ID shows version, lower boundary, range and serial (§9.2)', a
   // §9.2: "the device version (LS5.6.0), the lower boundary (8.1234 mm), the range (40.001 mm),
   // and the serial number (157)"; the demo emulator is that sensor on firmware LS5.12.0 (Ethernet).
   assert.equal(await page.textContent('[data-id="version"]'), 'LS5.12.0');
-  assert.equal(await page.textContent('[data-id="lower-boundary"]'), '8.1234 mm');
-  assert.equal(await page.textContent('[data-id="range"]'), '40.001 mm');
+  assert.equal(await page.textContent('[data-id="lower-boundary-mm"]'), '8.1234 mm');
+  assert.equal(await page.textContent('[data-id="range-mm"]'), '40.001 mm');
   assert.equal(await page.textContent('[data-id="serial"]'), '157');
   assert.equal(await page.textContent('[data-id="ethernet"]'), 'yes');
   await page.getByRole('button', { name: 'Read', exact: true }).click();

@@ -65,9 +65,10 @@ class Ls5Backend final : public Backend {
     const ls5::Identification& id = info->identification;
     range_mm_ = id.range_mm;
     std::lock_guard lock(session_.mutex);
+    // The names `info --json` prints: the unit is the name's last word.
     session_.identity = {{"version", std::string(id.version_text.view()), ""},
-                         {"lower-boundary", number_text(id.lower_boundary_mm), "mm"},
-                         {"range", number_text(id.range_mm), "mm"},
+                         {"lower-boundary-mm", number_text(id.lower_boundary_mm), "mm"},
+                         {"range-mm", number_text(id.range_mm), "mm"},
                          {"serial", std::to_string(id.serial_number), ""},
                          {"ethernet", info->ethernet ? "yes" : "no", ""}};
     driver_ = std::move(driver);

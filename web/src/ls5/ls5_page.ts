@@ -69,7 +69,7 @@ export class Ls5Page {
     title.append(' ', element('span', 'family', 'LS5'), ' ', this.connection);
     this.connection.textContent = 'connecting…';
     this.idList.setAttribute('aria-label', 'Identification (ID)');
-    for (const [term, key] of [['Version', 'version'], ['Lower boundary', 'lower-boundary'], ['Range', 'range'],
+    for (const [term, key] of [['Version', 'version'], ['Lower boundary', 'lower-boundary-mm'], ['Range', 'range-mm'],
       ['Serial number', 'serial'], ['Ethernet', 'ethernet']] as const) {
       this.idValues.set(key, definition(this.idList, term, key));
     }
@@ -195,11 +195,11 @@ export class Ls5Page {
         'the one-way transmission of the measurement stream"): its parameters need its serial port in the site file.';
       return;
     }
-    const units: Record<string, string> = { 'lower-boundary': ' mm', range: ' mm' };
+    const units: Record<string, string> = { 'lower-boundary-mm': ' mm', 'range-mm': ' mm' };
     for (const [key, value] of this.idValues) {
       if (identity[key] !== undefined) value.textContent = `${identity[key]}${units[key] ?? ''}`;
     }
-    this.panels.load({ version: String(identity.version ?? ''), range: Number(identity.range) || undefined,
+    this.panels.load({ version: String(identity.version ?? ''), rangeMm: Number(identity['range-mm']) || undefined,
       ethernet: String(identity.ethernet ?? '') }).then(() => {
       if (Object.keys(this.panels.settings).length === 0) this.message.textContent = 'Press Read to show the parameters.';
     }).catch((error: Error) => {
@@ -255,7 +255,7 @@ export class Ls5Page {
     const code = sample.code;
     if (code === undefined) return;
     this.code = code;
-    const range = Number(this.idValues.get('range')?.textContent?.replace(' mm', ''));
+    const range = Number(this.idValues.get('range-mm')?.textContent?.replace(' mm', ''));
     let text: string;
     if (code === NO_SIGNAL) text = 'no signal';
     else if (code > MAX_CODE) text = 'no measurement yet';

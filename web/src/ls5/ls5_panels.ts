@@ -69,7 +69,7 @@ interface Field extends FieldView {
 
 export interface Ls5Identity {
   version?: string;
-  range?: number;
+  rangeMm?: number;
   ethernet?: string;
 }
 
@@ -125,7 +125,7 @@ export class Ls5Panels {
     const parts: string[] = [];
     if (row.min !== undefined && row.max !== undefined) {
       const unit = row.unit && row.unit !== 'code' ? ` ${row.unit}` : '';
-      const mm = row.unit === 'code' && this.identity.range ? ` (0 – ${this.identity.range} mm)` : '';
+      const mm = row.unit === 'code' && this.identity.rangeMm ? ` (0 – ${this.identity.rangeMm} mm)` : '';
       parts.push(`${row.min} – ${row.max}${unit}${row.step === 2 ? ', odd' : ''}${mm}`);
     }
     if (row.format === 'ipv4') parts.push('a.b.c.d');
@@ -223,7 +223,7 @@ export class Ls5Panels {
     const mm = field.wrapper.querySelector<HTMLElement>('[data-mm-for]');
     if (mm) {
       const code = Number(field.input.value);
-      const range = this.identity.range;
+      const range = this.identity.rangeMm;
       mm.textContent = !problem && range && field.input.value.trim() !== '' && code <= MAX_CODE
         ? `= ${distanceMm(code, range).toFixed(4).replace(/\.?0+$/, '')} mm` : '';
     }
