@@ -31,7 +31,7 @@ class Sample:
     source: str
     address: int  # -1 when the protocol has none
     @property
-    def kind(self) -> str: ...  # averaging | binning | look_down | error | result | derivative
+    def kind(self) -> str: ...  # averaging | binning | look-down | error | result | derivative
     @property
     def distance_m(self) -> Optional[float]: ...  # ULS, metres
     @property

@@ -11,7 +11,7 @@ const char* sample_kind_name(SampleKind kind) noexcept {
     case SampleKind::uls_binning:
       return "binning";
     case SampleKind::uls_look_down:
-      return "look_down";
+      return "look-down";  // the mode's value name (mode=look-down)
     case SampleKind::uls_error:
       return "error";
     case SampleKind::ls5_result:

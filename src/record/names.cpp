@@ -33,6 +33,8 @@ std::optional<SampleKind> parse_sample_kind(std::string_view name) {
       name_table(std::array{SampleKind::uls_averaging, SampleKind::uls_binning, SampleKind::uls_look_down,
                             SampleKind::uls_error, SampleKind::ls5_result, SampleKind::ls5_derivative},
                  sample_kind_name);
+  // Captures written before the kind took the mode's spelling say "look_down": they still replay.
+  if (name == "look_down") return SampleKind::uls_look_down;
   return find_by_name(name, table);
 }
 

@@ -176,7 +176,7 @@ TEST(ServeDemo, ServesSevenLiveSensorsAndStopsItsEmulators) {
     heard.insert(sensor);
     const auto& data = item["data"];
     if (sensor == "bay-A" && data.value("kind", "") == "binning" && data["targets"].size() == 2) two_targets = true;
-    if (sensor == "bay-B" && data.value("kind", "") == "look_down" && data["presence"].is_boolean()) presence = true;
+    if (sensor == "bay-B" && data.value("kind", "") == "look-down" && data["presence"].is_boolean()) presence = true;
     return heard.size() == 7 && two_targets && presence;
   });
   EXPECT_TRUE(all) << heard.size() << " sensors heard; two targets " << two_targets << ", presence " << presence;

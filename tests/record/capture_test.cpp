@@ -190,6 +190,35 @@ TEST(Capture, Version1CaptureReplaysAndTakesNewSessionsL63) {
   EXPECT_EQ(query(path, "SELECT value FROM meta WHERE key = 'format_version'"), "3");
 }
 
+// A look-down sample's kind is the mode's value name, "look-down"; captures written before
+// say "look_down" and still replay as look-down samples, through SQLite and through the
+// direct page reader alike, and print with today's name.
+TEST(Capture, OldLookDownKindStillReplaysAsLookDown) {
+  TempDir dir;
+  const auto path = dir.file("old_kind.sqlite");
+  {
+    auto capture = open_capture(path);
+    ASSERT_TRUE(capture.ok()) << capture.error().message;
+    write_items(**capture, {uls_look_down(), uls_look_down_overflow()});
+  }
+  EXPECT_EQ(query(path, "SELECT group_concat(kind) FROM samples"), "look-down,look-down");
+  {
+    sqlite3* database = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &database), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(database, "UPDATE samples SET kind = 'look_down'", nullptr, nullptr, nullptr), SQLITE_OK)
+        << sqlite3_errmsg(database);
+    sqlite3_close(database);
+  }
+  expect_same_items(replay_all(path), {uls_look_down(), uls_look_down_overflow()});
+  for (const auto fields : {CaptureFields::all, CaptureFields::array}) {
+    std::vector<SampleKind> kinds;
+    const auto read = for_each_in_capture(
+        path, "", [&](const Sample& sample) { kinds.push_back(sample.kind); }, [](StreamEvent&&) {}, fields);
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    EXPECT_EQ(kinds, (std::vector{SampleKind::uls_look_down, SampleKind::uls_look_down}));
+  }
+}
+
 // A format version this build does not know may hold what it would drop or misread:
 // append and replay refuse it, naming the version, rather than go on without notice.
 TEST(Capture, UnknownFormatVersionIsRefusedByAppendAndReplay) {

@@ -72,16 +72,16 @@ TEST(Jsonl, UlsBinningWithoutAddress) {
 TEST(Jsonl, UlsLookDown) {
   EXPECT_EQ(jsonl(uls_look_down()),
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":0,\"source\":\"/dev/ttyUSB1\","
-            "\"kind\":\"look_down\",\"presence\":true,\"pulses_between_events\":250,\"pulses_overflow\":false}\n");
+            "\"kind\":\"look-down\",\"presence\":true,\"pulses_between_events\":250,\"pulses_overflow\":false}\n");
 }
 
 // U88: `$0000` reads as more than 65535 pulses, never as 0.
 TEST(Jsonl, U88_UlsLookDownOverflowIsMoreThan65535PulsesNotZero) {
   EXPECT_EQ(jsonl(uls_look_down_overflow()),
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":0,\"source\":\"/dev/ttyUSB1\","
-            "\"kind\":\"look_down\",\"presence\":true,\"pulses_between_events\":null,\"pulses_overflow\":true}\n");
+            "\"kind\":\"look-down\",\"presence\":true,\"pulses_between_events\":null,\"pulses_overflow\":true}\n");
   EXPECT_EQ(csv(uls_look_down_overflow()),
-            "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,,,,,,,true,,false,\n");
+            "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look-down,,,,true,,,,,,,true,,false,\n");
   EXPECT_EQ(text(uls_look_down_overflow()), "01:02:03.456 uls 0x00  present  pulses >65535\n");
 }
 
@@ -127,7 +127,7 @@ TEST(Csv, OneRowPerFamily) {
   EXPECT_EQ(csv(uls_binning()),
             "2026-11-26T01:02:03.456Z,uls,,/dev/ttyUSB0,binning,,,4.5720:42;7.1000:13,,,,,,,,,,false,\n");
   EXPECT_EQ(csv(uls_look_down()),
-            "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look_down,,,,true,250,,,,,,false,,false,\n");
+            "2026-11-26T01:02:03.456Z,uls,0,/dev/ttyUSB1,look-down,,,,true,250,,,,,,false,,false,\n");
   EXPECT_EQ(csv(uls_error()),
             "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,,,,Lock Not Found (display: Target Not "
             "Found),false,\n");

@@ -338,7 +338,7 @@ TEST(UlsHostPty, U87_LookDownStreamGivesOneSamplePerEdge) {
   std::vector<std::string> samples;
   std::istringstream lines(run.out);
   for (std::string line; std::getline(lines, line);)
-    if (line.find("\"kind\":\"look_down\"") != std::string::npos) samples.push_back(line);
+    if (line.find("\"kind\":\"look-down\"") != std::string::npos) samples.push_back(line);
   ASSERT_EQ(samples.size(), 3U) << run.out;
   // Edges alternate; a repeated state would be the last edge reported again.
   for (std::size_t i = 1; i < samples.size(); ++i) {

@@ -116,7 +116,7 @@ test('binning targets are a scatter; look down an ON/OFF trace', async () => {
   await pointsAtLeast(5);
   await page.screenshot({ path: path.join(screenshots, 'live-plot-binning.png') });
   await page.evaluate(() => { location.hash = '#/sensor/bay-B'; });
-  await page.waitForFunction(() => document.querySelector('.live-plot')?.dataset.mode === 'look_down', null, WAIT);
+  await page.waitForFunction(() => document.querySelector('.live-plot')?.dataset.mode === 'look-down', null, WAIT);
   await pointsAtLeast(5);
   await page.screenshot({ path: path.join(screenshots, 'live-plot-look-down.png') });
 });

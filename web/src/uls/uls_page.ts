@@ -141,8 +141,8 @@ export class UlsPage {
     this.set('offset', known ? Number(settings['offset-m']) !== 0 : undefined);
     // §8 US: 3 look down, 7 averaging, 11 binning (U6); the setting once read.
     const mode = known ? String(settings.mode) :
-      ({ 3: 'look_down', 7: 'averaging', 11: 'binning' } as Record<number, string>)[Number(status.status)] ?? this.mode;
-    this.setMode(mode === 'look-down' ? 'look_down' : mode);
+      ({ 3: 'look-down', 7: 'averaging', 11: 'binning' } as Record<number, string>)[Number(status.status)] ?? this.mode;
+    this.setMode(mode);  // the setting's value names are the samples' kinds
   }
 
   open(): void {
@@ -196,7 +196,7 @@ export class UlsPage {
     const sample = this.lastSample;
     if (!sample) return;
     let text: string;
-    if (sample.kind === 'look_down') {
+    if (sample.kind === 'look-down') {
       text = sample.presence ? 'ON' : 'OFF';  // §2: "the on/off condition of the trip signal"
     } else if (sample.kind === 'binning') {
       const targets = sample.targets ?? [];
