@@ -136,7 +136,8 @@ def printed_values(family, out):
             if family == "uls":
                 if item["kind"] != "averaging" or item["distance_m"] is None:
                     continue
-                value = (round(item["distance_m"] * 1000), item["pulse_width"])
+                width = item["pulse_width_ns"]  # 3 decimals: back to the wire's integer ps
+                value = (round(item["distance_m"] * 1000), None if width is None else round(width * 1000))
             else:
                 if item["kind"] != "result" or item["code"] is None or item["code"] > 50000:
                     continue

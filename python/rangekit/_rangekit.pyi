@@ -35,9 +35,7 @@ class Sample:
     @property
     def distance_m(self) -> Optional[float]: ...  # ULS, metres
     @property
-    def pulse_width(self) -> Optional[int]: ...  # ULS, picoseconds (wire)
-    @property
-    def pulse_width_ns(self) -> Optional[float]: ...
+    def pulse_width_ns(self) -> Optional[float]: ...  # ULS, nanoseconds (integer ps on the wire)
     @property
     def targets(self) -> List[Tuple[float, int]]: ...  # ULS binning: (distance_m, strength)
     @property

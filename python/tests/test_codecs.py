@@ -14,7 +14,7 @@ def test_uls_averaging_line_in_metres():
     sample = rangekit.uls.decode_line(b"$BM,12.345\r")
     assert sample.kind == "averaging"
     assert sample.distance_m == pytest.approx(12.345)
-    assert sample.pulse_width is None
+    assert sample.pulse_width_ns is None
 
 
 def test_uls_line_in_feet_is_converted_to_metres():
@@ -27,8 +27,9 @@ def test_uls_range_and_intensity_gives_the_pulse_width():
     # ULS §9: "$BM,xxxx.xxx,yyyyyyy<CR>" with DM range and intensity: the pulse width in ps (U8).
     sample = rangekit.uls.decode_line(b"$BM,50.000,33238\r", display="range-and-intensity")
     assert sample.distance_m == pytest.approx(50.0)
-    assert sample.pulse_width == 33238
     assert sample.pulse_width_ns == pytest.approx(33.238)
+    # U92: one name for the quantity, its unit last, as in jsonl, csv and the API.
+    assert not hasattr(sample, "pulse_width")
 
 
 def test_uls_error_line_carries_the_section_10_text():

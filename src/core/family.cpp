@@ -48,8 +48,8 @@ const char* unit_symbol(Unit unit) noexcept {
       return "m";
     case Unit::millimetre:
       return "mm";
-    case Unit::picosecond:
-      return "ps";
+    case Unit::nanosecond:
+      return "ns";
   }
   return "";
 }

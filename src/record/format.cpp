@@ -140,6 +140,10 @@ void append_csv_optional(std::string& out, const std::optional<T>& value, Append
 
 void append_bool(std::string& out, bool value) { out += value ? "true" : "false"; }
 void append_u32(std::string& out, std::uint32_t value) { append_unsigned(out, value); }
+// Integer picoseconds (the wire's) as nanoseconds with 3 decimals: exact, no binary rounding.
+void append_ps_as_ns(std::string& out, std::uint32_t picoseconds) {
+  append_printf(out, "%" PRIu32 ".%03" PRIu32, picoseconds / 1000, picoseconds % 1000);
+}
 void append_int(std::string& out, int value) { append_signed(out, value); }
 void append_u16(std::string& out, std::uint16_t value) { append_unsigned(out, value); }
 void append_signal_json(std::string& out, SignalState state) {
@@ -185,8 +189,8 @@ void append_jsonl(std::string& out, const Sample& sample) {
     case SampleKind::uls_averaging:
       append_json_key(out, "distance_m");
       append_json_optional(out, sample.distance_m, append_json_metres);
-      append_json_key(out, "pulse_width");
-      append_json_optional(out, sample.pulse_width, append_u32);
+      append_json_key(out, "pulse_width_ns");
+      append_json_optional(out, sample.pulse_width, append_ps_as_ns);
       break;
     case SampleKind::uls_binning: {
       append_json_key(out, "targets");
@@ -262,7 +266,7 @@ void append_jsonl(std::string& out, const StreamEvent& event) {
 }
 
 const char* csv_header() noexcept {
-  return "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,code,"
+  return "time,device,address,source,kind,distance_m,pulse_width_ns,targets,presence,pulses_between_events,error,code,"
          "distance_mm,signal,derivative_mm,pulses_overflow,error_text,suspect,suspect_reason\n";
 }
 
@@ -279,7 +283,7 @@ void append_csv(std::string& out, const Sample& sample) {
   out += ',';
   append_csv_optional(out, sample.distance_m, append_metres);
   out += ',';
-  append_csv_optional(out, sample.pulse_width, append_u32);
+  append_csv_optional(out, sample.pulse_width, append_ps_as_ns);
   out += ',';
   bool first = true;
   for (const auto& target : sample.targets) {
@@ -327,7 +331,11 @@ void append_text(std::string& out, const Sample& sample) {
     case SampleKind::uls_averaging:
       if (sample.distance_m) append_printf(out, "  %.3f m", *sample.distance_m);
       // Picoseconds on the wire (U8), shown in ns with its unit (U92).
-      if (sample.pulse_width) append_printf(out, "  pw %.3f ns", *sample.pulse_width / 1000.0);
+      if (sample.pulse_width) {
+        out += "  pw ";
+        append_ps_as_ns(out, *sample.pulse_width);
+        out += " ns";
+      }
       break;
     case SampleKind::uls_binning:
       if (sample.targets.empty()) {

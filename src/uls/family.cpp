@@ -11,7 +11,8 @@ namespace {
 
 constexpr std::array channels{
     ChannelDescriptor{"distance_m", Quantity::distance, Unit::metre, "averaged distance (averaging mode)"},
-    ChannelDescriptor{"pulse_width", Quantity::pulse_width, Unit::picosecond, "width of the returned pulse"},
+    ChannelDescriptor{"pulse_width_ns", Quantity::pulse_width, Unit::nanosecond,
+                      "width of the returned pulse (picoseconds on the wire)"},
     ChannelDescriptor{"targets", Quantity::distance, Unit::metre, "the targets of one binning burst, nearest first"},
     ChannelDescriptor{"presence", Quantity::presence, Unit::none, "look down: 1 a target is there, 0 it left"},
     ChannelDescriptor{"pulses_between_events", Quantity::pulse_count, Unit::none,

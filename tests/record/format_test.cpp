@@ -4,6 +4,7 @@
 
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "rangekit/record/format.hpp"
 #include "record/fake_source.hpp"
@@ -43,7 +44,24 @@ TEST(IsoTime, UtcWithMillisecondsTruncated) {
 TEST(Jsonl, UlsAveraging) {
   EXPECT_EQ(jsonl(uls_averaging()),
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":3,\"source\":\"/dev/ttyUSB0\","
-            "\"kind\":\"averaging\",\"distance_m\":12.3450,\"pulse_width\":18000}\n");
+            "\"kind\":\"averaging\",\"distance_m\":12.3450,\"pulse_width_ns\":18.000}\n");
+}
+
+// U92: the key says the unit, and the value is that unit: the wire's integer picoseconds
+// (§9 "pico seconds") as nanoseconds (§8 "p = received pulse width in nanoseconds"), exact.
+TEST(Jsonl, U92_PulseWidthIsNanosecondsInAKeyThatSaysSo) {
+  auto sample = uls_averaging();
+  for (const auto& [picoseconds, nanoseconds] :
+       {std::pair{33238U, "33.238"}, std::pair{1U, "0.001"}, std::pair{0U, "0.000"}, std::pair{9999999U, "9999.999"}}) {
+    sample.pulse_width = picoseconds;
+    EXPECT_EQ(jsonl(sample),
+              "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":3,\"source\":\"/dev/ttyUSB0\","
+              "\"kind\":\"averaging\",\"distance_m\":12.3450,\"pulse_width_ns\":" +
+                  std::string(nanoseconds) + "}\n");
+    EXPECT_EQ(csv(sample), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450," + std::string(nanoseconds) +
+                               ",,,,,,,,,,,false,\n");
+    EXPECT_EQ(text(sample), "01:02:03.456 uls #3  12.345 m  pw " + std::string(nanoseconds) + " ns\n");
+  }
 }
 
 TEST(Jsonl, UlsAveragingWithoutPulseWidthIsNull) {
@@ -51,7 +69,7 @@ TEST(Jsonl, UlsAveragingWithoutPulseWidthIsNull) {
   sample.pulse_width.reset();
   EXPECT_EQ(jsonl(sample),
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":3,\"source\":\"/dev/ttyUSB0\","
-            "\"kind\":\"averaging\",\"distance_m\":12.3450,\"pulse_width\":null}\n");
+            "\"kind\":\"averaging\",\"distance_m\":12.3450,\"pulse_width_ns\":null}\n");
 }
 
 TEST(Jsonl, NotANumberIsNull) {
@@ -59,7 +77,7 @@ TEST(Jsonl, NotANumberIsNull) {
   sample.distance_m = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(jsonl(sample),
             "{\"time\":\"2026-11-26T01:02:03.456Z\",\"device\":\"uls\",\"address\":3,\"source\":\"/dev/ttyUSB0\","
-            "\"kind\":\"averaging\",\"distance_m\":null,\"pulse_width\":18000}\n");
+            "\"kind\":\"averaging\",\"distance_m\":null,\"pulse_width_ns\":18.000}\n");
 }
 
 TEST(Jsonl, UlsBinningWithoutAddress) {
@@ -117,13 +135,13 @@ TEST(Jsonl, EventsAndEscapedStrings) {
 
 TEST(Csv, HeaderNamesTheJsonKeys) {
   EXPECT_STREQ(csv_header(),
-               "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
+               "time,device,address,source,kind,distance_m,pulse_width_ns,targets,presence,pulses_between_events,error,"
                "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text,suspect,suspect_reason\n");
 }
 
 TEST(Csv, OneRowPerFamily) {
   EXPECT_EQ(csv(uls_averaging()),
-            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,,,,false,\n");
+            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18.000,,,,,,,,,,,false,\n");
   EXPECT_EQ(csv(uls_binning()),
             "2026-11-26T01:02:03.456Z,uls,,/dev/ttyUSB0,binning,,,4.5720:42;7.1000:13,,,,,,,,,,false,\n");
   EXPECT_EQ(csv(uls_look_down()),
@@ -140,7 +158,7 @@ TEST(Csv, OneRowPerFamily) {
 TEST(Csv, QuotesFieldsWithCommasOrQuotes) {
   auto sample = uls_averaging();
   sample.source = "a,\"b\"";
-  EXPECT_EQ(csv(sample), "2026-11-26T01:02:03.456Z,uls,3,\"a,\"\"b\"\"\",averaging,12.3450,18000,,,,,,,,,,,false,\n");
+  EXPECT_EQ(csv(sample), "2026-11-26T01:02:03.456Z,uls,3,\"a,\"\"b\"\"\",averaging,12.3450,18.000,,,,,,,,,,,false,\n");
 }
 
 TEST(Text, ReadableLinePerFamily) {

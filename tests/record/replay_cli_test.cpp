@@ -68,7 +68,7 @@ TEST(ReplayCli, CsvCountAndDeviceFilter) {
   const auto result = run({"replay", capture, "--format", "csv", "--full-speed", "--count", "1", "--device", "ls5"});
   EXPECT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(result.out,
-            "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
+            "time,device,address,source,kind,distance_m,pulse_width_ns,targets,presence,pulses_between_events,error,"
             "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text,suspect,suspect_reason\n"
             "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,,,,false,\n");
 }
@@ -138,7 +138,7 @@ TEST(ReplayCli, IntoAPipeOrAFileItRunsAtFullSpeed) {
   const auto capture = make_capture(dir, {uls_averaging(0ms), uls_averaging(3600s)});
   const auto piped = run({"replay", capture, "--format", "jsonl"});
   EXPECT_EQ(piped.exit_code, 0) << piped.err;
-  EXPECT_EQ(count_of(piped.out, "\"pulse_width\":18000}\n"), 2u) << piped.out;
+  EXPECT_EQ(count_of(piped.out, "\"pulse_width_ns\":18.000}\n"), 2u) << piped.out;
   const auto out = dir.file("export.csv");
   const auto exported = run({"replay", capture, "--format", "csv", "--out", out});
   EXPECT_EQ(exported.exit_code, 0) << exported.err;
@@ -151,7 +151,7 @@ TEST(ReplayCli, SigintClosesCleanlyWithExit130) {
   const auto copy = dir.file("copy.sqlite");
   // --pace: into a pipe, replay would otherwise not wait the hour.
   CliProcess process({"replay", capture, "--format", "jsonl", "--pace", "--capture", copy});
-  ASSERT_TRUE(process.wait_for_stdout("\"pulse_width\":18000}\n", 10s)) << process.err();
+  ASSERT_TRUE(process.wait_for_stdout("\"pulse_width_ns\":18.000}\n", 10s)) << process.err();
   process.signal(SIGINT);
   EXPECT_EQ(process.finish(), 130);
   EXPECT_NE(process.err().find("interrupted after 1 samples"), std::string::npos) << process.err();
@@ -159,9 +159,9 @@ TEST(ReplayCli, SigintClosesCleanlyWithExit130) {
   auto replay_copy = CliProcess({"replay", copy, "--format", "csv", "--full-speed"});
   EXPECT_EQ(replay_copy.finish(), 0);
   EXPECT_EQ(replay_copy.out(),
-            "time,device,address,source,kind,distance_m,pulse_width,targets,presence,pulses_between_events,error,"
+            "time,device,address,source,kind,distance_m,pulse_width_ns,targets,presence,pulses_between_events,error,"
             "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text,suspect,suspect_reason\n"
-            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,,,,false,\n");
+            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18.000,,,,,,,,,,,false,\n");
 }
 
 }  // namespace

@@ -380,6 +380,9 @@ TEST(UlsHostPty, U90_U92_OutputNamesErrorsAndUnits) {
   EXPECT_NE(run.out.find("pulse_width_ns=25.000"), std::string::npos) << run.out;
   run = cli("uls stream" + on + " --count 1");
   EXPECT_NE(run.out.find("pw 25.000 ns"), std::string::npos) << run.out;
+  // The same name as `measure`, the same unit as the text.
+  run = cli("uls stream" + on + " --count 1 --format jsonl");
+  EXPECT_NE(run.out.find("\"pulse_width_ns\":25.000}"), std::string::npos) << run.out;
 
   // U91: §9 baud choices; 28800 is none of them, and a lone value is not a port.
   run = cli("uls set" + on + " baud=0,28800");

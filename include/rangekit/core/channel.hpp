@@ -20,11 +20,11 @@ enum class Quantity : std::uint8_t {
   error_number,     // the sensor's own error number
 };
 
-enum class Unit : std::uint8_t { none, metre, millimetre, picosecond };
+enum class Unit : std::uint8_t { none, metre, millimetre, nanosecond };
 
 // "distance", "distance_change", …: the words of docs and JSON.
 const char* quantity_name(Quantity quantity) noexcept;
-// "m", "mm", "ps"; "" for a count or a state.
+// "m", "mm", "ns"; "" for a count or a state.
 const char* unit_symbol(Unit unit) noexcept;
 // The factor from `unit` to the metre, for the length units only.
 std::optional<double> metres_per(Unit unit) noexcept;

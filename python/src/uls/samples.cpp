@@ -16,14 +16,11 @@ void sample_properties(py::class_<Sample>& sample_class) {
           "distance_m", [](const Sample& s) { return optional_object(s.distance_m); },
           "ULS averaging distance in metres, or None")
       .def_property_readonly(
-          "pulse_width", [](const Sample& s) { return optional_object(s.pulse_width); },
-          "ULS pulse width in picoseconds as on the wire, or None")
-      .def_property_readonly(
           "pulse_width_ns",
           [](const Sample& s) {
             return s.pulse_width ? py::cast(static_cast<double>(*s.pulse_width) / 1000.0) : py::none();
           },
-          "ULS pulse width in nanoseconds, or None")
+          "ULS pulse width in nanoseconds (the wire's integer picoseconds / 1000), or None")
       .def_property_readonly(
           "targets",
           [](const Sample& s) {

@@ -30,7 +30,7 @@ interface UlsSample {
   time: string;
   kind?: string;
   distance_m?: number;
-  pulse_width?: number;  // integer picoseconds (U8), shown in ns (U92)
+  pulse_width_ns?: number;  // 3 decimals: the wire's integer picoseconds (U8, U92)
   targets?: { distance_m: number; strength: number }[];
   presence?: boolean;
   error?: number;
@@ -204,7 +204,7 @@ export class UlsPage {
       text = target ? `${target.distance_m.toFixed(3)} m (${this.display === 'last' ? 'last' : 'first'} of ${targets.length})` : 'no target';
     } else if (sample.distance_m !== undefined) {
       const distance = `${sample.distance_m.toFixed(3)} m`;
-      const intensity = sample.pulse_width !== undefined ? `${(sample.pulse_width / 1000).toFixed(3)} ns` : '–';
+      const intensity = sample.pulse_width_ns !== undefined ? `${sample.pulse_width_ns.toFixed(3)} ns` : '–';
       text = this.display === 'intensity' ? intensity : this.display === 'both' ? `${distance} · ${intensity}` : distance;
     } else {
       text = sample.error_text ? `error ${sample.error}: ${sample.error_text}` : 'no signal';
