@@ -60,7 +60,7 @@ TEST(Jsonl, U92_PulseWidthIsNanosecondsInAKeyThatSaysSo) {
                   std::string(nanoseconds) + "}\n");
     EXPECT_EQ(csv(sample), "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450," + std::string(nanoseconds) +
                                ",,,,,,,,,,,false,\n");
-    EXPECT_EQ(text(sample), "01:02:03.456 uls #3  12.345 m  pw " + std::string(nanoseconds) + " ns\n");
+    EXPECT_EQ(text(sample), "01:02:03.456 uls 0x03  12.345 m  pw " + std::string(nanoseconds) + " ns\n");
   }
 }
 
@@ -181,7 +181,7 @@ TEST(Text, TheAddressIsSpeltAsItsFamilyWritesIt) {
   auto bus_unit = uls_averaging();
   bus_unit.address = 'A';
   EXPECT_EQ(text(bus_unit), "01:02:03.456 uls A  12.345 m  pw 18.000 ns\n");
-  EXPECT_EQ(csv(bus_unit), "2026-11-26T01:02:03.456Z,uls,65,/dev/ttyUSB0,averaging,12.3450,18000,,,,,,,,,,,false,\n");
+  EXPECT_EQ(csv(bus_unit), "2026-11-26T01:02:03.456Z,uls,65,/dev/ttyUSB0,averaging,12.3450,18.000,,,,,,,,,,,false,\n");
   EXPECT_NE(jsonl(bus_unit).find("\"address\":65,"), std::string::npos);
   bus_unit.address = 0x9C;  // §8 RS485 Protocol: 0x30-0xEF, beyond what a terminal shows
   EXPECT_EQ(text(bus_unit), "01:02:03.456 uls 0x9C  12.345 m  pw 18.000 ns\n");
