@@ -28,15 +28,6 @@ std::string bus_address_help(std::string_view family) {
 
 namespace {
 
-constexpr std::array<std::pair<Action, const char*>, 8> action_names{{{Action::start, "start"},
-                                                                      {Action::stop, "stop"},
-                                                                      {Action::single, "single"},
-                                                                      {Action::pointer, "pointer"},
-                                                                      {Action::save, "save"},
-                                                                      {Action::reset, "reset"},
-                                                                      {Action::latch, "latch"},
-                                                                      {Action::read, "read"}}};
-
 SensorSnapshot snapshot_of(const Session& session) {
   SensorSnapshot snapshot;
   snapshot.config = session.config;
@@ -51,20 +42,6 @@ SensorSnapshot snapshot_of(const Session& session) {
 }
 
 }  // namespace
-
-std::optional<Action> parse_action(std::string_view name) {
-  for (const auto& [action, text] : action_names) {
-    if (name == text) return action;
-  }
-  return std::nullopt;
-}
-
-const char* action_name(Action action) noexcept {
-  for (const auto& [candidate, text] : action_names) {
-    if (candidate == action) return text;
-  }
-  return "?";
-}
 
 struct Hub::Impl final : Publisher {
   HubOptions options;
@@ -272,15 +249,22 @@ Result<std::vector<Field>> Hub::import_config(std::string_view sensor, std::stri
           impl_->options.command_timeout);
 }
 
-Result<ActionResult> Hub::act(std::string_view sensor, Action action, std::string_view argument) {
+Result<ActionResult> Hub::act(std::string_view sensor, std::string_view action, std::string_view argument) {
   Session* session = impl_->find(sensor);
   if (session == nullptr) return impl_->unknown(sensor);
-  if (action == Action::start || action == Action::stop) {
+  const ActionDescriptor* known = find_action(session->config.family, action);
+  if (known == nullptr) {
+    return make_error(Errc::unknown_command, "'" + std::string(action) + "' is not an action of " +
+                                                 session->config.family + " sensor '" + session->config.name + "' (" +
+                                                 action_names(session->config.family) + ")");
+  }
+  if (auto checked = check_argument(*known, argument); !checked) return std::move(checked).error();
+  if (action == "start" || action == "stop") {
     std::lock_guard lock(session->mutex);
-    session->want_stream = action == Action::start;  // kept across reconnects
+    session->want_stream = action == "start";  // kept across reconnects
   }
   return impl_->worker_of.at(session->config.name)
-      ->run<ActionResult>([session, action, argument = std::string(argument)](
+      ->run<ActionResult>([session, action = std::string(action), argument = std::string(argument)](
                               Backend& backend) { return backend.act(*session, action, argument); },
                           impl_->options.command_timeout);
 }
@@ -362,9 +346,9 @@ std::size_t drain(SampleSource& source, Session& session, Publisher& publisher, 
   return count;
 }
 
-Error refused(const Session& session, Action action) {
-  return make_error(Errc::unsupported, std::string("'") + action_name(action) + "' is not an action of " +
-                                           session.config.family + " sensor '" + session.config.name + "'");
+Error refused(const Session& session, std::string_view action) {
+  return make_error(Errc::unsupported, "'" + std::string(action) + "' is not something " + session.config.family +
+                                           " sensor '" + session.config.name + "' can do here");
 }
 
 }  // namespace rangekit::hub

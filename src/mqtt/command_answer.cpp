@@ -17,17 +17,14 @@ nlohmann::json answer_command(hub::Hub& hub, const std::string& sensor, CommandK
   }
   const hub::ActionBody body = hub::action_from_body(payload);
   if (body.error) return hub::error_object("bad_body", body.error->message, body.error->field);
-  const auto action = hub::parse_action(body.action);
-  if (!action) {
-    return hub::error_object(
-        "unknown_action",
-        "'" + body.action + "' is not an action (start, stop, single, pointer, save, reset, latch, read)", "action");
+  auto done = hub.act(sensor, body.action, body.argument);
+  if (!done && done.error().code == Errc::unknown_command) {
+    return hub::error_object("unknown_action", done.error().message, "action");
   }
-  auto done = hub.act(sensor, *action, body.argument);
   if (!done) return hub::error_object(hub::error_code_name(done.error().code), done.error().message);
   nlohmann::json answer = hub::action_json(*done);
   answer["ok"] = true;
-  answer["action"] = hub::action_name(*action);
+  answer["action"] = body.action;
   return answer;
 }
 

@@ -4,7 +4,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cctype>
 #include <string>
+#include <vector>
 
 #include "rangekit/core/family.hpp"
 #include "rangekit/hub/service_family.hpp"
@@ -66,6 +68,27 @@ std::vector<Message> discovery_messages(const Link& link, const hub::MqttConfig&
             {"state_topic", link.topic + "/reading"},
             {"value_template", "{{ 'ON' if value_json." + std::string(presence->key) + " else 'OFF' }}"},
             {"device_class", "presence"}});
+  }
+  // A button per action and argument, pressing publishes the action request on the action topic.
+  for (const hub::ActionDescriptor* action : hub::actions_of(link.config.family)) {
+    std::vector<std::string_view> arguments(action->arguments.begin(), action->arguments.end());
+    if (arguments.empty() || action->argument_optional) arguments.insert(arguments.begin(), std::string_view());
+    for (const std::string_view argument : arguments) {
+      std::string label(action->name);
+      label[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(label[0])));
+      nlohmann::json press{{"action", action->name}};
+      std::string object = "action_" + std::string(action->name);
+      if (!argument.empty()) {
+        press["argument"] = argument;
+        label += " " + std::string(argument);
+        object += "_" + std::string(argument);
+      }
+      entity("button", object.c_str(),
+             {{"name", label},
+              {"command_topic", link.topic + "/action"},
+              {"payload_press", press.dump()},
+              {"entity_category", "config"}});
+    }
   }
   entity("sensor", "rate",
          {{"name", "Rate"},

@@ -27,6 +27,17 @@ nlohmann::json family_json(const FamilyDescriptor& family) {
     out["udp"] = service->udp;
     if (service->settings_schema != nullptr) out["settings_schema"] = service->settings_schema();
   }
+  // POST /api/sensors/{name}/actions/{action}: what a sensor of the family does, with the
+  // arguments each action takes (the dashboard's buttons, MQTT's action topic).
+  nlohmann::json actions = nlohmann::json::array();
+  for (const hub::ActionDescriptor* action : hub::actions_of(family.name)) {
+    nlohmann::json entry{{"name", action->name}, {"description", action->description}};
+    entry["arguments"] = nlohmann::json::array();
+    for (const std::string_view value : action->arguments) entry["arguments"].push_back(value);
+    entry["argument_optional"] = action->argument_optional || action->arguments.empty();
+    actions.push_back(entry);
+  }
+  out["actions"] = actions;
   return out;
 }
 

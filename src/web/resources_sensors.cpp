@@ -49,13 +49,12 @@ void get_settings_schema(Exchange& exchange, const Matched& matched) {
 }
 
 void post_action(Exchange& exchange, const Matched& matched) {
-  const auto action = hub::parse_action(matched.action);
-  if (!action) {
+  const std::string& family = matched.sensor->config.family;
+  if (hub::find_action(family, matched.action) == nullptr) {
     return exchange.respond(http::status::bad_request,
                             error_json("unknown_action",
-                                       "'" + matched.action +
-                                           "' is not an action (start, stop, single, pointer, save, reset, "
-                                           "latch, read)",
+                                       "'" + matched.action + "' is not an action of " + family + " sensor '" +
+                                           matched.name + "' (" + hub::action_names(family) + ")",
                                        "action"));
   }
   std::string argument;
@@ -72,7 +71,7 @@ void post_action(Exchange& exchange, const Matched& matched) {
     }
     argument = json.value("argument", argument);
   }
-  exchange.off_loop([&hub = exchange.server().hub, name = matched.name, action = *action,
+  exchange.off_loop([&hub = exchange.server().hub, name = matched.name, action = matched.action,
                      argument] { return hub.act(name, action, argument); },
                     [self = exchange.shared_from_this()](const Result<hub::ActionResult>& result) {
                       if (!result) return self->fail(result.error());

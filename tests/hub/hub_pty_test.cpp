@@ -113,7 +113,7 @@ TEST(HubPty, SettingsAreCheckedBeforeSendingAndReadBack) {
   ASSERT_TRUE(while_measuring.ok()) << while_measuring.error().message;
   EXPECT_EQ(value_of(*while_measuring, "long-gate-m"), "900");
 
-  auto single = hub->act("silo", Action::single);
+  auto single = hub->act("silo", "single");
   ASSERT_TRUE(single.ok()) << single.error().message;
   // §9: "Resolution 1 mm or 0.01 ft": "27.881 m", not "27.881000 m".
   EXPECT_TRUE(std::regex_match(single->text, std::regex(R"(\d+\.\d{3} m)"))) << single->text;
@@ -123,8 +123,12 @@ TEST(HubPty, SettingsAreCheckedBeforeSendingAndReadBack) {
   ASSERT_TRUE(reading.has_value());
   EXPECT_EQ(reading->channel->key, "distance_m");
   EXPECT_NEAR(reading->value, std::stod(single->text), 0.0005) << single->text;
-  EXPECT_EQ(hub->act("silo", Action::latch).error().message, "'latch' is not an action of uls sensor 'silo'");
-  EXPECT_EQ(hub->act("belt", Action::pointer, "on").error().code, Errc::unsupported);
+  const auto latch = hub->act("silo", "latch");
+  EXPECT_EQ(latch.error().code, Errc::unknown_command);
+  EXPECT_EQ(latch.error().message,
+            "'latch' is not an action of uls sensor 'silo' (start, stop, read, single, pointer, save, reset)");
+  EXPECT_EQ(hub->act("belt", "pointer", "on").error().code, Errc::unknown_command);
+  EXPECT_EQ(hub->act("silo", "pointer", "maybe").error().message, "pointer takes on or off, not 'maybe'");
 }
 
 TEST(HubPty, AKilledEmulatorIsDisconnectedThenReconnected) {

@@ -252,7 +252,9 @@ TEST(MqttBridge, RetainedStatusAvailabilityAndDiscoveryAreThereForALateSubscribe
   ASSERT_TRUE(late.wait_for([&](const auto& heard) {
     return find(heard, "rangekit/belt/status") != nullptr && find(heard, distance) != nullptr &&
            find(heard, "homeassistant/sensor/rangekit_belt/errors/config") != nullptr &&
-           find(heard, "homeassistant/sensor/rangekit_belt/rate/config") != nullptr;
+           find(heard, "homeassistant/sensor/rangekit_belt/rate/config") != nullptr &&
+           find(heard, "homeassistant/button/rangekit_belt/action_latch_read/config") != nullptr &&
+           find(heard, "homeassistant/button/rangekit_belt/action_single/config") != nullptr;
   }));
   const auto heard = late.heard();
   const Heard* availability = find(heard, "rangekit/belt/availability");
@@ -280,6 +282,15 @@ TEST(MqttBridge, RetainedStatusAvailabilityAndDiscoveryAreThereForALateSubscribe
       "diagnostic");
   // An LS5 has no look-down mode: no presence entity for it.
   EXPECT_EQ(find(heard, "homeassistant/binary_sensor/rangekit_belt/presence/config"), nullptr);
+  // A button per action of the family and argument: the LS5's latch, alone or reading the
+  // latched result (FR); no pointer, which is the ULS's.
+  const auto button =
+      nlohmann::json::parse(find(heard, "homeassistant/button/rangekit_belt/action_latch_read/config")->payload);
+  EXPECT_EQ(button["command_topic"], "rangekit/belt/action");
+  EXPECT_EQ(nlohmann::json::parse(button["payload_press"].get<std::string>()),
+            (nlohmann::json{{"action", "latch"}, {"argument", "read"}}));
+  EXPECT_NE(find(heard, "homeassistant/button/rangekit_belt/action_latch/config"), nullptr);
+  EXPECT_EQ(find(heard, "homeassistant/button/rangekit_belt/action_pointer_on/config"), nullptr);
   // A clean stop marks the sensor offline (retained).
   Subscriber watcher(broker.port(), {"rangekit/belt/availability"});
   ASSERT_TRUE(watcher.wait_for([](const auto& h) { return find(h, "rangekit/belt/availability") != nullptr; }));

@@ -252,8 +252,15 @@ TEST(WebApi, ActionsRunOnTheSensor) {
   const Reply latched = http(service.port, "POST", "/api/sensors/belt/actions/latch?argument=read");
   ASSERT_EQ(latched.status, 200) << latched.body;
   EXPECT_EQ(json_of(latched)["result"], json_of(latch)["result"]);  // FR alone reads the same latch
+  // The ULS has a pointer (PT), the LS5 none: its actions are its family's.
   const Reply pointer = http(service.port, "POST", "/api/sensors/belt/actions/pointer", R"({"argument":"on"})");
-  EXPECT_EQ(pointer.status, 409) << pointer.body;  // the ULS has a pointer (PT), the LS5 none
+  EXPECT_EQ(pointer.status, 400) << pointer.body;
+  EXPECT_EQ(json_of(pointer)["error"]["code"], "unknown_action");
+  EXPECT_EQ(json_of(pointer)["error"]["message"],
+            "'pointer' is not an action of ls5 sensor 'belt' (start, stop, read, single, save, reset, latch)");
+  const Reply no_argument = http(service.port, "POST", "/api/sensors/bay-A/actions/pointer");
+  EXPECT_EQ(no_argument.status, 400) << no_argument.body;
+  EXPECT_EQ(json_of(no_argument)["error"]["message"], "pointer needs an argument: on or off");
 }
 
 TEST(WebApi, EveryBadRequestGetsA4xxThatNamesTheProblem) {

@@ -50,7 +50,46 @@ TEST(WebFamilies, ListsEveryRegisteredFamilyAsItsDescriptorsSay) {
     EXPECT_EQ(json["model"], service->model);
     EXPECT_EQ(json["bus"], service->bus);
     EXPECT_EQ(json["settings_schema"], service->settings_schema()) << family.name;
+    // The shared actions first, then the family's own, each with the arguments it takes.
+    const auto actions = hub::actions_of(family.name);
+    ASSERT_EQ(json["actions"].size(), actions.size()) << family.name;
+    ASSERT_EQ(actions.size(), 3 + service->actions.size());
+    for (std::size_t a = 0; a < actions.size(); ++a) {
+      const auto& row = json["actions"][a];
+      EXPECT_EQ(row["name"], actions[a]->name);
+      EXPECT_EQ(row["description"], actions[a]->description);
+      ASSERT_EQ(row["arguments"].size(), actions[a]->arguments.size());
+      for (std::size_t v = 0; v < actions[a]->arguments.size(); ++v) {
+        EXPECT_EQ(row["arguments"][v], actions[a]->arguments[v]);
+      }
+    }
+    EXPECT_EQ(json["actions"][0]["name"], "start");
   }
+}
+
+// What each family's table says, typed in from the documents' commands: the ULS has a pointer
+// (uls-interface-spec PT), the LS5 a latch (ls5-manual table 9.1 FX/FR); neither has the other.
+TEST(WebFamilies, EachFamilyDeclaresItsOwnActions) {
+  const auto names = [](std::string_view family) {
+    std::vector<std::string> out;
+    for (const hub::ActionDescriptor* action : hub::actions_of(family)) out.emplace_back(action->name);
+    return out;
+  };
+  EXPECT_EQ(names("uls"), (std::vector<std::string>{"start", "stop", "read", "single", "pointer", "save", "reset"}));
+  EXPECT_EQ(names("ls5"), (std::vector<std::string>{"start", "stop", "read", "single", "save", "reset", "latch"}));
+  EXPECT_EQ(names("no-such-family"), (std::vector<std::string>{"start", "stop", "read"}));
+  EXPECT_EQ(hub::find_action("ls5", "pointer"), nullptr);
+
+  const hub::ActionDescriptor& pointer = *hub::find_action("uls", "pointer");
+  EXPECT_TRUE(hub::check_argument(pointer, "on").ok());
+  EXPECT_EQ(hub::check_argument(pointer, "").error().message, "pointer needs an argument: on or off");
+  EXPECT_EQ(hub::check_argument(pointer, "maybe").error().message, "pointer takes on or off, not 'maybe'");
+  const hub::ActionDescriptor& latch = *hub::find_action("ls5", "latch");
+  EXPECT_TRUE(hub::check_argument(latch, "").ok());
+  EXPECT_TRUE(hub::check_argument(latch, "read").ok());
+  EXPECT_EQ(hub::check_argument(latch, "now").error().message, "latch takes none or read, not 'now'");
+  EXPECT_EQ(hub::check_argument(*hub::find_action("uls", "single"), "now").error().message,
+            "single takes no argument, not 'now'");
 }
 
 // A sample item carries the reading reading_of gives (channel, value, unit) beside its

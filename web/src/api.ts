@@ -72,10 +72,20 @@ export interface Channel {
   description: string;
 }
 
+// POST /api/sensors/{name}/actions/{action}: what a sensor of the family does, and the values
+// its argument takes (none: no argument).
+export interface Action {
+  name: string;
+  description: string;
+  arguments: string[];
+  argument_optional: boolean;
+}
+
 export interface Family {
   name: string;
   title: string;
   channels: Channel[];
+  actions: Action[];
 }
 
 // Beyond loopback the service wants its token on every read, stream and write (docs/security.md).
@@ -175,4 +185,15 @@ export function authorisedFetch(url: string, init: RequestInit = {}): Promise<Re
   const value = token();
   if (value) headers.set('Authorization', `Bearer ${value}`);
   return fetch(url, { ...init, headers, cache: 'no-store' });
+}
+
+// An action of the sensor's family, done: the service's line for a person, or why it was refused.
+export async function postAction(sensor: string, action: string, argument: string):
+Promise<{ ok: boolean; text: string }> {
+  const query = argument ? `?argument=${encodeURIComponent(argument)}` : '';
+  const response = await authorisedFetch(`/api/sensors/${encodeURIComponent(sensor)}/actions/${action}${query}`,
+    { method: 'POST' });
+  const body = await response.json();
+  if (!response.ok) return { ok: false, text: String(body.error?.message ?? response.status) };
+  return { ok: true, text: String(body.result ?? '') };
 }

@@ -1,7 +1,7 @@
 // The families as GET /api/families describes them, read once: titles for the badges and the
 // channels' quantities and units for the cards and plots, so no shared file names a family.
 import { listFamilies } from './api';
-import type { Channel, Family } from './api';
+import type { Action, Channel, Family } from './api';
 
 let known = new Map<string, Family>();
 let loading: Promise<void> | null = null;
@@ -21,4 +21,8 @@ export function familyTitle(family: string): string | undefined {
 
 export function channelOf(family: string, key: string): Channel | undefined {
   return known.get(family)?.channels.find((channel) => channel.key === key);
+}
+
+export function actionsOf(family: string): Action[] {
+  return known.get(family)?.actions ?? [];
 }

@@ -270,6 +270,22 @@ test('an LS5 heard over UDP only shows its stream and why it has no parameters (
   await page.screenshot({ path: path.join(screenshots, 'ls5-page-udp.png'), fullPage: true });
 });
 
+test('the family\'s actions the page does not place itself come from GET /api/families: Reset (DF)', async () => {
+  await page.goto(`${url}#/sensor/belt`);
+  await page.waitForSelector('.ls5-page .other-actions button[data-action="reset"]', WAIT);
+  assert.deepEqual(await page.$$eval('.ls5-page .other-actions button', (buttons) => buttons.map((b) => [b.textContent, b.title])),
+    [['Reset', 'every parameter to its default (DF)']]);
+  // A parameter away from its default (table 9.2, 03: analog output, default enabled), then DF.
+  const patched = await fetch(`${url}api/sensors/belt/settings`, {
+    method: 'PATCH', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ 'analog-output': 'disabled' }),
+  });
+  assert.equal(patched.status, 200, await patched.text());
+  assert.equal((await outputs()).analog_enabled, false);
+  await page.click('.ls5-page .other-actions button[data-action="reset"]');
+  await page.waitForFunction(() => document.querySelector('.ls5-page .page-message')?.textContent === 'Reset: done.', null, WAIT);
+  assert.equal((await outputs()).analog_enabled, true);
+});
+
 test('the page raised no script error or policy violation', () => {
   assert.deepEqual(pageErrors, []);
 });

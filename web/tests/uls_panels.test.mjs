@@ -207,6 +207,14 @@ test('every new control has a label and Tab reaches every field of the panels', 
   await page.screenshot({ path: path.join(screenshots, 'uls-panels-keyboard.png') });
 });
 
+test('the family\'s actions the page does not place itself come from GET /api/families: Save and Reset', async () => {
+  await page.waitForSelector('.sensor-page .other-actions button[data-action="reset"]', WAIT);
+  assert.deepEqual(await page.$$eval('.sensor-page .other-actions button', (buttons) => buttons.map((b) => [b.textContent, b.title])),
+    [['Save', 'the settings into non-volatile memory (SU)'], ['Reset', 'every setting to its factory value, then read back']]);
+  await page.click('.sensor-page .other-actions button[data-action="save"]');
+  await page.waitForFunction(() => document.querySelector('.sensor-page .page-message')?.textContent === 'Save: done.', null, WAIT);
+});
+
 test('the page raised no script error or policy violation', () => {
   // The one 502 is the refused upload above (docs/api.md: device_error), which chromium logs.
   const unexpected = pageErrors.filter((error) => !/status of 502 \(Bad Gateway\)/.test(error));

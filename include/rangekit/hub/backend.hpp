@@ -74,7 +74,8 @@ class Backend {
   [[nodiscard]] virtual bool has_settings() const { return true; }
   virtual Result<std::vector<Field>> read_settings(Session& session) = 0;
   virtual Result<std::vector<Field>> write_settings(Session& session, const SettingValues& values) = 0;
-  virtual Result<ActionResult> act(Session& session, Action action, std::string_view argument) = 0;
+  // One of the family's actions (actions_of), its argument already checked.
+  virtual Result<ActionResult> act(Session& session, std::string_view action, std::string_view argument) = 0;
   virtual Result<std::string> export_config(Session& session) = 0;
   virtual Result<std::vector<Field>> import_config(Session& session, std::string_view toml) = 0;
   // An RS-485 bus of ULS units only (§7); the other backends refuse.
@@ -94,6 +95,7 @@ using PortOpener = std::function<Result<TransportPtr>(const std::string&, const 
 StreamEvent make_event(StreamEventKind kind, std::string message);
 // Moves every item the source has ready (waiting up to `wait` for the first) to the publisher.
 std::size_t drain(SampleSource& source, Session& session, Publisher& publisher, std::chrono::milliseconds wait);
-Error refused(const Session& session, Action action);
+// An action the family has that this backend cannot take (an LS5 heard over UDP only: no port).
+Error refused(const Session& session, std::string_view action);
 
 }  // namespace rangekit::hub

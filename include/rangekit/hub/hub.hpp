@@ -13,6 +13,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -78,19 +79,22 @@ std::optional<std::uint8_t> parse_bus_address(std::string_view family, std::stri
 // What a bus address of the family looks like, for messages: "0x30..0xEF, e.g. 'E'".
 std::string bus_address_help(std::string_view family);
 
-// A sensor action (POST …/actions/{action}); the family decides what each means.
-enum class Action : std::uint8_t {
-  start,    // measure and stream
-  stop,     // stop streaming (and measuring)
-  single,   // one measurement now (ULS BM, LS5 LR)
-  pointer,  // ULS PT: argument "on"/"off"
-  save,     // ULS SU, LS5 FL: settings into non-volatile memory
-  reset,    // factory settings (ULS §2 values, LS5 DF)
-  latch,    // LS5 FX
-  read,     // read every setting again (the Interface Program's Read button)
+// An action a sensor takes (POST …/actions/{action}, MQTT …/action): start, stop and read for
+// every family, then the family's own (ServiceFamily::actions), each with the arguments it takes.
+struct ActionDescriptor {
+  std::string_view name;
+  std::string_view description;
+  std::span<const std::string_view> arguments;  // the values its argument takes; empty: none
+  bool argument_optional = false;               // it may also be given none
 };
-std::optional<Action> parse_action(std::string_view name);
-const char* action_name(Action action) noexcept;
+// The actions of a sensor of `family`, the shared ones first; the shared ones alone for a
+// family the service does not run.
+std::vector<const ActionDescriptor*> actions_of(std::string_view family);
+const ActionDescriptor* find_action(std::string_view family, std::string_view name);
+// Their names for messages: "start, stop, read, single, pointer, save, reset".
+std::string action_names(std::string_view family);
+// `argument` as the action takes it; Errc::out_of_range naming the values it takes.
+Status check_argument(const ActionDescriptor& action, std::string_view argument);
 
 // What an action answers: a line for a person, and the measurement it made (single, latch),
 // whose reading the faces give as a value with its unit.
@@ -142,7 +146,7 @@ class Hub {
   // the unit is assigned back (U106).
   Status assign_address(std::string_view sensor, std::optional<std::uint8_t> from, std::uint8_t to);
   // The action's result text ("10.123 m" for single, "" otherwise).
-  Result<ActionResult> act(std::string_view sensor, Action action, std::string_view argument = {});
+  Result<ActionResult> act(std::string_view sensor, std::string_view action, std::string_view argument = {});
 
  private:
   struct Impl;

@@ -52,6 +52,8 @@ struct ServiceFamily {
 
   // GET /api/sensors/{name}/settings/schema: every setting with its range, unit and values.
   nlohmann::json (*settings_schema)() = nullptr;
+  // Its actions besides start, stop and read, with the arguments each takes.
+  std::span<const ActionDescriptor> actions;
 };
 
 // Adds a family (a second of the same name replaces the first); from the registration list.

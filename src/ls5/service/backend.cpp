@@ -154,41 +154,35 @@ class Ls5Backend final : public Backend {
     });
   }
 
-  Result<ActionResult> act(Session& session, Action action, std::string_view argument) override {
-    switch (action) {
-      case Action::start:
-        if (auto started = set_streaming(session, true); !started) return std::move(started).error();
-        return ActionResult{};
-      case Action::stop:
-        if (auto stopped = set_streaming(session, false); !stopped) return std::move(stopped).error();
-        return ActionResult{};
-      case Action::read: {
-        auto settings = read_settings(session);
-        if (!settings) return std::move(settings).error();
-        return ActionResult{};
-      }
-      case Action::single:
-        return paused([&]() -> Result<ActionResult> {
-          auto last = driver_->measure();  // LR
-          if (!last) return std::move(last).error();
-          return answer(*last);
-        });
-      case Action::save:
-        return simple([&] { return driver_->store_to_flash(); });
-      case Action::reset:
-        return simple([&] { return driver_->restore_defaults(); });
-      case Action::latch:
-        // FX then FR (table 9.1), as `rangekit ls5 latch` does; argument "read": FR alone.
-        return paused([&]() -> Result<ActionResult> {
-          if (argument != "read") {
-            if (auto latched = driver_->latch(); !latched) return std::move(latched).error();
-          }
-          auto result = driver_->read_latched();
-          if (!result) return std::move(result).error();
-          return answer(*result);
-        });
-      case Action::pointer:
-        break;
+  Result<ActionResult> act(Session& session, std::string_view action, std::string_view argument) override {
+    if (action == "start" || action == "stop") {
+      if (auto changed = set_streaming(session, action == "start"); !changed) return std::move(changed).error();
+      return ActionResult{};
+    }
+    if (action == "read") {
+      auto settings = read_settings(session);
+      if (!settings) return std::move(settings).error();
+      return ActionResult{};
+    }
+    if (action == "single") {
+      return paused([&]() -> Result<ActionResult> {
+        auto last = driver_->measure();  // LR
+        if (!last) return std::move(last).error();
+        return answer(*last);
+      });
+    }
+    if (action == "save") return simple([&] { return driver_->store_to_flash(); });
+    if (action == "reset") return simple([&] { return driver_->restore_defaults(); });
+    if (action == "latch") {
+      // FX then FR (table 9.1), as `rangekit ls5 latch` does; argument "read": FR alone.
+      return paused([&]() -> Result<ActionResult> {
+        if (argument != "read") {
+          if (auto latched = driver_->latch(); !latched) return std::move(latched).error();
+        }
+        auto result = driver_->read_latched();
+        if (!result) return std::move(result).error();
+        return answer(*result);
+      });
     }
     return refused(session_, action);
   }
@@ -299,8 +293,8 @@ class Ls5UdpBackend final : public Backend {
   Result<std::vector<Field>> write_settings(Session& /*session*/, const SettingValues& /*values*/) override {
     return no_port();
   }
-  Result<ActionResult> act(Session& session, Action action, std::string_view /*argument*/) override {
-    if (action == Action::start) return ActionResult{};
+  Result<ActionResult> act(Session& session, std::string_view action, std::string_view /*argument*/) override {
+    if (action == "start") return ActionResult{};
     return refused(session, action);
   }
   Result<std::string> export_config(Session& /*session*/) override { return no_port(); }

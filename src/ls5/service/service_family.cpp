@@ -1,6 +1,8 @@
 // The LS5 as the sensor service sees it (hub/service_family.hpp).
 #include "rangekit/ls5/service_family.hpp"
 
+#include <array>
+
 #include "ls5/service/service.hpp"
 #include "rangekit/ls5/settings.hpp"
 
@@ -43,6 +45,15 @@ std::span<const std::uint32_t> bauds() noexcept {
   return speeds;
 }
 
+constexpr std::array<std::string_view, 1> read_only{"read"};
+constexpr std::array actions{
+    hub::ActionDescriptor{"single", "one measurement now (LR)", {}},
+    hub::ActionDescriptor{"save", "the settings into flash memory (FL)", {}},
+    hub::ActionDescriptor{"reset", "every parameter to its default (DF)", {}},
+    hub::ActionDescriptor{"latch", "latch a result and read it (FX, FR); with read: the latched result alone (FR)",
+                          read_only, true},
+};
+
 const hub::ServiceFamily descriptor{
     .name = "ls5",
     .manufacturer = "Prizma",
@@ -59,6 +70,7 @@ const hub::ServiceFamily descriptor{
     .address_help = {},
     .scan_addresses = nullptr,
     .settings_schema = settings_schema,
+    .actions = actions,
 };
 
 }  // namespace

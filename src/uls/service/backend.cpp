@@ -99,42 +99,32 @@ std::string sample_text(const Sample& sample, uls::Units units) {
 }
 
 // Actions on one unit that need no stream of their own.
-Result<ActionResult> unit_action(uls::Driver& driver, Session& session, Action action, std::string_view argument) {
+Result<ActionResult> unit_action(uls::Driver& driver, Session& session, std::string_view action,
+                                 std::string_view argument) {
   const auto done = [](Status status) -> Result<ActionResult> {
     if (!status) return std::move(status).error();
     return ActionResult{};
   };
-  switch (action) {
-    case Action::single: {
-      auto sample = driver.measure();
-      if (!sample) return std::move(sample).error();
-      auto units = driver.units();  // the reply's resolution: 1 mm, or 0.01 ft (§9)
-      if (!units) return std::move(units).error();
-      return ActionResult{sample_text(*sample, *units), std::move(*sample)};
-    }
-    case Action::pointer:
-      if (argument != "on" && argument != "off") {
-        return make_error(Errc::out_of_range, "pointer takes on or off, not '" + std::string(argument) + "'");
-      }
-      return done(driver.set_pointer(argument == "on"));
-    case Action::save:
-      return done(driver.save());
-    case Action::reset: {
-      auto report = uls::load_config(driver, uls::factory_config());
-      if (!report) return std::move(report).error();
-      auto fields = read_fields(driver, session);
-      if (!fields) return std::move(fields).error();
-      return ActionResult{};
-    }
-    case Action::read: {
-      auto fields = read_fields(driver, session);
-      if (!fields) return std::move(fields).error();
-      return ActionResult{};
-    }
-    case Action::latch:
-    case Action::start:
-    case Action::stop:
-      break;
+  if (action == "single") {
+    auto sample = driver.measure();
+    if (!sample) return std::move(sample).error();
+    auto units = driver.units();  // the reply's resolution: 1 mm, or 0.01 ft (§9)
+    if (!units) return std::move(units).error();
+    return ActionResult{sample_text(*sample, *units), std::move(*sample)};
+  }
+  if (action == "pointer") return done(driver.set_pointer(argument == "on"));
+  if (action == "save") return done(driver.save());
+  if (action == "reset") {
+    auto report = uls::load_config(driver, uls::factory_config());
+    if (!report) return std::move(report).error();
+    auto fields = read_fields(driver, session);
+    if (!fields) return std::move(fields).error();
+    return ActionResult{};
+  }
+  if (action == "read") {
+    auto fields = read_fields(driver, session);
+    if (!fields) return std::move(fields).error();
+    return ActionResult{};
   }
   return refused(session, action);
 }
@@ -195,9 +185,9 @@ class UlsBackend final : public Backend {
     return paused([&] { return write_fields(*driver_, session, values); });
   }
 
-  Result<ActionResult> act(Session& session, Action action, std::string_view argument) override {
-    if (action == Action::start || action == Action::stop) {
-      if (auto changed = set_streaming(session, action == Action::start); !changed) return std::move(changed).error();
+  Result<ActionResult> act(Session& session, std::string_view action, std::string_view argument) override {
+    if (action == "start" || action == "stop") {
+      if (auto changed = set_streaming(session, action == "start"); !changed) return std::move(changed).error();
       return ActionResult{};
     }
     return paused([&] { return unit_action(*driver_, session, action, argument); });
@@ -358,9 +348,9 @@ class UlsBusBackend final : public Backend {
     return addressed(session, [&](uls::Driver& driver) { return write_fields(driver, session, values); });
   }
 
-  Result<ActionResult> act(Session& session, Action action, std::string_view argument) override {
-    if (action == Action::start || action == Action::stop) {
-      if (auto changed = set_streaming(session, action == Action::start); !changed) return std::move(changed).error();
+  Result<ActionResult> act(Session& session, std::string_view action, std::string_view argument) override {
+    if (action == "start" || action == "stop") {
+      if (auto changed = set_streaming(session, action == "start"); !changed) return std::move(changed).error();
       return ActionResult{};
     }
     forget_plan(session);  // a reset restores the default rates

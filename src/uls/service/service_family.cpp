@@ -1,6 +1,8 @@
 // The ULS as the sensor service sees it (hub/service_family.hpp).
 #include "rangekit/uls/service_family.hpp"
 
+#include <array>
+
 #include "rangekit/uls/bus.hpp"
 #include "rangekit/uls/formulas.hpp"
 #include "uls/service/service.hpp"
@@ -29,6 +31,14 @@ Result<SerialSettings> byte_format(std::string_view format, SerialSettings setti
   return settings;
 }
 
+constexpr std::array<std::string_view, 2> on_off{"on", "off"};
+constexpr std::array actions{
+    hub::ActionDescriptor{"single", "one measurement now (BM)", {}},
+    hub::ActionDescriptor{"pointer", "the visible pointer on or off (PT)", on_off},
+    hub::ActionDescriptor{"save", "the settings into non-volatile memory (SU)", {}},
+    hub::ActionDescriptor{"reset", "every setting to its factory value, then read back", {}},
+};
+
 const hub::ServiceFamily descriptor{
     .name = "uls",
     .manufacturer = "Laser Technology Inc.",
@@ -45,6 +55,7 @@ const hub::ServiceFamily descriptor{
     .address_help = "0x30..0xEF, e.g. 'E'",
     .scan_addresses = typable_addresses,  // §8 UA: a-z, A-Z, 0-9
     .settings_schema = settings_schema,
+    .actions = actions,
 };
 
 }  // namespace

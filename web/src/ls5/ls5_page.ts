@@ -2,7 +2,8 @@
 // latching (FX/FR), table 9.2's parameters (ls5_panels.ts) and the live plot. An LS5 heard
 // over UDP only (§10) gets the stream and a word on why it has no settings.
 import type { Reading, Sensor } from '../api';
-import { authorisedFetch, openSensorEvents } from '../api';
+import { authorisedFetch, openSensorEvents, postAction } from '../api';
+import { ActionBar } from '../action_bar';
 import { LivePlot } from '../live_plot';
 import { Ls5Panels } from './ls5_panels';
 import {
@@ -82,7 +83,9 @@ export class Ls5Page {
     this.buildOutputs();
     const stream = element('h2', 'section-title', 'Stream');
     this.streamNote.textContent = 'Results in mm; derivatives (result type 01) on an axis of their own.';
-    this.root.append(back, title, this.idList, this.box, this.codeLine, this.buttons, this.message, this.outputs,
+    const more = new ActionBar('ls5', ['read', 'save', 'start', 'stop', 'single', 'latch'],
+      (action, argument, label) => this.act(action, argument, label));
+    this.root.append(back, title, this.idList, this.box, this.codeLine, this.buttons, more.root, this.message, this.outputs,
       stream, this.streamNote, this.plot.root, element('h2', 'section-title', 'Parameters'), this.panels.message,
       this.panels.root);
     this.root.dataset.sensor = name;
@@ -377,16 +380,13 @@ export class Ls5Page {
   private async act(action: string, argument: string, label: string): Promise<string | null> {
     this.message.textContent = `${label}…`;
     try {
-      const query = argument ? `?argument=${encodeURIComponent(argument)}` : '';
-      const response = await authorisedFetch(`/api/sensors/${encodeURIComponent(this.name)}/actions/${action}${query}`,
-        { method: 'POST' });
-      const body = await response.json();
-      if (!response.ok) {
-        this.message.textContent = `${label} refused: ${body.error?.message ?? response.status}`;
+      const done = await postAction(this.name, action, argument);
+      if (!done.ok) {
+        this.message.textContent = `${label} refused: ${done.text}`;
         return null;
       }
-      this.message.textContent = `${label}: done${body.result ? ` (${body.result})` : ''}.`;
-      return String(body.result ?? '');
+      this.message.textContent = `${label}: done${done.text ? ` (${done.text})` : ''}.`;
+      return done.text;
     } catch (error) {
       this.message.textContent = `${label} failed: ${(error as Error).message}`;
       return null;

@@ -2,7 +2,8 @@
 // choice and §2's buttons, with the parameter panels, configuration files, capture, RS-485
 // network and live plot from their own modules.
 import type { Reading, Sensor } from '../api';
-import { authorisedFetch, openSensorEvents } from '../api';
+import { authorisedFetch, openSensorEvents, postAction } from '../api';
+import { ActionBar } from '../action_bar';
 import { CapturePanel } from '../capture_panel';
 import { ConfigFilePanel } from '../config_file';
 import { Rs485Network } from './rs485_network';
@@ -108,6 +109,8 @@ export class UlsPage {
     this.singleButton.hidden = true;  // §2: with Continuous Output off, "select Single Measurement"
     this.singleButton.addEventListener('click', () => void this.act('single', '', 'Single Measurement'));
     buttons.append(this.singleButton);
+    const more = new ActionBar('uls', ['read', 'pointer', 'start', 'stop', 'single'],
+      (action, argument, label) => this.act(action, argument, label));
     this.message.setAttribute('role', 'status');
     this.message.textContent = 'G, CT, O and the panels below show the settings once they have been read: press Read.';
     this.caption.className = 'caption';
@@ -116,7 +119,7 @@ export class UlsPage {
     this.configFile = new ConfigFilePanel(name, (settings) => this.panels.update(settings, true),
       '.toml,.uls,text/plain,application/toml');
     this.network = new Rs485Network(name);
-    this.root.append(back, title, row, this.box, this.caption, this.choices, buttons, this.message, this.plot.root,
+    this.root.append(back, title, row, this.box, this.caption, this.choices, buttons, more.root, this.message, this.plot.root,
       this.configFile.root, this.capture.root, this.network.root,
       this.panels.message, this.panels.root);
     this.panels.load().catch((error: Error) => {
@@ -268,12 +271,9 @@ export class UlsPage {
   private async act(action: string, argument: string, label: string): Promise<void> {
     this.message.textContent = `${label}…`;
     try {
-      const query = argument ? `?argument=${encodeURIComponent(argument)}` : '';
-      const response = await authorisedFetch(`/api/sensors/${encodeURIComponent(this.name)}/actions/${action}${query}`,
-        { method: 'POST' });
-      const body = await response.json();
-      this.message.textContent = response.ok ? `${label}: done${body.result ? ` (${body.result})` : ''}.`
-        : `${label} refused: ${body.error?.message ?? response.status}`;
+      const done = await postAction(this.name, action, argument);
+      this.message.textContent = done.ok ? `${label}: done${done.text ? ` (${done.text})` : ''}.`
+        : `${label} refused: ${done.text}`;
     } catch (error) {
       this.message.textContent = `${label} failed: ${(error as Error).message}`;
     }
