@@ -99,6 +99,12 @@ std::optional<Reading> reading_of(const Sample& sample) {
   return family->reading(sample);
 }
 
+std::optional<QualityInput> quality_input_of(const Sample& sample) {
+  const FamilyDescriptor* family = find_family(sample.device);
+  if (family == nullptr || family->quality == nullptr) return std::nullopt;
+  return family->quality(sample);
+}
+
 std::string error_text_of(std::string_view family_name, int number) {
   const FamilyDescriptor* family = find_family(family_name);
   if (family == nullptr || family->error_text == nullptr) return {};

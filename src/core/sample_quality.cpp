@@ -7,8 +7,6 @@
 namespace rangekit {
 namespace {
 
-constexpr double ls5_error_fraction = 0.0015;  // LS5 §3 table 3.1: ±0.15 % of the range (digital)
-
 template <class... Args>
 std::string format_reason(const char* format, Args... args) {
   std::array<char, 160> text{};
@@ -17,19 +15,6 @@ std::string format_reason(const char* format, Args... args) {
 }
 
 }  // namespace
-
-double ls5_default_max_speed_mps(double range_mm) noexcept { return range_mm / 1000.0; }
-
-double ls5_accuracy_m(double range_mm) noexcept { return ls5_error_fraction * range_mm / 1000.0; }
-
-double ls5_noise_allowance_m(double range_mm) noexcept { return 2 * ls5_accuracy_m(range_mm); }
-
-std::optional<double> ls5_range_mm(const Sample& sample) noexcept {
-  if (!sample.code || *sample.code == 0 || !sample.distance_mm || !std::isfinite(*sample.distance_mm)) {
-    return std::nullopt;
-  }
-  return *sample.distance_mm * ls5_codes_per_range / *sample.code;
-}
 
 void SampleChecker::History::push(Point point) {
   points[next] = point;
@@ -64,21 +49,16 @@ double SampleChecker::Stream::period_s() const {
 }
 
 void SampleChecker::check(Sample& sample) {
-  std::optional<double> distance_m;
-  double noise_m = uls_noise_allowance_m;
-  double max_speed = settings_.max_speed_mps.value_or(uls_default_max_speed_mps);
+  const auto input = quality_input_of(sample);
+  if (!input) return;  // a kind its family does not judge
   Stream& stream = streams_[Key{sample.device, sample.source, sample.address, sample.kind}];
-  if (sample.kind == SampleKind::uls_averaging) {
-    distance_m = sample.distance_m;
-  } else if (sample.kind == SampleKind::ls5_result) {
-    if (const auto range = ls5_range_mm(sample)) stream.range_mm = range;
-    if (!stream.range_mm) return;  // the first records of a stream at code 0: no scale yet
-    if (sample.distance_mm) distance_m = *sample.distance_mm / 1000.0;
-    noise_m = ls5_noise_allowance_m(*stream.range_mm);
-    max_speed = settings_.max_speed_mps.value_or(ls5_default_max_speed_mps(*stream.range_mm));
-  } else {
-    return;  // binning targets come and go, look down and errors carry no distance
-  }
+  if (input->scale) stream.scale = input->scale;
+  if (!stream.scale) return;  // the first records of a stream that shows no scale yet
+  // Two honest readings of a still target may differ by twice the accuracy: the median and the
+  // new reading may err in opposite directions.
+  const double noise_m = 2 * stream.scale->accuracy_m;
+  const double max_speed = settings_.max_speed_mps.value_or(stream.scale->max_speed_mps);
+  const std::optional<double>& distance_m = input->distance_m;
 
   if (!stream.first_time) stream.first_time = sample.time;
   stream.last_time = sample.time;
@@ -107,9 +87,9 @@ void SampleChecker::check(Sample& sample) {
     history.push({*distance_m, sample.time});
   }
 
-  if (sample.kind == SampleKind::uls_averaging && sample.pulse_width) {
+  if (input->pulse_width_ps) {
     History& history = stream.pulse_width;
-    const auto width = static_cast<double>(*sample.pulse_width);
+    const double width = *input->pulse_width_ps;
     if (history.size >= min_history && !sample.suspect) {
       const double median = history.median().value;
       const double ratio = settings_.max_pulse_width_ratio;

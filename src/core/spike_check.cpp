@@ -4,30 +4,23 @@
 #include <cmath>
 #include <cstdio>
 
-#include "rangekit/core/sample_quality.hpp"
+#include "rangekit/core/family.hpp"
 
 namespace rangekit {
 namespace {
 
-constexpr double uls_resolution_m = 0.001;  // ULS §9 xxxx.xxx
-
 // The distance a spike is judged on, and the sensor's stated accuracy and resolution there.
-struct Reading {
+struct JudgedDistance {
   double value_m = 0;
   double accuracy_m = 0;
   double resolution_m = 0;
 };
 
-std::optional<Reading> reading_of(const Sample& sample) {
-  if (sample.kind == SampleKind::uls_averaging && sample.distance_m && std::isfinite(*sample.distance_m)) {
-    return Reading{*sample.distance_m, uls_accuracy_m, uls_resolution_m};
-  }
-  if (sample.kind == SampleKind::ls5_result && sample.distance_mm && std::isfinite(*sample.distance_mm)) {
-    if (const auto range = ls5_range_mm(sample)) {
-      return Reading{*sample.distance_mm / 1000.0, ls5_accuracy_m(*range), *range / 1000.0 / ls5_codes_per_range};
-    }
-  }
-  return std::nullopt;  // binning targets come and go; look down, errors and no-signal carry no distance
+// Judged only where the sample itself shows its scale (an LS5 code 0 does not).
+std::optional<JudgedDistance> judged_distance(const Sample& sample) {
+  const auto input = quality_input_of(sample);
+  if (!input || !input->distance_m || !std::isfinite(*input->distance_m) || !input->scale) return std::nullopt;
+  return JudgedDistance{*input->distance_m, input->scale->accuracy_m, input->scale->resolution_m};
 }
 
 // The median of the first `size` values (reordered); on the stack, as it runs for every reading.
@@ -68,8 +61,8 @@ void SpikeCheck::Level::push(double value) {
 // spread learnt from about the last 128) plus one step of resolution: an honest reading of a
 // still target is within the accuracy of the truth, and the level within those errors of it.
 void SpikeCheck::judge(Stream& stream, Sample& held, const Sample& next) const {
-  const auto p = reading_of(held);
-  const auto n = reading_of(next);
+  const auto p = judged_distance(held);
+  const auto n = judged_distance(next);
   if (!p || !n || held.kind != next.kind || stream.level.size < min_level || held.suspect) return;
   const std::size_t size = stream.level.size;
   const double level = stream.level.median();
@@ -120,7 +113,7 @@ void SpikeCheck::judge(Stream& stream, Sample& held, const Sample& next) const {
 
 void SpikeCheck::release(Stream& stream, std::vector<StreamItem>& out) {
   if (!stream.held) return;
-  if (const auto reading = reading_of(*stream.held); reading && !stream.held->suspect) {
+  if (const auto reading = judged_distance(*stream.held); reading && !stream.held->suspect) {
     stream.level.push(reading->value_m);
     stream.last = reading->value_m;
   } else if (reading && stream.held->suspect_reason.rfind("spike", 0) != 0) {
@@ -180,9 +173,9 @@ void SpikeCheck::push_sample(Sample sample, std::chrono::steady_clock::time_poin
   const auto period = stream.arrivals < 3 ? std::chrono::steady_clock::duration::max()
                                           : (stream.last_arrival - *stream.first_arrival) /
                                                 static_cast<std::int64_t>(stream.arrivals - 1);
-  if (!reading_of(sample) || period > settings_.hold_limit) {
+  if (!judged_distance(sample) || period > settings_.hold_limit) {
     // Not held: it joins the level at once (a slow stream is never judged, but keeps a level).
-    if (const auto reading = reading_of(sample)) {
+    if (const auto reading = judged_distance(sample)) {
       stream.level.push(reading->value_m);
       if (!sample.suspect) stream.last = reading->value_m;
     }

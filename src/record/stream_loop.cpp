@@ -125,7 +125,7 @@ class StreamLoop {
     }
     ++stats_.samples;
     count_source(sample);
-    if (sample.kind == SampleKind::uls_error) ++stats_.errors;
+    if (sample.device_error) ++stats_.errors;  // the sensor said why it has no value
     if (output_) {
       if (auto status = output_->write(sample); !status) return status;
     }

@@ -32,8 +32,8 @@ std::string prometheus_text(const hub::Hub& hub, const ServerStats& server) {
          [](S s) { return count(s.health.records); });
   family(out, "rangekit_sensor_device_errors_total", "counter", "Samples carrying a device error number.", sensors,
          [](S s) { return count(s.health.errors); });
-  family(out, "rangekit_sensor_no_signal_total", "counter", "LS5 records 65535 (no signal).", sensors,
-         [](S s) { return count(s.health.no_signal); });
+  family(out, "rangekit_sensor_no_signal_total", "counter", "Samples in which the sensor saw no target (no signal).",
+         sensors, [](S s) { return count(s.health.no_signal); });
   family(out, "rangekit_sensor_lost_total", "counter", "Records lost on the way (UDP gaps, full queues).", sensors,
          [](S s) { return count(s.health.lost); });
   family(out, "rangekit_sensor_bad_frames_total", "counter", "Bytes that did not decode, in frames.", sensors,

@@ -29,20 +29,15 @@ const std::map<std::string, std::string> known_remaining = {
     {"CMakeLists.txt", "declares each family's libraries and service parts, and links them into the others"},
     {"cmake/architecture.cmake", "the link rule names each family library's allowed links"},
     {"include/rangekit/core/sample.hpp", "SampleKind's values are the families' kinds (uls_averaging, ls5_result)"},
-    {"include/rangekit/core/sample_quality.hpp", "the spike check's defaults: each family's speed and accuracy"},
     {"python/CMakeLists.txt", "links each family's library into the module by name"},
     {"python/rangekit/_rangekit.pyi", "the stub declares each family's submodule of _rangekit"},
     {"src/core/sample.cpp", "the names of SampleKind's per-family values"},
-    {"src/core/sample_quality.cpp", "each family's speed, accuracy and range for the spike check"},
-    {"src/core/spike_check.cpp", "judges ULS averaging and LS5 result samples with their family's accuracy"},
     {"src/record/capture.cpp", "core::Sample still carries each family's fields: a ULS binning's targets"},
     {"src/record/capture_pages.cpp", "core::Sample still carries each family's fields: ULS look down's overflow"},
     {"src/record/format.cpp", "core::Sample still carries each family's fields"},
     {"src/record/interface_log.cpp", "the .log layout is the ULS Interface Program's, for ULS samples only"},
     {"src/record/names.cpp", "the table of SampleKind's per-family names"},
     {"src/record/replay.cpp", "core::Sample still carries each family's fields: ULS look down's overflow"},
-    {"src/record/stream_loop.cpp", "counts ULS error samples as errors"},
-    {"src/web/metrics.cpp", "the no-signal metric's help says what an LS5 reports"},
 };
 
 // The generic parts of the tree: each generic library's src/<library> and include/rangekit/<library>

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "rangekit/ls5/driver.hpp"
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/ls5/ls5.hpp"
 #include "rangekit/uls/uls.hpp"
 
@@ -158,7 +159,7 @@ TEST(SampleQuality, L72_Ls5RecordShapesAreRefusedByTheCodec) {
 // §3 table 3.1's ±0.15 % of it is the noise allowance: on a 100 mm sensor two readings may
 // differ by 0.3 mm (150 codes). Code 24845 read as 34845 (one digit changed) is 20 mm.
 TEST(SampleQuality, L71_Ls5CodeWithAWrongDigitIsSuspect) {
-  EXPECT_DOUBLE_EQ(*ls5_range_mm(ls5_reading(24845, milliseconds(0))), 100.0);
+  EXPECT_DOUBLE_EQ(*ls5::range_from_result_mm(ls5_reading(24845, milliseconds(0))), 100.0);
   SampleChecker checker;
   const std::vector<std::uint16_t> codes{24845, 24900, 24790, 24870, 24820};
   for (std::size_t i = 0; i < codes.size(); ++i) {
@@ -178,9 +179,13 @@ TEST(SampleQuality, L71_Ls5CodeWithAWrongDigitIsSuspect) {
 // L71: the driver's samples (formula 8.1 applied by make_ls5_sample) give the same range.
 TEST(SampleQuality, L71_RangeFromADriverSample) {
   const Sample sample = ls5::make_ls5_sample(code_of(25000), 100.0, "/dev/ttyUSB1", 1, false);
-  EXPECT_DOUBLE_EQ(*ls5_range_mm(sample), 100.0);
-  EXPECT_DOUBLE_EQ(ls5_default_max_speed_mps(100.0), 0.1);
-  EXPECT_DOUBLE_EQ(ls5_noise_allowance_m(100.0), 0.0003);
+  EXPECT_DOUBLE_EQ(*ls5::range_from_result_mm(sample), 100.0);
+  // §3 table 3.1: ±0.15 % of 100 mm; a code is 100 mm / 50000; the range crossed in a second.
+  const auto scale = quality_input_of(sample)->scale;
+  ASSERT_TRUE(scale.has_value());
+  EXPECT_DOUBLE_EQ(scale->accuracy_m, 0.00015);
+  EXPECT_DOUBLE_EQ(scale->resolution_m, 0.000002);
+  EXPECT_DOUBLE_EQ(scale->max_speed_mps, 0.1);
 }
 
 // L71: records bunched in one read (the same receive time) are spaced by the mean interval

@@ -13,12 +13,31 @@
 
 namespace rangekit {
 
+// How exact a family's distance is where a sample was read: what the quality checks allow.
+struct DistanceScale {
+  double accuracy_m = 0;     // the stated accuracy
+  double resolution_m = 0;   // one step of the sensor
+  double max_speed_mps = 0;  // the fastest a real target moves along the beam, unless configured
+};
+
+// What the quality checks judge a sample on (core/sample_quality.hpp, core/spike_check.hpp).
+struct QualityInput {
+  std::optional<double> distance_m;
+  // None when this sample does not show it (an LS5 code 0): the stream's last one holds.
+  std::optional<DistanceScale> scale;
+  // The returned pulse's width in picoseconds, judged by its ratio to the recent ones.
+  std::optional<double> pulse_width_ps;
+};
+
 struct FamilyDescriptor {
   std::string_view name;   // the `device` of its samples, its CLI subcommand: "uls"
   std::string_view title;  // "LTI Universal Laser Sensor"
   std::span<const ChannelDescriptor> channels;
   // The one number a sample reports (channel.hpp), none when it has no value: a gap.
   std::optional<Reading> (*reading)(const Sample& sample) = nullptr;
+  // The quality checks' view of a sample; none when its kind is not judged (targets that come
+  // and go, edges, errors).
+  std::optional<QualityInput> (*quality)(const Sample& sample) = nullptr;
   // The sensor's own words for its error number, or "" when it has none.
   std::string (*error_text)(int number) = nullptr;
   // A unit address as the family's documents and site file write it ("A", "0x9C"); none: in
@@ -37,6 +56,8 @@ const ChannelDescriptor* find_channel(const FamilyDescriptor& family, std::strin
 
 // The sample's reading as its family defines it; none for a family not registered.
 std::optional<Reading> reading_of(const Sample& sample);
+// The sample as its family's quality checks see it; none for a kind not judged or a family not registered.
+std::optional<QualityInput> quality_input_of(const Sample& sample);
 // The family's words for an error number of its, "" when it has none.
 std::string error_text_of(std::string_view family, int number);
 std::string error_text_of(const Sample& sample, int number);

@@ -12,37 +12,17 @@
 #include <string>
 #include <tuple>
 
+#include "rangekit/core/family.hpp"
 #include "rangekit/core/sample.hpp"
 
 namespace rangekit {
 
 struct QualitySettings {
-  // Fastest a real target moves along the beam, m/s; nullopt = the family default below.
+  // Fastest a real target moves along the beam, m/s; nullopt = the family's (DistanceScale).
   std::optional<double> max_speed_mps;
-  // A ULS pulse width further than this factor from the median of the recent ones is suspect.
+  // A pulse width further than this factor from the median of the recent ones is suspect.
   double max_pulse_width_ratio = 2.0;
 };
-
-// Defaults when no max_speed is configured. The LS5 crossing its whole range in one
-// second; the ULS 25 m/s (90 km/h, a vehicle passing the unit), about a tenth of its
-// 266 m white-wall range (§9) a second.
-inline constexpr double uls_default_max_speed_mps = 25.0;
-double ls5_default_max_speed_mps(double range_mm) noexcept;
-
-// The stated accuracy, in metres: ULS ±4 cm typical for a non-cooperative target in every
-// mode (§9); LS5 ±0.15 % of the range (§3 table 3.1), one code being range / 50000 (formula 8.1).
-inline constexpr double uls_accuracy_m = 0.04;
-double ls5_accuracy_m(double range_mm) noexcept;
-inline constexpr double ls5_codes_per_range = 50000.0;
-
-// The spread two honest readings of the same still target may show, in metres: twice the
-// accuracy, since the median and the new reading may err in opposite directions.
-inline constexpr double uls_noise_allowance_m = 2 * uls_accuracy_m;
-double ls5_noise_allowance_m(double range_mm) noexcept;
-
-// The LS5's range from a record: formula 8.1 (distance = code / 50000 × range) read
-// backwards; nullopt when the sample carries no distance or the code is 0.
-std::optional<double> ls5_range_mm(const Sample& sample) noexcept;
 
 class SampleChecker {
  public:
@@ -76,7 +56,7 @@ class SampleChecker {
   struct Stream {
     History distance;
     History pulse_width;
-    std::optional<double> range_mm;  // LS5: from the last record that showed it
+    std::optional<DistanceScale> scale;  // from the last sample that showed it
     // The mean receive interval so far, for when a read hands over several records at once.
     std::optional<std::chrono::system_clock::time_point> first_time;
     std::chrono::system_clock::time_point last_time;
