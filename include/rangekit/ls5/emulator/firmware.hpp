@@ -123,11 +123,34 @@ class Firmware final : public DeviceModel {
   void enter_operating(Nanos now);
 
   void handle_frame(Bytes frame, Nanos now);
+  // A request for this sensor goes to its command's handler through one table (command_table.cpp).
+  struct Exchange;  // what a handler acts on and answers with (command_handlers.hpp)
+  using CommandHandler = void (Firmware::*)(const Exchange&);
+  [[nodiscard]] static CommandHandler handler(CommandId id) noexcept;
+  void echo(const Exchange& exchange);  // table 9.1's echo; none to a broadcast
+  // ID (identity.cpp); R, W and DF (parameter_commands.cpp); FL (persistence.cpp).
+  void handle_identification(const Exchange& exchange);
+  void handle_read_parameter(const Exchange& exchange);
+  void handle_write_parameter(const Exchange& exchange);
+  void handle_restore_defaults(const Exchange& exchange);
+  void handle_store_to_flash(const Exchange& exchange);
+  // Measuring, latching and the stream (measurement_commands.cpp).
+  void handle_turn_on(const Exchange& exchange);
+  void handle_turn_off(const Exchange& exchange);
+  void handle_latch_result(const Exchange& exchange);
+  void handle_start_stream(const Exchange& exchange);
+  void handle_stop_stream(const Exchange& exchange);
+  void handle_read_latched(const Exchange& exchange);
+  void handle_read_last(const Exchange& exchange);
+
   void reply(const Reply& reply, Nanos now);
   void drain_pacer(Nanos now);
+  // The stored baud and byte format, from when the reply queued by now has left the line (L28).
+  void apply_serial_after_reply(Nanos now);
 
   [[nodiscard]] std::uint16_t u16(std::uint8_t low_address) const noexcept;
   [[nodiscard]] Nanos period() const noexcept;
+  [[nodiscard]] static double seconds_of(Nanos t) noexcept;
   void measure(Nanos now, bool from_sync);
   [[nodiscard]] std::optional<double> raw_measurement(Nanos now, bool& weak);
   void update_outputs();
