@@ -9,13 +9,15 @@
 #include <cerrno>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <memory>
 #include <system_error>
 #include <thread>
 #include <variant>
 
+#include "rangekit/core/family.hpp"
 #include "rangekit/record/capture.hpp"
 #include "rangekit/record/format.hpp"
-#include "rangekit/record/interface_log.hpp"
 #include "rangekit/record/replay.hpp"
 
 namespace rangekit::hub {
@@ -141,10 +143,26 @@ Status write_all(int fd, std::string_view text, const std::string& path) {
   return ok_status();
 }
 
+// The sample in its family's own capture file; a family without one refuses the download.
+Status append_program_log(std::map<std::string, std::unique_ptr<SampleWriter>, std::less<>>& logs, std::string& text,
+                          const Sample& sample) {
+  auto found = logs.find(sample.device);
+  if (found == logs.end()) {
+    const FamilyDescriptor* family = find_family(sample.device);
+    if (family == nullptr || family->program_log == nullptr) {
+      return make_error(Errc::unsupported, "a " + sample.device +
+                                               " capture has no .log layout (that is the capture file of a "
+                                               "family's own PC program); download it as sqlite, csv or jsonl");
+    }
+    found = logs.emplace(sample.device, family->program_log()).first;
+  }
+  return found->second->append(text, sample);
+}
+
 Status write_converted(SampleSource& source, DownloadFormat format, int fd, const std::string& path) {
   std::string text;
   if (format == DownloadFormat::csv) text = record::csv_header();
-  record::InterfaceLogWriter log;
+  std::map<std::string, std::unique_ptr<SampleWriter>, std::less<>> logs;  // a writer per family
   for (;;) {
     auto item = source.next(std::chrono::milliseconds(100));
     if (!item) {
@@ -155,7 +173,7 @@ Status write_converted(SampleSource& source, DownloadFormat format, int fd, cons
       if (format == DownloadFormat::csv) record::append_csv(text, *sample);
       if (format == DownloadFormat::jsonl) record::append_jsonl(text, *sample);
       if (format == DownloadFormat::log) {
-        if (Status appended = log.append(text, *sample); !appended) return appended;
+        if (Status appended = append_program_log(logs, text, *sample); !appended) return appended;
       }
     } else if (format == DownloadFormat::jsonl) {
       record::append_jsonl(text, std::get<StreamEvent>(*item));

@@ -5,6 +5,7 @@
 
 #include "rangekit/uls/errors.hpp"
 #include "rangekit/uls/formulas.hpp"
+#include "rangekit/uls/interface_log.hpp"
 
 namespace rangekit::uls {
 namespace {
@@ -72,6 +73,7 @@ constexpr FamilyDescriptor descriptor{
     .channels = channels,
     .reading = reading,
     .quality = quality,
+    .program_log = make_interface_log_writer,
     .error_text = error_text,
     .address_text = unit_address_text,
 };

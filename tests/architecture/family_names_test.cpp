@@ -35,7 +35,6 @@ const std::map<std::string, std::string> known_remaining = {
     {"src/record/capture.cpp", "core::Sample still carries each family's fields: a ULS binning's targets"},
     {"src/record/capture_pages.cpp", "core::Sample still carries each family's fields: ULS look down's overflow"},
     {"src/record/format.cpp", "core::Sample still carries each family's fields"},
-    {"src/record/interface_log.cpp", "the .log layout is the ULS Interface Program's, for ULS samples only"},
     {"src/record/names.cpp", "the table of SampleKind's per-family names"},
     {"src/record/replay.cpp", "core::Sample still carries each family's fields: ULS look down's overflow"},
 };

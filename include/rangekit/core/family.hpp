@@ -3,6 +3,7 @@
 // here at start-up, and faces look it up by a sample's `device`.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -10,6 +11,7 @@
 
 #include "rangekit/core/channel.hpp"
 #include "rangekit/core/sample.hpp"
+#include "rangekit/core/sample_writer.hpp"
 
 namespace rangekit {
 
@@ -38,6 +40,9 @@ struct FamilyDescriptor {
   // The quality checks' view of a sample; none when its kind is not judged (targets that come
   // and go, edges, errors).
   std::optional<QualityInput> (*quality)(const Sample& sample) = nullptr;
+  // A writer of the family's own capture file (the ULS Interface Program's .log), none when
+  // it has no such layout: a capture downloads as it with ?format=log.
+  std::unique_ptr<SampleWriter> (*program_log)() = nullptr;
   // The sensor's own words for its error number, or "" when it has none.
   std::string (*error_text)(int number) = nullptr;
   // A unit address as the family's documents and site file write it ("A", "0x9C"); none: in

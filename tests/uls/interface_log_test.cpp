@@ -2,7 +2,7 @@
 // document: "Averaging Mode: Time (H:M:S:mS), Distance, Units, Intensity. Binning Mode: Time
 // (H:M:S:mS), Index value in array, Number of Targets, Distance, Units. Look Down Mode:
 // (H:M:S:mS), ON/OFF."
-#include "rangekit/record/interface_log.hpp"
+#include "rangekit/uls/interface_log.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,7 +21,7 @@ Sample uls(SampleKind kind) {
 }
 
 TEST(InterfaceLog, U100_EachModeWithItsColumns) {
-  record::InterfaceLogWriter writer;
+  uls::InterfaceLogWriter writer;
   std::string out;
   Sample averaging = uls(SampleKind::uls_averaging);
   averaging.distance_m = 12.345;
@@ -45,16 +45,56 @@ TEST(InterfaceLog, U100_EachModeWithItsColumns) {
             "13:04:05:123, 12.345, m, 18000\n"
             "13:04:05:123, 12.345, m, \n"
             "Time (H:M:S:mS), Index value in array, Number of Targets, Distance, Units\n"
-            "13:04:05:123, 1, 2, 10.500, m\n"
-            "13:04:05:123, 2, 2, 20.250, m\n"
+            "13:04:05:123, 0, 2, 10.500, m\n"
+            "13:04:05:123, 1, 2, 20.250, m\n"
             "Time (H:M:S:mS), ON/OFF\n"
             "13:04:05:123, ON\n"
             "13:04:05:123, OFF\n"
             "13:04:05:123, ERROR 4\n");
 }
 
+// §8 Binning Mode: "the ULS will send information for all targets in [the array,] always
+// starting with index 0": $BM,0,3,... $BM,1,3,... $BM,2,3,... The log numbers them as the wire does.
+TEST(InterfaceLog, U121_BinningIndexStartsAtZeroAsOnTheWire) {
+  uls::InterfaceLogWriter writer;
+  std::string out;
+  Sample binning = uls(SampleKind::uls_binning);
+  binning.targets = {{4.572, 42}, {7.1, 13}, {9.25, 2}};
+  ASSERT_TRUE(writer.append(out, binning));
+  EXPECT_EQ(out,
+            "Time (H:M:S:mS), Index value in array, Number of Targets, Distance, Units\n"
+            "13:04:05:123, 0, 3, 4.572, m\n"
+            "13:04:05:123, 1, 3, 7.100, m\n"
+            "13:04:05:123, 2, 3, 9.250, m\n");
+}
+
+// A run of errors alone still starts with a column line: the factory mode's (averaging, U35).
+// An error after binning stays under binning's columns.
+TEST(InterfaceLog, U121_EveryFileStartsWithItsColumnLine) {
+  uls::InterfaceLogWriter writer;
+  std::string out;
+  Sample error = uls(SampleKind::uls_error);
+  error.device_error = 4;
+  ASSERT_TRUE(writer.append(out, error));
+  ASSERT_TRUE(writer.append(out, error));
+  EXPECT_EQ(out,
+            "Time (H:M:S:mS), Distance, Units, Intensity\n"
+            "13:04:05:123, ERROR 4\n"
+            "13:04:05:123, ERROR 4\n");
+  out.clear();
+  uls::InterfaceLogWriter after_binning;
+  Sample binning = uls(SampleKind::uls_binning);
+  binning.targets = {{4.572, 42}};
+  ASSERT_TRUE(after_binning.append(out, binning));
+  ASSERT_TRUE(after_binning.append(out, error));
+  EXPECT_EQ(out,
+            "Time (H:M:S:mS), Index value in array, Number of Targets, Distance, Units\n"
+            "13:04:05:123, 0, 1, 4.572, m\n"
+            "13:04:05:123, ERROR 4\n");
+}
+
 TEST(InterfaceLog, U100_AnLs5SampleHasNoLogLayout) {
-  record::InterfaceLogWriter writer;
+  uls::InterfaceLogWriter writer;
   std::string out;
   Sample ls5;
   ls5.device = "ls5";
