@@ -71,12 +71,12 @@ def open(port: str, baud: int = 115200, address: Optional[Union[str, int]] = Non
 
 
 def decode_line(
-    line: bytes, *, mode: str = "averaging", display: str = "range", units: str = "m", time_between_events: bool = False
+    line: bytes, *, mode: str = "averaging", display: str = "range", units: str = "metres", time_between_events: bool = False
 ) -> "_rangekit.Sample":
     """Decodes one measurement line (``b"$BM,12.345\\r"``) into a :class:`rangekit.Sample`.
 
     A line cannot be read without the unit's settings (U11): ``mode`` (averaging, binning,
-    look-down), ``display`` (range, range-and-intensity, intensity), ``units`` (m, ft) and
+    look-down), ``display`` (range, range-and-intensity, intensity), ``units`` (metres, feet) and
     ``time_between_events`` (TB). Raises :class:`rangekit.errors.DecodeError` on bad bytes.
     """
     return _impl.decode_line(line, mode=mode, display=display, units=units, time_between_events=time_between_events)

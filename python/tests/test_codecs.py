@@ -19,7 +19,7 @@ def test_uls_averaging_line_in_metres():
 
 def test_uls_line_in_feet_is_converted_to_metres():
     # ULS §8 MU: units feet; 40.50 ft = 12.3444 m (1 ft = 0.3048 m).
-    sample = rangekit.uls.decode_line(b"$BM,40.50\r", units="ft")
+    sample = rangekit.uls.decode_line(b"$BM,40.50\r", units="feet")
     assert sample.distance_m == pytest.approx(12.3444)
 
 

@@ -107,6 +107,17 @@ TEST(Cli, DecodeUlsTakesTheDisplaySettingsOwnValueNames) {
   EXPECT_NE(refused.output.find("range-and-intensity"), std::string::npos) << refused.output;
 }
 
+// §9 "xxxx.xx = range (feet)": a unit in feet (MU 0), named as `uls get` names `units`;
+// 40.50 ft is 12.3444 m (0.3048 m to the foot).
+TEST(Cli, DecodeUlsTakesTheUnitsSettingsOwnValueNames) {
+  const auto feet = run_cli("decode uls --units feet", "$BM,40.50\r");
+  EXPECT_EQ(feet.exit_code, 0) << feet.output;
+  EXPECT_NE(feet.output.find("averaging: 12.344 m"), std::string::npos) << feet.output;
+  const auto refused = run_cli("decode uls --units ft", "$BM,40.50\r");
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("feet"), std::string::npos) << refused.output;
+}
+
 TEST(Cli, DecodeLs5RequestsFromTheHost) {
   const auto run = run_cli("decode ls5 --from host", "#01ON\r#02W0B01\r");  // §9.4
   EXPECT_EQ(run.exit_code, 0) << run.output;

@@ -46,4 +46,18 @@ TEST(NamedValues, ACodeOfAWordedSettingIsStillItsCode) {
   EXPECT_EQ(*fields, std::vector<std::string>{"2"});
 }
 
+// §8 RS485 Protocol: a unit address is a byte 0x30-0xEF; the UA get reply carries it as a
+// number. `get` spells it as the family does everywhere, so that `set address=` takes it back:
+// 'A' for 65, and 0x9C for a byte no terminal shows (it printed 156).
+TEST(NamedValues, AnAddressReadsAsSetTakesIt) {
+  const CommandInfo& ua = command_info(CommandId::address);
+  EXPECT_EQ(named::describe_reply(ua, {"65"}, Units::metres).text, "A");
+  EXPECT_EQ(named::describe_reply(ua, {"156"}, Units::metres).text, "0x9C");
+  auto planned = named::plan({{"address", "0x9C"}});
+  ASSERT_TRUE(planned.ok()) << planned.error().message;
+  auto fields = named::to_fields(planned->front().target, planned->front().value, Units::metres);
+  ASSERT_TRUE(fields.ok()) << fields.error().message;
+  EXPECT_EQ(*fields, std::vector<std::string>{std::string(1, '\x9C')});  // the byte itself on the wire
+}
+
 }  // namespace

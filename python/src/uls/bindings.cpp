@@ -57,9 +57,9 @@ uls::DisplayMode parse_display(const std::string& text) {
   throw py::value_error("display '" + text + "' must be range, range-and-intensity or intensity (§8 DM)");
 }
 uls::Units parse_units(const std::string& text) {
-  if (text == "m") return uls::Units::metres;
-  if (text == "ft") return uls::Units::feet;
-  throw py::value_error("units '" + text + "' must be m or ft (§8 MU)");
+  if (text == "metres") return uls::Units::metres;
+  if (text == "feet") return uls::Units::feet;
+  throw py::value_error("units '" + text + "' must be metres or feet (§8 MU)");
 }
 uls::StreamMode parse_stream_mode(const std::string& text) {
   if (text == "automatic") return uls::StreamMode::automatic;
@@ -255,7 +255,7 @@ void bind(py::module_& parent) {
         return uls::sample_from_reading(measurement.reading, address, "");
       },
       py::arg("line"), py::kw_only(), py::arg("mode") = "averaging", py::arg("display") = "range",
-      py::arg("units") = "m", py::arg("time_between_events") = false);
+      py::arg("units") = "metres", py::arg("time_between_events") = false);
 
   module.def("error_text", &uls::error_text, py::arg("number"), "The §10 text of a ULS error number");
   module.def(

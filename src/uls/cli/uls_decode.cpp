@@ -16,7 +16,7 @@ namespace {
 struct UlsDecodeOptions {
   std::string mode = "averaging";
   std::string display = "range";
-  std::string units = "m";
+  std::string units = "metres";
   bool time_between_events = false;
 };
 
@@ -38,9 +38,10 @@ std::vector<std::string> names_of(uls::CommandId id) {
 uls::MeasurementContext context_of(const UlsDecodeOptions& options) {
   static const auto modes = codes_by_name(uls::CommandId::mode);
   static const auto displays = codes_by_name(uls::CommandId::display);
-  return uls::MeasurementContext{
-      static_cast<uls::Mode>(modes.at(options.mode)), static_cast<uls::DisplayMode>(displays.at(options.display)),
-      options.units == "ft" ? uls::Units::feet : uls::Units::metres, options.time_between_events};
+  static const auto units = codes_by_name(uls::CommandId::units);
+  return uls::MeasurementContext{static_cast<uls::Mode>(modes.at(options.mode)),
+                                 static_cast<uls::DisplayMode>(displays.at(options.display)),
+                                 static_cast<uls::Units>(units.at(options.units)), options.time_between_events};
 }
 
 }  // namespace
@@ -51,7 +52,8 @@ DecoderFactory add_uls_decode_options(CLI::App& decode) {
       ->check(CLI::IsMember(names_of(uls::CommandId::mode)));
   decode.add_option("--display", options->display, "ULS averaging display mode (DM)")
       ->check(CLI::IsMember(names_of(uls::CommandId::display)));
-  decode.add_option("--units", options->units, "ULS units (MU)")->check(CLI::IsMember({"m", "ft"}));
+  decode.add_option("--units", options->units, "ULS measurement units (MU)")
+      ->check(CLI::IsMember(names_of(uls::CommandId::units)));
   decode.add_flag("--time-between-events", options->time_between_events, "ULS look down with TB on");
   return [options](Direction sender) {
     const auto context = context_of(*options);

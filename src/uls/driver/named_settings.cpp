@@ -218,6 +218,10 @@ Result<std::vector<std::string>> to_fields(const Target& target, std::string_vie
                                                   "'? (allowed: " + allowed_values(command, Units::metres) + ")");
       }
       // else left as typed: validation names the allowed values
+    } else if (command.kind == ValueKind::address_char && field.size() > 1) {
+      // The family's spelling of a byte no terminal shows (0x9C, as `get` prints it): the wire
+      // takes the byte itself.
+      if (auto byte = parse_unit_address(field)) field = std::string(1, static_cast<char>(*byte));
     } else if (command.kind == ValueKind::enumeration && values_are_quantities(command)) {
       return make_error(Errc::out_of_range, bare_number_refusal(command, field));
     } else if (command.is_distance()) {
@@ -300,8 +304,10 @@ Reading describe_reply(const CommandInfo& command, const std::vector<std::string
   }
   if (command.mnemonic == "BR" && values.size() == 2) return {values[1], true};
   if (command.mnemonic == "UA" && values.size() == 1) {
+    // As the family writes it everywhere ('A', or 0x9C beyond what a terminal shows), so that
+    // `set address=` takes back what `get` printed.
     auto address = unit_address_char(text::parse_unsigned(values[0]).value_or(0));
-    if (address && *address < 0x7F) return {std::string(1, static_cast<char>(*address)), false};
+    if (address) return {address_text(*address), false};
     return {values[0], false};
   }
   auto setting = from_wire(command, values, device_units);
