@@ -181,6 +181,17 @@ TEST(UlsFaults, PowerCycleKeepsOnlyWhatWasSaved) {
                               ("rangekit-ulsfault-state-" + std::to_string(::getpid())));
 }
 
+// docs/conformance.md U122. §8 "Save User Settings into Non-Volatile Memory"; §1 "each time
+// you turn on the ULS, it will use these same settings": no --state file, one run.
+TEST(UlsFaults, SavedSettingsSurviveAPowerCycleWithoutAStateFileU122) {
+  SimUls sim("nvm");
+  EXPECT_EQ(sim.exchange("$PO,2000\r$SU\r$PF,100\r"), "$OK\r$OK\r$OK\r");
+  auto reply = sim.request({{"cmd", "power_cycle"}});
+  ASSERT_EQ(reply.value("ok", false), true) << reply.dump();
+  // PO saved (factory 1024); PF set after SU is not (factory 2000).
+  EXPECT_EQ(sim.exchange("$PO\r$PF\r"), "$PO,2000,1024\r$PF,2000,2000,2000\r");
+}
+
 // docs/conformance.md U45
 TEST(UlsFaults, PointerAndLaserOutputsOnTheControlSocket) {
   SimUls sim("pointer");

@@ -119,11 +119,14 @@ TEST(UlsFirmware, SaveSurvivesPowerCycleUnsavedDoesNot) {
     EXPECT_EQ(again.ask("$PF"), "$PF,3000,2000,2000");
   }
   {
-    Unit volatile_unit;  // no --state: factory defaults after a power cycle
+    // No --state: the memory outlives a power cycle of this run (U122), not the run.
+    Unit volatile_unit;
     EXPECT_EQ(volatile_unit.ask("$PF,3000"), "$OK");
     EXPECT_EQ(volatile_unit.ask("$SU"), "$OK");
     volatile_unit.firmware->power_cycle(volatile_unit.now);
-    EXPECT_EQ(volatile_unit.ask("$PF"), "$PF,2000,2000,2000");
+    EXPECT_EQ(volatile_unit.ask("$PF"), "$PF,3000,2000,2000");
+    Unit next_run;
+    EXPECT_EQ(next_run.ask("$PF"), "$PF,2000,2000,2000");
   }
   std::filesystem::remove_all(dir);
 }
@@ -131,9 +134,9 @@ TEST(UlsFirmware, SaveSurvivesPowerCycleUnsavedDoesNot) {
 TEST(UlsFirmware, AutostartMeasuresAfterPowerUp) {
   Unit unit;
   EXPECT_EQ(unit.ask("$MA,1"), "$OK");
-  EXPECT_EQ(unit.ask("$SU"), "$OK");  // volatile store: MA lives until power off
+  EXPECT_EQ(unit.ask("$SU"), "$OK");  // no file: the memory still outlives the power cycle (U122)
   unit.firmware->power_cycle(unit.now);
-  EXPECT_FALSE(unit.firmware->measuring());
+  EXPECT_TRUE(unit.firmware->measuring());
   const auto dir = std::filesystem::temp_directory_path() / ("rangekit-uls-ma-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   FirmwareOptions options;

@@ -23,14 +23,15 @@ Firmware::Firmware(FirmwareOptions options, Nanos now)
       scene_(options_.scene),
       random_(options_.seed) {
   if (options_.address) factory_.address = *options_.address;
+  if (auto stored = store_.load(); stored) memory_ = std::move(*stored);  // a corrupt file: factory defaults
   boot(now);
 }
 
 void Firmware::boot(Nanos now) {
   settings_ = factory_;
-  if (auto memory = store_.load(); memory && memory->has_value()) {
+  if (memory_) {
     try {
-      settings_ = Settings::from_json(**memory, factory_);
+      settings_ = Settings::from_json(*memory_, factory_);
     } catch (const nlohmann::json::exception&) {
       settings_ = factory_;  // unreadable memory: factory defaults
     }

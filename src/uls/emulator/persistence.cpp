@@ -87,7 +87,11 @@ Settings Settings::from_json(const nlohmann::json& memory, const Settings& defau
 }
 
 void Firmware::handle_save(const Request& request) {
-  if (store_.save(settings_.to_json())) return answer_ok(request);
+  auto memory = settings_.to_json();
+  if (store_.save(memory)) {
+    memory_ = std::move(memory);  // the next power-up reads it, with or without a file behind it
+    return answer_ok(request);
+  }
   answer_error(request, 10);  // "☒ must be resolved by LTI": memory failure
 }
 

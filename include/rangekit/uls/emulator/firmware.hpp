@@ -211,6 +211,9 @@ class Firmware final : public DeviceModel {
 
   FirmwareOptions options_;
   StateStore store_;
+  // The non-volatile memory itself: kept across power cycles of this run whether or not
+  // --state backs it with a file (§1 "each time you turn on the ULS, it will use these same settings").
+  std::optional<nlohmann::json> memory_;
   Settings factory_;
   Settings settings_;
   Scene scene_;
