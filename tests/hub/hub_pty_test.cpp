@@ -268,4 +268,25 @@ TEST(HubPty, AUnitMissingFromTheBusIsReportedAndTheOthersKeepTheirOwnAddresses) 
   EXPECT_FALSE(hub->sensor("bay-C")->health.connected);
 }
 
+// U123: §2 "Laser On: The laser is firing."; §8 Get Unit Status "n = 7 = laser firing and
+// Averaging Mode", "n = 1 = unit ready, not measuring". The status follows a streaming unit.
+TEST(HubPty, U123_TheStatusOfAStreamingUnitSaysTheLaserFires) {
+  Site site;
+  auto hub = Hub::start(site.config);
+  auto silo = hub->subscribe("silo", 1000, OverflowPolicy::drop_oldest);
+  ASSERT_TRUE(silo.ok());
+  ASSERT_TRUE(take_until(**silo, [](const HubItem& item) { return std::holds_alternative<Sample>(item.item); }));
+  // Set by the worker as the stream started, before it published any sample.
+  auto firing = hub->sensor("silo")->status;
+  EXPECT_EQ(value_of(firing, "laser-firing"), "yes");
+  EXPECT_EQ(value_of(firing, "status"), "7");
+  EXPECT_EQ(value_of(firing, "averaging"), "yes");
+  ASSERT_TRUE(hub->act("silo", "stop").ok());
+  auto idle = hub->sensor("silo")->status;  // read again when the stream ended (ST sent)
+  EXPECT_EQ(value_of(idle, "laser-firing"), "no");
+  EXPECT_EQ(value_of(idle, "status"), "1");
+  ASSERT_TRUE(hub->act("silo", "start").ok());
+  EXPECT_EQ(value_of(hub->sensor("silo")->status, "status"), "7");
+}
+
 }  // namespace

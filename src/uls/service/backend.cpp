@@ -163,15 +163,15 @@ class UlsBackend final : public Backend {
   Status set_streaming(Session& /*session*/, bool on) override {
     if (on == streaming_) return ok_status();
     if (on) {
-      auto started = driver_->start_stream(uls::StreamMode::automatic);
-      if (!started) return std::move(started).error();
-      stream_ = std::move(started).value();
+      auto started = start();
+      if (!started) return started;
     } else {
       stream_->stop(uls::AfterStream::stop_measuring);  // the user's Stop: ST (§8)
       drain(*stream_, session_, publisher_, std::chrono::milliseconds(0));
       stream_.reset();
+      streaming_ = false;
+      read_status();
     }
-    streaming_ = on;
     std::lock_guard lock(session_.mutex);
     session_.streaming = on;
     return ok_status();
@@ -220,10 +220,7 @@ class UlsBackend final : public Backend {
     }
     auto result = call();
     if (was_streaming) {
-      if (auto restarted = driver_->start_stream(uls::StreamMode::automatic); restarted) {
-        stream_ = std::move(restarted).value();
-        streaming_ = true;
-      } else {
+      if (auto restarted = start(); !restarted) {
         std::lock_guard lock(session_.mutex);
         session_.streaming = false;
         publisher_.publish(session_, make_event(StreamEventKind::device_error,
@@ -231,6 +228,29 @@ class UlsBackend final : public Backend {
       }
     }
     return result;
+  }
+
+  // A streaming unit measures (the stream finds it measuring or sends GO) and is not asked US
+  // while its lines arrive (U123): its status is the one US gives for measuring in its mode.
+  Status start() {
+    auto mode = driver_->mode();
+    if (!mode) return std::move(mode).error();
+    auto started = driver_->start_stream(uls::StreamMode::automatic);
+    if (!started) return std::move(started).error();
+    stream_ = std::move(started).value();
+    streaming_ = true;
+    const auto status = uls::decode_status(uls::wire_value(uls::status_for(true, *mode)));
+    std::lock_guard lock(session_.mutex);
+    session_.status = status_fields(status);
+    return ok_status();
+  }
+
+  // US read again once the unit is idle to the host (no stream): what it says now.
+  void read_status() {
+    auto status = driver_->status();
+    if (!status) return;  // the call that needed it reports the link's trouble
+    std::lock_guard lock(session_.mutex);
+    session_.status = status_fields(*status);
   }
 
   Session& session_;
