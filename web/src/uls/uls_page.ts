@@ -9,6 +9,7 @@ import { ConfigFilePanel } from '../config_file';
 import { Rs485Network } from './rs485_network';
 import { LivePlot } from '../live_plot';
 import { UlsPanels } from './uls_panels';
+import { BasicMeasurement } from './basic_measurement';
 
 // §2 "Icons: Displayed above the black measurement window".
 const INDICATORS = [
@@ -61,7 +62,7 @@ export class UlsPage {
   private readonly singleButton = element('button', 'action', 'Single Measurement');
   private mode = '';
   private display = '';
-  private validTimes: number[] = [];
+  private readonly basic = new BasicMeasurement();
   private lastSample: UlsSample | null = null;
   private source: EventSource | null = null;
 
@@ -183,16 +184,14 @@ export class UlsPage {
     this.plot.add({ time: sample.time, plot, reading, values });
     if (sample.kind && sample.kind !== this.mode && sample.kind !== 'error') this.setMode(sample.kind);
     const valid = sample.distance_m !== undefined || (sample.targets?.length ?? 0) > 0 || sample.presence !== undefined;
-    if (valid) this.validTimes.push(performance.now());
+    if (valid) this.basic.valid(performance.now());
     this.show();
     this.updateBasic();
   }
 
-  // U115: BM when at least two valid measurements came within the last two seconds.
+  // U124 (basic_measurement.ts); the tick turns it off within 0.5 s once 2 s pass with none.
   private updateBasic(): void {
-    const since = performance.now() - 2000;
-    while (this.validTimes.length && this.validTimes[0] < since) this.validTimes.shift();
-    this.set('basic', this.validTimes.length >= 2);
+    this.set('basic', this.basic.lit(performance.now()));
   }
 
   private show(): void {
