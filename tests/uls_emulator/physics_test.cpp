@@ -133,6 +133,64 @@ TEST(UlsPhysics, BinningSeesTheWeakFarTargetAveragingMisses) {
   EXPECT_GE(last[1].strength, 128U);
 }
 
+// How many of `bursts` binning measurements find a target within one bin of `distance_m`.
+int bursts_finding(Unit& unit, double distance_m, int bursts) {
+  const MeasurementContext context{Mode::binning, DisplayMode::range, Units::metres, false};
+  (void)unit.take(universal_port);
+  unit.run(std::chrono::milliseconds(1100 * bursts));  // PPM 1024 at PRF 1000: 1.024 s a burst
+  int found = 0;
+  int completed = 0;
+  bool this_burst = false;
+  for (const auto& line : unit.lines(universal_port)) {
+    auto m = decode_measurement(as_bytes(line), context);
+    EXPECT_TRUE(m) << line;
+    if (!m) continue;
+    const auto* target = std::get_if<BinningTarget>(&m->reading);
+    if (target && target->index == 0) this_burst = false;
+    if (target && std::abs(target->range.metres - distance_m) < 1.7 && !this_burst) {
+      this_burst = true;  // one per burst, whatever its index
+      ++found;
+    }
+    if (!target || target->index + 1 == target->count) ++completed;
+    if (completed == bursts) break;
+  }
+  EXPECT_GE(completed, bursts);
+  return found;
+}
+
+// U125. §9 Binning Mode "Maximum Range 450 m to white wall 90% diffuse / 300 m / 250 m",
+// "225 m to gray wall 20% diffuse / 150 m / 125 m" (Maximum, Medium, Minimum power), with
+// the factory Bin Hits 128 and PPM 1024 at PRF 1000.
+TEST(UlsPhysics, BinningReachesTheRangesOfSection9AndNotBeyondU125) {
+  struct Limit {
+    const char* power;  // §8 PL: 0 high, 1 medium, 2 low
+    double reflectivity;
+    double range_m;
+  };
+  const Limit limits[] = {{"0", 0.9, 450.0}, {"1", 0.9, 300.0}, {"2", 0.9, 250.0},
+                          {"0", 0.2, 225.0}, {"1", 0.2, 150.0}, {"2", 0.2, 125.0}};
+  constexpr int bursts = 20;
+  for (const Limit& limit : limits) {
+    for (const double share : {0.95, 1.12}) {
+      const double d = limit.range_m * share;
+      Unit unit(with_targets({SceneTarget{"wall", Motion::fixed(d), limit.reflectivity, false}}));
+      EXPECT_EQ(unit.ask("$MM,2"), "$OK");
+      EXPECT_EQ(unit.ask("$BS,6"), "$OK");  // 64-inch bins: 832 m, past every limit
+      EXPECT_EQ(unit.ask(std::string("$PL,") + limit.power), "$OK");
+      EXPECT_EQ(unit.ask("$PF,1000"), "$OK");
+      EXPECT_EQ(unit.ask("$MO,1"), "$OK");
+      EXPECT_EQ(unit.ask("$GO"), "$OK");
+      const int found = bursts_finding(unit, d, bursts);
+      SCOPED_TRACE(std::string("PL ") + limit.power + ", " + std::to_string(d) + " m");
+      if (share < 1) {
+        EXPECT_GE(found, 15) << "of " << bursts;  // most
+      } else {
+        EXPECT_LE(found, 1) << "of " << bursts;  // none or almost none
+      }
+    }
+  }
+}
+
 TEST(UlsPhysics, BinningStopsAtFifteenTargets) {
   // Bin hits too low: noise bins become targets, at most 15 (§3).
   Unit unit(with_targets({SceneTarget{"wall", Motion::fixed(10.0), 0.9, false}}, 20.0));

@@ -26,9 +26,9 @@ void Firmware::fire_binning(Nanos t) {
       const double d = target.motion.position_at(t);
       if (!passes_gates(settings_, d, target.cooperative)) continue;
       // No threshold in binning (§3): weak returns still land, with a probability
-      // falling with the signal strength (range / distance)^2.
-      const double ratio = max_range_m(target.reflectivity, target.cooperative) / d;
-      const double p = std::min(detect_probability, 0.5 * ratio * ratio);
+      // falling with the signal strength (range / distance)^2, §9's binning range at its edge.
+      const double ratio = binning_range_m(target.reflectivity, target.cooperative) / d;
+      const double p = std::min(detect_probability, binning_edge_probability * ratio * ratio);
       if (uniform(random_) >= p) continue;
       std::normal_distribution<double> noise(0.0, target.cooperative ? cooperative_jitter_m : jitter_m);
       hit_at(d + noise(random_));

@@ -119,6 +119,15 @@ double Firmware::max_range_m(double reflectivity, bool cooperative) const noexce
   return std::max(range, 1.0);
 }
 
+double Firmware::binning_range_m(double reflectivity, bool cooperative) const noexcept {
+  const auto level = static_cast<std::size_t>(wire_value(settings_.power));
+  if (cooperative) return reflective_sheet_limit_binning_m;  // §9 Binning Mode: 1664 m at every level
+  const double r = std::clamp(reflectivity, 0.0, 1.0);
+  const double range =
+      binning_gray_range_m[level] + (binning_white_range_m[level] - binning_gray_range_m[level]) * (r - 0.2) / 0.7;
+  return std::max(range, 1.0);
+}
+
 std::optional<Firmware::PulseReturn> Firmware::first_return(Nanos t, bool certain, double min_width_ps) {
   if (fault_no_return_) return std::nullopt;
   std::optional<PulseReturn> best;

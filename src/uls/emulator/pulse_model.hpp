@@ -13,6 +13,12 @@ inline constexpr double cooperative_range_m = 1700.0;  // §9 reflective sheet, 
 // §9 maximum ranges by power level (high, medium, low).
 inline constexpr std::array<double, 3> white_range_m{266.0, 228.0, 188.0};  // 90% white
 inline constexpr std::array<double, 3> gray_range_m{133.0, 114.0, 94.0};    // 20% gray
+// §9 Binning Mode maximum ranges by power level, reached with the factory BH and PPM (U125).
+inline constexpr std::array<double, 3> binning_white_range_m{450.0, 300.0, 250.0};  // 90% white
+inline constexpr std::array<double, 3> binning_gray_range_m{225.0, 150.0, 125.0};   // 20% gray
+// A target at the binning maximum range lands a factory bin's worth of hits on average (128 of
+// 1024 pulses): found in about half of the measurements there, fewer beyond (U125).
+inline constexpr double binning_edge_probability = 128.0 / 1024.0;
 // Single-pulse timing jitter (one sigma) and the time quantum of a pulse (docs/emulator-uls.md).
 inline constexpr double jitter_m = 0.02;
 inline constexpr double cooperative_jitter_m = 0.01;

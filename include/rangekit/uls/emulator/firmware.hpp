@@ -197,6 +197,8 @@ class Firmware final : public DeviceModel {
   [[nodiscard]] Address measurement_address() const noexcept;
   [[nodiscard]] std::size_t measurement_port() const noexcept;
   [[nodiscard]] double max_range_m(double reflectivity, bool cooperative) const noexcept;
+  // §9 Binning Mode's maximum range for the reflectivity and power level (U125).
+  [[nodiscard]] double binning_range_m(double reflectivity, bool cooperative) const noexcept;
   // Nearest return of the scene; `min_width_ps` rejects narrower returns (U41).
   std::optional<PulseReturn> first_return(Nanos t, bool certain, double min_width_ps = 0);
   [[nodiscard]] std::size_t count_bin_targets() const noexcept;
