@@ -22,7 +22,7 @@ constexpr std::array<BinSizeInfo, 9> bin_sizes{{
     {BinSize::inches_32, 32, 81.6, 416, "81.6 (416)"},
     {BinSize::inches_64, 64, 163.2, 832, "163.2 (832)"},
     {BinSize::inches_128, 128, 326.4, 1664, "326.4 (1664)"},
-    {BinSize::inches_256, 256, 652.8, 3329, "652.8 (3329)"},
+    {BinSize::inches_256, 256, 652.8, 3329, "652.8 (1664)"},  // §9's 1664 m reach (U131)
 }};
 
 }  // namespace

@@ -84,7 +84,9 @@ TEST(UlsConformance, U33_BinSizeLabelsOfTheInterfaceProgram) {  // §2 "Bin Size
   EXPECT_EQ(bin_size_info(BinSize::inch_1).interface_label, "2.5 (13)");
   EXPECT_EQ(bin_size_info(BinSize::inches_2).interface_label, "5.1 (26)");
   EXPECT_EQ(bin_size_info(BinSize::inches_128).interface_label, "326.4 (1664)");
-  EXPECT_EQ(bin_size_info(BinSize::inches_256).interface_label, "652.8 (3329)");
+  // U131: §2 Bin Size "the number in parenthesis is the maximum acquisition distance"; §9
+  // "1664 m or 5459 ft (High-intensity Reflective Sheet)": 256-inch bins reach no further.
+  EXPECT_EQ(bin_size_info(BinSize::inches_256).interface_label, "652.8 (1664)");
   EXPECT_DOUBLE_EQ(bin_size_m(BinSize::inch_1) * 100, 2.54);
 }
 
