@@ -171,6 +171,9 @@ TEST(UlsFirmware, BaudChangeTakesEffectAfterTheOk) {
   EXPECT_EQ(unit.ask("$BR,1"), "$BR,1,9600");
 }
 
+// U126: §2 Output Setup "the measurement data and control will then be directed to that port for
+// output", "The RS232 configuration port is always active as an input": with the factory MO 0 the
+// universal port still takes a command and answers it there.
 TEST(UlsFirmware, RepliesGoToThePortTheCommandCameFrom) {
   Unit unit;
   unit.send(universal_port, "$MM\r");

@@ -56,6 +56,23 @@ TEST(UlsPhysics, AveragingWithinFourCentimetresNonCooperative) {
   for (const double r : ranges) ASSERT_NEAR(r, 87.654, 0.04);
 }
 
+// U128 (kept): §3 dithering "can dramatically increase the accuracy of the measurement"; in this
+// model the single-pulse jitter already spreads returns over the timing grid, so dithering keeps
+// the §9 "±4 cm typical" but gains nothing measurable. Both ways stay within it.
+// U129 (kept): §2 "This value should be a multiple of 32": advice, so AW 100 is taken with DD on.
+TEST(UlsPhysics, DitheringKeepsTheAveragingWithinFourCentimetresU128U129) {
+  for (const char* averaging_weight : {"$AW,32", "$AW,100"}) {
+    for (const char* dither : {"$DD,0", "$DD,1"}) {
+      Unit unit(with_targets({SceneTarget{"wall", Motion::fixed(87.654), 0.5, false}}));
+      EXPECT_EQ(unit.ask(averaging_weight), "$OK");
+      EXPECT_EQ(unit.ask(dither), "$OK");
+      setup_fast_averaging(unit);
+      const auto ranges = averaging_ranges(unit, 200);
+      for (const double r : ranges) ASSERT_NEAR(r, 87.654, 0.04) << averaging_weight << " " << dither;
+    }
+  }
+}
+
 TEST(UlsPhysics, AveragingWithinTwoCentimetresCooperative) {
   Unit unit(with_targets({SceneTarget{"prism", Motion::fixed(612.345), 0.9, true}}));
   EXPECT_EQ(unit.ask("$FL,1"), "$OK");

@@ -97,6 +97,14 @@ TEST(UlsPty, BusOfEightUnitsWithAddressAssignment) {
   EXPECT_NE(collided, "#BMM,2\r");
 }
 
+// U127: §8 "$ = non-addressable protocol message identifier": every unit on the line takes a `$`
+// request and answers it, and on one RS-485 pair the two answers collide.
+TEST(UlsPty, DollarRequestsOnABusAreAnsweredByEveryUnitAndCollide) {
+  auto bus = make_bus({static_cast<std::uint8_t>('A'), static_cast<std::uint8_t>('B')});
+  EXPECT_NE(bus.ask("$MM"), "$MM,1\r");
+  EXPECT_EQ(bus.ask("#AMM"), "#AMM,1\r");  // addressed: one answer, clean
+}
+
 TEST(UlsPty, FactoryUnitsIgnoreAddressedFrames) {
   auto bus = make_bus({std::nullopt});
   EXPECT_EQ(bus.ask("#0MM", 0), "");

@@ -581,7 +581,10 @@ void add_uls_command(CLI::App& app, int& exit_code) {
   scan->add_flag("--all", scan_options->all, "ask every address 0x30-0xEF");
   scan->add_flag("--progress,!--no-progress", scan_options->progress,
                  "show how far the scan is on stderr (default: when stderr is a terminal)");
-  scan->footer("A silent address costs 150 ms, or --timeout when given.");
+  scan->footer(
+      "A silent address costs 150 ms, or --timeout when given. The scan asks each address with "
+      "addressed (#) frames: a $ request on a bus is answered by every unit at once, and on real "
+      "RS-485 hardware those answers collide.");
   scan->callback([&exit_code, link, scan_options, scan] {
     exit_code = run_scan(*link, *scan_options, scan->get_option("--timeout")->count() > 0);
   });
