@@ -3,19 +3,28 @@
 # The rule table is data so that tests/architecture can run the same check on
 # a table with a forbidden edge and see it fail (cmake -P architecture_selftest.cmake).
 
+# The families (families.cmake), whose rows below follow one rule each; the self-test includes
+# this file alone, so it reads the list itself.
+include(${CMAKE_CURRENT_LIST_DIR}/../families.cmake)
+
 # rangekit_allowed_links_<target>: the rangekit libraries <target> may link.
 set(rangekit_allowed_links_rangekit_core "")
-set(rangekit_allowed_links_rangekit_uls rangekit_core)
-set(rangekit_allowed_links_rangekit_ls5 rangekit_core)
 set(rangekit_allowed_links_rangekit_record rangekit_core)
-set(rangekit_allowed_links_rangekit_sim rangekit_core rangekit_uls rangekit_ls5)
+set(rangekit_allowed_links_rangekit_sim rangekit_core)  # and each family's codec, below
 set(rangekit_allowed_links_rangekit_hub rangekit_core rangekit_record)  # no family: they register with it
-# A family's service part: the hub and its own family, never another's, never sim (a site's sensors are real).
-set(rangekit_allowed_links_rangekit_uls_service rangekit_hub rangekit_uls rangekit_core)
-set(rangekit_allowed_links_rangekit_ls5_service rangekit_hub rangekit_ls5 rangekit_core)
-# A face reaches the sensors only through the hub: never a driver (uls, ls5) itself.
+# A face reaches the sensors only through the hub: never a family's library itself.
 set(rangekit_allowed_links_rangekit_web rangekit_hub rangekit_core rangekit_record)
 set(rangekit_allowed_links_rangekit_mqtt rangekit_hub rangekit_core rangekit_record)
+set(rangekit_known_libraries rangekit_core rangekit_record rangekit_sim rangekit_hub rangekit_web rangekit_mqtt)
+foreach(family IN LISTS RANGEKIT_FAMILIES)
+  # A family's codec and driver: core only, never another family, never sim (an embedder links no emulator).
+  set(rangekit_allowed_links_rangekit_${family} rangekit_core)
+  # Its service part: the hub and its own family, never another's, never sim (a site's sensors are real).
+  set(rangekit_allowed_links_rangekit_${family}_service rangekit_hub rangekit_${family} rangekit_core)
+  # The emulators drive each family's firmware model with its codec.
+  list(APPEND rangekit_allowed_links_rangekit_sim rangekit_${family})
+  list(APPEND rangekit_known_libraries rangekit_${family} rangekit_${family}_service)
+endforeach()
 
 # Checks one library's links (`links`: what it links, any kind of entry) against
 # its allowed list; returns the offending rangekit libraries in `out_violations`.
@@ -25,7 +34,7 @@ function(rangekit_forbidden_links target links out_violations)
     # $<LINK_ONLY:x>, $<BUILD_INTERFACE:x> and rangekit::x all name x.
     string(REGEX REPLACE "^\\$<[A-Z_]+:(.*)>$" "\\1" link "${link}")
     string(REGEX REPLACE "^rangekit::" "rangekit_" link "${link}")
-    if(NOT link MATCHES "^rangekit_(core|uls|ls5|record|sim|hub|web|mqtt|uls_service|ls5_service)$")
+    if(NOT link IN_LIST rangekit_known_libraries)
       continue()  # third-party or build-only (warnings) targets
     endif()
     if(NOT link IN_LIST rangekit_allowed_links_${target})

@@ -1,6 +1,7 @@
 # The browser dashboard (web/, docs/dashboard.md), bundled by esbuild in BUILD/web and
 # embedded in the CLI by embed_assets.cmake. Sets RANGEKIT_DASHBOARD_SOURCE (the generated
-# .cpp) and RANGEKIT_DASHBOARD_DIR (the build's copy of web/).
+# .cpp) and RANGEKIT_DASHBOARD_DIR (the build's copy of web/, with the generated
+# src/registered_families.ts, RANGEKIT_FAMILIES_TS, beside families.ts).
 set(RANGEKIT_DASHBOARD_SOURCE ${PROJECT_BINARY_DIR}/generated/dashboard_assets.cpp)
 set(RANGEKIT_DASHBOARD_DIR ${PROJECT_BINARY_DIR}/web)
 if(NOT RANGEKIT_DASHBOARD)
@@ -40,12 +41,13 @@ add_custom_command(OUTPUT ${RANGEKIT_DASHBOARD_SOURCE}
   COMMAND ${CMAKE_COMMAND} -E rm -rf ${RANGEKIT_DASHBOARD_DIR}/src ${RANGEKIT_DASHBOARD_DIR}/tests
           ${RANGEKIT_DASHBOARD_DIR}/dist
   COMMAND ${CMAKE_COMMAND} -E copy_directory ${web}/src ${RANGEKIT_DASHBOARD_DIR}/src
+  COMMAND ${CMAKE_COMMAND} -E copy ${RANGEKIT_FAMILIES_TS} ${RANGEKIT_DASHBOARD_DIR}/src
   COMMAND ${CMAKE_COMMAND} -E copy_directory ${web}/tests ${RANGEKIT_DASHBOARD_DIR}/tests
   COMMAND ${CMAKE_COMMAND} -E copy ${web_files} ${RANGEKIT_DASHBOARD_DIR}
   COMMAND ${RANGEKIT_NPM} run --silent build
   COMMAND ${CMAKE_COMMAND} -DDIST=${RANGEKIT_DASHBOARD_DIR}/dist -DOUTPUT=${RANGEKIT_DASHBOARD_SOURCE}
           -P ${PROJECT_SOURCE_DIR}/cmake/embed_assets.cmake
   WORKING_DIRECTORY ${RANGEKIT_DASHBOARD_DIR}
-  DEPENDS ${npm_stamp} ${web_sources} ${web_files} ${PROJECT_SOURCE_DIR}/cmake/embed_assets.cmake
+  DEPENDS ${npm_stamp} ${web_sources} ${web_files} ${RANGEKIT_FAMILIES_TS} ${PROJECT_SOURCE_DIR}/cmake/embed_assets.cmake
   COMMENT "Building the dashboard (tsc, esbuild) and embedding it"
   VERBATIM)

@@ -1,6 +1,6 @@
 """The families: one module each (``rangekit.<name>``), named and ordered as the registration
-list, src/families/list.hpp, which the compiled module's registry is filled from; so there is
-no second list here to keep in step (python/tests/test_families.py checks the two agree)."""
+list, families.cmake, which the compiled module's registry is filled from; so there is no
+second list here to keep in step (python/tests/test_families.py checks the two agree)."""
 
 from __future__ import annotations
 

@@ -1,5 +1,6 @@
 # Type stubs of the compiled module (python/src), re-exported by the package. They describe the
-# module as built, so they name each family's submodule and Sample fields (python/src/<family>/).
+# module as built: the Sample fields of python/src/<family>/, and each family's submodule, a
+# `<family>: Any` line python/CMakeLists.txt appends from the registration list (families.cmake).
 from typing import Any, Dict, Iterator, List, Optional, Tuple, Union
 
 import numpy
@@ -91,6 +92,4 @@ class Stream:
     @property
     def waiting(self) -> bool: ...
 
-uls: Any
-ls5: Any
 capture: Any

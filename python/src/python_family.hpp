@@ -1,6 +1,6 @@
 // A family's part of the Python module: its submodule and the fields it adds to the shared
 // rangekit.Sample and NumPy record. Each family fills one in python/src/<family>/, and
-// registered_families.cpp lists them all from the registration list (src/families/list.hpp).
+// registered_families.cpp lists them all from the registration list (families.cmake).
 #pragma once
 
 #include <span>

@@ -1,5 +1,5 @@
 // Generic code names no sensor family: outside a family's own folders and the registration
-// lists, no code token in the tree is a family's name (docs/architecture.md, "Families").
+// list, no code token in the tree is a family's name (docs/architecture.md, "Families").
 #include <gtest/gtest.h>
 #include "build_paths.hpp"
 
@@ -20,17 +20,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The files that name every family by design, one line each; a web or Python list joins them here.
-const std::vector<std::string> registration_lists = {"src/families/list.hpp", "web/src/families.ts"};
+// The one file that names every family, one line each: every other list is generated from it.
+const std::string registration_list = "families.cmake";
 
 // Generic files that still name a family, and why. The list only shrinks: a file that no longer
 // names one fails the test until it is taken out of the list.
 const std::map<std::string, std::string> known_remaining = {
-    {"CMakeLists.txt", "declares each family's libraries and service parts, and links them into the others"},
-    {"cmake/architecture.cmake", "the link rule names each family library's allowed links"},
     {"include/rangekit/core/sample.hpp", "SampleKind's values are the families' kinds (uls_averaging, ls5_result)"},
-    {"python/CMakeLists.txt", "links each family's library into the module by name"},
-    {"python/rangekit/_rangekit.pyi", "the stub declares each family's submodule of _rangekit"},
     {"src/core/sample.cpp", "the names of SampleKind's per-family values"},
     {"src/record/capture.cpp", "core::Sample still carries each family's fields: a ULS binning's targets"},
     {"src/record/capture_pages.cpp", "core::Sample still carries each family's fields: ULS look down's overflow"},
@@ -40,12 +36,13 @@ const std::map<std::string, std::string> known_remaining = {
 };
 
 // The generic parts of the tree: each generic library's src/<library> and include/rangekit/<library>
-// (the CLI has no public headers), the Python and web folders and the CMake files. In a folder, a
-// family's own part beside the shared one (a folder or a Python module named after it,
-// web/src/uls/, python/rangekit/uls.py) is not generic.
-const std::vector<std::string> generic_libraries = {"core", "record", "hub", "web", "mqtt", "sim", "cli"};
+// (the CLI has no public headers), the registrations' src/families, the Python and web folders and
+// the CMake files. In a folder, a family's own part beside the shared one (a folder or a Python
+// module named after it, web/src/uls/, python/rangekit/uls.py) is not generic.
+const std::vector<std::string> generic_libraries = {"core", "record", "hub", "web", "mqtt", "sim", "cli", "families"};
 const std::vector<std::string> generic_folders = {"python/src", "python/rangekit", "web/src"};
-const std::vector<std::string> generic_files = {"CMakeLists.txt", "python/CMakeLists.txt"};  // and cmake/*.cmake
+const std::vector<std::string> generic_files = {"CMakeLists.txt", "python/CMakeLists.txt",
+                                                registration_list};  // and cmake/*.cmake
 
 const fs::path tree = rangekit::test::source_dir();
 
@@ -54,15 +51,6 @@ std::string text_of(const fs::path& file) {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
-}
-
-// The families, from the FAMILY(name) lines of the C++ registration list.
-std::vector<std::string> registered_family_names() {
-  const std::string list = text_of(tree / registration_lists.front());
-  const std::regex entry(R"(FAMILY\((\w+)\))");
-  std::vector<std::string> names;
-  for (std::sregex_iterator it(list.begin(), list.end(), entry), end; it != end; ++it) names.push_back((*it)[1]);
-  return names;
 }
 
 enum class Syntax { cpp, typescript, css, python, cmake };
@@ -141,6 +129,17 @@ std::string without_comments(std::string text, Syntax syntax) {
   return text;
 }
 
+// The families, from the registration list's set(RANGEKIT_FAMILIES name...), comments left out.
+std::vector<std::string> registered_family_names() {
+  const std::string list = without_comments(text_of(tree / registration_list), Syntax::cmake);
+  std::smatch set;
+  if (!std::regex_search(list, set, std::regex(R"(set\(\s*RANGEKIT_FAMILIES\s+([^)]*)\))"))) return {};
+  std::istringstream words(set[1]);
+  std::vector<std::string> names;
+  for (std::string name; words >> name;) names.push_back(name);
+  return names;
+}
+
 struct Hit {
   int line;
   std::string token;
@@ -201,9 +200,7 @@ std::vector<std::string> generic_paths(const std::vector<std::string>& names) {
       if (it->is_regular_file()) paths.push_back(fs::relative(it->path(), tree).string());
     }
   }
-  std::erase_if(paths, [](const std::string& path) {
-    return std::find(registration_lists.begin(), registration_lists.end(), path) != registration_lists.end();
-  });
+  std::erase_if(paths, [](const std::string& path) { return path == registration_list; });
   return paths;
 }
 
@@ -231,10 +228,8 @@ std::string where(const std::string& path, const std::vector<Hit>& hits) {
 }
 
 TEST(FamilyNames, GenericFilesNameNoFamily) {
-  for (const std::string& list : registration_lists) {
-    ASSERT_TRUE(fs::exists(tree / list)) << list << " is missing: it is the registration list of the families";
-  }
-  ASSERT_FALSE(registered_family_names().empty()) << registration_lists.front() << " has no FAMILY(name) line";
+  ASSERT_TRUE(fs::exists(tree / registration_list)) << registration_list << " is missing: it lists the families";
+  ASSERT_FALSE(registered_family_names().empty()) << registration_list << " sets no RANGEKIT_FAMILIES";
   const auto found = generic_files_naming_a_family();
   for (const auto& [path, hits] : found) {
     if (known_remaining.contains(path)) continue;

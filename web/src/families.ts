@@ -1,11 +1,8 @@
-// The registration list: every family the dashboard has a page for, one line each, as
-// src/families/list.hpp on the service's side. The only shared file that names a family.
+// Each family's page and card words (web/src/<family>/index.ts), listed in registered_families.ts,
+// which the build generates from the registration list (families.cmake): no shared file names one.
 import type { FamilyView } from './family_view';
-import { ls5 } from './ls5';
-import { uls } from './uls';
-
-const views: FamilyView[] = [uls, ls5];
+import { registeredViews } from './registered_families';
 
 export function familyView(name: string | undefined): FamilyView | undefined {
-  return views.find((view) => view.name === name);
+  return registeredViews.find((view) => view.name === name);
 }

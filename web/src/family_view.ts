@@ -1,5 +1,5 @@
 // What a family's folder (web/src/FAMILY/) gives the shared dashboard: its sensor page and what
-// its overview card says beyond the channels' descriptors. families.ts lists them.
+// its overview card says beyond the channels' descriptors. The build lists them from families.cmake.
 import type { Sensor } from './api';
 
 export interface SensorPage {
