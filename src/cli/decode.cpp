@@ -2,13 +2,10 @@
 // and prints each frame decoded, or why bytes were rejected.
 #include <fmt/core.h>
 
-#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <iterator>
-#include <utility>
-#include <vector>
 
 #include "cli/cli_family.hpp"
 #include "cli/commands.hpp"
@@ -18,13 +15,11 @@ namespace rangekit::cli {
 namespace {
 
 struct DecodeOptions {
-  std::string family;
   std::string file;
   std::string from = "device";
-  std::vector<std::pair<const CliFamily*, DecoderFactory>> decoders;  // each family's, from its options
 };
 
-int run_decode(const DecodeOptions& options) {
+int run_decode(const DecodeOptions& options, const DecoderFactory& decoder_of) {
   std::string bytes;
   if (options.file.empty() || options.file == "-") {
     bytes.assign(std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>());
@@ -37,10 +32,7 @@ int run_decode(const DecodeOptions& options) {
     bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
   const Direction direction = options.from == "host" ? Direction::to_device : Direction::from_device;
-  const auto chosen = std::find_if(options.decoders.begin(), options.decoders.end(),
-                                   [&](const auto& entry) { return entry.first->name == options.family; });
-  if (chosen == options.decoders.end()) return exit_usage;  // the option's check lets only a family through
-  const FrameDecoder decoder = chosen->second(direction);
+  const FrameDecoder decoder = decoder_of(direction);
   FrameAssembler assembler(decoder.scan, 4096);
   FrameAssembler::Event event;
   int frames = 0;
@@ -75,17 +67,24 @@ int run_decode(const DecodeOptions& options) {
 void add_decode_command(CLI::App& app, int& exit_code) {
   auto options = std::make_shared<DecodeOptions>();
   auto* command = app.add_subcommand("decode", "Decode " + cli_family_labels(" or ") + " frames from a file or stdin");
-  command->add_option("family", options->family, cli_family_names(" | "))
-      ->required()
-      ->check(CLI::IsMember(cli_family_name_list()));
-  command->add_option("file", options->file, "file of raw bytes (default: stdin)");
-  command->add_option("--from", options->from, "who sent the bytes: device (replies, measurements) or host (commands)")
-      ->check(CLI::IsMember({"device", "host"}));
-  for (const CliFamily* family : cli_families()) {
-    options->decoders.emplace_back(family, family->add_decode_options(*command));
-  }
+  command->require_subcommand(1);
+  // `decode FAMILY`: a subcommand each, so that a family's options (--mode, --range-mm) are its own
+  // and two families may have one of the same name. --from is taken before the family or after.
+  const auto add_from = [&options](CLI::App& to) {
+    to.add_option("--from", options->from, "who sent the bytes: device (replies, measurements) or host (commands)")
+        ->check(CLI::IsMember({"device", "host"}));
+  };
+  add_from(*command);
   command->footer("Exit codes: 0 every frame decoded, 3 some bytes or frames rejected, 4 file not readable.");
-  command->callback([options, &exit_code] { exit_code = run_decode(*options); });
+  for (const CliFamily* family : cli_families()) {
+    auto* decode =
+        command->add_subcommand(std::string(family->name), "Decode " + std::string(family->label) + " frames");
+    decode->add_option("file", options->file, "file of raw bytes (default: stdin)");
+    add_from(*decode);
+    decode->callback([options, decoder_of = family->add_decode_options(*decode), &exit_code] {
+      exit_code = run_decode(*options, decoder_of);
+    });
+  }
 }
 
 }  // namespace rangekit::cli
