@@ -10,13 +10,13 @@ CMAKE_FLAGS ?=
 # `make build` and `make demo` need only the build dependencies and build no
 # tests; the targets below also install the test tools and build the tests.
 WITH_TESTS ?= OFF
-test bench bench-web hardware tidy lint consumer package format-check: WITH_TESTS = ON
+test bench bench-web hardware tidy lint consumer package format-check clone-check: WITH_TESTS = ON
 DEPS_KIND = $(if $(filter ON,$(WITH_TESTS)),test,build)
 
 SOURCES := $(shell git ls-files '*.cpp' '*.hpp' 2>/dev/null)
 
 .PHONY: all deps configure build test test-quick demo asan asan-build tsan tsan-build hardware fuzz fuzz-long fuzz-build bench bench-web lint format format-check tidy \
-  consumer package clean
+  consumer package clone-check clean
 
 all: build
 
@@ -138,6 +138,12 @@ consumer: build
 # The .deb (CPack) of this build; installed with dpkg, run, checked and removed.
 package: build
 	@bash scripts/check-package.sh $(BUILD)
+
+# A family is its folders and one line of families.cmake: the LS5 cloned as ls6 in a temporary
+# copy of the tree, built (through ccache, with $(BUILD)'s dashboard toolchain) and found in
+# every face (docs/architecture.md, "Add a family"). The tree is not touched.
+clone-check: deps
+	@JOBS=$(JOBS) BUILD=$(BUILD) DEBUG_INFO="$(DEBUG_INFO)" bash scripts/clone-family.sh
 
 lint: format-check tidy
 
