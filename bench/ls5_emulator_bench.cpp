@@ -19,7 +19,10 @@ std::unique_ptr<emu::Firmware> make_firmware(const std::string& version, std::ui
   config.scene.target = rangekit::Motion::constant_speed(10, 1.0);
   config.scene.target_set = true;
   if (packets != nullptr) {
-    config.udp_sink = [packets](const std::array<std::uint8_t, rangekit::ls5::udp_packet_size>&) { ++*packets; };
+    config.udp_sink = [packets](const emu::UdpDatagram&) {
+      ++*packets;
+      return rangekit::ok_status();
+    };
   }
   auto firmware = emu::Firmware::create(std::move(config));
   if (!firmware) return nullptr;

@@ -1,6 +1,6 @@
 // The measurement pipeline of figure 8.7 and the outputs, against hand-computed values.
 // Conformance rows held here: L29 and L54 (standby), L30 (derivative), L31 (τ), L32 (filters), L33 (§8.13),
-// L34 (exposure and priority), L35 (stream pacing), L36 (UDP), L38 (ROM-writing latching).
+// L34 (exposure and priority), L35 (stream pacing), L36 (UDP), L38 (ROM-writing latching), L82 (UDP source port).
 #include <unistd.h>
 
 #include "ls5_emulator/firmware_rig.hpp"
@@ -308,7 +308,10 @@ TEST(Ls5Pipeline, StandbyEndsWithTheSavedParametersL54) {
 TEST(Ls5Pipeline, UdpPacketEvery168ResultsAtTheOutputPeriod) {
   std::vector<std::array<std::uint8_t, udp_packet_size>> packets;
   FirmwareConfig config = test_config("LS5.12.3");
-  config.udp_sink = [&](const std::array<std::uint8_t, udp_packet_size>& packet) { packets.push_back(packet); };
+  config.udp_sink = [&](const UdpDatagram& datagram) {
+    packets.push_back(datagram.bytes);
+    return ok_status();
+  };
   Rig rig(config);
   rig.write(0x06, 0x0A);
   rig.write(0x07, 0x00);  // t = 1 ms
@@ -333,10 +336,50 @@ TEST(Ls5Pipeline, UdpPacketEvery168ResultsAtTheOutputPeriod) {
   EXPECT_EQ(packets.size(), count);
 }
 
+TEST(Ls5Pipeline, UdpPacketsLeaveFromTheSourcePortOfTheParametersL82) {
+  // §10 default settings: "Source port number (sensor) 5000"; table 9.2 "Source port number",
+  // high byte 6E = 13, low byte 6F = 88, "(5000)".
+  std::vector<std::uint16_t> ports;
+  Status answer = ok_status();
+  FirmwareConfig config = test_config("LS5.12.0");
+  config.udp_sink = [&](const UdpDatagram& datagram) {
+    ports.push_back(datagram.source_port);
+    return answer;
+  };
+  Rig rig(config);
+  rig.write(0x06, 0x0A);  // t = 1 ms: a packet every 168 ms
+  rig.run_for(200ms);
+  ASSERT_EQ(ports, (std::vector<std::uint16_t>{5000}));
+  // "#01W6F89": 0x1389 = 5001, and the next packet follows it.
+  rig.write(0x6F, 0x89);
+  rig.run_for(170ms);
+  EXPECT_EQ(ports.back(), 5001);
+  EXPECT_EQ(rig.fw->udp_source_port(), 5001);
+  // A port the host cannot bind: the packet is counted unsent, the error kept, and measuring goes on.
+  answer = make_error(Errc::io, "UDP source port 5001 (parameters 6E/6F) cannot be used: in use");
+  const auto measured = rig.fw->measurements();
+  rig.run_for(170ms);
+  EXPECT_EQ(rig.fw->udp_unsent(), 1U);
+  EXPECT_EQ(rig.fw->control({{"cmd", "outputs"}}, rig.now)["udp_error"], answer.error().message);
+  EXPECT_GT(rig.fw->measurements(), measured + 160);
+  EXPECT_EQ(rig.exchange("#01R6F\r"), "!01R6F89\r");
+  answer = ok_status();
+  rig.run_for(170ms);
+  EXPECT_TRUE(rig.fw->control({{"cmd", "outputs"}}, rig.now)["udp_error"].is_null());
+  // DF brings back 5000 for the next packet, as writing 13 88 would.
+  EXPECT_EQ(rig.exchange("#01DF\r"), "!01DF\r");
+  rig.write(0x06, 0x0A);
+  rig.run_for(170ms);
+  EXPECT_EQ(ports.back(), 5000);
+}
+
 TEST(Ls5Pipeline, NoUdpOnSerialOnlyModels) {
   int packets = 0;
   FirmwareConfig config = test_config("LS5.9.0");
-  config.udp_sink = [&](const std::array<std::uint8_t, udp_packet_size>&) { ++packets; };
+  config.udp_sink = [&](const UdpDatagram&) {
+    ++packets;
+    return ok_status();
+  };
   Rig rig(config);
   rig.write(0x06, 0x0A);
   rig.write(0x07, 0x00);

@@ -151,7 +151,10 @@ TEST(Ls5Control, Rs232OrderingCodeHasNoEthernetEvenOnLs512) {
   FirmwareConfig config = test_config("LS5.12.0");
   config.ethernet = false;
   int packets = 0;
-  config.udp_sink = [&](const std::array<std::uint8_t, udp_packet_size>&) { ++packets; };
+  config.udp_sink = [&](const UdpDatagram&) {
+    ++packets;
+    return ok_status();
+  };
   Rig rig(config);
   EXPECT_EQ(rig.exchange("#01R70\r"), "");
   rig.run_for(3s);

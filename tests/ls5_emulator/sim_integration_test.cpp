@@ -1,12 +1,17 @@
 // `rangekit sim ls5` as a process: a host on the real pty, the control socket
 // driving the virtual clock and the sync input, a loopback UDP receiver (conformance L36:
-// packets only to --udp).
+// packets only to --udp; L82: from the source port of parameters 6E/6F).
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <array>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "ls5_driver/cli_process.hpp"
 #include "rangekit/core/serial_port.hpp"
@@ -147,6 +152,107 @@ TEST(Ls5Sim, BusOfTwoSensorsCommandsWeldingExampleAndUdp) {
   }
   EXPECT_EQ(serials, (std::set<std::uint16_t>{157, 158}));
 
+  EXPECT_EQ(s.ask({{"cmd", "shutdown"}})["ok"], true);
+  EXPECT_EQ(sim.wait(), 0);
+}
+
+// A loopback UDP port free now: bound to port 0 and released, for a parameter to name.
+std::uint16_t free_udp_port() {
+  auto socket = UdpSocket::bind(Endpoint{"127.0.0.1", 0});
+  EXPECT_TRUE(socket) << socket.error().message;
+  return socket ? socket->local_endpoint().port : 0;
+}
+
+// A port held the way another program holds it: bound without SO_REUSEADDR, so nobody shares it.
+struct HeldPort {
+  int fd = -1;
+  std::uint16_t port = 0;
+  HeldPort() {
+    fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t length = sizeof address;
+    if (fd >= 0 && ::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0 &&
+        ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0) {
+      port = ntohs(address.sin_port);
+    }
+  }
+  ~HeldPort() { release(); }
+  HeldPort(const HeldPort&) = delete;
+  HeldPort& operator=(const HeldPort&) = delete;
+  void release() {
+    if (fd >= 0) ::close(fd);
+    fd = -1;
+  }
+};
+
+// Writes a source port high byte first, as table 9.2 lists 6E before 6F.
+void set_source_port(Session& s, std::uint16_t port) {
+  char high[16];
+  char low[16];
+  std::snprintf(high, sizeof high, "#01W6E%02X\r", port >> 8U);
+  std::snprintf(low, sizeof low, "#01W6F%02X\r", port & 0xFFU);
+  for (const char* command : {high, low}) {
+    std::string echo = command;
+    echo[0] = '!';
+    EXPECT_EQ(s.exchange(command, 9), echo);
+  }
+}
+
+// The next datagram's sender port, waiting for it up to 2 s after virtual time has moved a packet on.
+std::optional<std::uint16_t> next_packet_port(Session& s, UdpSocket& receiver) {
+  s.ask({{"cmd", "advance"}, {"seconds", 0.2}});  // t = 1 ms: a packet every 168 ms
+  std::array<std::uint8_t, 1024> datagram{};
+  auto got = receiver.receive(datagram, 2000ms);
+  if (!got) return std::nullopt;
+  EXPECT_EQ(got->size, ls5::udp_packet_size);
+  return got->from.port;
+}
+
+TEST(Ls5Sim, UdpPacketsComeFromTheSourcePortTheParametersNameL82) {
+  // Table 9.2 6E/6F "Source port number"; §10 "Source port number (sensor) 5000". Tests run side
+  // by side, so this one names ports it found free instead of relying on 5000.
+  Paths paths("srcport");
+  auto receiver = UdpSocket::bind(Endpoint{"127.0.0.1", 0});
+  ASSERT_TRUE(receiver) << receiver.error().message;
+  Child sim({"sim", "ls5", "--port", paths.port, "--model", "0/100", "--version", "LS5.12.0", "--udp",
+             receiver->local_endpoint().to_string(), "--control", paths.control, "--virtual-clock"});
+  ASSERT_NE(sim.read_line().find("ready:"), std::string::npos);
+  auto s = connect(paths);
+  ASSERT_TRUE(s.host && s.control);
+  EXPECT_EQ(s.exchange("#01W7000\r", 9), "!01W7000\r");  // no packets while the port is set
+  EXPECT_EQ(s.exchange("#01W060A\r", 9), "!01W060A\r");  // t = 1 ms
+  const std::uint16_t first = free_udp_port();
+  set_source_port(s, first);
+  EXPECT_EQ(s.exchange("#01W7001\r", 9), "!01W7001\r");
+  EXPECT_EQ(next_packet_port(s, *receiver), first);
+  EXPECT_EQ(s.ask({{"cmd", "outputs"}})["udp_source_port"], first);
+
+  // A change is followed from the next packet on.
+  EXPECT_EQ(s.exchange("#01W7000\r", 9), "!01W7000\r");
+  const std::uint16_t second = free_udp_port();
+  set_source_port(s, second);
+  EXPECT_EQ(s.exchange("#01W7001\r", 9), "!01W7001\r");
+  EXPECT_EQ(next_packet_port(s, *receiver), second);
+
+  // A port another program holds: an error event on the control socket, no packet from any other
+  // port, and the sensor goes on answering.
+  HeldPort held;
+  ASSERT_NE(held.port, 0);
+  EXPECT_EQ(s.exchange("#01W7000\r", 9), "!01W7000\r");
+  set_source_port(s, held.port);
+  EXPECT_EQ(s.exchange("#01W7001\r", 9), "!01W7001\r");
+  s.ask({{"cmd", "advance"}, {"seconds", 0.2}});
+  auto outputs = s.ask({{"cmd", "outputs"}});
+  ASSERT_TRUE(outputs["udp_error"].is_string()) << outputs.dump();
+  EXPECT_NE(outputs["udp_error"].get<std::string>().find(std::to_string(held.port)), std::string::npos);
+  EXPECT_GE(outputs["udp_unsent"], 1);
+  EXPECT_EQ(s.exchange("#01R70\r", 9), "!01R7001\r");
+  // Freed, the port is bound at the next packet, and the error clears.
+  held.release();
+  EXPECT_EQ(next_packet_port(s, *receiver), held.port);
+  EXPECT_TRUE(s.ask({{"cmd", "outputs"}})["udp_error"].is_null());
   EXPECT_EQ(s.ask({{"cmd", "shutdown"}})["ok"], true);
   EXPECT_EQ(sim.wait(), 0);
 }

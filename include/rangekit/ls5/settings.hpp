@@ -52,6 +52,8 @@ inline constexpr std::uint8_t analog_fixed_range_low = 0x23;
 inline constexpr std::uint8_t analog_fixed_range_high = 0x24;
 inline constexpr std::uint8_t discrete_fixed_range_low = 0x25;
 inline constexpr std::uint8_t discrete_fixed_range_high = 0x26;
+inline constexpr std::uint8_t source_port_high = 0x6E;  // table 9.2 lists the ports high byte first
+inline constexpr std::uint8_t source_port_low = 0x6F;
 inline constexpr std::uint8_t udp_auto_stream = 0x70;
 }  // namespace address
 

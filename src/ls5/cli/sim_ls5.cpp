@@ -38,6 +38,53 @@ std::optional<std::uint8_t> parse_address(const std::string& text) {
   }
 }
 
+// One sensor's Ethernet port: packets leave from the source port its parameters name (table 9.2
+// 6E/6F), the socket bound again when they change. UdpSocket::bind sets SO_REUSEADDR, so the
+// sensors of one bus share a port as sensors with IP addresses of their own do; a port another
+// program holds cannot be bound, and the packet is not sent (an error event, never another port).
+class UdpPort {
+ public:
+  explicit UdpPort(Endpoint destination) : destination_(std::move(destination)) {}
+
+  Status send(const ls5::emulator::UdpDatagram& datagram) {
+    if (!socket_ || bound_port_ != datagram.source_port) {
+      socket_.reset();
+      auto bound = UdpSocket::bind(Endpoint{"127.0.0.1", datagram.source_port});
+      if (!bound) {
+        return report(make_error(Errc::io, fmt::format("UDP source port {} (parameters 6E/6F) cannot be used: {}; "
+                                                       "packets are not sent until it can be or 6E/6F name another",
+                                                       datagram.source_port, bound.error().message)));
+      }
+      socket_.emplace(std::move(*bound));
+      bound_port_ = datagram.source_port;
+    }
+    return report(socket_->send_to(Bytes(datagram.bytes.data(), datagram.bytes.size()), destination_));
+  }
+  void attach(const ls5::emulator::Firmware* sensor) { sensor_ = sensor; }
+
+ private:
+  // A line on stderr when sending starts failing or works again, not one per packet.
+  Status report(Status status) {
+    const std::string error = status ? std::string() : status.error().message;
+    if (error != last_error_) {
+      const std::string label = sensor_ != nullptr ? sensor_->label() : "LS5";
+      if (!error.empty()) {
+        fmt::print(stderr, "rangekit sim ls5 [{}]: {}\n", label, error);
+      } else {
+        fmt::print(stderr, "rangekit sim ls5 [{}]: UDP packets leave from port {} again\n", label, bound_port_);
+      }
+      last_error_ = error;
+    }
+    return status;
+  }
+
+  Endpoint destination_;
+  std::optional<UdpSocket> socket_;
+  std::uint16_t bound_port_ = 0;
+  const ls5::emulator::Firmware* sensor_ = nullptr;  // for the label in messages
+  std::string last_error_;
+};
+
 // Control requests for a sensor name it with "address" (decimal or "0x1A"); with one sensor it may be left out.
 nlohmann::json route(const std::vector<std::unique_ptr<ls5::emulator::Firmware>>& sensors,
                      const nlohmann::json& request) {
@@ -89,7 +136,6 @@ int run(const Ls5SimOptions& options, const SimCommonOptions& common) {
     }
     scene = std::move(*loaded);
   }
-  std::optional<UdpSocket> udp_socket;
   std::optional<Endpoint> udp_destination;
   if (!options.udp.empty()) {
     auto endpoint = parse_endpoint(options.udp);
@@ -97,16 +143,11 @@ int run(const Ls5SimOptions& options, const SimCommonOptions& common) {
       fmt::print(stderr, "rangekit sim ls5: --udp: {}\n", endpoint.error().message);
       return exit_usage;
     }
-    auto socket = UdpSocket::bind(Endpoint{"127.0.0.1", 0});
-    if (!socket) {
-      fmt::print(stderr, "rangekit sim ls5: --udp: {}\n", socket.error().message);
-      return exit_io;
-    }
-    udp_socket.emplace(std::move(*socket));
     udp_destination = *endpoint;
   }
   std::vector<std::string> addresses = options.addresses;
   if (addresses.empty()) addresses.push_back("1");
+  std::vector<std::unique_ptr<UdpPort>> udp_ports;  // one per sensor, each its own source port; outlives them
   std::vector<std::unique_ptr<ls5::emulator::Firmware>> sensors;
   for (std::size_t i = 0; i < addresses.size(); ++i) {
     const auto address = parse_address(addresses[i]);
@@ -126,16 +167,18 @@ int run(const Ls5SimOptions& options, const SimCommonOptions& common) {
     config.state_dir = common.state_dir;
     config.seed = common.seed + static_cast<std::uint32_t>(i);
     config.scene = scene;
-    if (udp_socket) {
-      config.udp_sink = [&udp_socket, &udp_destination](const std::array<std::uint8_t, ls5::udp_packet_size>& packet) {
-        (void)udp_socket->send_to(Bytes(packet.data(), packet.size()), *udp_destination);
-      };
+    UdpPort* udp_port = nullptr;
+    if (udp_destination) {
+      udp_ports.push_back(std::make_unique<UdpPort>(*udp_destination));
+      udp_port = udp_ports.back().get();
+      config.udp_sink = [udp_port](const ls5::emulator::UdpDatagram& datagram) { return udp_port->send(datagram); };
     }
     auto firmware = ls5::emulator::Firmware::create(std::move(config));
     if (!firmware) {
       fmt::print(stderr, "rangekit sim ls5: {}\n", firmware.error().message);
       return exit_usage;
     }
+    if (udp_port != nullptr) udp_port->attach(firmware->get());
     sensors.push_back(std::move(*firmware));
   }
   LineConfig line{"port", std::nullopt, {}};

@@ -26,7 +26,10 @@ nlohmann::json Firmware::control(const nlohmann::json& request, Nanos now) {
               {"result", current_.value},
               {"latched", latched_.value},
               {"measurements", measurements_},
-              {"udp_packets", udp_packets_}};
+              {"udp_packets", udp_packets_},
+              {"udp_source_port", udp_source_port()},
+              {"udp_unsent", udp_unsent_},
+              {"udp_error", udp_error_.empty() ? nlohmann::json() : nlohmann::json(udp_error_)}};
     }
     if (command == "sync") {
       const std::string level = request.value("level", "pulse");

@@ -64,10 +64,22 @@ void Firmware::push_udp(const ResultCode& code) {
   udp_packet_.lower_boundary_mm = static_cast<std::uint16_t>(std::llround(config_.lower_boundary_mm));
   udp_packet_.range_mm = static_cast<std::uint16_t>(std::llround(config_.range_mm));
   udp_packet_.counter = udp_counter_++;
-  std::array<std::uint8_t, udp_packet_size> datagram{};
-  if (!encode_udp_packet(udp_packet_, datagram)) return;
+  UdpDatagram datagram;
+  if (!encode_udp_packet(udp_packet_, datagram.bytes)) return;
   ++udp_packets_;
-  if (config_.udp_sink) config_.udp_sink(datagram);
+  if (!config_.udp_sink) return;
+  // Read at each packet, so a write to 6E/6F (or DF) moves the next packet to the new port.
+  datagram.source_port = udp_source_port();
+  if (auto sent = config_.udp_sink(datagram); !sent) {
+    ++udp_unsent_;
+    udp_error_ = sent.error().message;
+  } else {
+    udp_error_.clear();
+  }
+}
+
+std::uint16_t Firmware::udp_source_port() const noexcept {
+  return static_cast<std::uint16_t>(ram_[address::source_port_high] << 8U | ram_[address::source_port_low]);
 }
 
 }  // namespace rangekit::ls5::emulator

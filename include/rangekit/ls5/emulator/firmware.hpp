@@ -46,6 +46,12 @@ struct Scene {
 Result<Scene> load_scene(const std::string& path);
 Result<Scene> parse_scene(std::string_view text, const std::string& source_name);
 
+// One §10.1 packet and the source port table 9.2 gives it (6E high byte, 6F low byte; default 5000).
+struct UdpDatagram {
+  std::array<std::uint8_t, udp_packet_size> bytes{};
+  std::uint16_t source_port = 0;
+};
+
 struct FirmwareConfig {
   double lower_boundary_mm = 8.1234;
   double range_mm = 40.001;
@@ -61,8 +67,9 @@ struct FirmwareConfig {
   std::string state_dir;              // empty: ROM does not persist across processes
   std::uint32_t seed = 1;
   Scene scene{};
-  // Called with each full UDP packet (Ethernet models, parameter 70 on).
-  std::function<void(const std::array<std::uint8_t, udp_packet_size>&)> udp_sink;
+  // Called with each full UDP packet (Ethernet models, parameter 70 on). An error (the source
+  // port cannot be bound) counts the packet unsent and is kept for the control socket.
+  std::function<Status(const UdpDatagram&)> udp_sink;
 };
 
 // --model: "8.1234/40.001" (lower boundary and range) or a whole ordering code
@@ -104,6 +111,11 @@ class Firmware final : public DeviceModel {
   [[nodiscard]] std::uint64_t records_sent() const noexcept { return records_sent_; }
   [[nodiscard]] std::uint64_t records_skipped() const noexcept { return records_skipped_; }
   [[nodiscard]] std::uint64_t udp_packets() const noexcept { return udp_packets_; }
+  // Packets the sink could not send, and why the last one failed (empty once one is sent again).
+  [[nodiscard]] std::uint64_t udp_unsent() const noexcept { return udp_unsent_; }
+  [[nodiscard]] const std::string& udp_error() const noexcept { return udp_error_; }
+  // Table 9.2 6E/6F: the port packets leave from.
+  [[nodiscard]] std::uint16_t udp_source_port() const noexcept;
   [[nodiscard]] std::string_view phase_name() const noexcept;
   [[nodiscard]] const Status& last_state_error() const noexcept { return state_error_; }
 
@@ -204,6 +216,8 @@ class Firmware final : public DeviceModel {
   std::size_t udp_fill_ = 0;
   std::uint8_t udp_counter_ = 0;
   std::uint64_t udp_packets_ = 0;
+  std::uint64_t udp_unsent_ = 0;
+  std::string udp_error_;
 };
 
 }  // namespace rangekit::ls5::emulator
