@@ -2,7 +2,7 @@
 // Conformance rows held here: L26 (no reply to what the sensor cannot honour), L27 (DF in RAM),
 // L28 (serial settings after the echo), L37 (any byte stops the stream), L39 (OF), L50 (combined
 // value of a byte write), L51 (ports 0001-FFFF), L52 (no zero period, exposure, fixed range),
-// L53 (analog output disabled holds), L55 (DF and the network address).
+// L53 (analog output disabled holds), L55 (DF and the network address), L83 (DF restarts the timer).
 #include <unistd.h>
 
 #include "ls5_emulator/firmware_rig.hpp"
@@ -176,6 +176,34 @@ TEST(Ls5Commands, RestoreDefaultsChangesRamOnlyUntilFlash) {
   EXPECT_EQ(rig.fw->rom(0x0C), 0x04);
   rig.fw->power_cycle(rig.now);
   EXPECT_EQ(rig.exchange("#01R0C\r"), "!01R0C04\r");
+}
+
+TEST(Ls5Commands, RestoreDefaultsRunsTheTimerAtTheDefaultPeriodAtOnceL83) {
+  // §8.13: "When triggered by an internal timer, the sensor measures according to the set
+  // parameter "The sensor measurement period"". Table 9.2: triggering 1E default 00 "by timer";
+  // period 06/07 default 64 00 "(corresponds 10 ms)".
+  Rig rig;
+  rig.write(0x1E, 0x01);  // by the sync input: no timer
+  auto count = rig.fw->measurements();
+  rig.run_for(100ms);
+  EXPECT_EQ(rig.fw->measurements(), count);
+  EXPECT_EQ(rig.exchange("#01DF\r"), "!01DF\r");  // 20 ms: the timer's first two measurements
+  EXPECT_EQ(rig.fw->measurements(), count + 2);
+  EXPECT_EQ(rig.exchange("#01R1E\r"), "!01R1E00\r");
+  count = rig.fw->measurements();
+  rig.run_for(100ms);
+  EXPECT_EQ(rig.fw->measurements(), count + 10);
+
+  // 6553.5 ms (FFFF), then DF: 10 ms again from the DF on, not after the 6.5 s already begun.
+  rig.write(0x06, 0xFF);
+  rig.write(0x07, 0xFF);
+  count = rig.fw->measurements();
+  EXPECT_EQ(rig.exchange("#01DF\r"), "!01DF\r");
+  EXPECT_EQ(rig.fw->measurements(), count + 2);
+  EXPECT_EQ(rig.exchange("#01R06\r"), "!01R0664\r");
+  count = rig.fw->measurements();
+  rig.run_for(100ms);
+  EXPECT_EQ(rig.fw->measurements(), count + 10);
 }
 
 TEST(Ls5Commands, RestoreDefaultsSetsTheNetworkAddressTo01L55) {

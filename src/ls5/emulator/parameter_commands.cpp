@@ -21,11 +21,16 @@ void Firmware::handle_write_parameter(const Exchange& exchange) {
   if (!check_value_after_write(request.parameter, request.value, ram_byte)) return;
   ram_[request.parameter] = request.value;
   echo(exchange);
-  const std::uint8_t p = request.parameter;
+  apply_parameter(request.parameter, now);
+}
+
+void Firmware::apply_parameter(std::uint8_t p, Nanos now) {
   if ((p == address::baud_rate || p == address::byte_format) && phase_ == Phase::operating) {
     apply_serial_after_reply(now);
   }
   if (p == address::pre_filter || p == address::averaging_points || p == address::median_points) window_.clear();
+  // §8.13: "When triggered by an internal timer, the sensor measures according to the set
+  // parameter" period: the timer starts again from the new setting.
   if (p == address::triggering || p == address::period_low || p == address::period_high) {
     if (phase_ == Phase::operating && on_) {
       next_measurement_ = ram_[address::triggering] == 0 ? now + period() : Nanos::max();
@@ -34,10 +39,13 @@ void Firmware::handle_write_parameter(const Exchange& exchange) {
 }
 
 void Firmware::handle_restore_defaults(const Exchange& exchange) {
-  const auto before = stored_serial_settings();
+  const auto before = ram_;
   ram_ = table_defaults();  // RAM only, until FL (L27); network address 01 from the next request (L55)
   echo(exchange);
-  if (phase_ == Phase::operating && !(stored_serial_settings() == before)) apply_serial_after_reply(exchange.now);
+  // Each default a byte changed to acts at once, as a W of that value would (L83).
+  for (std::size_t at = 0; at < ram_.size(); ++at) {
+    if (ram_[at] != before[at]) apply_parameter(static_cast<std::uint8_t>(at), exchange.now);
+  }
   window_.clear();
 }
 

@@ -145,6 +145,8 @@ class Firmware final : public DeviceModel {
   void handle_read_parameter(const Exchange& exchange);
   void handle_write_parameter(const Exchange& exchange);
   void handle_restore_defaults(const Exchange& exchange);
+  // What a parameter byte drives at once (serial settings, filter window, timer), after a W or DF.
+  void apply_parameter(std::uint8_t address, Nanos now);
   void handle_store_to_flash(const Exchange& exchange);
   // Measuring, latching and the stream (measurement_commands.cpp).
   void handle_turn_on(const Exchange& exchange);
