@@ -391,6 +391,32 @@ TEST(Ls5Driver, RawByteWriteIsCheckedWithTheOtherByteAsTheSensorHoldsItL61) {
   EXPECT_EQ(f.device->receive_until("#01W13FF\r"), "#01R14\r#01W13FF\r");
 }
 
+// docs/conformance.md L84. Table 9.3 writes a value low byte first ("#01W1350<cr>
+// #01W14C3<cr>" for 50000); §8.10 "The values of the lower and upper bounds can only be in the
+// range 0÷50000" holds for the value the pair makes. From 50000, 25000 (0x61A8) given in table
+// 9.3's order or the reverse is one value, checked as such and sent in L62's order; a byte alone
+// that leaves the value out of range is refused, saying to give its other byte with it.
+TEST(Ls5Driver, Table93OrderAndTheReverseAreOneValueCheckedAsAPairL84) {
+  Fixture f(with_firmware(firmware_6_0));
+  const ParameterWrite table_order[] = {{0x13, 0xA8}, {0x14, 0x61}};
+  f.device->send("!01W1461\r!01W13A8\r");
+  Status low_first = f.driver->write_parameters(table_order);
+  ASSERT_TRUE(low_first) << low_first.error().message;
+  EXPECT_EQ(f.device->receive_until("#01W13A8\r"), "#01W1461\r#01W13A8\r");
+  const ParameterWrite reverse_order[] = {{0x14, 0x61}, {0x13, 0xA8}};
+  f.device->send("!01W1461\r!01W13A8\r");
+  Status high_first = f.driver->write_parameters(reverse_order);
+  ASSERT_TRUE(high_first) << high_first.error().message;
+  EXPECT_EQ(f.device->receive_until("#01W13A8\r"), "#01W1461\r#01W13A8\r");
+
+  f.device->send("!01R14C3\r");  // the sensor holds 14 = C3: 13 = A8 alone makes 0xC3A8 = 50088
+  Status half = f.driver->write_parameter(0x13, 0xA8);
+  ASSERT_FALSE(half);
+  EXPECT_NE(half.error().message.find("50088"), std::string::npos) << half.error().message;
+  EXPECT_NE(half.error().message.find("same command (14=..)"), std::string::npos) << half.error().message;
+  EXPECT_EQ(f.device->receive_all(), "#01R14\r") << "only the read went out";
+}
+
 // docs/conformance.md L62. §8.10/§8.11 limit every combined value to 0-50000, and the
 // bytes go out one at a time (§9.3), so the order must keep each step valid: 255
 // (0x00FF) after the default 50000 (0xC350) goes high byte first (0xC3FF = 50175 in

@@ -1,9 +1,11 @@
 // Every command of table 9.1 against the firmware model, byte for byte.
 // Conformance rows held here: L26 (no reply to what the sensor cannot honour), L27 (DF in RAM),
-// L28 (serial settings after the echo), L37 (any byte stops the stream), L39 (OF), L50 (combined
-// value of a byte write), L51 (ports 0001-FFFF), L52 (no zero period, exposure, fixed range),
+// L28 (serial settings after the echo), L37 (any byte stops the stream), L39 (OF), L50 and L84 (the
+// combined value, checked on the pair), L51 (ports 0001-FFFF), L52 (no zero period, exposure, fixed range),
 // L53 (analog output disabled holds), L55 (DF and the network address), L83 (DF restarts the timer).
 #include <unistd.h>
+
+#include <utility>
 
 #include "ls5_emulator/firmware_rig.hpp"
 
@@ -42,38 +44,73 @@ TEST(Ls5Commands, InvalidWriteAndUnknownAddressGetNoReplyAndChangeNothing) {
   EXPECT_EQ(rig.exchange("#01W0800\r"), "");  // thinning 0
   EXPECT_EQ(rig.exchange("#01R7F\r"), "");    // no such parameter
   EXPECT_EQ(rig.exchange("#01W7F00\r"), "");
-  EXPECT_EQ(rig.exchange("#01XX\r"), "");             // not a command
-  EXPECT_EQ(rig.exchange("#01W13FF\r"), "");          // 14 = C3: 50175, above 50000 (L50)
-  EXPECT_EQ(rig.exchange("#01W0600\r"), "");          // 07 = 00: period 0 (L52)
-  EXPECT_EQ(rig.exchange("#01R06\r"), "!01R0664\r");  // still answering
+  EXPECT_EQ(rig.exchange("#01XX\r"), "");               // not a command
+  EXPECT_EQ(rig.exchange("#01W13FF\r"), "!01W13FF\r");  // 14 = C3: first of a pair, held (L84)
+  EXPECT_EQ(rig.exchange("#01W14C3\r"), "");            // the pair C3FF = 50175, above 50000
+  EXPECT_EQ(rig.fw->ram(0x13), 0x50);                   // undone with it
+  EXPECT_EQ(rig.exchange("#01R06\r"), "!01R0664\r");    // still answering
 }
 
-TEST(Ls5Commands, LimitsAndSwingsAboveFiftyThousandAreIgnoredL50) {
-  // §8.10: "The values of the lower and upper bounds can only be in the range 0÷50000."
-  // §8.11: "The values of the lower and upper swings can only be in the range 0÷50000."
-  Rig rig;                                    // upper limit 13/14 and second swings 18/19, 1C/1D: 50 C3 = 50000
-  EXPECT_EQ(rig.exchange("#01W13FF\r"), "");  // C3FF = 50175
-  EXPECT_EQ(rig.exchange("#01W1351\r"), "");  // C351 = 50001
-  EXPECT_EQ(rig.exchange("#01R13\r"), "!01R1350\r");
-  EXPECT_EQ(rig.exchange("#01W1CFF\r"), "");
-  // "set 19=C3 18=FF": the high byte is already C3, the low byte FF would make 50175.
-  rig.write(0x19, 0xC3);
-  EXPECT_EQ(rig.exchange("#01W18FF\r"), "");
-  EXPECT_EQ(rig.fw->ram(0x18), 0x50);
-  // From 50000 down to 40000 (0x9C40), low byte first as in table 9.3: C340 = 49984 on the way.
+TEST(Ls5Commands, Table93ByteOrderAndTheReverseBothReachTheValueL84) {
+  // Table 9.3 writes a value low byte first: "The upper limit of the analog output is 50000
+  // (0xC350)": "#01W1350<cr> #01W14C3<cr>". §8.10: "The values of the lower and upper bounds
+  // can only be in the range 0÷50000": checked on the value the pair makes.
+  Rig rig;  // upper limit 13/14 = 50 C3 = 50000
+  // 50000 -> 25000 (0x61A8) in table 9.3's order: C3A8 = 50088 until the high byte follows.
+  EXPECT_EQ(rig.exchange("#01W13A8\r"), "!01W13A8\r");
+  EXPECT_EQ(rig.exchange("#01R13\r"), "!01R13A8\r");  // RAM holds what was written
+  rig.set_scene_code(40000);                          // meanwhile the limit acts as 50000: 4 + 16 × 40000 / 50000 mA
+  rig.run_for(10ms);
+  EXPECT_DOUBLE_EQ(rig.fw->analog_value(), 16.8);
+  EXPECT_EQ(rig.exchange("#01W1461\r"), "!01W1461\r");
+  EXPECT_EQ(rig.fw->ram(0x13) | rig.fw->ram(0x14) << 8, 25000);
+  rig.set_scene_code(12500);
+  rig.run_for(10ms);
+  EXPECT_DOUBLE_EQ(rig.fw->analog_value(), 12.0);  // 4 + 16 × 12500 / 25000
+  // 25000 -> 50000 and back to 25000 in the reverse order, high byte first.
+  rig.write(0x14, 0xC3);  // C3A8 = 50088: held
+  rig.write(0x13, 0x50);
+  EXPECT_EQ(rig.fw->ram(0x13) | rig.fw->ram(0x14) << 8, 50000);
+  rig.write(0x14, 0x61);  // 6150 = 24912, in range at once
+  rig.write(0x13, 0xA8);
+  EXPECT_EQ(rig.fw->ram(0x13) | rig.fw->ram(0x14) << 8, 25000);
+
+  // Table 9.3 in full, from the defaults: every write echoed.
+  Rig table;
+  const std::pair<std::uint8_t, std::uint8_t> table_93[] = {
+      {0x15, 0x12}, {0x16, 0x20}, {0x17, 0x4E}, {0x18, 0x40}, {0x19, 0x9C}, {0x1A, 0x10}, {0x1B, 0x27},
+      {0x1C, 0x30}, {0x1D, 0x75}, {0x03, 0x01}, {0x11, 0x00}, {0x12, 0x00}, {0x13, 0x50}, {0x14, 0xC3}};
+  for (const auto& [address, value] : table_93) table.write(address, value);
+  EXPECT_EQ(table.fw->ram(0x18) | table.fw->ram(0x19) << 8, 40000);  // "equals 40000 (0x9C40)"
+  EXPECT_EQ(table.fw->ram(0x1C) | table.fw->ram(0x1D) << 8, 30000);  // "equals 30000 (0x7530)"
+}
+
+TEST(Ls5Commands, APairThatEndsOutOfRangeIsRefusedAsAWholeL84) {
+  // §8.10/§8.11: limits and swings "can only be in the range 0÷50000".
+  Rig rig;
+  EXPECT_EQ(rig.exchange("#01W13FF\r"), "!01W13FF\r");  // C3FF: held
+  EXPECT_EQ(rig.exchange("#01W1351\r"), "!01W1351\r");  // the same byte again: C351, still held
+  EXPECT_EQ(rig.exchange("#01W14C3\r"), "");            // the pair C351 = 50001: no reply
+  EXPECT_EQ(rig.exchange("#01R13\r"), "!01R1350\r");    // and the first byte is undone
+  EXPECT_EQ(rig.exchange("#01R14\r"), "!01R14C3\r");
+  // A byte that brings the pair back in range ends the wait: 18 = FF held, then 18 = 40 (C340).
+  EXPECT_EQ(rig.exchange("#01W18FF\r"), "!01W18FF\r");
   rig.write(0x18, 0x40);
-  rig.write(0x19, 0x9C);
-  // A high byte C3 over a low byte above 50: refused; the other order passes.
-  rig.write(0x11, 0xFF);                      // lower limit 00FF
-  EXPECT_EQ(rig.exchange("#01W12C3\r"), "");  // C3FF
-  rig.write(0x11, 0x00);
-  rig.write(0x12, 0xC3);  // C300
-  // 25000 = 0x61A8: A8 first would pass through C3A8 = 50072, so the high byte goes first (L50 write order).
-  EXPECT_EQ(rig.exchange("#01W11A8\r"), "");
-  rig.write(0x12, 0x61);
-  rig.write(0x11, 0xA8);
-  EXPECT_EQ(rig.fw->ram(0x11), 0xA8);
-  EXPECT_EQ(rig.fw->ram(0x12), 0x61);
+  rig.write(0x19, 0x9C);  // 9C40 = 40000, in range: taken
+  EXPECT_EQ(rig.fw->ram(0x18) | rig.fw->ram(0x19) << 8, 40000);
+  // FL stores a half-written pair at the value it acts with; power-up brings that back.
+  EXPECT_EQ(rig.exchange("#01W1CFF\r"), "!01W1CFF\r");  // C3FF: held
+  EXPECT_EQ(rig.exchange("#01FL\r"), "!01FL\r");
+  EXPECT_EQ(rig.fw->rom(0x1C), 0x50);
+  rig.fw->power_cycle(rig.now);
+  EXPECT_EQ(rig.exchange("#01R1C\r"), "!01R1C50\r");
+  // DF forgets a held byte with the rest: the lower limit acts as 0 again, not as the 255 held.
+  EXPECT_EQ(rig.exchange("#01W11FF\r"), "!01W11FF\r");  // 00FF: in range
+  EXPECT_EQ(rig.exchange("#01W12C3\r"), "!01W12C3\r");  // C3FF: held, the limit acts as 255
+  EXPECT_EQ(rig.exchange("#01DF\r"), "!01DF\r");
+  rig.set_scene_code(25000);
+  rig.run_for(10ms);
+  EXPECT_DOUBLE_EQ(rig.fw->analog_value(), 12.0);  // 4 + 16 × 25000 / 50000
 }
 
 TEST(Ls5Commands, EveryWriteInTheCodecsWriteOrderIsAcceptedL50) {
@@ -102,21 +139,29 @@ TEST(Ls5Commands, PortsWithALowByte00CanBeSetL51) {
   rig.write(0x6C, 0x04);                                // 0x0400 = 1024
   EXPECT_EQ(rig.exchange("#01R6D\r"), "!01R6D00\r");
   EXPECT_EQ(rig.exchange("#01R6C\r"), "!01R6C04\r");
-  EXPECT_EQ(rig.exchange("#01W6C00\r"), "");            // port 0
+  EXPECT_EQ(rig.exchange("#01W6C00\r"), "!01W6C00\r");  // port 0 unless 6D follows: held (L84)
+  EXPECT_EQ(rig.exchange("#01W6D00\r"), "");            // port 0: refused, 6C undone
+  EXPECT_EQ(rig.exchange("#01R6C\r"), "!01R6C04\r");
   EXPECT_EQ(rig.exchange("#01W6F00\r"), "!01W6F00\r");  // source port 0x1300 = 4864
 }
 
 TEST(Ls5Commands, ZeroPeriodExposureAndFixedRangesAreIgnoredL52) {
   // Table 9.2: measurement period, maximum exposure time, fixed range of the analog output and of
   // the discrete outputs: "For the parameter itself: 0001-FFFF".
+  // A 00 that makes one of them 0 is held as the first byte of a pair (L84); the pair ending at
+  // 0 is refused and undoes it.
   Rig rig(test_config("LS5.9.0"));
-  EXPECT_EQ(rig.exchange("#01W0600\r"), "");  // period 00 00
-  rig.write(0x21, 0x00);                      // exposure 00B8 = 184 µs
-  EXPECT_EQ(rig.exchange("#01W2000\r"), "");
+  EXPECT_EQ(rig.exchange("#01W0600\r"), "!01W0600\r");  // period 00 00 unless 07 follows
+  EXPECT_EQ(rig.exchange("#01W0700\r"), "");
+  rig.write(0x21, 0x00);  // exposure 00B8 = 184 µs
+  EXPECT_EQ(rig.exchange("#01W2000\r"), "!01W2000\r");
+  EXPECT_EQ(rig.exchange("#01W2100\r"), "");
   rig.write(0x24, 0x00);  // 0010
-  EXPECT_EQ(rig.exchange("#01W2300\r"), "");
+  EXPECT_EQ(rig.exchange("#01W2300\r"), "!01W2300\r");
+  EXPECT_EQ(rig.exchange("#01W2400\r"), "");
   rig.write(0x26, 0x00);
-  EXPECT_EQ(rig.exchange("#01W2500\r"), "");
+  EXPECT_EQ(rig.exchange("#01W2500\r"), "!01W2500\r");
+  EXPECT_EQ(rig.exchange("#01W2600\r"), "");
   EXPECT_EQ(rig.fw->ram(0x06), 0x64);
   EXPECT_EQ(rig.fw->ram(0x20), 0xB8);
   EXPECT_EQ(rig.fw->ram(0x23), 0x10);

@@ -199,10 +199,15 @@ Status Driver::write_parameters(std::span<const ParameterWrite> writes) {
         for (const ParameterWrite& part : given.view()) {
           written += (written.empty() ? "" : ", ") + hex_byte(part.address) + " = " + hex_byte(part.value);
         }
-        return make_error(Errc::out_of_range, "LS5 parameter " + written +
-                                                  (held.empty() ? "" : " with " + held + " as the sensor holds it") +
-                                                  " makes " + std::string(value.cli_name) + " " +
-                                                  std::to_string(*combined) + ": " + in_range.error().message);
+        // The sensor checks a value once both its bytes are written (L84): a byte alone that
+        // leaves it out of range is half a pair, whose other byte belongs in the same command.
+        return make_error(
+            Errc::out_of_range,
+            "LS5 parameter " + written + (held.empty() ? "" : " with " + held + " as the sensor holds it") + " makes " +
+                std::string(value.cli_name) + " " + std::to_string(*combined) + ": " + in_range.error().message +
+                (held.empty() ? ""
+                              : "; give the other byte in the same command (" + held.substr(0, 2) +
+                                    "=..), the sensor checks the value once both are written"));
       }
     }
     const ParameterWrites ordered = in_write_order(value, given);  // kept: view() points into it

@@ -125,6 +125,11 @@ void Firmware::enter_operating(Nanos now) {
 }
 
 std::uint16_t Firmware::u16(std::uint8_t low_address) const noexcept {
+  if (held_count_ > 0) {  // a number whose pair is half written acts with its old value (L84)
+    if (const ParameterInfo* parameter = find_parameter(low_address); parameter != nullptr) {
+      if (parameter->part_of != LogicalValueId::none) return number(parameter->part_of);
+    }
+  }
   return static_cast<std::uint16_t>(ram_[low_address] | (ram_[static_cast<std::uint8_t>(low_address + 1)] << 8));
 }
 

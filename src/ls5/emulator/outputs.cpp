@@ -37,7 +37,10 @@ void Firmware::latch(Nanos) {
   auto recalculation = recalculate_on_latch(ram_[address::latching], latched_, u16(address::analog_fixed_range_low),
                                             u16(address::discrete_fixed_range_low));
   if (!recalculation || !recalculation->recalculated) return;
-  for (const auto& write : recalculation->writes.view()) ram_[write.address] = write.value;
+  for (const auto& write : recalculation->writes.view()) {
+    ram_[write.address] = write.value;
+    (void)take_byte_of_number(write.address, true);  // both bytes of each limit: no pair left half written
+  }
   if (recalculation->to_rom) {
     if (!rom_) rom_ = delivered_rom();
     for (const auto& write : recalculation->writes.view()) (*rom_)[write.address] = write.value;
@@ -78,8 +81,6 @@ void Firmware::push_udp(const ResultCode& code) {
   }
 }
 
-std::uint16_t Firmware::udp_source_port() const noexcept {
-  return static_cast<std::uint16_t>(ram_[address::source_port_high] << 8U | ram_[address::source_port_low]);
-}
+std::uint16_t Firmware::udp_source_port() const noexcept { return number(LogicalValueId::source_port); }
 
 }  // namespace rangekit::ls5::emulator

@@ -20,7 +20,10 @@ std::array<std::uint8_t, 256> Firmware::delivered_rom() const {
   return memory;
 }
 
-void Firmware::load_rom_into_ram() { ram_ = rom_ ? *rom_ : delivered_rom(); }
+void Firmware::load_rom_into_ram() {
+  ram_ = rom_ ? *rom_ : delivered_rom();
+  release_held_numbers();
+}
 
 Status Firmware::save_rom() {
   if (!rom_) return ok_status();
@@ -38,7 +41,7 @@ std::optional<std::uint8_t> Firmware::rom(std::uint8_t address) const {
 }
 
 void Firmware::handle_store_to_flash(const Exchange& exchange) {
-  rom_ = ram_;
+  rom_ = ram_in_effect();  // a half-written pair is stored at the value it acts with (L84)
   (void)save_rom();
   echo(exchange);
 }

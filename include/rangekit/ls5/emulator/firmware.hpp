@@ -147,6 +147,17 @@ class Firmware final : public DeviceModel {
   void handle_restore_defaults(const Exchange& exchange);
   // What a parameter byte drives at once (serial settings, filter window, timer), after a W or DF.
   void apply_parameter(std::uint8_t address, Nanos now);
+  // L84: whether a W byte of a two-byte number is taken. Out of range with the other byte in RAM,
+  // it is the first of a pair and held; the pair is checked once the other byte is written.
+  [[nodiscard]] bool take_byte_of_number(std::uint8_t address, bool in_range);
+  // A number as RAM's bytes make it, and the bytes written back (a refused pair undone).
+  [[nodiscard]] std::uint16_t ram_number(LogicalValueId id) const noexcept;
+  void write_ram_number(LogicalValueId id, std::uint16_t value) noexcept;
+  // The value a number acts with: RAM's, or the one it had before a held byte.
+  [[nodiscard]] std::uint16_t number(LogicalValueId id) const noexcept;
+  // RAM with held numbers at the value they act with: what FL stores.
+  [[nodiscard]] std::array<std::uint8_t, 256> ram_in_effect() const;
+  void release_held_numbers() noexcept;
   void handle_store_to_flash(const Exchange& exchange);
   // Measuring, latching and the stream (measurement_commands.cpp).
   void handle_turn_on(const Exchange& exchange);
@@ -176,6 +187,13 @@ class Firmware final : public DeviceModel {
   SensorModel model_{};
   StateStore store_;
   std::array<std::uint8_t, 256> ram_{};
+  // L84: numbers whose first byte of a pair left them out of range, by LogicalValueId.
+  struct HeldNumber {
+    std::uint8_t written;     // the byte written first
+    std::uint16_t in_effect;  // the value the number keeps acting with meanwhile
+  };
+  std::array<std::optional<HeldNumber>, static_cast<std::size_t>(LogicalValueId::source_port) + 1> held_{};
+  std::size_t held_count_ = 0;
   std::optional<std::array<std::uint8_t, 256>> rom_;
   Status state_error_ = ok_status();
   std::mt19937 random_;
