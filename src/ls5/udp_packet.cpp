@@ -24,11 +24,25 @@ bool valid_state(std::uint8_t state) noexcept {
   return (state & udp_state::always_one) != 0 && (state & udp_state::reserved) == 0;
 }
 
+const char* state_problem(std::uint8_t state) {
+  return (state & udp_state::always_one) == 0 ? "bit 1 must always be 1" : "bits 4-7 are reserved and must be 0";
+}
+
 Error state_error(std::size_t record, std::uint8_t state) {
-  const char* why =
-      (state & udp_state::always_one) == 0 ? "bit 1 must always be 1" : "bits 4-7 are reserved and must be 0";
   return make_error(Errc::invalid_frame, "LS5 UDP packet: state word 0x" + text::hex_byte(state) + " of measurement " +
-                                             std::to_string(record + 1) + ": " + why);
+                                             std::to_string(record + 1) + ": " + state_problem(state));
+}
+
+// What formulas 10.1 and 8.2 need of a record: a valid state word, measured, in range, code 0-0x4000.
+Status check_convertible(const UdpRecord& record) {
+  if (auto state = check_udp_state(record.state); !state) return state;
+  if (!record.measured()) return make_error(Errc::out_of_range, "LS5 UDP record: no measurement yet (state bit 0)");
+  if (!record.in_range()) return make_error(Errc::out_of_range, "LS5 UDP record: out of range (state bit 2)");
+  if (record.code > udp_full_scale_code) {
+    return make_error(Errc::out_of_range,
+                      "LS5 UDP record code " + std::to_string(record.code) + " is above 0x4000, the full range");
+  }
+  return ok_status();
 }
 
 // Eight bytes at a time, folded to one at the end: a byte at a time ran at a
@@ -51,6 +65,11 @@ std::uint8_t xor_of(Bytes bytes) noexcept {
 
 }  // namespace
 
+Status check_udp_state(std::uint8_t state) {
+  if (valid_state(state)) return ok_status();
+  return make_error(Errc::invalid_frame, "LS5 UDP state word 0x" + text::hex_byte(state) + ": " + state_problem(state));
+}
+
 std::uint8_t udp_checksum(std::span<const std::uint8_t, udp_packet_size> datagram) noexcept {
   return xor_of(datagram.first(udp_offset::counter));
 }
@@ -66,19 +85,8 @@ Result<UdpPacket> decode_udp_packet(Bytes datagram) {
                                               text::hex_byte(datagram[udp_offset::checksum]) +
                                               ", the XOR of bytes 0-509 is 0x" + text::hex_byte(computed));
   }
-  // Every state word at once; the first bad one is looked for only when there is one.
-  std::uint8_t wrong_bits = 0;
-  for (std::size_t i = 0; i < udp_record_count; ++i) {
-    const std::uint8_t state = datagram[i * record_size + 2];
-    wrong_bits =
-        static_cast<std::uint8_t>(wrong_bits | (~state & udp_state::always_one) | (state & udp_state::reserved));
-  }
-  if (wrong_bits != 0) {
-    for (std::size_t i = 0; i < udp_record_count; ++i) {
-      const std::uint8_t state = datagram[i * record_size + 2];
-      if (!valid_state(state)) return state_error(i, state);
-    }
-  }
+  // State words are not checked here: a record whose word is not as documented is the
+  // caller's to flag, the packet's other records stay good (L85).
   UdpPacket packet;
   for (std::size_t i = 0; i < udp_record_count; ++i) {
     const std::size_t at = i * record_size;
@@ -108,17 +116,20 @@ Status encode_udp_packet(const UdpPacket& packet, std::span<std::uint8_t, udp_pa
 }
 
 Result<double> udp_distance_mm(const UdpRecord& record, double range_mm) {
-  if (!record.measured()) return make_error(Errc::out_of_range, "LS5 UDP record: no measurement yet (state bit 0)");
-  if (!record.in_range()) return make_error(Errc::out_of_range, "LS5 UDP record: out of range (state bit 2)");
+  if (auto convertible = check_convertible(record); !convertible) return convertible.error();
   if (record.derivative()) {
     return make_error(Errc::unsupported,
-                      "LS5 UDP record holds a derivative (state bit 3), for which a UDP record gives no scale");
-  }
-  if (record.code > udp_full_scale_code) {
-    return make_error(Errc::out_of_range,
-                      "LS5 UDP record code " + std::to_string(record.code) + " is above 0x4000, the full range");
+                      "LS5 UDP record holds a derivative (state bit 3): a change, not a distance (udp_derivative_mm)");
   }
   return range_mm * record.code / udp_full_scale_code;
+}
+
+Result<double> udp_derivative_mm(const UdpRecord& record, double range_mm) {
+  if (auto convertible = check_convertible(record); !convertible) return convertible.error();
+  if (!record.derivative()) {
+    return make_error(Errc::unsupported, "LS5 UDP record holds a distance (state bit 3 clear), not a derivative");
+  }
+  return range_mm * (static_cast<double>(record.code) - udp_derivative_zero_code) / udp_full_scale_code;
 }
 
 std::uint8_t udp_packets_lost(std::uint8_t previous_counter, std::uint8_t counter) noexcept {

@@ -1,4 +1,4 @@
-// §10.1 UDP data packet, conformance L12 and L19. The packet is built by hand
+// §10.1 UDP data packet, conformance L12, L19, L85 and L87. The packet is built by hand
 // here and its checksum worked out by hand, not by the code under test.
 #include <gtest/gtest.h>
 
@@ -114,25 +114,51 @@ TEST(Ls5UdpPacket, WrongSizeL12) {
   EXPECT_FALSE(decode_udp_packet(Bytes{}).ok());
 }
 
-TEST(Ls5UdpPacket, BadStateBitsL12) {
+// L85. §10.1: "The state of bit 1 is always "1"", "The remaining bits of the status word are
+// reserved and are always "0" when read." A record whose word breaks that is kept, for the
+// caller to flag; the packet and its other records decode.
+TEST(Ls5UdpPacket, ABadStateWordKeepsThePacketAndNamesItsProblemL85) {
   // Record 3's state 0x02 → 0x00 (bit 1 clear); fix the checksum by hand: 0xDD ^ 0x02 = 0xDF.
   auto bytes = hand_made_packet();
   bytes[8] = 0x00;
   bytes[511] = 0xDF;
   const auto cleared = decode_udp_packet(bytes);
-  ASSERT_FALSE(cleared.ok());
-  EXPECT_EQ(cleared.error().code, Errc::invalid_frame);
-  EXPECT_NE(cleared.error().message.find("measurement 3"), std::string::npos) << cleared.error().message;
-  EXPECT_NE(cleared.error().message.find("bit 1"), std::string::npos);
+  ASSERT_TRUE(cleared.ok()) << cleared.error().message;
+  EXPECT_EQ(cleared->records[2].state, 0x00);
+  const Status bit_1 = check_udp_state(cleared->records[2].state);
+  ASSERT_FALSE(bit_1.ok());
+  EXPECT_EQ(bit_1.error().code, Errc::invalid_frame);
+  EXPECT_NE(bit_1.error().message.find("bit 1"), std::string::npos) << bit_1.error().message;
+  EXPECT_DOUBLE_EQ(udp_distance_mm(cleared->records[0], cleared->range_mm).value_or(-1), 20.0);  // 40 × 1/2
+  EXPECT_EQ(udp_distance_mm(cleared->records[2], cleared->range_mm).error().code, Errc::invalid_frame);
 
   // Record 168's state 0x02 → 0x12 (reserved bit 4); checksum 0xDD ^ 0x10 = 0xCD.
   bytes = hand_made_packet();
   bytes[503] = 0x12;
   bytes[511] = 0xCD;
   const auto reserved = decode_udp_packet(bytes);
-  ASSERT_FALSE(reserved.ok());
-  EXPECT_NE(reserved.error().message.find("bits 4-7"), std::string::npos) << reserved.error().message;
-  EXPECT_NE(reserved.error().message.find("measurement 168"), std::string::npos);
+  ASSERT_TRUE(reserved.ok()) << reserved.error().message;
+  const Status bits_4_to_7 = check_udp_state(reserved->records[167].state);
+  ASSERT_FALSE(bits_4_to_7.ok());
+  EXPECT_NE(bits_4_to_7.error().message.find("bits 4-7"), std::string::npos) << bits_4_to_7.error().message;
+  EXPECT_TRUE(check_udp_state(reserved->records[166].state).ok());
+  // A record with a measured, in-range word of 0x17 (bit 4 set) gives no distance either.
+  EXPECT_EQ(udp_distance_mm(UdpRecord{0x2000, 0x17}, 40.0).error().code, Errc::invalid_frame);
+}
+
+// L87. §8.9: for a derivative "The number 0 corresponds to the minimum value of the derivative,
+// the number 50000 - the maximum value of the derivative, and the number 25000 - the zero value",
+// distance derivate = range · (code − 25000) / 50000 (8.2); §10.1 scales 0...50000 to 0...4000h
+// (formula 10.1 against 8.1), so 2000h is the zero: range · (code − 2000h) / 4000h.
+TEST(Ls5UdpPacket, DerivativeRecordsFollowFormula82ScaledTo4000hL87) {
+  EXPECT_DOUBLE_EQ(udp_derivative_mm(UdpRecord{0x2000, 0x0F}, 40.0).value_or(-1), 0.0);
+  EXPECT_DOUBLE_EQ(udp_derivative_mm(UdpRecord{0x2800, 0x0F}, 40.0).value_or(-1), 5.0);  // 40 × 800h / 4000h
+  EXPECT_DOUBLE_EQ(udp_derivative_mm(UdpRecord{0x1000, 0x0F}, 100.0).value_or(0), -25.0);
+  EXPECT_DOUBLE_EQ(udp_derivative_mm(UdpRecord{0x4000, 0x0F}, 40.0).value_or(-1), 20.0);         // the maximum
+  EXPECT_DOUBLE_EQ(udp_derivative_mm(UdpRecord{0x0000, 0x0F}, 40.0).value_or(0), -20.0);         // the minimum
+  EXPECT_EQ(udp_derivative_mm(UdpRecord{0x2000, 0x07}, 40.0).error().code, Errc::unsupported);   // a distance
+  EXPECT_EQ(udp_derivative_mm(UdpRecord{0x2000, 0x0B}, 40.0).error().code, Errc::out_of_range);  // bit 2 clear
+  EXPECT_EQ(udp_derivative_mm(UdpRecord{0x4001, 0x0F}, 40.0).error().code, Errc::out_of_range);
 }
 
 TEST(Ls5UdpPacket, EncodeMatchesTheHandMadeBytes) {

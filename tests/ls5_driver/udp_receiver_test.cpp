@@ -198,10 +198,10 @@ TEST(Ls5UdpReceiver, DuplicatedDatagramIsDroppedAndCountedNotLostL65) {
   EXPECT_NE(events[0].message.find("duplicate"), std::string::npos) << events[0].message;
 }
 
-// docs/conformance.md L63, L60. Table 3.1: a 100 mm range has a discreteness of 0.001 mm,
-// taken from the packet's range (§10.1 bytes 508-509). State bit 3: "the result
-// corresponds to the distance derivative": kind derivative, with no value since §10.1
-// gives no scale for it (L19).
+// docs/conformance.md L63, L60, L87. Table 3.1: a 100 mm range has a discreteness of 0.001 mm,
+// taken from the packet's range (§10.1 bytes 508-509). State bit 3: "the result corresponds to
+// the distance derivative": kind derivative, valued by formula 8.2 scaled to 4000h (L87):
+// "distance derivate = range · (code − 25000) / 50000" with 2000h for 25000 and 4000h for 50000.
 TEST(Ls5UdpReceiver, SamplesCarryTheDiscretenessAndMarkDerivativesL63) {
   UdpRig rig;
   ASSERT_TRUE(rig.receiver && rig.sender);
@@ -215,6 +215,65 @@ TEST(Ls5UdpReceiver, SamplesCarryTheDiscretenessAndMarkDerivativesL63) {
   EXPECT_EQ(derivative.kind, SampleKind::ls5_derivative);
   EXPECT_EQ(derivative.signal, SignalState::ok);
   EXPECT_FALSE(derivative.distance_mm.has_value());
-  EXPECT_FALSE(derivative.derivative_mm.has_value());
+  EXPECT_DOUBLE_EQ(derivative.derivative_mm.value_or(-1), 0.0);  // 2000h: no change
   rig.skip_samples(167);
+  rig.send(build_packet(3, 0x2800, 0x0F));
+  EXPECT_DOUBLE_EQ(rig.next_sample().derivative_mm.value_or(-1), 12.5);  // 100 × 800h / 4000h
+  rig.skip_samples(167);
+}
+
+// docs/conformance.md L85. §10.1: "The state of bit 1 is always "1"", "The remaining bits of
+// the status word are reserved and are always "0" when read." One record whose word has
+// reserved bit 4 set (0x17) is kept in its place as a suspect sample naming the word, with no
+// signal and no value; the other 167 of its packet are ordinary samples.
+TEST(Ls5UdpReceiver, ABadStateWordFlagsItsRecordAndKeepsTheOther167L85) {
+  UdpRig rig;
+  ASSERT_TRUE(rig.receiver && rig.sender);
+  Packet packet = build_packet(1, 0x2000, 0x07);
+  packet[4 * 3 + 2] = 0x17;                                            // measurement 5
+  packet[511] = static_cast<std::uint8_t>(packet[511] ^ 0x07 ^ 0x17);  // the checksum follows the byte
+  rig.send(packet);
+  for (int i = 0; i < 168; ++i) {
+    const Sample sample = rig.next_sample();
+    EXPECT_EQ(sample.code, 0x2000) << i;
+    if (i == 4) {
+      EXPECT_TRUE(sample.suspect);
+      EXPECT_NE(sample.suspect_reason.find("measurement 5"), std::string::npos) << sample.suspect_reason;
+      EXPECT_NE(sample.suspect_reason.find("0x17"), std::string::npos) << sample.suspect_reason;
+      EXPECT_NE(sample.suspect_reason.find("bits 4-7"), std::string::npos) << sample.suspect_reason;
+      EXPECT_FALSE(sample.signal.has_value());
+      EXPECT_FALSE(sample.distance_mm.has_value());
+    } else {
+      EXPECT_FALSE(sample.suspect) << i << ": " << sample.suspect_reason;
+      EXPECT_EQ(sample.signal, SignalState::ok) << i;
+      EXPECT_DOUBLE_EQ(sample.distance_mm.value_or(-1), 50.0) << i;  // 100 × 2000h / 4000h
+    }
+  }
+  const auto counters = rig.receiver->counters();
+  EXPECT_EQ(counters.packets, 1U);
+  EXPECT_EQ(counters.bad_packets, 0U);
+  EXPECT_EQ(counters.suspect_records, 1U);
+}
+
+// docs/conformance.md L86. §10.1: "The measurement result is passed as a two-byte number in
+// the code from 0 to 4000h." 4001h with the in-range bit set is past the end of the range:
+// signal lost (out of range), flagged suspect with the reason, no distance.
+TEST(Ls5UdpReceiver, ACodeAbove4000hIsOutOfRangeL86) {
+  UdpRig rig;
+  ASSERT_TRUE(rig.receiver && rig.sender);
+  rig.send(build_packet(1, 0x4001, 0x07));
+  const Sample past = rig.next_sample();
+  EXPECT_EQ(past.code, 0x4001);
+  EXPECT_EQ(past.signal, SignalState::lost);
+  EXPECT_FALSE(past.distance_mm.has_value());
+  EXPECT_TRUE(past.suspect);
+  EXPECT_NE(past.suspect_reason.find("above 0x4000"), std::string::npos) << past.suspect_reason;
+  rig.skip_samples(167);
+  rig.send(build_packet(2, 0x4000, 0x07));  // 4000h itself is the end of the range: 100 mm
+  const Sample end = rig.next_sample();
+  EXPECT_EQ(end.signal, SignalState::ok);
+  EXPECT_FALSE(end.suspect);
+  EXPECT_DOUBLE_EQ(end.distance_mm.value_or(-1), 100.0);
+  rig.skip_samples(167);
+  EXPECT_EQ(rig.receiver->counters().suspect_records, 168U);
 }

@@ -15,6 +15,8 @@ namespace rangekit::ls5 {
 inline constexpr std::size_t udp_packet_size = 512;
 inline constexpr std::size_t udp_record_count = 168;
 inline constexpr std::uint16_t udp_full_scale_code = 0x4000;  // formula 10.1
+// The derivative's zero: formula 8.2's 25000 of 50000, scaled to 0x4000 as 10.1 scales 8.1 (L87).
+inline constexpr std::uint16_t udp_derivative_zero_code = 0x2000;
 
 namespace udp_offset {
 inline constexpr std::size_t serial = 504;
@@ -54,14 +56,22 @@ struct UdpPacket {
 // XOR of bytes 0-509: every byte but the counter and the checksum (L12).
 std::uint8_t udp_checksum(std::span<const std::uint8_t, udp_packet_size> datagram) noexcept;
 
-// Checks size, checksum and every record's state bits.
+// Whether a state word reads as §10.1 describes it: bit 1 set, reserved bits 4-7 clear. The
+// error names what is wrong.
+Status check_udp_state(std::uint8_t state);
+
+// Checks size and checksum. Every record is kept as sent, also one whose state word
+// check_udp_state refuses: one bad record does not cost the other 167 (L85).
 Result<UdpPacket> decode_udp_packet(Bytes datagram);
 // Writes the datagram with its checksum; rejects records with invalid state bits.
 Status encode_udp_packet(const UdpPacket& packet, std::span<std::uint8_t, udp_packet_size> out);
 
 // Formula 10.1: range × code / 0x4000, for a measured, in-range, pure-distance
-// record with code 0-0x4000 (conformance L19).
+// record with a valid state word and code 0-0x4000 (conformance L19).
 Result<double> udp_distance_mm(const UdpRecord& record, double range_mm);
+// Formula 8.2 scaled to the UDP code: range × (code − 0x2000) / 0x4000, for a measured,
+// in-range derivative record with a valid state word and code 0-0x4000 (L87).
+Result<double> udp_derivative_mm(const UdpRecord& record, double range_mm);
 
 // A counter equal to the previous packet's: the same packet again (a duplicated
 // datagram), to be dropped, not 255 lost packets (conformance L19).

@@ -1,6 +1,7 @@
 // The LS5 Ethernet stream (§10.1) as a SampleSource: 512-byte UDP packets of 168
 // records on a bound socket, checksum checked (a bad packet is counted and
-// reported as a bad_frame event), the cyclic counter followed (a gap is reported
+// reported as a bad_frame event; a bad record is a suspect sample, its packet
+// kept), the cyclic counter followed (a gap is reported
 // as a lost_records event with the number of records lost, never merged over; a
 // repeated counter is a duplicated datagram, dropped, counted and reported).
 #pragma once
@@ -24,8 +25,10 @@ struct UdpReceiverOptions {
 };
 
 struct UdpReceiverCounters {
-  std::uint64_t packets = 0;       // decoded
-  std::uint64_t bad_packets = 0;   // wrong size, checksum or state bits
+  std::uint64_t packets = 0;      // decoded
+  std::uint64_t bad_packets = 0;  // wrong size or checksum
+  // Records kept but flagged suspect (L85, L86): a state word not as documented, a code past 0x4000.
+  std::uint64_t suspect_records = 0;
   std::uint64_t lost_packets = 0;  // counter gaps
   std::uint64_t lost_records = 0;  // lost_packets × 168
   std::uint64_t duplicates = 0;    // packets repeating the previous counter: dropped (L65)

@@ -172,12 +172,13 @@ void add_ls5_stream_commands(CLI::App& ls5, int& exit_code) {
     exit_code = run_stream_as(watched, udp->stream, "ls5 udp");
     (*receiver)->stop();
     const auto counters = (*receiver)->counters();
-    if (counters.bad_packets > 0 || counters.lost_packets > 0 || counters.duplicates > 0) {
+    if (counters.bad_packets > 0 || counters.lost_packets > 0 || counters.duplicates > 0 ||
+        counters.suspect_records > 0) {
       fmt::print(stderr,
                  "rangekit ls5 udp: {} packets, {} bad (checksum/size), {} lost ({} records), {} duplicates "
-                 "dropped\n",
+                 "dropped, {} suspect records (state word or code out of the format)\n",
                  counters.packets, counters.bad_packets, counters.lost_packets, counters.lost_records,
-                 counters.duplicates);
+                 counters.duplicates, counters.suspect_records);
     }
   });
 }

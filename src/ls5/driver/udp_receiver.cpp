@@ -2,6 +2,7 @@
 // queues one Sample per record; checksum failures and counter gaps become events.
 #include "rangekit/ls5/udp_receiver.hpp"
 
+#include <algorithm>
 #include <array>
 #include <mutex>
 #include <thread>
@@ -15,8 +16,8 @@ namespace {
 
 constexpr std::chrono::milliseconds receive_slice{100};  // how often the reader looks at the stop flag
 
-Sample record_sample(const UdpRecord& record, const UdpPacket& packet, const SharedName& source, int address,
-                     std::chrono::system_clock::time_point time) {
+Sample record_sample(const UdpRecord& record, std::size_t index, const UdpPacket& packet, const SharedName& source,
+                     int address, std::chrono::system_clock::time_point time) {
   Sample sample;
   sample.time = time;
   sample.device = "ls5";
@@ -26,17 +27,40 @@ Sample record_sample(const UdpRecord& record, const UdpPacket& packet, const Sha
   sample.kind = record.derivative() ? SampleKind::ls5_derivative : SampleKind::ls5_result;
   sample.code = record.code;                                                         // the §10.1 code, 0-0x4000 (L45)
   if (packet.range_mm > 0) sample.resolution_mm = discreteness_mm(packet.range_mm);  // table 3.1 (L63)
+  if (auto state = check_udp_state(record.state); !state) {
+    // Kept in its place with its code, but a word not as documented says nothing sure: no
+    // signal, no value (L85).
+    sample.suspect = true;
+    sample.suspect_reason = "measurement " + std::to_string(index + 1) + " of the UDP packet: " + state.error().message;
+    return sample;
+  }
   if (!record.measured()) {
     sample.signal = SignalState::none_yet;
   } else if (!record.in_range()) {
     sample.signal = SignalState::lost;
+  } else if (record.code > udp_full_scale_code) {
+    // Past 0x4000, the end of the range of formula 10.1: out of range whatever bit 2 says (L86).
+    sample.signal = SignalState::lost;
+    sample.suspect = true;
+    sample.suspect_reason = "code " + std::to_string(record.code) + " is above 0x4000 (16384), the end of the range, " +
+                            "while the state word says in range: out of range";
   } else {
     sample.signal = SignalState::ok;
-    // Formula 10.1; a derivative has no documented scale in §10.1 (L19): code only.
-    auto distance = udp_distance_mm(record, packet.range_mm);
-    if (distance) sample.distance_mm = *distance;
+    if (record.derivative()) {
+      auto derivative = udp_derivative_mm(record, packet.range_mm);  // formula 8.2 scaled to 0x4000 (L87)
+      if (derivative) sample.derivative_mm = *derivative;
+    } else {
+      auto distance = udp_distance_mm(record, packet.range_mm);  // formula 10.1
+      if (distance) sample.distance_mm = *distance;
+    }
   }
   return sample;
+}
+
+// Records kept but flagged suspect: a state word not as documented, or a code past 0x4000.
+bool flagged(const UdpRecord& record) {
+  return !check_udp_state(record.state) ||
+         (record.measured() && record.in_range() && record.code > udp_full_scale_code);
 }
 
 StreamEvent make_event(StreamEventKind kind, std::string message, std::uint64_t count = 0) {
@@ -103,12 +127,16 @@ struct UdpReceiver::State {
       queue.push(make_event(StreamEventKind::connected, "UDP packets from " + source.str()));
     }
     last_counter = packet->counter;
+    // Counted before its samples are queued, so a consumer that has one sees the packet counted.
+    const auto suspect = static_cast<std::uint64_t>(
+        std::count_if(packet->records.begin(), packet->records.end(), [](const UdpRecord& r) { return flagged(r); }));
     {
       std::lock_guard lock(counters_mutex);
       ++counters.packets;
+      counters.suspect_records += suspect;
     }
-    for (const UdpRecord& record : packet->records) {
-      queue.push(record_sample(record, *packet, source, options.address, now));
+    for (std::size_t i = 0; i < packet->records.size(); ++i) {
+      queue.push(record_sample(packet->records[i], i, *packet, source, options.address, now));
     }
   }
 
