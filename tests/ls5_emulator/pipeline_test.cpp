@@ -1,6 +1,7 @@
 // The measurement pipeline of figure 8.7 and the outputs, against hand-computed values.
-// Conformance rows held here: L29 and L54 (standby), L30 (derivative), L31 (τ), L32 (filters), L33 (§8.13),
-// L34 (exposure and priority), L35 (stream pacing), L36 (UDP), L38 (ROM-writing latching), L82 (UDP source port).
+// Conformance rows held here: L29 and L54 (standby), L30 and L89 (derivative), L31 and L88 (τ), L32 (filters),
+// L33 (§8.13), L34 (exposure and priority), L35 (stream pacing), L36 (UDP), L38 (ROM-writing latching),
+// L82 (UDP source port).
 #include <unistd.h>
 
 #include "ls5_emulator/firmware_rig.hpp"
@@ -65,6 +66,58 @@ TEST(Ls5Pipeline, SignalAbsenceHoldsTheLastResultForTau) {
   EXPECT_EQ(rig.fw->current_result().value, code_no_signal);
   rig.run_to(Nanos(205'000'000));
   EXPECT_EQ(rig.fw->current_result().value, 12345);
+}
+
+TEST(Ls5Pipeline, DefaultTauBridgesOneLostMeasurementAtTheDefaultPeriodL88) {
+  // §8.6: "Acceptable time of signal absense, τ – the time during which, in the absence of a
+  // signal, the result remains equal to the last measured value in the range." Table 9.2: τ
+  // "for τ = 10 ms parameter is 000A", default 0A 00; the period's default 64 00 "(corresponds
+  // 10 ms)". A lost measurement 10 ms after the last result is within τ, one 20 ms after is not.
+  Rig rig;  // measurements at 10, 20, ... ms, code 25000
+  Scene scene = fixed_scene(position_for_code(25000));
+  scene.dropouts = {{0.045, 0.055, "dust"}, {0.075, 0.095, "shading"}};  // loses 50 ms; 80 and 90 ms
+  rig.fw->set_scene(scene);
+  std::vector<std::uint16_t> results;
+  for (int i = 0; i < 10; ++i) {
+    rig.run_for(10ms);
+    results.push_back(rig.fw->current_result().value);
+  }
+  EXPECT_EQ(results, (std::vector<std::uint16_t>{25000, 25000, 25000, 25000, 25000, 25000, 25000, 25000, code_no_signal,
+                                                 25000}));
+}
+
+TEST(Ls5Pipeline, ALossTauDoesNotBridgeRestartsTheDerivativeAndTheFilterL89) {
+  // §8.8: "A derivative is the difference between the current and previous results."; after a
+  // result of 65535 ("no signal", §8.9) the next result has no previous result to differ from.
+  Rig rig;
+  rig.run_for(5ms);
+  rig.write(0x0E, 0x01);
+  rig.write(0x09, 0x00);  // τ = 0: every lost measurement is a loss
+  EXPECT_EQ(feed(rig, {1000, 1200}), (std::vector<std::uint16_t>{25000, 25200}));
+  rig.fw->set_scene(fixed_scene(5));  // before the lower boundary: no signal
+  rig.run_for(10ms);
+  EXPECT_EQ(rig.fw->current_result().value, code_no_signal);
+  EXPECT_EQ(feed(rig, {1500, 1600}), (std::vector<std::uint16_t>{25000, 25100}));  // not 25300 first
+
+  // A loss τ bridges (default 10 ms) is none: the next difference spans it, 2000 − 1700.
+  Rig bridged;
+  bridged.run_for(5ms);
+  bridged.write(0x0E, 0x01);
+  EXPECT_EQ(feed(bridged, {1500, 1700}), (std::vector<std::uint16_t>{25000, 25200}));
+  bridged.fw->set_scene(fixed_scene(5));
+  bridged.run_for(10ms);
+  EXPECT_EQ(bridged.fw->current_result().value, 25200);  // held
+  EXPECT_EQ(feed(bridged, {2000}), (std::vector<std::uint16_t>{25300}));
+
+  // The moving average (k = 3) starts again from the new results too (L32).
+  Rig average;
+  average.run_for(5ms);
+  average.write(0x0C, 0x03);
+  average.write(0x09, 0x00);
+  EXPECT_EQ(feed(average, {1000, 2000}), (std::vector<std::uint16_t>{1000, 1500}));
+  average.fw->set_scene(fixed_scene(5));
+  average.run_for(10ms);
+  EXPECT_EQ(feed(average, {4000, 5000}), (std::vector<std::uint16_t>{4000, 4500}));
 }
 
 TEST(Ls5Pipeline, SensitivityPriorityLowersTheRateOnWeakTargets) {

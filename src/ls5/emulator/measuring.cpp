@@ -65,14 +65,17 @@ void Firmware::measure(Nanos now, bool from_sync) {
   } else if (value) {
     previous_raw_ = value;
   }
-  // τ (§8.6, L29): the last result stands in while less than τ has passed.
+  // τ (§8.6, L88): the last result stands in while at most τ has passed, so the default τ of
+  // 10 ms bridges one lost measurement at the default 10 ms period.
   if (value) {
     last_valid_ = value;
     last_valid_at_ = now;
-  } else if (last_valid_ && now - last_valid_at_ < from_ms(u16(address::signal_absence_low))) {
+  } else if (last_valid_ && now - last_valid_at_ <= from_ms(u16(address::signal_absence_low))) {
     value = last_valid_;
+  } else {
+    previous_raw_.reset();  // a loss τ does not bridge: the derivative starts again (L89)
   }
-  // Pre-filter (§8.7, L31).
+  // Pre-filter (§8.7, L32).
   if (value) {
     const bool median = ram_[address::pre_filter] == 0x01;
     const std::size_t points = median ? ram_[address::median_points] : ram_[address::averaging_points];
