@@ -99,7 +99,7 @@ TEST(Ls5Formulas, AnalogOutputInvertedL8) {
   EXPECT_DOUBLE_EQ(analog_output(current_4_20_mA, inverted, 20000), 12.0);
   EXPECT_DOUBLE_EQ(analog_output(current_4_20_mA, inverted, 30000), 4.0);
   EXPECT_DOUBLE_EQ(analog_output(current_4_20_mA, inverted, 45000), 4.0);
-  // K_v = K_n: A_min.
+  // K_v = K_n: A_min, formula 8.3's "A = A_min, if ... K_v = K_n" (L90).
   const AnalogLimits flat{20000, 20000};
   for (const std::uint16_t k : {std::uint16_t{0}, std::uint16_t{20000}, std::uint16_t{50000}}) {
     EXPECT_DOUBLE_EQ(analog_output(current_4_20_mA, flat, k), 4.0);

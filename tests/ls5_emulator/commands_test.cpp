@@ -2,7 +2,8 @@
 // Conformance rows held here: L26 (no reply to what the sensor cannot honour), L27 (DF in RAM),
 // L28 (serial settings after the echo), L37 (any byte stops the stream), L39 (OF), L50 and L84 (the
 // combined value, checked on the pair), L51 (ports 0001-FFFF), L52 (no zero period, exposure, fixed range),
-// L53 (analog output disabled holds), L55 (DF and the network address), L83 (DF restarts the timer).
+// L53 (analog output disabled holds), L55 (DF and the network address), L83 (DF restarts the timer),
+// L92 (the sync input while off).
 #include <unistd.h>
 
 #include <utility>
@@ -309,6 +310,31 @@ TEST(Ls5Commands, OffStopsMeasuringZeroesDiscreteOutputsAndHoldsAnalog) {
   EXPECT_EQ(rig.exchange("#01ON\r"), "!01ON\r");
   rig.run_for(20ms);
   EXPECT_GT(rig.fw->measurements(), count);
+}
+
+TEST(Ls5Commands, ASyncEdgeWhileOffNeitherMeasuresNorLatchesL92) {
+  // §8.13: "The measurement process with subsequent latching will be triggered by the rising edge
+  // of the signal at the synchronization input, regardless of what operations were performed
+  // before in the sensor." §8.2: when off, "there is no irradiation of the measured object ...
+  // and no measurements are made. The sensor scans the network only for commands."
+  Rig rig;  // latching 01 (table 9.2 default): an edge measures and latches
+  rig.run_for(20ms);
+  auto count = rig.fw->measurements();
+  rig.fw->set_sync_input(true, rig.now);
+  rig.fw->set_sync_input(false, rig.now);
+  EXPECT_EQ(rig.fw->measurements(), count + 1);
+  EXPECT_EQ(rig.exchange("#01FR\r"), "!01FR25000\r");
+  EXPECT_EQ(rig.exchange("#01OF\r"), "!01OF\r");
+  rig.set_scene_code(40000);
+  count = rig.fw->measurements();
+  rig.fw->set_sync_input(true, rig.now);
+  rig.fw->set_sync_input(false, rig.now);
+  EXPECT_EQ(rig.fw->measurements(), count);
+  EXPECT_EQ(rig.exchange("#01FR\r"), "!01FR25000\r");  // the latch keeps what it had
+  EXPECT_EQ(rig.exchange("#01ON\r"), "!01ON\r");
+  rig.fw->set_sync_input(true, rig.now);
+  rig.fw->set_sync_input(false, rig.now);
+  EXPECT_EQ(rig.exchange("#01FR\r"), "!01FR40000\r");
 }
 
 TEST(Ls5Commands, DisabledAnalogOutputHoldsTheLastMeasurementL53) {

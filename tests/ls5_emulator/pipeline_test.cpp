@@ -1,7 +1,7 @@
 // The measurement pipeline of figure 8.7 and the outputs, against hand-computed values.
 // Conformance rows held here: L29 and L54 (standby), L30 and L89 (derivative), L31 and L88 (τ), L32 (filters),
 // L33 (§8.13), L34 (exposure and priority), L35 (stream pacing), L36 (UDP), L38 (ROM-writing latching),
-// L82 (UDP source port).
+// L82 (UDP source port), L90 and L91 (analog output at equal limits and without signal).
 #include <unistd.h>
 
 #include "ls5_emulator/firmware_rig.hpp"
@@ -118,6 +118,59 @@ TEST(Ls5Pipeline, ALossTauDoesNotBridgeRestartsTheDerivativeAndTheFilterL89) {
   average.fw->set_scene(fixed_scene(5));
   average.run_for(10ms);
   EXPECT_EQ(feed(average, {4000, 5000}), (std::vector<std::uint16_t>{4000, 4500}));
+}
+
+TEST(Ls5Pipeline, EqualAnalogLimitsGiveAMinL90) {
+  // §8.10 formula 8.3: "A = A_min, if ... K_v = K_n" (the linear case divides by K_v − K_n).
+  Rig rig;
+  rig.run_for(5ms);
+  rig.write(0x11, 0x20);
+  rig.write(0x12, 0x4E);  // K_n = 20000 (0x4E20)
+  rig.write(0x13, 0x20);
+  rig.write(0x14, 0x4E);  // K_v = 20000
+  for (const double code : {10000.0, 20000.0, 40000.0}) {
+    feed(rig, {code});
+    EXPECT_DOUBLE_EQ(rig.fw->analog_value(), 4.0) << code;  // 4-20 mA: A_min
+  }
+  rig.write(0x09, 0x00);  // τ = 0
+  rig.fw->set_scene(fixed_scene(5));
+  rig.run_for(10ms);
+  EXPECT_DOUBLE_EQ(rig.fw->analog_value(), 4.0);  // no signal after A_min: the lower extreme
+}
+
+TEST(Ls5Pipeline, NoSignalDrivesTheAnalogOutputToTheExtremeItsLastValueWasNearerL91) {
+  // §8.10: "To indicate the status «No signal» on the analog output, the setting to the extreme
+  // position is applied depending on the last measured value." 4-20 mA, τ = 0.
+  Rig rig;
+  rig.run_for(5ms);
+  rig.write(0x09, 0x00);
+  rig.write(0x11, 0x10);
+  rig.write(0x12, 0x27);  // K_n = 10000 (0x2710)
+  rig.write(0x13, 0x30);
+  rig.write(0x14, 0x75);  // K_v = 30000 (0x7530)
+  const auto lose = [&rig] {
+    rig.fw->set_scene(fixed_scene(5));  // before the lower boundary
+    rig.run_for(10ms);
+    EXPECT_EQ(rig.fw->current_result().value, code_no_signal);
+  };
+  // 22000 gave 4 + 16 × 12000 / 20000 = 13.6 mA, above mid-scale (12 mA): 20 mA, although
+  // 22000 is below the middle of the measuring range (25000).
+  feed(rig, {22000});
+  EXPECT_NEAR(rig.fw->analog_value(), 13.6, 1e-9);
+  lose();
+  EXPECT_DOUBLE_EQ(rig.fw->analog_value(), 20.0);
+  feed(rig, {12000});  // 4 + 16 × 2000 / 20000 = 5.6 mA: 4 mA
+  lose();
+  EXPECT_DOUBLE_EQ(rig.fw->analog_value(), 4.0);
+  // Inverted (K_v = 10000 < K_n = 30000): 12000 gives 4 + 16 × 0.9 = 18.4 mA, so 20 mA.
+  rig.write(0x11, 0x30);
+  rig.write(0x12, 0x75);
+  rig.write(0x13, 0x10);
+  rig.write(0x14, 0x27);
+  feed(rig, {12000});
+  EXPECT_NEAR(rig.fw->analog_value(), 18.4, 1e-9);
+  lose();
+  EXPECT_DOUBLE_EQ(rig.fw->analog_value(), 20.0);
 }
 
 TEST(Ls5Pipeline, SensitivityPriorityLowersTheRateOnWeakTargets) {
