@@ -1,7 +1,7 @@
 // The measurement pipeline of figure 8.7 and the outputs, against hand-computed values.
 // Conformance rows held here: L29 and L54 (standby), L30 and L89 (derivative), L31 and L88 (τ), L32 (filters),
 // L33 (§8.13), L34 (exposure and priority), L35 (stream pacing), L36 (UDP), L38 (ROM-writing latching),
-// L82 (UDP source port), L90 and L91 (analog output at equal limits and without signal).
+// L82 and L93 (UDP source port and destination), L90 and L91 (analog output at equal limits and without signal).
 #include <unistd.h>
 
 #include "ls5_emulator/firmware_rig.hpp"
@@ -477,6 +477,43 @@ TEST(Ls5Pipeline, UdpPacketsLeaveFromTheSourcePortOfTheParametersL82) {
   rig.write(0x06, 0x0A);
   rig.run_for(170ms);
   EXPECT_EQ(ports.back(), 5000);
+}
+
+TEST(Ls5Pipeline, UdpPacketsGoWhereTheDestinationParametersSayL93) {
+  // Table 9.2: "Destination IP address" 5C-5F, "Destination port number" 6C (high byte), 6D (low
+  // byte); §10's defaults "Destination IP address 255.255.255.255", "Destination port number 603".
+  std::vector<UdpDatagram> sent;
+  FirmwareConfig config = test_config("LS5.12.0");
+  config.udp_destination = UdpDestination{0x7F000001, 6030};  // --udp 127.0.0.1:6030, as delivered
+  config.udp_sink = [&](const UdpDatagram& datagram) {
+    sent.push_back(datagram);
+    return ok_status();
+  };
+  Rig rig(config);
+  EXPECT_EQ(rig.exchange("#01R5C\r"), "!01R5C7F\r");
+  EXPECT_EQ(rig.exchange("#01R5F\r"), "!01R5F01\r");
+  EXPECT_EQ(rig.exchange("#01R6C\r"), "!01R6C17\r");  // 6030 = 0x178E
+  EXPECT_EQ(rig.exchange("#01R6D\r"), "!01R6D8E\r");
+  rig.write(0x06, 0x0A);  // t = 1 ms: a packet every 168 ms
+  rig.run_for(170ms);
+  ASSERT_FALSE(sent.empty());
+  EXPECT_EQ(sent.back().destination_ip, 0x7F000001U);
+  EXPECT_EQ(sent.back().destination_port, 6030);
+  // 127.0.0.2:7000 (0x1B58) from the next packet on.
+  rig.write(0x5F, 0x02);
+  rig.write(0x6C, 0x1B);
+  rig.write(0x6D, 0x58);
+  rig.run_for(170ms);
+  EXPECT_EQ(sent.back().destination_ip, 0x7F000002U);
+  EXPECT_EQ(sent.back().destination_port, 7000);
+  // DF: table 9.2's FF FF FF FF and 02 5B (603), at once; FL keeps them, power-up as delivered without it.
+  EXPECT_EQ(rig.exchange("#01DF\r"), "!01DF\r");
+  rig.write(0x06, 0x0A);
+  rig.run_for(170ms);
+  EXPECT_EQ(sent.back().destination_ip, 0xFFFFFFFFU);
+  EXPECT_EQ(sent.back().destination_port, 603);
+  rig.fw->power_cycle(rig.now);
+  EXPECT_EQ(rig.exchange("#01R6D\r"), "!01R6D8E\r");
 }
 
 TEST(Ls5Pipeline, NoUdpOnSerialOnlyModels) {

@@ -1,6 +1,7 @@
 // `rangekit sim ls5` as a process: a host on the real pty, the control socket
-// driving the virtual clock and the sync input, a loopback UDP receiver (conformance L36:
-// packets only to --udp; L82: from the source port of parameters 6E/6F).
+// driving the virtual clock and the sync input, a loopback UDP receiver (conformance L36;
+// L82: from the source port of parameters 6E/6F; L93: to the destination of 5C-5F and 6C/6D,
+// --udp their first value).
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
@@ -257,6 +258,64 @@ TEST(Ls5Sim, UdpPacketsComeFromTheSourcePortTheParametersNameL82) {
   EXPECT_EQ(sim.wait(), 0);
 }
 
+// Writes a destination port high byte first, as table 9.2 lists 6C before 6D.
+void set_destination_port(Session& s, std::uint16_t port) {
+  char high[16];
+  char low[16];
+  std::snprintf(high, sizeof high, "#01W6C%02X\r", port >> 8U);
+  std::snprintf(low, sizeof low, "#01W6D%02X\r", port & 0xFFU);
+  for (const char* command : {high, low}) {
+    std::string echo = command;
+    echo[0] = '!';
+    EXPECT_EQ(s.exchange(command, 9), echo);
+  }
+}
+
+TEST(Ls5Sim, UdpPacketsGoWhereTheDestinationParametersSayL93) {
+  // Table 9.2 "Destination IP address" 5C-5F and "Destination port number" 6C/6D; --udp gives
+  // their first values. The default 255.255.255.255 reaches this host at 127.0.0.1.
+  Paths paths("destination");
+  auto first = UdpSocket::bind(Endpoint{"127.0.0.1", 0});
+  auto second = UdpSocket::bind(Endpoint{"127.0.0.1", 0});
+  ASSERT_TRUE(first && second);
+  Child sim({"sim", "ls5", "--port", paths.port, "--model", "0/100", "--version", "LS5.12.0", "--udp",
+             first->local_endpoint().to_string(), "--control", paths.control, "--virtual-clock"});
+  ASSERT_NE(sim.read_line().find("ready:"), std::string::npos);
+  auto s = connect(paths);
+  ASSERT_TRUE(s.host && s.control);
+  EXPECT_EQ(s.exchange("#01R5C\r", 9), "!01R5C7F\r");    // 127.0.0.1 from --udp
+  EXPECT_EQ(s.exchange("#01W060A\r", 9), "!01W060A\r");  // t = 1 ms
+  std::array<std::uint8_t, 1024> datagram{};
+  s.ask({{"cmd", "advance"}, {"seconds", 0.2}});
+  ASSERT_TRUE(first->receive(datagram, 2000ms));
+
+  EXPECT_EQ(s.exchange("#01W7000\r", 9), "!01W7000\r");
+  set_destination_port(s, second->local_endpoint().port);
+  EXPECT_EQ(s.exchange("#01W7001\r", 9), "!01W7001\r");
+  s.ask({{"cmd", "advance"}, {"seconds", 0.2}});
+  auto got = second->receive(datagram, 2000ms);
+  ASSERT_TRUE(got) << got.error().message;
+  EXPECT_EQ(got->size, ls5::udp_packet_size);
+
+  // DF: 255.255.255.255 (and 603, 10 ms); with the port set to the first receiver's again,
+  // the broadcast arrives there through 127.0.0.1.
+  EXPECT_EQ(s.exchange("#01DF\r", 6), "!01DF\r");
+  EXPECT_EQ(s.ask({{"cmd", "outputs"}})["udp_destination"], "255.255.255.255:603");
+  EXPECT_EQ(s.exchange("#01W7000\r", 9), "!01W7000\r");
+  set_destination_port(s, first->local_endpoint().port);
+  EXPECT_EQ(s.exchange("#01W060A\r", 9), "!01W060A\r");
+  while (first->receive(datagram, 0ms)) {
+  }  // what came before the DF
+  EXPECT_EQ(s.exchange("#01W7001\r", 9), "!01W7001\r");
+  s.ask({{"cmd", "advance"}, {"seconds", 0.2}});
+  got = first->receive(datagram, 2000ms);
+  ASSERT_TRUE(got) << got.error().message;
+  EXPECT_EQ(s.ask({{"cmd", "outputs"}})["udp_destination"],
+            "255.255.255.255:" + std::to_string(first->local_endpoint().port));
+  EXPECT_EQ(s.ask({{"cmd", "shutdown"}})["ok"], true);
+  EXPECT_EQ(sim.wait(), 0);
+}
+
 TEST(Ls5Sim, FlashSurvivesPowerCycleThroughTheControlSocket) {
   Paths paths("flash");
   const std::string state = (paths.dir / "state").string();
@@ -407,6 +466,8 @@ TEST(Ls5Sim, BadArgumentsAreUsageErrors) {
   EXPECT_EQ(bad_model.wait(), 2);
   Child bad_address({"sim", "ls5", "--address", "0"});
   EXPECT_EQ(bad_address.wait(), 2);
+  Child bad_destination({"sim", "ls5", "--udp", "127.0.0.1:0"});  // table 9.2: destination port 0001-FFFF
+  EXPECT_EQ(bad_destination.wait(), 2);
 }
 
 }  // namespace

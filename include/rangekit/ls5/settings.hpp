@@ -52,7 +52,10 @@ inline constexpr std::uint8_t analog_fixed_range_low = 0x23;
 inline constexpr std::uint8_t analog_fixed_range_high = 0x24;
 inline constexpr std::uint8_t discrete_fixed_range_low = 0x25;
 inline constexpr std::uint8_t discrete_fixed_range_high = 0x26;
-inline constexpr std::uint8_t source_port_high = 0x6E;  // table 9.2 lists the ports high byte first
+inline constexpr std::uint8_t destination_ip_first = 0x5C;   // 5C-5F: the first octet first
+inline constexpr std::uint8_t destination_port_high = 0x6C;  // table 9.2 lists the ports high byte first
+inline constexpr std::uint8_t destination_port_low = 0x6D;
+inline constexpr std::uint8_t source_port_high = 0x6E;
 inline constexpr std::uint8_t source_port_low = 0x6F;
 inline constexpr std::uint8_t udp_auto_stream = 0x70;
 }  // namespace address

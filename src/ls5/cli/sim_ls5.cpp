@@ -1,7 +1,9 @@
 // `rangekit sim ls5`: the LS5 emulator on a pseudo-terminal, one or
 // more sensors on the line (RS-485 bus), the Ethernet stream to a loopback
 // UDP destination. Firmware: src/ls5/emulator; how to run it: docs/emulator-ls5.md.
+#include <arpa/inet.h>
 #include <fmt/core.h>
+#include <netinet/in.h>
 
 #include <memory>
 #include <optional>
@@ -38,14 +40,31 @@ std::optional<std::uint8_t> parse_address(const std::string& text) {
   }
 }
 
+// --udp HOST:PORT as parameters 5C-5F and 6C/6D hold a destination (L93).
+Result<ls5::emulator::UdpDestination> destination_of(const Endpoint& endpoint) {
+  in_addr address{};
+  const std::string host = endpoint.host == "localhost" ? "127.0.0.1" : endpoint.host;
+  if (::inet_pton(AF_INET, host.c_str(), &address) != 1) {
+    return make_error(Errc::bad_number, "'" + endpoint.host + "' is not an IPv4 address");
+  }
+  if (endpoint.port == 0) return make_error(Errc::out_of_range, "port 0: the destination port is 1-65535");
+  return ls5::emulator::UdpDestination{ntohl(address.s_addr), endpoint.port};
+}
+
+// Where a packet for `destination` goes. The emulated network is this host: the broadcast
+// 255.255.255.255 (table 9.2's default) reaches it at 127.0.0.1, never a real network.
+Endpoint endpoint_of(const ls5::emulator::UdpDestination& destination) {
+  const bool broadcast = destination.ip == 0xFFFFFFFFU;
+  return Endpoint{broadcast ? "127.0.0.1" : ls5::format_ipv4(destination.ip), destination.port};
+}
+
 // One sensor's Ethernet port: packets leave from the source port its parameters name (table 9.2
-// 6E/6F), the socket bound again when they change. UdpSocket::bind sets SO_REUSEADDR, so the
-// sensors of one bus share a port as sensors with IP addresses of their own do; a port another
-// program holds cannot be bound, and the packet is not sent (an error event, never another port).
+// 6E/6F), the socket bound again when they change, and go where 5C-5F and 6C/6D say.
+// UdpSocket::bind sets SO_REUSEADDR, so the sensors of one bus share a port as sensors with IP
+// addresses of their own do; a port another program holds cannot be bound, and the packet is not
+// sent (an error event, never another port).
 class UdpPort {
  public:
-  explicit UdpPort(Endpoint destination) : destination_(std::move(destination)) {}
-
   Status send(const ls5::emulator::UdpDatagram& datagram) {
     if (!socket_ || bound_port_ != datagram.source_port) {
       socket_.reset();
@@ -58,7 +77,8 @@ class UdpPort {
       socket_.emplace(std::move(*bound));
       bound_port_ = datagram.source_port;
     }
-    return report(socket_->send_to(Bytes(datagram.bytes.data(), datagram.bytes.size()), destination_));
+    const Endpoint to = endpoint_of(ls5::emulator::UdpDestination{datagram.destination_ip, datagram.destination_port});
+    return report(socket_->send_to(Bytes(datagram.bytes.data(), datagram.bytes.size()), to));
   }
   void attach(const ls5::emulator::Firmware* sensor) { sensor_ = sensor; }
 
@@ -78,7 +98,6 @@ class UdpPort {
     return status;
   }
 
-  Endpoint destination_;
   std::optional<UdpSocket> socket_;
   std::uint16_t bound_port_ = 0;
   const ls5::emulator::Firmware* sensor_ = nullptr;  // for the label in messages
@@ -136,14 +155,15 @@ int run(const Ls5SimOptions& options, const SimCommonOptions& common) {
     }
     scene = std::move(*loaded);
   }
-  std::optional<Endpoint> udp_destination;
+  std::optional<ls5::emulator::UdpDestination> udp_destination;
   if (!options.udp.empty()) {
     auto endpoint = parse_endpoint(options.udp);
-    if (!endpoint) {
-      fmt::print(stderr, "rangekit sim ls5: --udp: {}\n", endpoint.error().message);
+    auto destination = endpoint ? destination_of(*endpoint) : Result<ls5::emulator::UdpDestination>(endpoint.error());
+    if (!destination) {
+      fmt::print(stderr, "rangekit sim ls5: --udp: {}\n", destination.error().message);
       return exit_usage;
     }
-    udp_destination = *endpoint;
+    udp_destination = *destination;
   }
   std::vector<std::string> addresses = options.addresses;
   if (addresses.empty()) addresses.push_back("1");
@@ -168,8 +188,9 @@ int run(const Ls5SimOptions& options, const SimCommonOptions& common) {
     config.seed = common.seed + static_cast<std::uint32_t>(i);
     config.scene = scene;
     UdpPort* udp_port = nullptr;
+    config.udp_destination = udp_destination;
     if (udp_destination) {
-      udp_ports.push_back(std::make_unique<UdpPort>(*udp_destination));
+      udp_ports.push_back(std::make_unique<UdpPort>());
       udp_port = udp_ports.back().get();
       config.udp_sink = [udp_port](const ls5::emulator::UdpDatagram& datagram) { return udp_port->send(datagram); };
     }
@@ -207,7 +228,9 @@ void add_sim_ls5(CLI::App& sim, int& exit_code) {
       ->capture_default_str();
   command->add_option("--version", options->version, "firmware version, LS5.x.y (LS5.12.x has Ethernet)")
       ->capture_default_str();
-  command->add_option("--udp", options->udp, "send the Ethernet stream to HOST:PORT (loopback); off when not given");
+  command->add_option("--udp", options->udp,
+                      "connect Ethernet: the destination parameters 5C-5F/6C-6D start at HOST:PORT (as delivered, "
+                      "in ROM until FL stores others); no packets are sent without it");
   command->add_option("--analog", options->analog,
                       "analog output type: 4-20mA, 0-20mA, 0-10V (default: the ordering code's, else 4-20mA)");
   add_common_sim_options(*command, *common);

@@ -28,6 +28,7 @@ nlohmann::json Firmware::control(const nlohmann::json& request, Nanos now) {
               {"measurements", measurements_},
               {"udp_packets", udp_packets_},
               {"udp_source_port", udp_source_port()},
+              {"udp_destination", format_ipv4(udp_destination().ip) + ":" + std::to_string(udp_destination().port)},
               {"udp_unsent", udp_unsent_},
               {"udp_error", udp_error_.empty() ? nlohmann::json() : nlohmann::json(udp_error_)}};
     }

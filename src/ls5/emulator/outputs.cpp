@@ -71,8 +71,11 @@ void Firmware::push_udp(const ResultCode& code) {
   if (!encode_udp_packet(udp_packet_, datagram.bytes)) return;
   ++udp_packets_;
   if (!config_.udp_sink) return;
-  // Read at each packet, so a write to 6E/6F (or DF) moves the next packet to the new port.
+  // Read at each packet, so a write to 6E/6F or 5C-5F/6C/6D (or DF) moves the next packet (L82, L93).
   datagram.source_port = udp_source_port();
+  const UdpDestination destination = udp_destination();
+  datagram.destination_ip = destination.ip;
+  datagram.destination_port = destination.port;
   if (auto sent = config_.udp_sink(datagram); !sent) {
     ++udp_unsent_;
     udp_error_ = sent.error().message;
@@ -82,5 +85,13 @@ void Firmware::push_udp(const ResultCode& code) {
 }
 
 std::uint16_t Firmware::udp_source_port() const noexcept { return number(LogicalValueId::source_port); }
+
+UdpDestination Firmware::udp_destination() const noexcept {
+  std::uint32_t ip = 0;
+  for (std::uint8_t i = 0; i < 4; ++i) {
+    ip = ip << 8U | ram_[static_cast<std::uint8_t>(address::destination_ip_first + i)];
+  }
+  return UdpDestination{ip, number(LogicalValueId::destination_port)};
+}
 
 }  // namespace rangekit::ls5::emulator

@@ -17,6 +17,14 @@ std::array<std::uint8_t, 256> Firmware::table_defaults() const {
 std::array<std::uint8_t, 256> Firmware::delivered_rom() const {
   auto memory = table_defaults();
   memory[address::network_address] = config_.factory_address;  // --address: set and stored before delivery (L55)
+  if (config_.udp_destination) {                               // --udp, the same way (L93)
+    for (std::uint8_t i = 0; i < 4; ++i) {
+      memory[address::destination_ip_first + i] =
+          static_cast<std::uint8_t>(config_.udp_destination->ip >> (24U - 8U * i));
+    }
+    memory[address::destination_port_high] = static_cast<std::uint8_t>(config_.udp_destination->port >> 8U);
+    memory[address::destination_port_low] = static_cast<std::uint8_t>(config_.udp_destination->port & 0xFFU);
+  }
   return memory;
 }
 

@@ -46,10 +46,19 @@ struct Scene {
 Result<Scene> load_scene(const std::string& path);
 Result<Scene> parse_scene(std::string_view text, const std::string& source_name);
 
-// One §10.1 packet and the source port table 9.2 gives it (6E high byte, 6F low byte; default 5000).
+// One §10.1 packet and the addresses table 9.2 gives it: source port 6E/6F (default 5000),
+// destination IP 5C-5F and port 6C/6D (default 255.255.255.255:603).
 struct UdpDatagram {
   std::array<std::uint8_t, udp_packet_size> bytes{};
   std::uint16_t source_port = 0;
+  std::uint32_t destination_ip = 0;  // 5C is the most significant octet
+  std::uint16_t destination_port = 0;
+};
+
+// A UDP destination as parameters 5C-5F and 6C/6D hold it.
+struct UdpDestination {
+  std::uint32_t ip = 0xFFFFFFFF;
+  std::uint16_t port = 603;
 };
 
 struct FirmwareConfig {
@@ -64,7 +73,10 @@ struct FirmwareConfig {
   // Whether the sensor has Ethernet (ordering code "485/E", L25); unset: every LS5.12 and later has it.
   std::optional<bool> ethernet;
   std::uint8_t discrete_outputs = 2;  // pins OC1/OC2 fitted (ordering code); a missing one stays 0
-  std::string state_dir;              // empty: ROM does not persist across processes
+  // --udp: the destination the sensor was delivered with (5C-5F, 6C/6D), in ROM until an FL stores
+  // another, as --address; DF puts table 9.2's 255.255.255.255:603 in RAM (L93). Unset: the table's.
+  std::optional<UdpDestination> udp_destination;
+  std::string state_dir;  // empty: ROM does not persist across processes
   std::uint32_t seed = 1;
   Scene scene{};
   // Called with each full UDP packet (Ethernet models, parameter 70 on). An error (the source
@@ -114,8 +126,9 @@ class Firmware final : public DeviceModel {
   // Packets the sink could not send, and why the last one failed (empty once one is sent again).
   [[nodiscard]] std::uint64_t udp_unsent() const noexcept { return udp_unsent_; }
   [[nodiscard]] const std::string& udp_error() const noexcept { return udp_error_; }
-  // Table 9.2 6E/6F: the port packets leave from.
+  // Table 9.2 6E/6F: the port packets leave from; 5C-5F and 6C/6D: where they go.
   [[nodiscard]] std::uint16_t udp_source_port() const noexcept;
+  [[nodiscard]] UdpDestination udp_destination() const noexcept;
   [[nodiscard]] std::string_view phase_name() const noexcept;
   [[nodiscard]] const Status& last_state_error() const noexcept { return state_error_; }
 
