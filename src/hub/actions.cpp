@@ -18,9 +18,11 @@ constexpr std::array shared_actions{
 }  // namespace
 
 std::vector<const ActionDescriptor*> actions_of(std::string_view family) {
+  const ServiceFamily* service = find_service_family(family);
   std::vector<const ActionDescriptor*> all;
+  all.reserve(shared_actions.size() + (service != nullptr ? service->actions.size() : 0));
   for (const ActionDescriptor& action : shared_actions) all.push_back(&action);
-  if (const ServiceFamily* service = find_service_family(family)) {
+  if (service != nullptr) {
     for (const ActionDescriptor& action : service->actions) all.push_back(&action);
   }
   return all;

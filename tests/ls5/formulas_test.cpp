@@ -115,7 +115,8 @@ TEST(Ls5Formulas, AnalogOutputWithoutSignalL8) {
   EXPECT_DOUBLE_EQ(analog_output(current_4_20_mA, full_scale, no_signal, std::uint16_t{5000}), 4.0);
   // Exactly mid-scale counts as the upper half.
   EXPECT_DOUBLE_EQ(analog_output(current_4_20_mA, full_scale, no_signal, std::uint16_t{25000}), 20.0);
-  // Inverted: last code 5000 gave 20 mA, so no signal gives 20 mA.
+  // Inverted: last code 5000 gave 20 mA, so no signal gives 20 mA: the extreme "depending on the
+  // last measured value", kept in the direction the output had (L91).
   EXPECT_DOUBLE_EQ(analog_output(current_4_20_mA, AnalogLimits{30000, 10000}, no_signal, std::uint16_t{5000}), 20.0);
   // No measurement yet, or no signal before any result: A_min (§8.2).
   EXPECT_DOUBLE_EQ(analog_output(current_4_20_mA, full_scale, none_yet, std::uint16_t{40000}), 4.0);

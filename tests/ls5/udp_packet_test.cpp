@@ -79,6 +79,7 @@ TEST(Ls5UdpPacket, DistanceNeedsAMeasuredInRangeRecordL19) {
   ASSERT_FALSE(out.ok());
   EXPECT_NE(out.error().message.find("out of range"), std::string::npos);
   EXPECT_EQ(udp_distance_mm(UdpRecord{0x2000, 0x0F}, 40.0).error().code, Errc::unsupported);  // derivative
+  // §10.1 "a two-byte number in the code from 0 to 4000h": 4001h is past the range (L86).
   EXPECT_EQ(udp_distance_mm(UdpRecord{0x4001, 0x07}, 40.0).error().code, Errc::out_of_range);
 }
 
