@@ -20,7 +20,7 @@ using sqlite_pages::FieldValue;
 using sqlite_pages::StorageClass;
 
 // The columns' places in a record of `samples` (capture_schema.hpp); seq is the rowid.
-enum Column : std::size_t {
+enum PageColumn : std::size_t {
   time_ns = 2,
   device = 3,
   address = 5,
