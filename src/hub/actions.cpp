@@ -43,6 +43,11 @@ std::string action_names(std::string_view family) {
   return names;
 }
 
+std::string not_an_action(std::string_view family, std::string_view sensor, std::string_view action) {
+  return "'" + std::string(action) + "' is not an action of " + std::string(family) + " sensor '" +
+         std::string(sensor) + "' (" + action_names(family) + ")";
+}
+
 Status check_argument(const ActionDescriptor& action, std::string_view argument) {
   if (argument.empty() && (action.arguments.empty() || action.argument_optional)) return ok_status();
   std::string takes;

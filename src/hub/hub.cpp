@@ -254,9 +254,7 @@ Result<ActionResult> Hub::act(std::string_view sensor, std::string_view action, 
   if (session == nullptr) return impl_->unknown(sensor);
   const ActionDescriptor* known = find_action(session->config.family, action);
   if (known == nullptr) {
-    return make_error(Errc::unknown_command, "'" + std::string(action) + "' is not an action of " +
-                                                 session->config.family + " sensor '" + session->config.name + "' (" +
-                                                 action_names(session->config.family) + ")");
+    return make_error(Errc::unknown_command, not_an_action(session->config.family, session->config.name, action));
   }
   if (auto checked = check_argument(*known, argument); !checked) return std::move(checked).error();
   if (action == "start" || action == "stop") {

@@ -51,11 +51,9 @@ void get_settings_schema(Exchange& exchange, const Matched& matched) {
 void post_action(Exchange& exchange, const Matched& matched) {
   const std::string& family = matched.sensor->config.family;
   if (hub::find_action(family, matched.action) == nullptr) {
-    return exchange.respond(http::status::bad_request,
-                            error_json("unknown_action",
-                                       "'" + matched.action + "' is not an action of " + family + " sensor '" +
-                                           matched.name + "' (" + hub::action_names(family) + ")",
-                                       "action"));
+    return exchange.respond(
+        http::status::bad_request,
+        error_json("unknown_action", hub::not_an_action(family, matched.name, matched.action), "action"));
   }
   std::string argument;
   if (const auto found = matched.target.query.find("argument"); found != matched.target.query.end()) {

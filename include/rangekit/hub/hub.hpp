@@ -93,6 +93,8 @@ std::vector<const ActionDescriptor*> actions_of(std::string_view family);
 const ActionDescriptor* find_action(std::string_view family, std::string_view name);
 // Their names for messages: "start, stop, read, single, pointer, save, reset".
 std::string action_names(std::string_view family);
+// The refusal of a name that is none of them, naming the sensor and the actions it has.
+std::string not_an_action(std::string_view family, std::string_view sensor, std::string_view action);
 // `argument` as the action takes it; Errc::out_of_range naming the values it takes.
 Status check_argument(const ActionDescriptor& action, std::string_view argument);
 
