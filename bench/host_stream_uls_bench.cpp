@@ -18,6 +18,7 @@
 #include "host_stream_rig.hpp"
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/uls/driver.hpp"
+#include "rangekit/uls/family.hpp"
 
 namespace {
 
@@ -166,7 +167,7 @@ std::string run_driver(UlsRig& rig, rangekit::bench::HostFigures& counters) {
     if ((*stream)->next_batch(batch, 50ms)) {
       for (const auto& item : batch) {
         if (const auto* sample = std::get_if<rangekit::Sample>(&item);
-            sample != nullptr && sample->kind == rangekit::SampleKind::uls_binning) {
+            sample != nullptr && sample->kind == rangekit::uls::kind::binning) {
           ++bursts;
           targets += sample->targets.size();
           if (sample->targets.size() != static_cast<std::size_t>(scene_targets)) ++short_bursts;

@@ -14,8 +14,10 @@
 #include <string_view>
 #include <vector>
 
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/record/capture.hpp"
 #include "rangekit/record/format.hpp"
+#include "rangekit/uls/family.hpp"
 
 namespace {
 
@@ -36,16 +38,16 @@ const std::vector<Sample>& mixed_samples() {
         sample.device = "uls";
         sample.source = "/dev/pts/7";
         sample.address = 3;
-        sample.kind = SampleKind::uls_averaging;
-        sample.distance_m = 10.0 + i * 0.001;
-        sample.pulse_width = 18000;
+        sample.kind = rangekit::uls::kind::averaging;
+        sample.set(rangekit::uls::channel::distance_m, 10.0 + i * 0.001);
+        sample.set(rangekit::uls::channel::pulse_width_ps, 18000);
       } else {
         sample.device = "ls5";
         sample.source = "/dev/pts/9";
-        sample.kind = SampleKind::ls5_result;
-        sample.code = static_cast<std::uint16_t>(i % 65000);
-        sample.distance_mm = i * 0.01;
-        sample.signal = rangekit::SignalState::ok;
+        sample.kind = rangekit::ls5::kind::result;
+        sample.set(rangekit::ls5::channel::code, static_cast<std::uint16_t>(i % 65000));
+        sample.set(rangekit::ls5::channel::distance_mm, i * 0.01);
+        sample.set(rangekit::ls5::channel::signal, rangekit::ls5::SignalState::ok);
       }
       built.push_back(sample);
     }
@@ -141,7 +143,7 @@ const std::vector<Sample>& binning_samples_list() {
       sample.device = "uls";
       sample.source = "/dev/pts/7";
       sample.address = 3;
-      sample.kind = SampleKind::uls_binning;
+      sample.kind = rangekit::uls::kind::binning;
       for (std::size_t t = 0; t < targets_per_sample; ++t) {
         sample.targets.push_back(
             rangekit::TargetHit{1.25 + static_cast<double>(t) * 3.7 + i * 0.001, static_cast<std::uint32_t>(40 + t)});

@@ -13,7 +13,9 @@
 
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/ls5/driver.hpp"
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/uls/driver.hpp"
+#include "rangekit/uls/family.hpp"
 
 namespace {
 
@@ -35,10 +37,13 @@ void drain(rangekit::SampleSource& source, double seconds) {
     auto item = source.next(std::chrono::milliseconds(100));
     if (!item) continue;
     if (const auto* sample = std::get_if<rangekit::Sample>(&*item)) {
-      if (sample->distance_m) std::printf("%s %.3f m\n", sample->device.c_str(), *sample->distance_m);
-      if (sample->distance_mm) std::printf("%s %.2f mm\n", sample->device.c_str(), *sample->distance_mm);
-      if (sample->signal && *sample->signal != rangekit::SignalState::ok) {
-        std::printf("%s %s\n", sample->device.c_str(), rangekit::signal_state_name(*sample->signal));
+      // The one number a sample reports, with its channel's unit, whichever family sent it.
+      if (const auto reading = rangekit::reading_of(*sample)) {
+        std::printf("%s %.*f %s\n", sample->device.c_str(), std::max(reading->decimals, 0), reading->value,
+                    rangekit::unit_symbol(reading->channel->unit));
+      } else {
+        std::printf("%s %s: no reading\n", sample->device.c_str(),
+                    std::string(rangekit::kind_name_of(*sample)).c_str());
       }
     } else {
       const auto& event = std::get<rangekit::StreamEvent>(*item);
@@ -54,6 +59,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s ULS_PORT LS5_PORT [SECONDS]\n", argv[0]);
     return 2;
   }
+  // The families this program reads, so that a sample's reading, kind and output formats are known
+  // (the rangekit binary registers every family it was built with).
+  rangekit::register_family(rangekit::uls::family());
+  rangekit::register_family(rangekit::ls5::family());
   const std::string uls_path = argv[1];
   const std::string ls5_path = argv[2];
   const double seconds = argc > 3 ? std::stod(argv[3]) : 5.0;

@@ -66,7 +66,7 @@ done
 
 # The renaming: FROM as a name or a part of one (ls5, add_ls5_command, Ls5Page, LS5, --ls5-baud),
 # but not where the clone must say what FROM says: identifiers of generic code that contain the name
-# (core's SampleKind::ls5_result), firmware version strings (LS5.12.0: the clone answers as the
+# (none, while generic code names no family), firmware version strings (LS5.12.0: the clone answers as the
 # sensor it copies) and the names of FROM's documents.
 # The names in generic code (outside every family's folders) that contain FROM's.
 generic_names() {

@@ -70,13 +70,26 @@ double to_seconds(std::chrono::system_clock::time_point time) noexcept {
   return std::chrono::duration<double>(time.time_since_epoch()).count();
 }
 
+// The sample's kind among every family's kinds (rangekit.sample_kinds); 255 for one not registered.
+std::uint8_t kind_number(const Sample& sample) {
+  std::size_t number = 0;
+  for (const FamilyDescriptor* family : families()) {
+    if (family->name == sample.device) {
+      const auto kind = static_cast<std::size_t>(sample.kind);
+      return kind < family->kinds.size() ? static_cast<std::uint8_t>(number + kind) : 255;
+    }
+    number += family->kinds.size();
+  }
+  return 255;
+}
+
 SampleRecord to_record(const Sample& sample) noexcept {
   SampleRecord record{};
   record.time = to_seconds(sample.time);
   record.distance_m = not_a_number;
   record.intensity = not_a_number;
   record.address = static_cast<std::int16_t>(sample.address);
-  record.kind = static_cast<std::uint8_t>(sample.kind);
+  record.kind = kind_number(sample);
   // The sample's reading (core/family.hpp) in metres, when it is a length at all.
   if (const auto reading = reading_of(sample)) {
     if (const auto scale = metres_per(reading->channel->unit)) record.distance_m = reading->value * *scale;
@@ -115,12 +128,10 @@ void init_samples(py::module_& module) {
   module.attr("FLAG_PULSES_OVERFLOW") = flag::pulses_overflow;
   module.attr("FLAG_DEVICE_ERROR") = flag::device_error;
   module.attr("FLAG_SUSPECT") = flag::suspect;
-  // SampleKind numbers its kinds from 0 without a gap; past the last, the name is "unknown".
+  // The families' kinds one after another, in registration order: an array's `kind` numbers them.
   py::list kinds;
-  for (unsigned value = 0; value <= std::numeric_limits<std::uint8_t>::max(); ++value) {
-    const std::string_view name = sample_kind_name(static_cast<SampleKind>(value));
-    if (name == "unknown") break;
-    kinds.append(py::str(std::string(name)));
+  for (const FamilyDescriptor* family : families()) {
+    for (const KindDescriptor& kind : family->kinds) kinds.append(py::str(std::string(kind.name)));
   }
   module.attr("sample_kinds") = kinds;  // the `kind` column's values, by number
 
@@ -136,7 +147,7 @@ void init_samples(py::module_& module) {
           "source", [](const Sample& s) { return s.source.str(); }, "port path it came from")
       .def_readonly("address", &Sample::address, "bus address, -1 when the protocol has none")
       .def_property_readonly(
-          "kind", [](const Sample& s) { return std::string(sample_kind_name(s.kind)); },
+          "kind", [](const Sample& s) { return std::string(kind_name_of(s)); },
           "the kind's name, one of rangekit.sample_kinds")
       .def_property_readonly(
           "reading",
@@ -166,7 +177,7 @@ void init_samples(py::module_& module) {
           "which check marked it and why, or None")
       .def_property_readonly("is_event", [](const Sample&) { return false; })
       .def("__repr__", [](const Sample& s) {
-        std::string text = "<rangekit.Sample " + std::string(sample_kind_name(s.kind));
+        std::string text = "<rangekit.Sample " + std::string(kind_name_of(s));
         if (const PythonFamily* family = find_python_family(s.device); family != nullptr && family->describe)
           text += family->describe(s);
         if (s.suspect) text += " suspect";

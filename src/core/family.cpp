@@ -36,6 +36,12 @@ const char* quantity_name(Quantity quantity) noexcept {
       return "result_code";
     case Quantity::error_number:
       return "error_number";
+    case Quantity::signal:
+      return "signal";
+    case Quantity::overflow:
+      return "overflow";
+    case Quantity::resolution:
+      return "resolution";
   }
   return "unknown";
 }
@@ -80,7 +86,11 @@ std::optional<double> metres_per(Unit unit) noexcept {
   }
 }
 
-void register_family(const FamilyDescriptor& family) { registry().add(family); }
+void register_family(const FamilyDescriptor& family) {
+  // A channel beyond the sample's capacity could not be kept: a mistake in the family's table.
+  if (family.channels.size() > ChannelValues::capacity) std::abort();
+  registry().add(family);
+}
 
 std::span<const FamilyDescriptor* const> families() noexcept { return registry().all(); }
 
@@ -93,14 +103,54 @@ const ChannelDescriptor* find_channel(const FamilyDescriptor& family, std::strin
   return nullptr;
 }
 
+std::optional<std::size_t> channel_index(const FamilyDescriptor& family, std::string_view key) noexcept {
+  for (std::size_t index = 0; index < family.channels.size(); ++index) {
+    if (family.channels[index].key == key) return index;
+  }
+  return std::nullopt;
+}
+
+const FamilyDescriptor* family_of(const Sample& sample) noexcept { return find_family(sample.device); }
+
+const KindDescriptor* kind_of(const Sample& sample) noexcept {
+  const FamilyDescriptor* family = family_of(sample);
+  const auto index = static_cast<std::size_t>(sample.kind);
+  if (family == nullptr || index >= family->kinds.size()) return nullptr;
+  return &family->kinds[index];
+}
+
+std::string_view kind_name_of(const Sample& sample) noexcept {
+  const KindDescriptor* kind = kind_of(sample);
+  return kind != nullptr ? kind->name : std::string_view("unknown");
+}
+
+std::optional<SampleKind> find_kind(const FamilyDescriptor& family, std::string_view name) noexcept {
+  for (std::size_t index = 0; index < family.kinds.size(); ++index) {
+    const KindDescriptor& kind = family.kinds[index];
+    if (name == kind.name || (!kind.former_name.empty() && name == kind.former_name)) {
+      return static_cast<SampleKind>(index);
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<double> value_of(const Sample& sample, Quantity quantity) noexcept {
+  const FamilyDescriptor* family = family_of(sample);
+  if (family == nullptr) return std::nullopt;
+  for (std::size_t index = 0; index < family->channels.size(); ++index) {
+    if (family->channels[index].quantity == quantity) return sample.values.get(index);
+  }
+  return std::nullopt;
+}
+
 std::optional<Reading> reading_of(const Sample& sample) {
-  const FamilyDescriptor* family = find_family(sample.device);
+  const FamilyDescriptor* family = family_of(sample);
   if (family == nullptr || family->reading == nullptr) return std::nullopt;
   return family->reading(sample);
 }
 
 std::optional<QualityInput> quality_input_of(const Sample& sample) {
-  const FamilyDescriptor* family = find_family(sample.device);
+  const FamilyDescriptor* family = family_of(sample);
   if (family == nullptr || family->quality == nullptr) return std::nullopt;
   return family->quality(sample);
 }

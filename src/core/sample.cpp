@@ -4,36 +4,6 @@
 
 namespace rangekit {
 
-const char* sample_kind_name(SampleKind kind) noexcept {
-  switch (kind) {
-    case SampleKind::uls_averaging:
-      return "averaging";
-    case SampleKind::uls_binning:
-      return "binning";
-    case SampleKind::uls_look_down:
-      return "look-down";  // the mode's value name (mode=look-down)
-    case SampleKind::uls_error:
-      return "error";
-    case SampleKind::ls5_result:
-      return "result";
-    case SampleKind::ls5_derivative:
-      return "derivative";
-  }
-  return "unknown";
-}
-
-const char* signal_state_name(SignalState state) noexcept {
-  switch (state) {
-    case SignalState::ok:
-      return "ok";
-    case SignalState::none_yet:
-      return "none_yet";
-    case SignalState::lost:
-      return "lost";
-  }
-  return "unknown";
-}
-
 const char* stream_event_kind_name(StreamEventKind kind) noexcept {
   switch (kind) {
     case StreamEventKind::connected:

@@ -1,10 +1,22 @@
 #include "rangekit/core/text.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
+#include <cstdarg>
+#include <cstdio>
 #include <vector>
 
 namespace rangekit::text {
+
+void append_printf(std::string& out, const char* format, ...) {
+  std::array<char, 512> buffer{};
+  va_list arguments;
+  va_start(arguments, format);
+  const int length = std::vsnprintf(buffer.data(), buffer.size(), format, arguments);
+  va_end(arguments);
+  if (length > 0) out.append(buffer.data(), std::min(static_cast<std::size_t>(length), buffer.size() - 1));
+}
 
 namespace {
 int hex_value(char c) noexcept {

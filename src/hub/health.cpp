@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <variant>
 
+#include "rangekit/core/family.hpp"
+
 namespace rangekit::hub {
 
 std::int64_t HealthTracker::bucket_of(std::chrono::steady_clock::time_point now) {
@@ -30,11 +32,12 @@ void HealthTracker::record(const StreamItem& item, std::chrono::steady_clock::ti
   if (const auto* sample = std::get_if<Sample>(&item)) {
     ++health_.records;
     health_.last_seen = sample->time;
-    if (sample->device_error) {
+    if (const auto number = value_of(*sample, Quantity::error_number)) {
       ++health_.errors;
-      ++health_.errors_by_number[*sample->device_error];
+      ++health_.errors_by_number[static_cast<int>(*number)];
     }
-    if (sample->signal == SignalState::lost) ++health_.no_signal;
+    // A signal state other than 0: the sensor sees no target (an LS5 65535).
+    if (value_of(*sample, Quantity::signal).value_or(0) != 0) ++health_.no_signal;
     if (sample->suspect) ++health_.suspect;
     count_sample(now);
     return;

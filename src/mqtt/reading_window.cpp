@@ -33,9 +33,9 @@ std::optional<std::string> ReadingWindow::add(const Sample& sample, Clock::time_
   } else if (reading) {
     readings_.add(*reading);
   }
-  if (sample.signal && *sample.signal != SignalState::ok) ++no_signal_;
-  if (sample.device_error) ++errors_;
-  if (sample.presence) presence_ = *sample.presence;
+  if (value_of(sample, Quantity::signal).value_or(0) != 0) ++no_signal_;
+  if (value_of(sample, Quantity::error_number)) ++errors_;
+  if (const auto present = value_of(sample, Quantity::presence)) presence_ = *present != 0;
   return flush_due(now);
 }
 

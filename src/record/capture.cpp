@@ -6,9 +6,12 @@
 #include <charconv>
 #include <cmath>
 #include <set>
+#include <string_view>
 #include <utility>
+#include <vector>
 
-#include "capture_schema.hpp"
+#include "capture_columns.hpp"
+#include "rangekit/core/family.hpp"
 #include "rangekit/record/format.hpp"
 #include "rangekit/version.hpp"
 #include "sqlite_handle.hpp"
@@ -19,12 +22,12 @@ namespace {
 // The project version from CMake (project(... VERSION)), recorded per session.
 constexpr const char* rangekit_version = rangekit::version_string;
 
-// The samples table comes from capture_schema.hpp, which the direct page reader compares.
+// The samples table comes from capture_columns.hpp, which the direct page reader compares.
 std::string schema_sql() {
   return R"sql(
 BEGIN;
 CREATE TABLE IF NOT EXISTS meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
-INSERT OR IGNORE INTO meta(key, value) VALUES ('format', 'rangekit-capture'), ('format_version', '3');
+INSERT OR IGNORE INTO meta(key, value) VALUES ('format', 'rangekit-capture'), ('format_version', '4');
 CREATE TABLE IF NOT EXISTS sessions(
   id INTEGER PRIMARY KEY,
   started TEXT NOT NULL,
@@ -33,7 +36,7 @@ CREATE TABLE IF NOT EXISTS sessions(
   rangekit_version TEXT NOT NULL,
   sources TEXT NOT NULL DEFAULT '');
 )sql" + std::string("CREATE TABLE IF NOT EXISTS ") +
-         std::string(samples_table_definition) + R"sql(;
+         capture_layout().table_definition + R"sql(;
 CREATE TABLE IF NOT EXISTS events(
   seq INTEGER PRIMARY KEY,
   session INTEGER NOT NULL,
@@ -45,11 +48,18 @@ COMMIT;
 )sql";
 }
 
-constexpr const char* insert_sample_sql =
-    "INSERT INTO samples(seq, session, time_ns, device, source, address, kind, distance_m, pulse_width, targets, "
-    "presence, pulses_between_events, device_error, code, distance_mm, signal, derivative_mm, resolution_mm, suspect, "
-    "suspect_reason) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, "
-    "?20)";
+// Every column of the layout, in its order: ?1 is seq.
+std::string insert_sample_sql() {
+  const CaptureLayout& layout = capture_layout();
+  std::string names = "seq, session, time_ns, device, source, address, kind";
+  for (const ChannelColumn& column : layout.channels) names += ", " + std::string(column.name);
+  names += ", suspect, suspect_reason";
+  std::string values;
+  for (std::size_t index = 1; index <= layout.column_count(); ++index) {
+    values += (index == 1 ? "?" : ", ?") + std::to_string(index);
+  }
+  return "INSERT INTO samples(" + names + ") VALUES (" + values + ")";
+}
 constexpr const char* insert_event_sql =
     "INSERT INTO events(seq, session, time_ns, kind, message, count) VALUES (?1, ?2, ?3, ?4, ?5, ?6)";
 
@@ -71,14 +81,6 @@ template <class T>
 void bind_optional_integer(sqlite3_stmt* statement, int index, const std::optional<T>& value) {
   if (value) {
     sqlite3_bind_int64(statement, index, static_cast<std::int64_t>(*value));
-  } else {
-    sqlite3_bind_null(statement, index);
-  }
-}
-
-void bind_optional_real(sqlite3_stmt* statement, int index, const std::optional<double>& value) {
-  if (value) {
-    sqlite3_bind_double(statement, index, *value);
   } else {
     sqlite3_bind_null(statement, index);
   }
@@ -131,7 +133,7 @@ class SqliteCapture final : public CaptureSink {
     if (auto status = add_newer_columns(); !status) return status;
     if (auto status = read_next_seq(); !status) return status;
     if (auto status = insert_session(); !status) return status;
-    auto samples = prepare(path_, db, insert_sample_sql);
+    auto samples = prepare(path_, db, insert_sample_sql().c_str());
     if (!samples) return std::move(samples).error();
     insert_sample_ = std::move(*samples);
     auto events = prepare(path_, db, insert_event_sql);
@@ -150,36 +152,16 @@ class SqliteCapture final : public CaptureSink {
     bind_text_in_place(statement, 4, sample.device);
     bind_text_in_place(statement, 5, sample.source.str());
     bind_optional_integer(statement, 6, sample.address >= 0 ? std::optional<int>(sample.address) : std::nullopt);
-    sqlite3_bind_text(statement, 7, sample_kind_name(sample.kind), -1, SQLITE_STATIC);
-    bind_optional_real(statement, 8, sample.distance_m);
-    bind_optional_integer(statement, 9, sample.pulse_width);
-    if (sample.kind == SampleKind::uls_binning || !sample.targets.empty()) {
-      targets_text_.clear();
-      append_targets_json(targets_text_, sample.targets);
-      bind_text_in_place(statement, 10, targets_text_);
-    } else {
-      sqlite3_bind_null(statement, 10);
-    }
-    bind_optional_integer(statement, 11, sample.presence);
-    // An overflow is stored as the wire's 0000 (no real count is 0: an edge takes 30 pulses, §3),
-    // which is also what captures before the flag hold; replay turns it back (U88).
-    bind_optional_integer(statement, 12,
-                          sample.pulses_overflow ? std::optional<std::uint32_t>(0) : sample.pulses_between_events);
-    bind_optional_integer(statement, 13, sample.device_error);
-    bind_optional_integer(statement, 14, sample.code);
-    bind_optional_real(statement, 15, sample.distance_mm);
-    if (sample.signal) {
-      sqlite3_bind_text(statement, 16, signal_state_name(*sample.signal), -1, SQLITE_STATIC);
-    } else {
-      sqlite3_bind_null(statement, 16);
-    }
-    bind_optional_real(statement, 17, sample.derivative_mm);
-    bind_optional_real(statement, 18, sample.resolution_mm);
-    sqlite3_bind_int64(statement, 19, sample.suspect ? 1 : 0);
+    const std::string_view kind = kind_name_of(sample);
+    sqlite3_bind_text(statement, 7, kind.data(), static_cast<int>(kind.size()), SQLITE_STATIC);
+    bind_channels(statement, sample);
+    const CaptureLayout& layout = capture_layout();
+    const int suspect = static_cast<int>(layout.suspect_column()) + 1;
+    sqlite3_bind_int64(statement, suspect, sample.suspect ? 1 : 0);
     if (sample.suspect) {
-      bind_text_in_place(statement, 20, sample.suspect_reason);
+      bind_text_in_place(statement, suspect + 1, sample.suspect_reason);
     } else {
-      sqlite3_bind_null(statement, 20);
+      sqlite3_bind_null(statement, suspect + 1);
     }
     if (auto status = step(statement, "writing a sample"); !status) return status;
     ++batch_samples_;
@@ -217,6 +199,48 @@ class SqliteCapture final : public CaptureSink {
   [[nodiscard]] const std::string& path() const override { return path_; }
 
  private:
+  // The channel columns: the sample's family's values, NULL in the others.
+  void bind_channels(sqlite3_stmt* statement, const Sample& sample) {
+    const CaptureLayout& layout = capture_layout();
+    const int first = static_cast<int>(CaptureLayout::first_channel_column) + 1;
+    for (std::size_t column = 0; column < layout.channels.size(); ++column) {
+      sqlite3_bind_null(statement, first + static_cast<int>(column));
+    }
+    if (columns_ == nullptr || columns_->family->name != sample.device) columns_ = layout.columns_of(sample.device);
+    if (columns_ == nullptr) return;
+    const FamilyDescriptor& family = *columns_->family;
+    const KindDescriptor* kind = kind_of(sample);
+    for (std::size_t index = 0; index < family.channels.size(); ++index) {
+      const auto column = columns_->column_of_channel[index];
+      if (!column) continue;
+      const int at = first + static_cast<int>(*column);
+      const ChannelDescriptor& channel = family.channels[index];
+      if (channel.form == ChannelForm::targets) {
+        // A burst of no targets is kept as [] on a line of a kind that has them.
+        const bool listed =
+            kind != nullptr && std::find(kind->channels.begin(), kind->channels.end(), index) != kind->channels.end();
+        if (!listed && sample.targets.empty()) continue;
+        targets_text_.clear();
+        append_targets_json(targets_text_, sample.targets);
+        bind_text_in_place(statement, at, targets_text_);
+        continue;
+      }
+      const auto value = sample.values.get(index);
+      if (!value) continue;
+      if (channel.form == ChannelForm::state) {
+        const auto state = static_cast<std::size_t>(*value);
+        if (*value >= 0 && state < channel.states.size()) {
+          const std::string_view name = channel.states[state];
+          sqlite3_bind_text(statement, at, name.data(), static_cast<int>(name.size()), SQLITE_STATIC);
+        }
+      } else if (layout.channels[*column].type == ColumnType::integer) {
+        sqlite3_bind_int64(statement, at, std::llround(*value * channel.capture.scale));
+      } else {
+        sqlite3_bind_double(statement, at, *value);
+      }
+    }
+  }
+
   Status close() {
     if (!database_) return ok_status();
     auto status = flush();
@@ -232,18 +256,23 @@ class SqliteCapture final : public CaptureSink {
     return status;
   }
 
-  // Format version 2 added the LS5 derivative and the sensor's resolution (the decimals
-  // its millimetres are printed with), version 3 the quality flag; an older capture gets
-  // the columns, NULL in its earlier rows, so that new sessions can be appended to it.
+  // Each version added columns (the LS5 derivative and resolution, the quality flag, the
+  // look-down overflow); an older capture gets them, NULL in its earlier rows, so that new
+  // sessions can be appended to it.
   Status add_newer_columns() {
-    for (const auto& column : added_columns) {
-      auto present = has_column(path_, database_.get(), "samples", column.name);
+    const CaptureLayout& layout = capture_layout();
+    std::vector<ChannelColumn> wanted = layout.channels;
+    wanted.push_back({"suspect", ColumnType::integer});
+    wanted.push_back({"suspect_reason", ColumnType::text});
+    for (const auto& column : wanted) {
+      const std::string name(column.name);
+      auto present = has_column(path_, database_.get(), "samples", name.c_str());
       if (!present) return std::move(present).error();
       if (*present) continue;
-      const std::string alter = std::string("ALTER TABLE samples ADD COLUMN ") + column.name + " " + column.type;
+      const std::string alter = "ALTER TABLE samples ADD COLUMN " + name + " " + sql_type(column.type);
       if (auto status = execute(path_, database_.get(), alter.c_str()); !status) return status;
     }
-    return execute(path_, database_.get(), "UPDATE meta SET value = '3' WHERE key = 'format_version'");
+    return execute(path_, database_.get(), "UPDATE meta SET value = '4' WHERE key = 'format_version'");
   }
 
   Status read_next_seq() {
@@ -344,7 +373,8 @@ class SqliteCapture final : public CaptureSink {
   std::string last_device_;
   SharedName last_source_;
   bool sources_changed_ = false;
-  std::string targets_text_;  // reused for every binning sample
+  std::string targets_text_;                // reused for every binning sample
+  const FamilyColumns* columns_ = nullptr;  // of the last sample's family
   std::optional<Error> failure_;
 };
 

@@ -5,13 +5,14 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <span>
+#include <string>
+#include <vector>
 
-#include "capture_schema.hpp"
-#include "names.hpp"
+#include "capture_columns.hpp"
 #include "sqlite_handle.hpp"
 #include "sqlite_pages.hpp"
 #include "sqlite_record.hpp"
-#include "targets_text.hpp"
 
 namespace rangekit::record {
 namespace {
@@ -19,30 +20,18 @@ namespace {
 using sqlite_pages::FieldValue;
 using sqlite_pages::StorageClass;
 
-// The columns' places in a record of `samples` (capture_schema.hpp); seq is the rowid.
-enum PageColumn : std::size_t {
-  time_ns = 2,
-  device = 3,
-  address = 5,
-  kind = 6,
-  distance_m = 7,
-  pulse_width = 8,
-  targets = 9,
-  presence = 10,
-  pulses_between_events = 11,
-  device_error = 12,
-  code = 13,
-  distance_mm = 14,
-  signal = 15,
-  derivative_mm = 16,
-  suspect = 18,
-  column_count = 20,
-};
-constexpr std::array<const char*, column_count> column_names = {
-    "seq",          "session",       "time_ns",     "device",  "source",        "address",
-    "kind",         "distance_m",    "pulse_width", "targets", "presence",      "pulses_between_events",
-    "device_error", "code",          "distance_mm", "signal",  "derivative_mm", "resolution_mm",
-    "suspect",      "suspect_reason"};
+// The places of the columns before the channels in a record of `samples` (capture_columns.hpp);
+// seq is the rowid.
+enum PageColumn : std::size_t { time_ns = 2, device = 3, address = 5, kind = 6 };
+
+// A column's name by its place in the record, for a message.
+std::string column_name(std::size_t column) {
+  constexpr std::array<const char*, 7> fixed = {"seq", "session", "time_ns", "device", "source", "address", "kind"};
+  const CaptureLayout& layout = capture_layout();
+  if (column < fixed.size()) return fixed[column];
+  if (column < layout.suspect_column()) return std::string(layout.channels[column - fixed.size()].name);
+  return column == layout.suspect_column() ? "suspect" : "suspect_reason";
+}
 
 constexpr std::uint32_t utf8 = 1;
 
@@ -57,7 +46,7 @@ struct Mismatch {
 // sqlite3_value_double, sqlite3_value_text) for the storage classes the writer produces.
 class Row {
  public:
-  explicit Row(const std::array<FieldValue, column_count>& fields) : fields_(fields) {}
+  explicit Row(std::span<const FieldValue> fields) : fields_(fields) {}
 
   [[nodiscard]] bool is_null(std::size_t column) const { return fields_[column].type == StorageClass::null; }
 
@@ -69,6 +58,7 @@ class Row {
     if (field.type != StorageClass::null) mismatch(column);
     return std::nullopt;
   }
+  [[nodiscard]] std::optional<std::int64_t> integer(std::size_t column) { return integer<std::int64_t>(column); }
   [[nodiscard]] std::optional<double> real(std::size_t column) {
     const FieldValue& field = fields_[column];
     if (field.type == StorageClass::real) return field.real;
@@ -103,7 +93,7 @@ class Row {
     mismatch_ = Mismatch{column, fields_[column].type};
   }
 
-  const std::array<FieldValue, column_count>& fields_;
+  std::span<const FieldValue> fields_;
   // A flag beside a value, not std::optional: g++ 12 at -O2 under TSan warned that the
   // optional's payload may be used uninitialized (-Werror), a false positive.
   bool has_mismatch_ = false;
@@ -127,33 +117,24 @@ const char* storage_name(StorageClass type) {
 }
 
 // The fields of CaptureFields::array, as read_sample_into in replay.cpp fills them from
-// the SQLite reader's row (source, resolution_mm and suspect_reason stay empty).
+// the SQLite reader's row (source, the channels not shown in the stream and suspect_reason
+// stay empty).
 void fill_array_sample(Row& row, Sample& sample) {
   sample.time = std::chrono::system_clock::time_point(std::chrono::duration_cast<std::chrono::system_clock::duration>(
       std::chrono::nanoseconds(row.integer<std::int64_t>(time_ns).value_or(0))));
   sample.device.assign(row.text(device));
   sample.address = row.integer<int>(address).value_or(-1);
-  sample.kind = parse_sample_kind(row.text(kind)).value_or(SampleKind::uls_averaging);
-  sample.distance_m = row.real(distance_m);
-  sample.pulse_width = row.integer<std::uint32_t>(pulse_width);
-  sample.targets.clear();
-  if (!row.is_null(targets)) parse_targets_text(row.text(targets), sample.targets);
-  sample.presence.reset();
-  if (!row.is_null(presence)) sample.presence = row.integer<std::int64_t>(presence).value_or(0) != 0;
-  sample.pulses_between_events = row.integer<std::uint32_t>(pulses_between_events);
-  sample.pulses_overflow = false;
-  if (sample.kind == SampleKind::uls_look_down && sample.pulses_between_events == 0U) {
-    sample.pulses_between_events.reset();  // the wire's 0000: more than 65535 pulses (U88)
-    sample.pulses_overflow = true;
+  const CaptureLayout& layout = capture_layout();
+  const FamilyColumns* columns = layout.columns_of(sample.device);
+  sample.kind = SampleKind{};
+  if (columns != nullptr) {
+    sample.kind = find_kind(*columns->family, row.text(kind)).value_or(SampleKind{});
+    read_channels(row, CaptureLayout::first_channel_column, *columns, sample, true);
+  } else {
+    sample.values.clear();
+    sample.targets.clear();
   }
-  sample.device_error = row.integer<int>(device_error);
-  sample.code = row.integer<std::uint16_t>(code);
-  sample.distance_mm = row.real(distance_mm);
-  sample.signal.reset();
-  if (!row.is_null(signal)) sample.signal = parse_signal_state(row.text(signal));
-  sample.derivative_mm = row.real(derivative_mm);
-  sample.resolution_mm.reset();
-  sample.suspect = row.integer<int>(suspect).value_or(0) != 0;
+  sample.suspect = row.integer<int>(layout.suspect_column()).value_or(0) != 0;
   sample.suspect_reason.clear();
 }
 
@@ -174,7 +155,7 @@ Result<std::optional<std::uint32_t>> samples_pages_root(const std::string& path,
   if (code != SQLITE_ROW) return sqlite_error(path, database, code, "reading the schema");
   const auto root = sqlite3_column_int64(query->get(), 0);
   const auto* sql = reinterpret_cast<const char*>(sqlite3_column_text(query->get(), 1));
-  const std::string expected = "CREATE TABLE " + std::string(samples_table_definition);
+  const std::string expected = "CREATE TABLE " + capture_layout().table_definition;
   // A capture of an older version, upgraded by ALTER TABLE, has another text (and the
   // same column places, but only this text is known for certain).
   if (sql == nullptr || expected != sql || root <= 1 || root > std::numeric_limits<std::uint32_t>::max()) {
@@ -196,7 +177,7 @@ Status read_samples_pages(const std::string& path, std::uint32_t root, std::stri
   auto pages = sqlite_pages::open_file_pages(path);
   if (!pages) return make_error(Errc::io, prefix + pages.error().message);
   if ((*pages)->geometry().text_encoding != utf8) return make_error(Errc::io, prefix + "text is not UTF-8");
-  std::array<FieldValue, column_count> fields{};
+  std::vector<FieldValue> fields(capture_layout().column_count());
   Sample sample;  // one for every row: its strings keep their storage
   std::optional<Error> failure;
   auto walked = sqlite_pages::walk_table(**pages, root, [&](std::int64_t seq, std::span<const std::uint8_t> record) {
@@ -209,7 +190,7 @@ Status read_samples_pages(const std::string& path, std::uint32_t root, std::stri
     fill_array_sample(row, sample);
     if (const Mismatch* mismatch = row.first_mismatch()) {
       failure =
-          make_error(Errc::io, prefix + "row " + std::to_string(seq) + ": column " + column_names[mismatch->column] +
+          make_error(Errc::io, prefix + "row " + std::to_string(seq) + ": column " + column_name(mismatch->column) +
                                    " holds " + storage_name(mismatch->type) + ", which rangekit never writes there");
       return false;
     }

@@ -5,8 +5,12 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <optional>
+#include <string_view>
+#include <vector>
 
 #include "rangekit/core/family.hpp"
+#include "rangekit/core/text.hpp"
 
 namespace rangekit::record {
 namespace {
@@ -33,44 +37,8 @@ CivilTime civil_utc(system_clock::time_point time) {
   return civil;
 }
 
-template <class... Args>
-void append_printf(std::string& out, const char* format, Args... args) {
-  char buffer[512];  // room for any double in %.4f
-  const int length = std::snprintf(buffer, sizeof buffer, format, args...);
-  if (length > 0)
-    out.append(buffer,
-               static_cast<std::size_t>(length) < sizeof buffer ? static_cast<std::size_t>(length) : sizeof buffer - 1);
-}
+using text::append_printf;
 
-void append_metres(std::string& out, double metres) { append_printf(out, "%.4f", metres); }
-
-// As many decimals as the sensor's discreteness has (0.0001 mm: 4, 0.1 mm: 1; LS5
-// table 3.1, L63); 2 when it is not known, which is how captures without it printed.
-int millimetre_decimals(const Sample& sample) {
-  const int decimals = sample.resolution_mm ? decimals_of_step(*sample.resolution_mm) : -1;
-  return decimals < 0 ? 2 : std::min(decimals, 6);
-}
-
-// Appends millimetres with the sample's decimals; JSON has no NaN or infinity, so
-// such a value is written as null.
-struct Millimetres {
-  int decimals;
-  void operator()(std::string& out, double millimetres) const {
-    if (std::isfinite(millimetres)) {
-      append_printf(out, "%.*f", decimals, millimetres);
-    } else {
-      out += "null";
-    }
-  }
-};
-// JSON has no NaN or infinity: such a value is written as null.
-void append_json_metres(std::string& out, double metres) {
-  if (std::isfinite(metres)) {
-    append_metres(out, metres);
-  } else {
-    out += "null";
-  }
-}
 void append_unsigned(std::string& out, std::uint64_t value) { append_printf(out, "%" PRIu64, value); }
 void append_signed(std::string& out, std::int64_t value) { append_printf(out, "%" PRId64, value); }
 
@@ -104,15 +72,6 @@ void append_json_string(std::string& out, const std::string& text) {
   out += '"';
 }
 
-template <class T, class Append>
-void append_json_optional(std::string& out, const std::optional<T>& value, Append append) {
-  if (value) {
-    append(out, *value);
-  } else {
-    out += "null";
-  }
-}
-
 void append_json_key(std::string& out, const char* key) {
   out += ",\"";
   out += key;
@@ -133,25 +92,99 @@ void append_csv_text(std::string& out, const std::string& text) {
   out += '"';
 }
 
-template <class T, class Append>
-void append_csv_optional(std::string& out, const std::optional<T>& value, Append append) {
-  if (value) append(out, *value);
+void append_bool(std::string& out, bool value) { out += value ? "true" : "false"; }
+void append_int(std::string& out, int value) { append_signed(out, value); }
+
+// The decimals of a number channel: its step's when the sample has one (LS5's discreteness,
+// at most 6), its own otherwise.
+int decimals_of(const ChannelDescriptor& channel, const Sample& sample) {
+  if (channel.step_channel >= 0) {
+    if (const auto step = sample.values.get(static_cast<std::size_t>(channel.step_channel))) {
+      const int decimals = decimals_of_step(*step);
+      if (decimals >= 0) return std::min(decimals, 6);
+    }
+  }
+  return channel.decimals;
 }
 
-void append_bool(std::string& out, bool value) { out += value ? "true" : "false"; }
-void append_u32(std::string& out, std::uint32_t value) { append_unsigned(out, value); }
-// Integer picoseconds (the wire's) as nanoseconds with 3 decimals: exact, no binary rounding.
-void append_ps_as_ns(std::string& out, std::uint32_t picoseconds) {
-  append_printf(out, "%" PRIu32 ".%03" PRIu32, picoseconds / 1000, picoseconds % 1000);
+// A value of the channel; JSON has no NaN or infinity, so such a value is written as null,
+// and a state is a quoted name there.
+void append_value(std::string& out, const ChannelDescriptor& channel, const Sample& sample, double value, bool json) {
+  switch (channel.form) {
+    case ChannelForm::flag:
+      append_bool(out, value != 0);
+      return;
+    case ChannelForm::state: {
+      const auto index = static_cast<std::size_t>(value);
+      const std::string_view name = value >= 0 && index < channel.states.size() ? channel.states[index] : "unknown";
+      if (json) out += '"';
+      out += name;
+      if (json) out += '"';
+      return;
+    }
+    case ChannelForm::number:
+    case ChannelForm::targets:
+      break;
+  }
+  if (std::isfinite(value)) {
+    append_printf(out, "%.*f", decimals_of(channel, sample), value);
+  } else {
+    out += "null";
+  }
 }
-void append_int(std::string& out, int value) { append_signed(out, value); }
-void append_u16(std::string& out, std::uint16_t value) { append_unsigned(out, value); }
-void append_signal_json(std::string& out, SignalState state) {
-  out += '"';
-  out += signal_state_name(state);
-  out += '"';
+
+void append_json_targets(std::string& out, const TargetList& targets) {
+  out += '[';
+  bool first = true;
+  for (const auto& target : targets) {
+    if (!first) out += ',';
+    first = false;
+    out += "{\"distance_m\":";
+    if (std::isfinite(target.distance_m)) {
+      append_printf(out, "%.4f", target.distance_m);
+    } else {
+      out += "null";
+    }
+    out += ",\"strength\":";
+    append_unsigned(out, target.strength);
+    out += '}';
+  }
+  out += ']';
 }
-void append_signal_csv(std::string& out, SignalState state) { out += signal_state_name(state); }
+
+void append_csv_targets(std::string& out, const TargetList& targets) {
+  bool first = true;
+  for (const auto& target : targets) {
+    if (!first) out += ';';
+    first = false;
+    append_printf(out, "%.4f:%" PRIu32, target.distance_m, target.strength);
+  }
+}
+
+// The channel's value as a line of its kind shows it: its own, or the one it has when absent.
+std::optional<double> shown_value(const ChannelDescriptor& channel, const Sample& sample, std::size_t index) {
+  if (const auto value = sample.values.get(index)) return value;
+  return channel.otherwise;
+}
+
+// The CSV columns between the sample's kind and error_text: every registered family's channels
+// shown in the stream, in registration order, a key two families share once.
+std::vector<std::string_view> csv_channel_keys() {
+  std::vector<std::string_view> keys;
+  for (const FamilyDescriptor* family : families()) {
+    for (const ChannelDescriptor& channel : family->channels) {
+      if (channel.in_stream && std::find(keys.begin(), keys.end(), channel.key) == keys.end()) {
+        keys.push_back(channel.key);
+      }
+    }
+  }
+  return keys;
+}
+
+const std::vector<std::string_view>& csv_keys() {
+  static const std::vector<std::string_view> keys = csv_channel_keys();
+  return keys;
+}
 
 void append_clock_time(std::string& out, std::chrono::system_clock::time_point time) {
   const auto civil = civil_utc(time);
@@ -183,61 +216,34 @@ void append_jsonl(std::string& out, const Sample& sample) {
   append_json_string(out, sample.source.str());
   append_json_key(out, "kind");
   out += '"';
-  out += sample_kind_name(sample.kind);
+  out += kind_name_of(sample);
   out += '"';
-  switch (sample.kind) {
-    case SampleKind::uls_averaging:
-      append_json_key(out, "distance_m");
-      append_json_optional(out, sample.distance_m, append_json_metres);
-      append_json_key(out, "pulse_width_ns");
-      append_json_optional(out, sample.pulse_width, append_ps_as_ns);
-      break;
-    case SampleKind::uls_binning: {
-      append_json_key(out, "targets");
-      out += '[';
-      bool first = true;
-      for (const auto& target : sample.targets) {
-        if (!first) out += ',';
-        first = false;
-        out += "{\"distance_m\":";
-        append_json_metres(out, target.distance_m);
-        out += ",\"strength\":";
-        append_u32(out, target.strength);
-        out += '}';
+  const FamilyDescriptor* family = family_of(sample);
+  const KindDescriptor* kind = kind_of(sample);
+  if (family != nullptr && kind != nullptr) {
+    for (const std::uint8_t index : kind->channels) {
+      const ChannelDescriptor& channel = family->channels[index];
+      out += ",\"";
+      out += channel.key;
+      out += "\":";
+      if (channel.form == ChannelForm::targets) {
+        append_json_targets(out, sample.targets);
+        continue;
       }
-      out += ']';
-      break;
-    }
-    case SampleKind::uls_look_down:
-      append_json_key(out, "presence");
-      append_json_optional(out, sample.presence, append_bool);
-      append_json_key(out, "pulses_between_events");
-      append_json_optional(out, sample.pulses_between_events, append_u32);
-      append_json_key(out, "pulses_overflow");
-      append_bool(out, sample.pulses_overflow);
-      break;
-    case SampleKind::uls_error:
-      append_json_key(out, "error");
-      append_json_optional(out, sample.device_error, append_int);
-      append_json_key(out, "error_text");
-      if (sample.device_error) {
-        append_json_string(out, error_text_of(sample, *sample.device_error));
+      const auto value = shown_value(channel, sample, index);
+      if (value) {
+        append_value(out, channel, sample, *value, true);
       } else {
         out += "null";
       }
-      break;
-    case SampleKind::ls5_result:
-    case SampleKind::ls5_derivative: {
-      // The same record; only its value's meaning differs (formula 8.1 or 8.2, L60).
-      const bool derivative = sample.kind == SampleKind::ls5_derivative;
-      append_json_key(out, "code");
-      append_json_optional(out, sample.code, append_u16);
-      append_json_key(out, derivative ? "derivative_mm" : "distance_mm");
-      append_json_optional(out, derivative ? sample.derivative_mm : sample.distance_mm,
-                           Millimetres{millimetre_decimals(sample)});
-      append_json_key(out, "signal");
-      append_json_optional(out, sample.signal, append_signal_json);
-      break;
+      if (channel.quantity == Quantity::error_number) {
+        append_json_key(out, "error_text");
+        if (value) {
+          append_json_string(out, error_text_of(sample, static_cast<int>(*value)));
+        } else {
+          out += "null";
+        }
+      }
     }
   }
   // Only a suspect sample carries the keys, so a clean stream's lines carry nothing extra.
@@ -265,9 +271,14 @@ void append_jsonl(std::string& out, const StreamEvent& event) {
   out += "}\n";
 }
 
-const char* csv_header() noexcept {
-  return "time,device,address,source,kind,distance_m,pulse_width_ns,targets,presence,pulses_between_events,error,code,"
-         "distance_mm,signal,derivative_mm,pulses_overflow,error_text,suspect,suspect_reason\n";
+std::string csv_header() {
+  std::string header = "time,device,address,source,kind";
+  for (const std::string_view key : csv_keys()) {
+    header += ',';
+    header += key;
+  }
+  header += ",error_text,suspect,suspect_reason\n";
+  return header;
 }
 
 void append_csv(std::string& out, const Sample& sample) {
@@ -279,44 +290,55 @@ void append_csv(std::string& out, const Sample& sample) {
   out += ',';
   append_csv_text(out, sample.source.str());
   out += ',';
-  out += sample_kind_name(sample.kind);
-  out += ',';
-  append_csv_optional(out, sample.distance_m, append_metres);
-  out += ',';
-  append_csv_optional(out, sample.pulse_width, append_ps_as_ns);
-  out += ',';
-  bool first = true;
-  for (const auto& target : sample.targets) {
-    if (!first) out += ';';
-    first = false;
-    append_metres(out, target.distance_m);
-    out += ':';
-    append_u32(out, target.strength);
+  out += kind_name_of(sample);
+  const FamilyDescriptor* family = family_of(sample);
+  const KindDescriptor* kind = kind_of(sample);
+  std::optional<double> error_number;
+  for (const std::string_view key : csv_keys()) {
+    out += ',';
+    const auto index = family != nullptr ? channel_index(*family, key) : std::nullopt;
+    if (!index) continue;
+    const ChannelDescriptor& channel = family->channels[*index];
+    if (channel.form == ChannelForm::targets) {
+      append_csv_targets(out, sample.targets);
+      continue;
+    }
+    auto value = sample.values.get(*index);
+    // The value an absent channel has is shown on the lines of kinds that list it.
+    if (!value && kind != nullptr &&
+        std::find(kind->channels.begin(), kind->channels.end(), *index) != kind->channels.end()) {
+      value = channel.otherwise;
+    }
+    if (!value) continue;
+    append_value(out, channel, sample, *value, false);
+    if (channel.quantity == Quantity::error_number) error_number = value;
   }
   out += ',';
-  append_csv_optional(out, sample.presence, append_bool);
-  out += ',';
-  append_csv_optional(out, sample.pulses_between_events, append_u32);
-  out += ',';
-  append_csv_optional(out, sample.device_error, append_int);
-  out += ',';
-  append_csv_optional(out, sample.code, append_u16);
-  out += ',';
-  const Millimetres millimetres{millimetre_decimals(sample)};
-  append_csv_optional(out, sample.distance_mm, millimetres);
-  out += ',';
-  append_csv_optional(out, sample.signal, append_signal_csv);
-  out += ',';
-  append_csv_optional(out, sample.derivative_mm, millimetres);
-  out += ',';
-  if (sample.kind == SampleKind::uls_look_down) append_bool(out, sample.pulses_overflow);
-  out += ',';
-  if (sample.device_error) append_csv_text(out, error_text_of(sample, *sample.device_error));
+  if (error_number) append_csv_text(out, error_text_of(sample, static_cast<int>(*error_number)));
   out += ',';
   append_bool(out, sample.suspect);
   out += ',';
   append_csv_text(out, sample.suspect_reason);
   out += '\n';
+}
+
+// The kind's channels as key=value, for a family without words of its own.
+void append_channels_text(std::string& out, const FamilyDescriptor& family, const Sample& sample) {
+  const KindDescriptor* kind = kind_of(sample);
+  if (kind == nullptr) return;
+  for (const std::uint8_t index : kind->channels) {
+    const ChannelDescriptor& channel = family.channels[index];
+    const auto value = shown_value(channel, sample, index);
+    if (!value && channel.form != ChannelForm::targets) continue;
+    out += "  ";
+    out += channel.key;
+    out += '=';
+    if (channel.form == ChannelForm::targets) {
+      append_csv_targets(out, sample.targets);
+    } else {
+      append_value(out, channel, sample, *value, false);
+    }
+  }
 }
 
 void append_text(std::string& out, const Sample& sample) {
@@ -327,50 +349,11 @@ void append_text(std::string& out, const Sample& sample) {
     out += ' ';
     out += address_text_of(sample.device, sample.address);
   }
-  switch (sample.kind) {
-    case SampleKind::uls_averaging:
-      if (sample.distance_m) append_printf(out, "  %.3f m", *sample.distance_m);
-      // Picoseconds on the wire (U8), shown in ns with its unit (U92).
-      if (sample.pulse_width) {
-        out += "  pw ";
-        append_ps_as_ns(out, *sample.pulse_width);
-        out += " ns";
-      }
-      break;
-    case SampleKind::uls_binning:
-      if (sample.targets.empty()) {
-        out += "  no targets";
-      }
-      for (const auto& target : sample.targets) {
-        append_printf(out, "  %.3f m (%" PRIu32 ")", target.distance_m, target.strength);
-      }
-      break;
-    case SampleKind::uls_look_down:
-      if (sample.presence) out += *sample.presence ? "  present" : "  absent";
-      if (sample.pulses_between_events) append_printf(out, "  pulses %" PRIu32, *sample.pulses_between_events);
-      if (sample.pulses_overflow) out += "  pulses >65535";
-      break;
-    case SampleKind::uls_error:
-      out += "  error";
-      if (sample.device_error) {
-        append_printf(out, " %d: ", *sample.device_error);
-        out += error_text_of(sample, *sample.device_error);  // the family's words: ULS §10 (U90)
-      }
-      break;
-    case SampleKind::ls5_result:
-    case SampleKind::ls5_derivative: {
-      const bool derivative = sample.kind == SampleKind::ls5_derivative;
-      const auto& value = derivative ? sample.derivative_mm : sample.distance_mm;
-      if (derivative) out += "  derivative";
-      if (value) {
-        append_printf(out, derivative ? " %+.*f mm" : "  %.*f mm", millimetre_decimals(sample), *value);
-      } else if (sample.signal == SignalState::none_yet) {
-        out += "  no measurement yet";
-      } else if (sample.signal == SignalState::lost) {
-        out += "  no signal";
-      }
-      if (sample.code) append_printf(out, "  code %u", static_cast<unsigned>(*sample.code));
-      break;
+  if (const FamilyDescriptor* family = family_of(sample)) {
+    if (family->append_text != nullptr) {
+      family->append_text(out, sample);
+    } else {
+      append_channels_text(out, *family, sample);
     }
   }
   if (sample.suspect) {

@@ -28,22 +28,6 @@ std::optional<Enum> find_by_name(std::string_view name, const NameTable<Enum, N>
 
 }  // namespace
 
-std::optional<SampleKind> parse_sample_kind(std::string_view name) {
-  static const auto table =
-      name_table(std::array{SampleKind::uls_averaging, SampleKind::uls_binning, SampleKind::uls_look_down,
-                            SampleKind::uls_error, SampleKind::ls5_result, SampleKind::ls5_derivative},
-                 sample_kind_name);
-  // Captures written before the kind took the mode's spelling say "look_down": they still replay.
-  if (name == "look_down") return SampleKind::uls_look_down;
-  return find_by_name(name, table);
-}
-
-std::optional<SignalState> parse_signal_state(std::string_view name) {
-  static const auto table =
-      name_table(std::array{SignalState::ok, SignalState::none_yet, SignalState::lost}, signal_state_name);
-  return find_by_name(name, table);
-}
-
 std::optional<StreamEventKind> parse_stream_event_kind(std::string_view name) {
   static const auto table =
       name_table(std::array{StreamEventKind::connected, StreamEventKind::disconnected, StreamEventKind::reconnected,

@@ -1,5 +1,5 @@
 // Names back to enums for the capture columns written with the *_name()
-// functions of core/sample.hpp.
+// functions of core/sample.hpp (a sample's kind and states: its family's names).
 #pragma once
 
 #include <optional>
@@ -9,8 +9,6 @@
 
 namespace rangekit::record {
 
-std::optional<SampleKind> parse_sample_kind(std::string_view name);
-std::optional<SignalState> parse_signal_state(std::string_view name);
 std::optional<StreamEventKind> parse_stream_event_kind(std::string_view name);
 
 }  // namespace rangekit::record

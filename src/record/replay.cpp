@@ -7,6 +7,7 @@
 #include <mutex>
 #include <utility>
 
+#include "capture_columns.hpp"
 #include "capture_pages.hpp"
 #include "names.hpp"
 #include "sqlite_handle.hpp"
@@ -17,15 +18,27 @@ namespace {
 
 using SystemTime = std::chrono::system_clock::time_point;
 
-constexpr const char* samples_columns =
-    "SELECT seq, time_ns, device, source, address, kind, distance_m, pulse_width, targets, presence, "
-    "pulses_between_events, device_error, code, distance_mm, signal";
-// The same columns in the same places, those CaptureFields::array leaves out read as NULL:
-// SQLite then never decodes them (a bulk scan spends most of its time decoding columns).
-constexpr const char* samples_array_columns =
-    "SELECT seq, time_ns, device, NULL, address, kind, distance_m, pulse_width, targets, presence, "
-    "pulses_between_events, device_error, code, distance_mm, signal";
-bool left_out_of_arrays(std::string_view column) { return column == "resolution_mm" || column == "suspect_reason"; }
+// The samples' columns in the layout's order (capture_columns.hpp): a column the file lacks (a
+// capture of an older version) reads as NULL, and so does one an array read leaves out: SQLite
+// then never decodes it (a bulk scan spends most of its time decoding columns).
+Result<std::string> samples_sql(const std::string& path, sqlite3* database, bool array) {
+  const CaptureLayout& layout = capture_layout();
+  std::string sql =
+      array ? "SELECT seq, time_ns, device, NULL, address, kind" : "SELECT seq, time_ns, device, source, address, kind";
+  const auto add = [&](std::string_view name, bool read) -> Status {
+    const std::string column(name);
+    auto present = has_column(path, database, "samples", column.c_str());
+    if (!present) return std::move(present).error();
+    sql += ", " + (*present && read ? column : std::string("NULL"));
+    return ok_status();
+  };
+  for (const ChannelColumn& column : layout.channels) {
+    if (auto status = add(column.name, !array || column.in_stream); !status) return status.error();
+  }
+  if (auto status = add("suspect", true); !status) return status.error();
+  if (auto status = add("suspect_reason", !array); !status) return status.error();
+  return sql + " FROM samples ORDER BY seq";
+}
 constexpr const char* events_sql = "SELECT seq, time_ns, kind, message, count FROM events ORDER BY seq";
 
 SystemTime from_nanos(std::int64_t nanos) {
@@ -72,6 +85,26 @@ class Column {
   int type_;
 };
 
+// A row's columns by place, as read_channels reads them.
+class SqliteRow {
+ public:
+  explicit SqliteRow(sqlite3_stmt* row) : row_(row) {}
+  [[nodiscard]] bool is_null(std::size_t index) const { return Column(row_, static_cast<int>(index)).is_null(); }
+  [[nodiscard]] std::optional<std::int64_t> integer(std::size_t index) const {
+    return Column(row_, static_cast<int>(index)).integer<std::int64_t>();
+  }
+  [[nodiscard]] std::optional<double> real(std::size_t index) const {
+    return Column(row_, static_cast<int>(index)).real();
+  }
+  [[nodiscard]] std::string_view text(std::size_t index) const { return Column(row_, static_cast<int>(index)).text(); }
+
+ private:
+  sqlite3_stmt* row_;
+};
+
+// The places in samples_sql's rows.
+constexpr int first_channel_in_row = 6;
+
 // Fills `sample` from a row, reusing its strings' and targets' storage: a scan of
 // millions of rows allocates nothing per row. Every field of Sample is assigned here, for
 // every row (a field added to Sample must be too): nothing of the previous row stays, and
@@ -83,29 +116,21 @@ void read_sample_into(sqlite3_stmt* row, Sample& sample) {
   // Rows of one source follow each other: the previous row's name is kept, not made again.
   if (const std::string_view text = column(3).text(); sample.source != text) sample.source = SharedName(text);
   sample.address = column(4).integer<int>().value_or(-1);
-  sample.kind = parse_sample_kind(column(5).text()).value_or(SampleKind::uls_averaging);
-  sample.distance_m = column(6).real();
-  sample.pulse_width = column(7).integer<std::uint32_t>();
-  sample.targets.clear();
-  if (const Column hits = column(8); !hits.is_null()) parse_targets_text(hits.text(), sample.targets);
-  sample.presence.reset();
-  if (const Column presence = column(9); !presence.is_null()) sample.presence = *presence.integer<std::int64_t>() != 0;
-  sample.pulses_between_events = column(10).integer<std::uint32_t>();
-  sample.pulses_overflow = false;
-  if (sample.kind == SampleKind::uls_look_down && sample.pulses_between_events == 0U) {
-    sample.pulses_between_events.reset();  // the wire's 0000: more than 65535 pulses (U88)
-    sample.pulses_overflow = true;
+  const CaptureLayout& layout = capture_layout();
+  const FamilyColumns* columns = layout.columns_of(sample.device);
+  sample.kind = SampleKind{};
+  if (columns != nullptr) sample.kind = find_kind(*columns->family, column(5).text()).value_or(SampleKind{});
+  if (columns != nullptr) {
+    SqliteRow values(row);
+    read_channels(values, first_channel_in_row, *columns, sample, false);
+  } else {
+    sample.values.clear();
+    sample.targets.clear();
   }
-  sample.device_error = column(11).integer<int>();
-  sample.code = column(12).integer<std::uint16_t>();
-  sample.distance_mm = column(13).real();
-  sample.signal.reset();
-  if (const Column signal = column(14); !signal.is_null()) sample.signal = parse_signal_state(signal.text());
-  sample.derivative_mm = column(15).real();
-  sample.resolution_mm = column(16).real();
-  sample.suspect = column(17).integer<int>().value_or(0) != 0;
+  const int suspect = first_channel_in_row + static_cast<int>(layout.channels.size());
+  sample.suspect = column(suspect).integer<int>().value_or(0) != 0;
   sample.suspect_reason.clear();
-  if (sample.suspect) sample.suspect_reason.assign(column(18).text());
+  if (sample.suspect) sample.suspect_reason.assign(column(suspect + 1).text());
 }
 
 // The device column of a row, without copying it.
@@ -154,17 +179,9 @@ Result<CaptureCursors> open_cursors(const std::string& path, IntegrityCheck inte
                                     CaptureFields fields = CaptureFields::all) {
   auto database = open_database(path, false, false, integrity);
   if (!database) return std::move(database).error();
-  // An older capture lacks the columns of later versions: they read as NULL.
-  const bool array = fields == CaptureFields::array;
-  std::string samples_sql = array ? samples_array_columns : samples_columns;
-  for (const auto& column : added_columns) {
-    auto present = has_column(path, database->get(), "samples", column.name);
-    if (!present) return std::move(present).error();
-    const bool read = *present && !(array && left_out_of_arrays(column.name));
-    samples_sql += std::string(", ") + (read ? column.name : "NULL");
-  }
-  samples_sql += " FROM samples ORDER BY seq";
-  auto samples = prepare(path, database->get(), samples_sql.c_str());
+  auto sql = samples_sql(path, database->get(), fields == CaptureFields::array);
+  if (!sql) return std::move(sql).error();
+  auto samples = prepare(path, database->get(), sql->c_str());
   if (!samples) return make_error(Errc::io, "capture " + path + ": no samples table, not a rangekit capture");
   auto events = prepare(path, database->get(), events_sql);
   if (!events) return make_error(Errc::io, "capture " + path + ": no events table, not a rangekit capture");

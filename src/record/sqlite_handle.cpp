@@ -94,11 +94,11 @@ Status check_is_capture(const std::string& path, sqlite3* database, IntegrityChe
   // A newer rangekit may store what this one would drop or misread: refuse to replay or
   // append rather than go on without notice. Every capture has written the row.
   const auto version = meta("format_version");
-  if (version != "1" && version != "2" && version != "3") {
+  if (version != "1" && version != "2" && version != "3" && version != "4") {
     return make_error(Errc::unsupported,
                       "capture " + path + ": format version " +
                           (version ? "'" + text::printable(*version, true, 40) + "'" : std::string("(none)")) +
-                          " is not one this rangekit reads (1, 2, 3); was it written by a newer rangekit?");
+                          " is not one this rangekit reads (1, 2, 3, 4); was it written by a newer rangekit?");
   }
   return ok_status();
 }

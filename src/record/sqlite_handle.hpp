@@ -27,16 +27,6 @@ Error sqlite_error(const std::string& path, sqlite3* database, int code, const s
 Status execute(const std::string& path, sqlite3* database, const char* sql);
 Result<Statement> prepare(const std::string& path, sqlite3* database, const char* sql);
 
-// Columns that format version 2 added to `samples` (L60, L63); version 1 captures lack them.
-// Columns added after format version 1, with their SQL types: version 2 the LS5 derivative
-// and the resolution, version 3 the quality flag. Older captures read them as NULL.
-struct AddedColumn {
-  const char* name;
-  const char* type;
-};
-inline constexpr AddedColumn added_columns[] = {
-    {"derivative_mm", "REAL"}, {"resolution_mm", "REAL"}, {"suspect", "INTEGER"}, {"suspect_reason", "TEXT"}};
-
 // Whether `table` has a column named `column`.
 Result<bool> has_column(const std::string& path, sqlite3* database, const char* table, const char* column);
 

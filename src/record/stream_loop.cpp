@@ -5,6 +5,7 @@
 #include <variant>
 #include <vector>
 
+#include "rangekit/core/family.hpp"
 #include "rangekit/core/spike_check.hpp"
 #include "rangekit/record/text_sink.hpp"
 
@@ -125,7 +126,7 @@ class StreamLoop {
     }
     ++stats_.samples;
     count_source(sample);
-    if (sample.device_error) ++stats_.errors;  // the sensor said why it has no value
+    if (value_of(sample, Quantity::error_number)) ++stats_.errors;  // the sensor said why it has no value
     if (output_) {
       if (auto status = output_->write(sample); !status) return status;
     }

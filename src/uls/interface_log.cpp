@@ -1,4 +1,5 @@
 #include "rangekit/uls/interface_log.hpp"
+#include "rangekit/uls/family.hpp"
 
 #include <array>
 #include <cstdio>
@@ -15,9 +16,9 @@ std::string log_metres(double value) {
 // §2 File Menu: "The content of the capture file varies depending upon the measurement mode".
 const char* column_line(SampleKind mode) {
   switch (mode) {
-    case SampleKind::uls_binning:
+    case kind::binning:
       return "Time (H:M:S:mS), Index value in array, Number of Targets, Distance, Units\n";
-    case SampleKind::uls_look_down:
+    case kind::look_down:
       return "Time (H:M:S:mS), ON/OFF\n";
     default:
       return "Time (H:M:S:mS), Distance, Units, Intensity\n";
@@ -43,8 +44,7 @@ Status InterfaceLogWriter::append(std::string& out, const Sample& sample) {
   }
   // An error keeps the mode's columns; one before any measurement gets the factory mode's
   // (averaging, U35), so that every file starts with its column line (U121).
-  const SampleKind mode =
-      sample.kind == SampleKind::uls_error ? columns_.value_or(SampleKind::uls_averaging) : sample.kind;
+  const SampleKind mode = sample.kind == kind::error ? columns_.value_or(kind::averaging) : sample.kind;
   if (mode != columns_) {
     columns_ = mode;
     out += column_line(mode);
@@ -54,12 +54,14 @@ Status InterfaceLogWriter::append(std::string& out, const Sample& sample) {
     out += ", ";
   };
   switch (sample.kind) {
-    case SampleKind::uls_averaging:
+    case kind::averaging:
       start();
-      out += (sample.distance_m ? log_metres(*sample.distance_m) : std::string()) + ", m, " +
-             (sample.pulse_width ? std::to_string(*sample.pulse_width) : std::string()) + "\n";
+      out +=
+          (sample.get(channel::distance_m) ? log_metres(*sample.get(channel::distance_m)) : std::string()) + ", m, " +
+          (sample.get(channel::pulse_width_ps) ? std::to_string(*sample.get(channel::pulse_width_ps)) : std::string()) +
+          "\n";
       break;
-    case SampleKind::uls_binning:
+    case kind::binning:
       // §8 Binning Mode: the targets "always starting with index 0", as the wire numbers them.
       for (std::size_t i = 0; i < sample.targets.size(); ++i) {
         start();
@@ -67,14 +69,14 @@ Status InterfaceLogWriter::append(std::string& out, const Sample& sample) {
                log_metres(sample.targets[i].distance_m) + ", m\n";
       }
       break;
-    case SampleKind::uls_look_down:
-      if (!sample.presence) break;  // a time between events alone has no ON/OFF column (U100)
+    case kind::look_down:
+      if (!sample.get(channel::presence)) break;  // a time between events alone has no ON/OFF column (U100)
       start();
-      out += *sample.presence ? "ON\n" : "OFF\n";
+      out += *sample.get(channel::presence) ? "ON\n" : "OFF\n";
       break;
-    case SampleKind::uls_error:
+    case kind::error:
       start();
-      out += "ERROR " + std::to_string(sample.device_error.value_or(0)) + "\n";  // §2 gives no column (U100)
+      out += "ERROR " + std::to_string(sample.get(channel::error).value_or(0)) + "\n";  // §2 gives no column (U100)
       break;
     default:
       break;

@@ -13,8 +13,10 @@
 #include "rangekit/core/framer.hpp"
 #include "rangekit/core/sample.hpp"
 #include "rangekit/core/stream_queue.hpp"
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/ls5/reply.hpp"
 #include "rangekit/ls5/udp_packet.hpp"
+#include "rangekit/uls/family.hpp"
 #include "rangekit/uls/measurement.hpp"
 
 namespace rangekit {
@@ -95,8 +97,8 @@ TEST(HotPathAllocation, StreamQueueHandOffOfSamplesInBatches) {
   Sample sample;
   sample.device = "ls5";
   sample.source = "/dev/pts/3";  // a port name as the driver gives it (short: no heap)
-  sample.kind = SampleKind::ls5_result;
-  sample.code = 1234;
+  sample.kind = ls5::kind::result;
+  sample.set(ls5::channel::code, 1234);
   auto run_batches = [&](int batches) {
     std::size_t taken = 0;
     for (int b = 0; b < batches; ++b) {
@@ -120,8 +122,8 @@ TEST(HotPathAllocation, CopyingASampleWithALongSourceDoesNotAllocate) {
   Sample sample;
   sample.device = "ls5";
   sample.source = path;
-  sample.kind = SampleKind::ls5_result;
-  sample.code = 1234;
+  sample.kind = ls5::kind::result;
+  sample.set(ls5::channel::code, 1234);
   const long before = static_cast<long>(bench::allocation_count());
   Sample copy = sample;
   Sample moved = std::move(copy);
@@ -154,7 +156,7 @@ TEST(HotPathAllocation, CopyingABinningSampleOfFifteenTargetsDoesNotAllocate) {
   Sample burst;
   burst.device = "uls";
   burst.source = "/dev/serial/by-id/usb-FTDI_FT232R_USB_UART_A10KZ3Q7-if00-port0";
-  burst.kind = SampleKind::uls_binning;
+  burst.kind = uls::kind::binning;
   std::vector<TargetHit> collected;
   for (std::uint32_t i = 0; i < 15; ++i) collected.push_back(TargetHit{1.0 + 0.75 * i, 100 + i});
   const long before = static_cast<long>(bench::allocation_count());

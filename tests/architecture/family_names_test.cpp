@@ -23,18 +23,6 @@ namespace fs = std::filesystem;
 // The one file that names every family, one line each: every other list is generated from it.
 const std::string registration_list = "families.cmake";
 
-// Generic files that still name a family, and why. The list only shrinks: a file that no longer
-// names one fails the test until it is taken out of the list.
-const std::map<std::string, std::string> known_remaining = {
-    {"include/rangekit/core/sample.hpp", "SampleKind's values are the families' kinds (uls_averaging, ls5_result)"},
-    {"src/core/sample.cpp", "the names of SampleKind's per-family values"},
-    {"src/record/capture.cpp", "core::Sample still carries each family's fields: a ULS binning's targets"},
-    {"src/record/capture_pages.cpp", "core::Sample still carries each family's fields: ULS look down's overflow"},
-    {"src/record/format.cpp", "core::Sample still carries each family's fields"},
-    {"src/record/names.cpp", "the table of SampleKind's per-family names"},
-    {"src/record/replay.cpp", "core::Sample still carries each family's fields: ULS look down's overflow"},
-};
-
 // The generic parts of the tree: each generic library's src/<library> and include/rangekit/<library>
 // (the CLI has no public headers), the registrations' src/families, the Python and web folders and
 // the CMake files. In a folder, a family's own part beside the shared one (a folder or a Python
@@ -232,16 +220,9 @@ TEST(FamilyNames, GenericFilesNameNoFamily) {
   ASSERT_FALSE(registered_family_names().empty()) << registration_list << " sets no RANGEKIT_FAMILIES";
   const auto found = generic_files_naming_a_family();
   for (const auto& [path, hits] : found) {
-    if (known_remaining.contains(path)) continue;
     ADD_FAILURE() << path << " is generic but names a family:" << where(path, hits)
                   << "\nGeneric code names no family: move the family's part into its folder, or ask the family "
                      "(core/family.hpp, hub/service_family.hpp, cli/cli_family.hpp).";
-  }
-  for (const auto& [path, why] : known_remaining) {
-    if (!found.contains(path)) {
-      ADD_FAILURE() << path << " names no family any more: remove it from the list known_remaining in "
-                    << "tests/architecture/family_names_test.cpp.";
-    }
   }
 }
 

@@ -12,8 +12,10 @@
 #include "cli/cli_run.hpp"
 #include "mqtt/reading_window.hpp"
 #include "rangekit/core/family.hpp"
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/record/capture.hpp"
 #include "rangekit/record/replay.hpp"
+#include "rangekit/uls/family.hpp"
 #include "record/temp_dir.hpp"
 #include "web/sample_aggregate.hpp"
 
@@ -47,27 +49,27 @@ Sample base(const char* device, SampleKind kind, int second) {
 // laser sees"), LS5 §8.8 (the derivative, formula 8.2) and §8.9 (65535, no signal).
 std::vector<Case> cases() {
   std::vector<Case> all;
-  Sample averaging = base("uls", SampleKind::uls_averaging, 0);
-  averaging.distance_m = 12.345;
-  averaging.pulse_width = 4200;
+  Sample averaging = base("uls", uls::kind::averaging, 0);
+  averaging.set(uls::channel::distance_m, 12.345);
+  averaging.set(uls::channel::pulse_width_ps, 4200);
   all.push_back({"averaging", averaging, {12.345, "m", "distance_m"}});
-  Sample binning = base("uls", SampleKind::uls_binning, 1);
+  Sample binning = base("uls", uls::kind::binning, 1);
   binning.targets = {{7.5, 12}, {3.25, 40}, {19.0, 9}};
   all.push_back({"binning burst of 3", binning, {3.25, "m", "targets"}});
-  Sample derivative = base("ls5", SampleKind::ls5_derivative, 2);
-  derivative.code = 1000;
-  derivative.derivative_mm = -0.5;
-  derivative.signal = SignalState::ok;
+  Sample derivative = base("ls5", ls5::kind::derivative, 2);
+  derivative.set(ls5::channel::code, 1000);
+  derivative.set(ls5::channel::derivative_mm, -0.5);
+  derivative.set(ls5::channel::signal, ls5::SignalState::ok);
   all.push_back({"derivative", derivative, {-0.5, "mm", "derivative_mm"}});
-  Sample edge = base("uls", SampleKind::uls_look_down, 3);
-  edge.presence = true;
+  Sample edge = base("uls", uls::kind::look_down, 3);
+  edge.set(uls::channel::presence, true);
   all.push_back({"look-down edge", edge, {1.0, "", "presence"}});
-  Sample no_target = base("uls", SampleKind::uls_error, 4);
-  no_target.device_error = 4;  // §10: Lock Not Found (display: Target Not Found)
+  Sample no_target = base("uls", uls::kind::error, 4);
+  no_target.set(uls::channel::error, 4);  // §10: Lock Not Found (display: Target Not Found)
   all.push_back({"no target", no_target, {std::nullopt, "", ""}});
-  Sample no_signal = base("ls5", SampleKind::ls5_result, 5);
-  no_signal.code = 65535;
-  no_signal.signal = SignalState::lost;
+  Sample no_signal = base("ls5", ls5::kind::result, 5);
+  no_signal.set(ls5::channel::code, 65535);
+  no_signal.set(ls5::channel::signal, ls5::SignalState::lost);
   all.push_back({"LS5 no signal", no_signal, {std::nullopt, "", ""}});
   return all;
 }

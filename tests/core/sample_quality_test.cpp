@@ -12,6 +12,7 @@
 #include "rangekit/ls5/driver.hpp"
 #include "rangekit/ls5/family.hpp"
 #include "rangekit/ls5/ls5.hpp"
+#include "rangekit/uls/family.hpp"
 #include "rangekit/uls/uls.hpp"
 
 namespace rangekit {
@@ -26,9 +27,9 @@ Sample uls_reading(double distance_m, milliseconds at, std::optional<std::uint32
   sample.time = start + at;
   sample.device = "uls";
   sample.source = "/dev/ttyUSB0";
-  sample.kind = SampleKind::uls_averaging;
-  sample.distance_m = distance_m;
-  sample.pulse_width = pulse_width_ps;
+  sample.kind = uls::kind::averaging;
+  sample.set(uls::channel::distance_m, distance_m);
+  sample.set(uls::channel::pulse_width_ps, pulse_width_ps);
   return sample;
 }
 
@@ -38,10 +39,10 @@ Sample ls5_reading(std::uint16_t code, milliseconds at) {
   sample.time = start + at;
   sample.device = "ls5";
   sample.source = "/dev/ttyUSB1";
-  sample.kind = SampleKind::ls5_result;
-  sample.code = code;
-  sample.distance_mm = code * 100.0 / 50000.0;
-  sample.signal = SignalState::ok;
+  sample.kind = ls5::kind::result;
+  sample.set(ls5::channel::code, code);
+  sample.set(ls5::channel::distance_mm, code * 100.0 / 50000.0);
+  sample.set(ls5::channel::signal, ls5::SignalState::ok);
   return sample;
 }
 
@@ -85,7 +86,7 @@ TEST(SampleQuality, U102_AJumpNoTargetCanMakeIsSuspect) {
   auto corrupt = uls_reading(58.002, milliseconds(3000));
   checker.check(corrupt);
   EXPECT_TRUE(corrupt.suspect);
-  EXPECT_EQ(corrupt.distance_m, 58.002) << "the value stays as received";
+  EXPECT_EQ(corrupt.get(uls::channel::distance_m), 58.002) << "the value stays as received";
   EXPECT_NE(corrupt.suspect_reason.find("jump: 58.0020 m from the median"), std::string::npos)
       << corrupt.suspect_reason;
   // The next honest reading is not held against the corrupt one (the median ignores it).

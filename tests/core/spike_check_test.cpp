@@ -2,6 +2,8 @@
 // stated accuracy, ULS §9 "±4 cm typical" and LS5 table 3.1 "±0.15 % of the range", typed
 // in here; the readings are a still or moving target with a small honest scatter.
 #include "rangekit/core/spike_check.hpp"
+#include "rangekit/ls5/family.hpp"
+#include "rangekit/uls/family.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,8 +23,8 @@ Sample uls_reading(double distance_m) {
   Sample sample;
   sample.device = "uls";
   sample.source = "/dev/ttyUSB0";
-  sample.kind = SampleKind::uls_averaging;
-  sample.distance_m = distance_m;
+  sample.kind = uls::kind::averaging;
+  sample.set(uls::channel::distance_m, distance_m);
   return sample;
 }
 
@@ -31,9 +33,9 @@ Sample ls5_reading(int code) {
   Sample sample;
   sample.device = "ls5";
   sample.source = "/dev/ttyUSB1";
-  sample.kind = SampleKind::ls5_result;
-  sample.code = static_cast<std::uint16_t>(code);
-  sample.distance_mm = code * 100.0 / 50000.0;
+  sample.kind = ls5::kind::result;
+  sample.set(ls5::channel::code, static_cast<std::uint16_t>(code));
+  sample.set(ls5::channel::distance_mm, code * 100.0 / 50000.0);
   return sample;
 }
 
@@ -77,7 +79,7 @@ TEST(SpikeCheck, L81_Ls5ADigitChangedBeyondTheAccuracyAndBackIsFlagged) {
   const auto out = run(check, readings, milliseconds(1));
   ASSERT_EQ(out.size(), readings.size());
   for (std::size_t i = 0; i < out.size(); ++i) {
-    EXPECT_EQ(out[i].code, readings[i].code) << "the order changed at " << i;
+    EXPECT_EQ(out[i].get(ls5::channel::code), readings[i].get(ls5::channel::code)) << "the order changed at " << i;
     EXPECT_EQ(spike(out[i]), i == 40 || i == 50) << i << ": " << out[i].suspect_reason;
   }
 }
@@ -127,7 +129,7 @@ TEST(SpikeCheck, AMovingTargetWhoseLevelLagsByTheAllowanceIsNoSpike) {
   std::uniform_int_distribution<int> scatter(-60, 60);
   std::vector<Sample> readings;
   for (int i = 0; i < 6000; ++i) readings.push_back(ls5_reading(20000 + (i * 16) / 10 + scatter(random)));
-  readings[3000] = ls5_reading(*readings[3000].code + 400);  // a changed digit still is one
+  readings[3000] = ls5_reading(*readings[3000].get(ls5::channel::code) + 400);  // a changed digit still is one
   SpikeCheck check;
   const auto out = run(check, readings, milliseconds(1));
   ASSERT_EQ(out.size(), readings.size());
@@ -165,31 +167,31 @@ TEST(SpikeCheck, AHeldReadingLeavesFirstWhateverComesNext) {
   ASSERT_TRUE(check.holding());
   ASSERT_EQ(out.size(), 4u);
   Sample error = uls_reading(0);
-  error.kind = SampleKind::uls_error;
-  error.distance_m.reset();
+  error.kind = uls::kind::error;
+  error.set(uls::channel::distance_m, std::nullopt);
   check.push(error, now, out);
   ASSERT_EQ(out.size(), 6u);
-  EXPECT_EQ(std::get<Sample>(out[4]).distance_m, 50.004);
-  EXPECT_EQ(std::get<Sample>(out[5]).kind, SampleKind::uls_error);
+  EXPECT_EQ(std::get<Sample>(out[4]).get(uls::channel::distance_m), 50.004);
+  EXPECT_EQ(std::get<Sample>(out[5]).kind, uls::kind::error);
 
   check.push(uls_reading(50.005), now, out);
   check.push(event_of(StreamEventKind::bad_frame), now, out);
   EXPECT_EQ(out.size(), 6u) << "the bad frame overtook the reading before it";
   check.push(uls_reading(50.006), now, out);
   ASSERT_EQ(out.size(), 8u);
-  EXPECT_EQ(std::get<Sample>(out[6]).distance_m, 50.005);
+  EXPECT_EQ(std::get<Sample>(out[6]).get(uls::channel::distance_m), 50.005);
   EXPECT_EQ(std::get<StreamEvent>(out[7]).kind, StreamEventKind::bad_frame);
 
   check.release_due(now + milliseconds(50), out);
   EXPECT_EQ(out.size(), 8u) << "released before the hold limit";
   check.release_due(now + milliseconds(101), out);
   ASSERT_EQ(out.size(), 9u);
-  EXPECT_EQ(std::get<Sample>(out[8]).distance_m, 50.006);
+  EXPECT_EQ(std::get<Sample>(out[8]).get(uls::channel::distance_m), 50.006);
 
   check.push(uls_reading(50.007), now, out);
   check.push(event_of(StreamEventKind::disconnected), now, out);
   ASSERT_EQ(out.size(), 11u);
-  EXPECT_EQ(std::get<Sample>(out[9]).distance_m, 50.007);
+  EXPECT_EQ(std::get<Sample>(out[9]).get(uls::channel::distance_m), 50.007);
   EXPECT_EQ(std::get<StreamEvent>(out[10]).kind, StreamEventKind::disconnected);
   EXPECT_FALSE(check.holding());
 }

@@ -1,6 +1,7 @@
 // Fan-out with bounded per-subscriber queues: a slow subscriber
 // loses items, counted for it alone; nobody else is held up.
 #include "rangekit/hub/fanout.hpp"
+#include "rangekit/uls/family.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +15,7 @@ using namespace std::chrono_literals;
 
 HubItemPtr item(std::uint64_t sequence, const std::string& sensor = "a") {
   rangekit::Sample sample;
-  sample.distance_m = static_cast<double>(sequence);
+  sample.set(rangekit::uls::channel::distance_m, static_cast<double>(sequence));
   return std::make_shared<const HubItem>(HubItem{sequence, sensor, sample});
 }
 

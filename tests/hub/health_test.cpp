@@ -1,5 +1,7 @@
 // Per-sensor health: exact counts and a rate over whole 100 ms buckets of the last 2 s.
 #include "rangekit/hub/health.hpp"
+#include "rangekit/ls5/family.hpp"
+#include "rangekit/uls/family.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,11 +16,13 @@ TEST(Health, CountsEveryKindOfItem) {
   const auto t0 = std::chrono::steady_clock::time_point(1000s);
   tracker.record(StreamEvent{{}, StreamEventKind::connected, "up", 0}, t0);
   Sample error;
-  error.device_error = 4;
+  error.device = "uls";
+  error.set(uls::channel::error, 4);
   tracker.record(error, t0);
   tracker.record(error, t0);
   Sample no_signal;
-  no_signal.signal = SignalState::lost;
+  no_signal.device = "ls5";
+  no_signal.set(ls5::channel::signal, ls5::SignalState::lost);
   tracker.record(no_signal, t0);
   tracker.record(StreamEvent{{}, StreamEventKind::lost_records, "gap", 168}, t0);
   tracker.record(StreamEvent{{}, StreamEventKind::bad_frame, "junk", 0}, t0);

@@ -5,6 +5,7 @@
 
 #include <thread>
 
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/ls5/settings.hpp"
 #include "scripted_device.hpp"
 
@@ -491,10 +492,11 @@ TEST(Ls5Driver, DiscretenessFollowsTable31L63) {
   EXPECT_DOUBLE_EQ(discreteness_mm(1000), 0.01);
   EXPECT_DOUBLE_EQ(discreteness_mm(2000), 0.1);
   const Sample sample = make_ls5_sample(ResultCode{21124, CodeKind::result}, 5.0, "line", 1);
-  EXPECT_EQ(sample.resolution_mm, 0.0001);
-  EXPECT_DOUBLE_EQ(sample.distance_mm.value_or(-1), 2.1124);  // 5 × 21124 / 50000 (formula 8.1)
+  EXPECT_EQ(sample.get(ls5::channel::resolution_mm), 0.0001);
+  EXPECT_DOUBLE_EQ(sample.get(ls5::channel::distance_mm).value_or(-1), 2.1124);  // 5 × 21124 / 50000 (formula 8.1)
   const Sample derivative = make_ls5_sample(ResultCode{24950, CodeKind::result}, 100.0, "line", 1, true);
-  EXPECT_EQ(derivative.kind, SampleKind::ls5_derivative);
-  EXPECT_FALSE(derivative.distance_mm.has_value());
-  EXPECT_DOUBLE_EQ(derivative.derivative_mm.value_or(0), -0.1);  // 100 × (24950 − 25000) / 50000 (8.2, L60)
+  EXPECT_EQ(derivative.kind, ls5::kind::derivative);
+  EXPECT_FALSE(derivative.get(ls5::channel::distance_mm).has_value());
+  EXPECT_DOUBLE_EQ(derivative.get(ls5::channel::derivative_mm).value_or(0),
+                   -0.1);  // 100 × (24950 − 25000) / 50000 (8.2, L60)
 }

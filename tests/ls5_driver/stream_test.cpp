@@ -6,6 +6,7 @@
 #include <thread>
 #include <type_traits>
 
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/ls5/settings.hpp"
 #include "scripted_device.hpp"
 
@@ -65,15 +66,15 @@ TEST(Ls5Stream, RecordsBecomeSamplesWithThinningWrittenFirst) {
   EXPECT_EQ(got.samples[0].device, "ls5");
   EXPECT_EQ(got.samples[0].address, 1);
   EXPECT_EQ(got.samples[0].source, "ls5 line");
-  EXPECT_EQ(got.samples[0].code, 25000);
-  EXPECT_EQ(got.samples[0].signal, SignalState::ok);
-  ASSERT_TRUE(got.samples[0].distance_mm.has_value());
-  EXPECT_DOUBLE_EQ(*got.samples[0].distance_mm, 40.001 * 25000 / 50000);  // formula 8.1
-  EXPECT_EQ(got.samples[1].signal, SignalState::none_yet);
-  EXPECT_FALSE(got.samples[1].distance_mm.has_value());
-  EXPECT_EQ(got.samples[2].signal, SignalState::lost);
-  EXPECT_FALSE(got.samples[2].distance_mm.has_value());
-  EXPECT_DOUBLE_EQ(got.samples[3].distance_mm.value_or(-1), 0.0);
+  EXPECT_EQ(got.samples[0].get(ls5::channel::code), 25000);
+  EXPECT_EQ(got.samples[0].get(ls5::channel::signal), ls5::SignalState::ok);
+  ASSERT_TRUE(got.samples[0].get(ls5::channel::distance_mm).has_value());
+  EXPECT_DOUBLE_EQ(*got.samples[0].get(ls5::channel::distance_mm), 40.001 * 25000 / 50000);  // formula 8.1
+  EXPECT_EQ(got.samples[1].get(ls5::channel::signal), ls5::SignalState::none_yet);
+  EXPECT_FALSE(got.samples[1].get(ls5::channel::distance_mm).has_value());
+  EXPECT_EQ(got.samples[2].get(ls5::channel::signal), ls5::SignalState::lost);
+  EXPECT_FALSE(got.samples[2].get(ls5::channel::distance_mm).has_value());
+  EXPECT_DOUBLE_EQ(got.samples[3].get(ls5::channel::distance_mm).value_or(-1), 0.0);
   // L69: the one event is `connected`, queued ahead of the records once ST went out.
   ASSERT_EQ(got.events.size(), 1U);
   EXPECT_EQ(got.events[0].kind, StreamEventKind::connected);
@@ -96,7 +97,7 @@ TEST(Ls5Stream, MalformedRecordsAreReportedAndTheStreamGoesOn) {
   device.send("!50001\r!2A000\r\x01\x02!123!10000\r");
   auto got = collect(**stream, [](const Collected& c) { return !c.samples.empty() && c.events.size() >= 5; });
   ASSERT_EQ(got.samples.size(), 1U);
-  EXPECT_EQ(got.samples[0].code, 10000);
+  EXPECT_EQ(got.samples[0].get(ls5::channel::code), 10000);
   ASSERT_GE(got.events.size(), 5U);
   EXPECT_EQ(got.events[0].kind, StreamEventKind::connected);  // L69: the first item
   for (std::size_t i = 1; i < got.events.size(); ++i)
@@ -124,7 +125,7 @@ TEST(Ls5Stream, SlowConsumerNeverBlocksTheReaderAndLossesAreCounted) {
   EXPECT_EQ((*stream)->lost(), 7U);  // the `connected` event (L69) and the 6 oldest records
   auto first = (*stream)->next(1000ms);
   ASSERT_TRUE(first.has_value());
-  EXPECT_EQ(std::get<Sample>(*first).code, 6) << "the newest four are kept";
+  EXPECT_EQ(std::get<Sample>(*first).get(ls5::channel::code), 6) << "the newest four are kept";
 }
 
 // docs/conformance.md L43
@@ -176,7 +177,7 @@ TEST(Ls5Stream, MidFrameDisconnectThenReconnectOnANewLink) {
   auto back = collect(**stream, [](const Collected& c) { return !c.samples.empty(); });
   EXPECT_TRUE(has_event(back, StreamEventKind::reconnected));
   ASSERT_EQ(back.samples.size(), 1U);
-  EXPECT_EQ(back.samples[0].code, 30000);
+  EXPECT_EQ(back.samples[0].get(ls5::channel::code), 30000);
   EXPECT_GE(reopen_calls, 2);
   (*stream)->stop();
 }
@@ -205,7 +206,7 @@ TEST(Ls5Stream, SilenceIsTakenForAPowerCycleAndTheStreamIsRestarted) {
   auto back = collect(**stream, [](const Collected& c) { return !c.samples.empty(); });
   EXPECT_TRUE(has_event(back, StreamEventKind::reconnected));
   ASSERT_FALSE(back.samples.empty());
-  EXPECT_EQ(back.samples.back().code, 20000);
+  EXPECT_EQ(back.samples.back().get(ls5::channel::code), 20000);
 }
 
 TEST(Ls5Stream, WithoutAReopenFunctionAClosedLinkEndsTheStream) {

@@ -4,6 +4,7 @@
 
 #include <array>
 
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/ls5/udp_receiver.hpp"
 
 using namespace rangekit;
@@ -106,16 +107,16 @@ TEST(Ls5UdpReceiver, RecordsBecomeSamplesWithFormula101) {
   const Sample first = rig.next_sample();
   EXPECT_EQ(first.device, "ls5");
   EXPECT_EQ(first.address, 1);
-  EXPECT_EQ(first.code, 0x2000);
-  EXPECT_EQ(first.signal, SignalState::ok);
-  EXPECT_DOUBLE_EQ(first.distance_mm.value_or(-1), 100.0 * 0x2000 / 0x4000);  // formula 10.1
+  EXPECT_EQ(first.get(ls5::channel::code), 0x2000);
+  EXPECT_EQ(first.get(ls5::channel::signal), ls5::SignalState::ok);
+  EXPECT_DOUBLE_EQ(first.get(ls5::channel::distance_mm).value_or(-1), 100.0 * 0x2000 / 0x4000);  // formula 10.1
   (void)rig.next_sample();
   const Sample unmeasured = rig.next_sample();
-  EXPECT_EQ(unmeasured.signal, SignalState::none_yet);
-  EXPECT_FALSE(unmeasured.distance_mm.has_value());
+  EXPECT_EQ(unmeasured.get(ls5::channel::signal), ls5::SignalState::none_yet);
+  EXPECT_FALSE(unmeasured.get(ls5::channel::distance_mm).has_value());
   const Sample out_of_range = rig.next_sample();
-  EXPECT_EQ(out_of_range.signal, SignalState::lost);
-  EXPECT_FALSE(out_of_range.distance_mm.has_value());
+  EXPECT_EQ(out_of_range.get(ls5::channel::signal), ls5::SignalState::lost);
+  EXPECT_FALSE(out_of_range.get(ls5::channel::distance_mm).has_value());
   rig.skip_samples(168 - 4);
   EXPECT_EQ(rig.receiver->counters().packets, 1U);
   EXPECT_EQ(rig.receiver->lost(), 0U);
@@ -140,7 +141,7 @@ TEST(Ls5UdpReceiver, ChecksumErrorsAreCountedAndReportedNotDecoded) {
   EXPECT_EQ(std::get<StreamEvent>(item).kind, StreamEventKind::bad_frame);
   // The next good packet decodes (a changed counter byte is not part of the checksum).
   rig.send(build_packet(2));
-  EXPECT_EQ(rig.next_sample().code, 0x2000);
+  EXPECT_EQ(rig.next_sample().get(ls5::channel::code), 0x2000);
   EXPECT_EQ(rig.receiver->counters().bad_packets, 2U);
   EXPECT_EQ(rig.receiver->counters().packets, 1U);
 }
@@ -187,7 +188,7 @@ TEST(Ls5UdpReceiver, DuplicatedDatagramIsDroppedAndCountedNotLostL65) {
     events.push_back(std::get<StreamEvent>(item));
     if (events.size() > 5) break;
   }
-  EXPECT_EQ(next.code, 0x3000) << "the duplicate's records were emitted again";
+  EXPECT_EQ(next.get(ls5::channel::code), 0x3000) << "the duplicate's records were emitted again";
   for (const auto& event : events) EXPECT_NE(event.kind, StreamEventKind::lost_records) << event.message;
   rig.skip_samples(167);
   EXPECT_EQ(rig.receiver->lost(), 0U);
@@ -207,18 +208,18 @@ TEST(Ls5UdpReceiver, SamplesCarryTheDiscretenessAndMarkDerivativesL63) {
   ASSERT_TRUE(rig.receiver && rig.sender);
   rig.send(build_packet(1, 0x2000, 0x07));
   const Sample distance = rig.next_sample();
-  EXPECT_EQ(distance.kind, SampleKind::ls5_result);
-  EXPECT_EQ(distance.resolution_mm, 0.001);
+  EXPECT_EQ(distance.kind, ls5::kind::result);
+  EXPECT_EQ(distance.get(ls5::channel::resolution_mm), 0.001);
   rig.skip_samples(167);
   rig.send(build_packet(2, 0x2000, 0x0F));  // measured, bit 1, in range, derivative
   const Sample derivative = rig.next_sample();
-  EXPECT_EQ(derivative.kind, SampleKind::ls5_derivative);
-  EXPECT_EQ(derivative.signal, SignalState::ok);
-  EXPECT_FALSE(derivative.distance_mm.has_value());
-  EXPECT_DOUBLE_EQ(derivative.derivative_mm.value_or(-1), 0.0);  // 2000h: no change
+  EXPECT_EQ(derivative.kind, ls5::kind::derivative);
+  EXPECT_EQ(derivative.get(ls5::channel::signal), ls5::SignalState::ok);
+  EXPECT_FALSE(derivative.get(ls5::channel::distance_mm).has_value());
+  EXPECT_DOUBLE_EQ(derivative.get(ls5::channel::derivative_mm).value_or(-1), 0.0);  // 2000h: no change
   rig.skip_samples(167);
   rig.send(build_packet(3, 0x2800, 0x0F));
-  EXPECT_DOUBLE_EQ(rig.next_sample().derivative_mm.value_or(-1), 12.5);  // 100 × 800h / 4000h
+  EXPECT_DOUBLE_EQ(rig.next_sample().get(ls5::channel::derivative_mm).value_or(-1), 12.5);  // 100 × 800h / 4000h
   rig.skip_samples(167);
 }
 
@@ -235,18 +236,18 @@ TEST(Ls5UdpReceiver, ABadStateWordFlagsItsRecordAndKeepsTheOther167L85) {
   rig.send(packet);
   for (int i = 0; i < 168; ++i) {
     const Sample sample = rig.next_sample();
-    EXPECT_EQ(sample.code, 0x2000) << i;
+    EXPECT_EQ(sample.get(ls5::channel::code), 0x2000) << i;
     if (i == 4) {
       EXPECT_TRUE(sample.suspect);
       EXPECT_NE(sample.suspect_reason.find("measurement 5"), std::string::npos) << sample.suspect_reason;
       EXPECT_NE(sample.suspect_reason.find("0x17"), std::string::npos) << sample.suspect_reason;
       EXPECT_NE(sample.suspect_reason.find("bits 4-7"), std::string::npos) << sample.suspect_reason;
-      EXPECT_FALSE(sample.signal.has_value());
-      EXPECT_FALSE(sample.distance_mm.has_value());
+      EXPECT_FALSE(sample.get(ls5::channel::signal).has_value());
+      EXPECT_FALSE(sample.get(ls5::channel::distance_mm).has_value());
     } else {
       EXPECT_FALSE(sample.suspect) << i << ": " << sample.suspect_reason;
-      EXPECT_EQ(sample.signal, SignalState::ok) << i;
-      EXPECT_DOUBLE_EQ(sample.distance_mm.value_or(-1), 50.0) << i;  // 100 × 2000h / 4000h
+      EXPECT_EQ(sample.get(ls5::channel::signal), ls5::SignalState::ok) << i;
+      EXPECT_DOUBLE_EQ(sample.get(ls5::channel::distance_mm).value_or(-1), 50.0) << i;  // 100 × 2000h / 4000h
     }
   }
   const auto counters = rig.receiver->counters();
@@ -263,17 +264,17 @@ TEST(Ls5UdpReceiver, ACodeAbove4000hIsOutOfRangeL86) {
   ASSERT_TRUE(rig.receiver && rig.sender);
   rig.send(build_packet(1, 0x4001, 0x07));
   const Sample past = rig.next_sample();
-  EXPECT_EQ(past.code, 0x4001);
-  EXPECT_EQ(past.signal, SignalState::lost);
-  EXPECT_FALSE(past.distance_mm.has_value());
+  EXPECT_EQ(past.get(ls5::channel::code), 0x4001);
+  EXPECT_EQ(past.get(ls5::channel::signal), ls5::SignalState::lost);
+  EXPECT_FALSE(past.get(ls5::channel::distance_mm).has_value());
   EXPECT_TRUE(past.suspect);
   EXPECT_NE(past.suspect_reason.find("above 0x4000"), std::string::npos) << past.suspect_reason;
   rig.skip_samples(167);
   rig.send(build_packet(2, 0x4000, 0x07));  // 4000h itself is the end of the range: 100 mm
   const Sample end = rig.next_sample();
-  EXPECT_EQ(end.signal, SignalState::ok);
+  EXPECT_EQ(end.get(ls5::channel::signal), ls5::SignalState::ok);
   EXPECT_FALSE(end.suspect);
-  EXPECT_DOUBLE_EQ(end.distance_mm.value_or(-1), 100.0);
+  EXPECT_DOUBLE_EQ(end.get(ls5::channel::distance_mm).value_or(-1), 100.0);
   rig.skip_samples(167);
   EXPECT_EQ(rig.receiver->counters().suspect_records, 168U);
 }

@@ -6,6 +6,8 @@
 
 #include "mqtt/reading_window.hpp"
 #include "rangekit/core/family.hpp"
+#include "rangekit/ls5/family.hpp"
+#include "rangekit/uls/family.hpp"
 
 namespace {
 
@@ -13,29 +15,29 @@ using namespace rangekit;
 using namespace std::chrono_literals;
 using Clock = mqtt::ReadingWindow::Clock;
 
-Sample ls5(std::optional<double> distance_mm, std::uint16_t code, SignalState signal) {
+Sample ls5_sample(std::optional<double> distance_mm, std::uint16_t code, ls5::SignalState signal) {
   Sample sample;
   sample.device = "ls5";
-  sample.kind = SampleKind::ls5_result;
-  sample.code = code;
-  sample.distance_mm = distance_mm;
-  sample.signal = signal;
-  sample.resolution_mm = 0.001;  // an LS5 of 25 mm range (table 3.1): 3 decimals
+  sample.kind = ls5::kind::result;
+  sample.set(ls5::channel::code, code);
+  sample.set(ls5::channel::distance_mm, distance_mm);
+  sample.set(ls5::channel::signal, signal);
+  sample.set(ls5::channel::resolution_mm, 0.001);  // an LS5 of 25 mm range (table 3.1): 3 decimals
   return sample;
 }
 
 // L77: §8 "65534 – to indicate that the sensor has not made any measurements yet ...
 // 65535 – to indicate that there is no signal." Neither is a distance.
 TEST(ReadingWindow, L77NoSignalAndNoMeasurementYetAreCountedNeverADistance) {
-  EXPECT_FALSE(reading_of(ls5(std::nullopt, 65535, SignalState::lost)));
-  EXPECT_FALSE(reading_of(ls5(std::nullopt, 65534, SignalState::none_yet)));
+  EXPECT_FALSE(reading_of(ls5_sample(std::nullopt, 65535, ls5::SignalState::lost)));
+  EXPECT_FALSE(reading_of(ls5_sample(std::nullopt, 65534, ls5::SignalState::none_yet)));
 
   mqtt::ReadingWindow window(10);  // one message per 100 ms
   const auto start = Clock::now();
-  ASSERT_TRUE(window.add(ls5(20.0, 20000, SignalState::ok), start));  // the first goes out at once
-  EXPECT_FALSE(window.add(ls5(10.0, 10000, SignalState::ok), start + 10ms));
-  EXPECT_FALSE(window.add(ls5(std::nullopt, 65535, SignalState::lost), start + 20ms));
-  EXPECT_FALSE(window.add(ls5(30.0, 30000, SignalState::ok), start + 30ms));
+  ASSERT_TRUE(window.add(ls5_sample(20.0, 20000, ls5::SignalState::ok), start));  // the first goes out at once
+  EXPECT_FALSE(window.add(ls5_sample(10.0, 10000, ls5::SignalState::ok), start + 10ms));
+  EXPECT_FALSE(window.add(ls5_sample(std::nullopt, 65535, ls5::SignalState::lost), start + 20ms));
+  EXPECT_FALSE(window.add(ls5_sample(30.0, 30000, ls5::SignalState::ok), start + 30ms));
   window.add_lost(2);
   EXPECT_FALSE(window.flush_due(start + 90ms));
   const auto text = window.flush_due(start + 100ms);
@@ -60,16 +62,16 @@ TEST(ReadingWindow, L77NoSignalAndNoMeasurementYetAreCountedNeverADistance) {
 TEST(ReadingWindow, U107UlsErrorsAreCountedAndALookDownEdgeIsItsPresence) {
   Sample error;
   error.device = "uls";
-  error.kind = SampleKind::uls_error;
-  error.device_error = 4;
+  error.kind = uls::kind::error;
+  error.set(uls::channel::error, 4);
   Sample binning;
   binning.device = "uls";
-  binning.kind = SampleKind::uls_binning;
+  binning.kind = uls::kind::binning;
   binning.targets = {{42.5, 10}, {12.25, 30}};
   Sample look_down;
   look_down.device = "uls";
-  look_down.kind = SampleKind::uls_look_down;
-  look_down.presence = true;
+  look_down.kind = uls::kind::look_down;
+  look_down.set(uls::channel::presence, true);
 
   mqtt::ReadingWindow every(0);  // 0: every sample as `stream --format jsonl` writes it
   const auto own = every.add(error, Clock::now());
@@ -103,13 +105,13 @@ TEST(ReadingWindow, U107UlsErrorsAreCountedAndALookDownEdgeIsItsPresence) {
 TEST(ReadingWindow, SuspectSamplesAreCountedAndKeptOutOfTheFigures) {
   mqtt::ReadingWindow window(10);
   const auto start = Clock::now();
-  ASSERT_TRUE(window.add(ls5(24.845, 24845, SignalState::ok), start));
-  auto corrupt = ls5(34.845, 34845, SignalState::ok);
+  ASSERT_TRUE(window.add(ls5_sample(24.845, 24845, ls5::SignalState::ok), start));
+  auto corrupt = ls5_sample(34.845, 34845, ls5::SignalState::ok);
   corrupt.suspect = true;
   corrupt.suspect_reason = "jump";
-  EXPECT_FALSE(window.add(ls5(24.840, 24840, SignalState::ok), start + 10ms));
+  EXPECT_FALSE(window.add(ls5_sample(24.840, 24840, ls5::SignalState::ok), start + 10ms));
   EXPECT_FALSE(window.add(corrupt, start + 20ms));
-  EXPECT_FALSE(window.add(ls5(24.850, 24850, SignalState::ok), start + 30ms));
+  EXPECT_FALSE(window.add(ls5_sample(24.850, 24850, ls5::SignalState::ok), start + 30ms));
   const auto text = window.flush_due(start + 100ms);
   ASSERT_TRUE(text);
   const auto json = nlohmann::json::parse(*text);
@@ -128,8 +130,8 @@ TEST(ReadingWindow, FiguresAreRoundedToTheSensorsDiscreteness) {
   mqtt::ReadingWindow window(10);
   const auto start = Clock::now();
   auto fine = [](double distance_mm) {
-    auto sample = ls5(distance_mm, 1, SignalState::ok);
-    sample.resolution_mm = 0.0001;
+    auto sample = ls5_sample(distance_mm, 1, ls5::SignalState::ok);
+    sample.set(ls5::channel::resolution_mm, 0.0001);
     return sample;
   };
   ASSERT_TRUE(window.add(fine(15.7), start));  // the first goes out alone

@@ -8,9 +8,11 @@
 
 #include <variant>
 
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/record/capture.hpp"
 #include "rangekit/record/format.hpp"
 #include "rangekit/record/replay.hpp"
+#include "rangekit/uls/family.hpp"
 #include "record/fake_source.hpp"
 #include "record/sqlite_handle.hpp"
 #include "record/temp_dir.hpp"
@@ -38,7 +40,12 @@ std::vector<Item> sqlite_items(const std::string& path, const std::string& devic
       [&](const Sample& sample) {
         Sample copy = sample;
         copy.source.clear();
-        copy.resolution_mm.reset();
+        // The channels kept in captures only (the LS5's resolution_mm).
+        if (const FamilyDescriptor* family = family_of(copy)) {
+          for (std::size_t index = 0; index < family->channels.size(); ++index) {
+            if (!family->channels[index].in_stream) copy.values.erase(index);
+          }
+        }
         copy.suspect_reason.clear();
         items.emplace_back(std::move(copy));
       },
@@ -118,9 +125,10 @@ Sample binning_with(std::size_t targets) {
 
 Sample numbered(Sample sample, int i) {
   sample.time += std::chrono::milliseconds(i);
-  if (sample.code) sample.code = static_cast<std::uint16_t>(i % 50001);
-  if (sample.distance_mm) sample.distance_mm = i * 0.002;
-  if (sample.distance_m) sample.distance_m = 0.25 * i;  // whole numbers too: stored as integers
+  if (sample.get(ls5::channel::code)) sample.set(ls5::channel::code, static_cast<std::uint16_t>(i % 50001));
+  if (sample.get(ls5::channel::distance_mm)) sample.set(ls5::channel::distance_mm, i * 0.002);
+  if (sample.get(uls::channel::distance_m))
+    sample.set(uls::channel::distance_m, 0.25 * i);  // whole numbers too: stored as integers
   return sample;
 }
 
@@ -129,17 +137,17 @@ void write_mixed_capture(const std::string& path, int rounds) {
   for (int session = 0; session < 2; ++session) {
     auto capture = open_capture(path);
     ASSERT_TRUE(capture.ok()) << capture.error().message;
-    auto suspect = ls5_result(34845, 69.69, SignalState::ok);
+    auto suspect = ls5_result(34845, 69.69, ls5::SignalState::ok);
     suspect.suspect = true;
     suspect.suspect_reason = "jump";
-    suspect.resolution_mm = 0.002;
-    Sample derivative = ls5_result(100, std::nullopt, SignalState::ok);
-    derivative.kind = SampleKind::ls5_derivative;
-    derivative.derivative_mm = -1.5;
+    suspect.set(ls5::channel::resolution_mm, 0.002);
+    Sample derivative = ls5_result(100, std::nullopt, ls5::SignalState::ok);
+    derivative.kind = ls5::kind::derivative;
+    derivative.set(ls5::channel::derivative_mm, -1.5);
     for (int i = 0; i < rounds; ++i) {
       for (const Sample& sample :
            {uls_averaging(), uls_binning(), uls_look_down(), uls_look_down_overflow(), uls_error(), suspect, derivative,
-            ls5_result(24845, 49.69, SignalState::ok), ls5_result(65535, std::nullopt, SignalState::lost)}) {
+            ls5_result(24845, 49.69, ls5::SignalState::ok), ls5_result(65535, std::nullopt, ls5::SignalState::lost)}) {
         ASSERT_TRUE((*capture)->write(numbered(sample, i)).ok());
       }
       if (i % 50 == 0) {

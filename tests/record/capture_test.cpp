@@ -9,8 +9,10 @@
 #include <variant>
 
 #include "child_process.hpp"
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/record/capture.hpp"
 #include "rangekit/record/replay.hpp"
+#include "rangekit/uls/family.hpp"
 #include "record/fake_source.hpp"
 #include "record/temp_dir.hpp"
 #include "sqlite_query.hpp"
@@ -41,8 +43,8 @@ std::vector<StreamItem> every_kind() {
           uls_look_down_overflow(),  // U88: comes back as an overflow, not as 0 pulses
           uls_error(),
           event(StreamEventKind::lost_records, "UDP counter gap", 3),
-          ls5_result(12345, 1234.5, SignalState::ok),
-          ls5_result(65535, std::nullopt, SignalState::lost)};
+          ls5_result(12345, 1234.5, ls5::SignalState::ok),
+          ls5_result(65535, std::nullopt, ls5::SignalState::lost)};
 }
 
 void write_items(CaptureSink& capture, const std::vector<StreamItem>& items) {
@@ -93,7 +95,7 @@ TEST(Capture, OpeningAgainAppendsANewSession) {
   TempDir dir;
   const auto path = dir.file("twice.sqlite");
   const std::vector<StreamItem> first{uls_averaging(0ms), uls_averaging(10ms)};
-  const std::vector<StreamItem> second{ls5_result(1, 0.5, SignalState::ok)};
+  const std::vector<StreamItem> second{ls5_result(1, 0.5, ls5::SignalState::ok)};
   for (const auto* items : {&first, &second}) {
     auto capture = open_capture(path);
     ASSERT_TRUE(capture.ok()) << capture.error().message;
@@ -112,12 +114,12 @@ TEST(Capture, OpeningAgainAppendsANewSession) {
 TEST(Capture, Ls5DerivativeAndResolutionRoundTripL63) {
   TempDir dir;
   const auto path = dir.file("ls5.sqlite");
-  auto fine = ls5_result(21124, 2.1124, SignalState::ok);
-  fine.resolution_mm = 0.0001;
-  auto rising = ls5_result(25050, std::nullopt, SignalState::ok);
-  rising.kind = SampleKind::ls5_derivative;
-  rising.derivative_mm = 0.1;
-  rising.resolution_mm = 0.001;
+  auto fine = ls5_result(21124, 2.1124, ls5::SignalState::ok);
+  fine.set(ls5::channel::resolution_mm, 0.0001);
+  auto rising = ls5_result(25050, std::nullopt, ls5::SignalState::ok);
+  rising.kind = ls5::kind::derivative;
+  rising.set(ls5::channel::derivative_mm, 0.1);
+  rising.set(ls5::channel::resolution_mm, 0.001);
   const std::vector<StreamItem> items{fine, rising};
   {
     auto capture = open_capture(path);
@@ -125,7 +127,7 @@ TEST(Capture, Ls5DerivativeAndResolutionRoundTripL63) {
     write_items(**capture, items);
   }
   expect_same_items(replay_all(path), items);
-  EXPECT_EQ(query(path, "SELECT value FROM meta WHERE key = 'format_version'"), "3");
+  EXPECT_EQ(query(path, "SELECT value FROM meta WHERE key = 'format_version'"), "4");
   EXPECT_EQ(query(path, "SELECT kind || ' ' || derivative_mm FROM samples WHERE code = 25050"), "derivative 0.1");
 }
 
@@ -134,8 +136,8 @@ TEST(Capture, Ls5DerivativeAndResolutionRoundTripL63) {
 TEST(Capture, U102_L71_SuspectFlagAndReasonRoundTrip) {
   TempDir dir;
   const auto path = dir.file("suspect.sqlite");
-  auto clean = ls5_result(24845, 99.38, SignalState::ok);
-  auto corrupt = ls5_result(34845, 139.38, SignalState::ok);
+  auto clean = ls5_result(24845, 99.38, ls5::SignalState::ok);
+  auto corrupt = ls5_result(34845, 139.38, ls5::SignalState::ok);
   corrupt.suspect = true;
   corrupt.suspect_reason = "jump: 0.1394 m from the median 0.0994 m";
   const std::vector<StreamItem> items{clean, corrupt};
@@ -176,18 +178,18 @@ TEST(Capture, Version1CaptureReplaysAndTakesNewSessionsL63) {
     ASSERT_EQ(sqlite3_exec(database, v1, nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(database);
     sqlite3_close(database);
   }
-  const auto old_sample = ls5_result(12345, 1234.5, SignalState::ok);
+  const auto old_sample = ls5_result(12345, 1234.5, ls5::SignalState::ok);
   expect_same_items(replay_all(path), {old_sample});
 
-  auto fine = ls5_result(21124, 2.1124, SignalState::ok);
-  fine.resolution_mm = 0.0001;
+  auto fine = ls5_result(21124, 2.1124, ls5::SignalState::ok);
+  fine.set(ls5::channel::resolution_mm, 0.0001);
   {
     auto capture = open_capture(path);
     ASSERT_TRUE(capture.ok()) << capture.error().message;
     write_items(**capture, {fine});
   }
   expect_same_items(replay_all(path), {old_sample, fine});
-  EXPECT_EQ(query(path, "SELECT value FROM meta WHERE key = 'format_version'"), "3");
+  EXPECT_EQ(query(path, "SELECT value FROM meta WHERE key = 'format_version'"), "4");
 }
 
 // A look-down sample's kind is the mode's value name, "look-down"; captures written before
@@ -215,7 +217,7 @@ TEST(Capture, OldLookDownKindStillReplaysAsLookDown) {
     const auto read = for_each_in_capture(
         path, "", [&](const Sample& sample) { kinds.push_back(sample.kind); }, [](StreamEvent&&) {}, fields);
     ASSERT_TRUE(read.ok()) << read.error().message;
-    EXPECT_EQ(kinds, (std::vector{SampleKind::uls_look_down, SampleKind::uls_look_down}));
+    EXPECT_EQ(kinds, (std::vector{uls::kind::look_down, uls::kind::look_down}));
   }
 }
 
@@ -229,7 +231,7 @@ TEST(Capture, UnknownFormatVersionIsRefusedByAppendAndReplay) {
     ASSERT_TRUE(capture.ok()) << capture.error().message;
     write_items(**capture, {uls_averaging()});
   }
-  for (const char* version : {"4", "2.1", "x\x1b[2J"}) {
+  for (const char* version : {"5", "2.1", "x\x1b[2J"}) {
     sqlite3* database = nullptr;
     ASSERT_EQ(sqlite3_open(path.c_str(), &database), SQLITE_OK);
     const std::string update = std::string("UPDATE meta SET value = '") + version + "' WHERE key = 'format_version'";
@@ -241,14 +243,14 @@ TEST(Capture, UnknownFormatVersionIsRefusedByAppendAndReplay) {
     ASSERT_FALSE(capture.ok()) << version;
     EXPECT_EQ(capture.error().code, Errc::unsupported);
     EXPECT_NE(capture.error().message.find("format version '"), std::string::npos) << capture.error().message;
-    EXPECT_NE(capture.error().message.find("is not one this rangekit reads (1, 2, 3)"), std::string::npos)
+    EXPECT_NE(capture.error().message.find("is not one this rangekit reads (1, 2, 3, 4)"), std::string::npos)
         << capture.error().message;
     EXPECT_EQ(capture.error().message.find('\x1b'), std::string::npos) << "printed escaped";
     EXPECT_EQ(read_file(path), content) << "nothing appended";
 
     const auto replay = open_replay(path, 0.0);
     ASSERT_FALSE(replay.ok()) << version;
-    EXPECT_NE(replay.error().message.find("is not one this rangekit reads (1, 2, 3)"), std::string::npos)
+    EXPECT_NE(replay.error().message.find("is not one this rangekit reads (1, 2, 3, 4)"), std::string::npos)
         << replay.error().message;
   }
   EXPECT_EQ(query(path, "SELECT count(*) FROM samples"), "1");

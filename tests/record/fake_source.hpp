@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "rangekit/core/sample.hpp"
+#include "rangekit/ls5/family.hpp"
+#include "rangekit/uls/family.hpp"
 
 namespace rangekit::record::testing {
 
@@ -26,9 +28,9 @@ inline Sample uls_averaging(std::chrono::milliseconds offset = 0ms) {
   sample.device = "uls";
   sample.source = "/dev/ttyUSB0";
   sample.address = 3;
-  sample.kind = SampleKind::uls_averaging;
-  sample.distance_m = 12.345;
-  sample.pulse_width = 18000;
+  sample.kind = uls::kind::averaging;
+  sample.set(uls::channel::distance_m, 12.345);
+  sample.set(uls::channel::pulse_width_ps, 18000);
   return sample;
 }
 
@@ -37,7 +39,7 @@ inline Sample uls_binning() {
   sample.time = at();
   sample.device = "uls";
   sample.source = "/dev/ttyUSB0";
-  sample.kind = SampleKind::uls_binning;
+  sample.kind = uls::kind::binning;
   sample.targets = {{4.572, 42}, {7.1, 13}};
   return sample;
 }
@@ -48,9 +50,9 @@ inline Sample uls_look_down() {
   sample.device = "uls";
   sample.source = "/dev/ttyUSB1";
   sample.address = 0;
-  sample.kind = SampleKind::uls_look_down;
-  sample.presence = true;
-  sample.pulses_between_events = 250;
+  sample.kind = uls::kind::look_down;
+  sample.set(uls::channel::presence, true);
+  sample.set(uls::channel::pulses_between_events, 250);
   return sample;
 }
 
@@ -58,8 +60,8 @@ inline Sample uls_look_down() {
 // occurred": more than 65535 pulses between the edges (U88).
 inline Sample uls_look_down_overflow() {
   Sample sample = uls_look_down();
-  sample.pulses_between_events.reset();
-  sample.pulses_overflow = true;
+  sample.set(uls::channel::pulses_between_events, std::nullopt);
+  sample.set(uls::channel::pulses_overflow, true);
   return sample;
 }
 
@@ -69,20 +71,20 @@ inline Sample uls_error() {
   sample.device = "uls";
   sample.source = "/dev/ttyUSB0";
   sample.address = 3;
-  sample.kind = SampleKind::uls_error;
-  sample.device_error = 4;
+  sample.kind = uls::kind::error;
+  sample.set(uls::channel::error, 4);
   return sample;
 }
 
-inline Sample ls5_result(std::uint16_t code, std::optional<double> distance_mm, SignalState signal) {
+inline Sample ls5_result(std::uint16_t code, std::optional<double> distance_mm, ls5::SignalState signal) {
   Sample sample;
   sample.time = at();
   sample.device = "ls5";
   sample.source = "udp:127.0.0.1:5000";
-  sample.kind = SampleKind::ls5_result;
-  sample.code = code;
-  sample.distance_mm = distance_mm;
-  sample.signal = signal;
+  sample.kind = ls5::kind::result;
+  sample.set(ls5::channel::code, code);
+  sample.set(ls5::channel::distance_mm, distance_mm);
+  sample.set(ls5::channel::signal, signal);
   return sample;
 }
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "rangekit/ls5/family.hpp"
 #include "record/fake_source.hpp"
 
 namespace rangekit::record {
@@ -23,7 +24,7 @@ TEST(Merge, EveryItemOfEverySourceKeepingEachSourcesOrder) {
   std::vector<StreamItem> ls5_items;
   for (int i = 0; i < 50; ++i) {
     uls_items.emplace_back(uls_averaging(std::chrono::milliseconds(i)));
-    auto ls5 = ls5_result(static_cast<std::uint16_t>(i), i * 1.0, SignalState::ok);
+    auto ls5 = ls5_result(static_cast<std::uint16_t>(i), i * 1.0, ls5::SignalState::ok);
     ls5_items.emplace_back(ls5);
   }
   std::vector<SampleSourcePtr> sources;
@@ -39,7 +40,7 @@ TEST(Merge, EveryItemOfEverySourceKeepingEachSourcesOrder) {
     if (sample.device == "uls") {
       EXPECT_EQ(sample.time, at(std::chrono::milliseconds(next_uls++)));
     } else {
-      EXPECT_EQ(sample.code, next_ls5++);
+      EXPECT_EQ(sample.get(ls5::channel::code), next_ls5++);
     }
   }
   EXPECT_EQ(next_uls, 50);

@@ -1,6 +1,7 @@
 // End-to-end: `rangekit replay` on captures written by the library.
 #include <gtest/gtest.h>
 
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/record/capture.hpp"
 #include "record/cli_process.hpp"
 #include "record/fake_source.hpp"
@@ -46,8 +47,8 @@ Finished run(const std::vector<std::string>& arguments) {
 
 TEST(ReplayCli, JsonlAtFullSpeedWithEventsOnStderr) {
   TempDir dir;
-  const auto capture = make_capture(
-      dir, {uls_error(), event(StreamEventKind::disconnected, "gone"), ls5_result(12345, 1234.5, SignalState::ok)});
+  const auto capture = make_capture(dir, {uls_error(), event(StreamEventKind::disconnected, "gone"),
+                                          ls5_result(12345, 1234.5, ls5::SignalState::ok)});
   const auto result = run({"replay", capture, "--format", "jsonl", "--full-speed"});
   EXPECT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(result.out,
@@ -63,24 +64,25 @@ TEST(ReplayCli, JsonlAtFullSpeedWithEventsOnStderr) {
 
 TEST(ReplayCli, CsvCountAndDeviceFilter) {
   TempDir dir;
-  const auto capture =
-      make_capture(dir, {uls_error(), ls5_result(12345, 1234.5, SignalState::ok), ls5_result(1, 2.0, SignalState::ok)});
+  const auto capture = make_capture(
+      dir, {uls_error(), ls5_result(12345, 1234.5, ls5::SignalState::ok), ls5_result(1, 2.0, ls5::SignalState::ok)});
   const auto result = run({"replay", capture, "--format", "csv", "--full-speed", "--count", "1", "--device", "ls5"});
   EXPECT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(result.out,
-            "time,device,address,source,kind,distance_m,pulse_width_ns,targets,presence,pulses_between_events,error,"
-            "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text,suspect,suspect_reason\n"
-            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,12345,1234.50,ok,,,,false,\n");
+            "time,device,address,source,kind,distance_m,pulse_width_ns,targets,presence,pulses_between_events,pulses_"
+            "overflow,error,"
+            "code,distance_mm,signal,derivative_mm,error_text,suspect,suspect_reason\n"
+            "2026-11-26T01:02:03.456Z,ls5,,udp:127.0.0.1:5000,result,,,,,,,,12345,1234.50,ok,,,false,\n");
 }
 
 // U102/L71: a replay shows the flags as recorded (it does not judge again)
 // and --drop-suspect leaves the suspect samples out.
 TEST(ReplayCli, U102_L71_ReplayKeepsTheRecordedFlagsAndDropSuspectLeavesThemOut) {
   TempDir dir;
-  auto corrupt = ls5_result(34845, 139.38, SignalState::ok);
+  auto corrupt = ls5_result(34845, 139.38, ls5::SignalState::ok);
   corrupt.suspect = true;
   corrupt.suspect_reason = "jump";
-  const auto capture = make_capture(dir, {ls5_result(24845, 99.38, SignalState::ok), corrupt});
+  const auto capture = make_capture(dir, {ls5_result(24845, 99.38, ls5::SignalState::ok), corrupt});
   const auto all = run({"replay", capture, "--format", "jsonl", "--full-speed"});
   EXPECT_EQ(all.exit_code, 0) << all.err;
   EXPECT_EQ(count_of(all.out, "\"kind\""), 2u);
@@ -159,8 +161,9 @@ TEST(ReplayCli, SigintClosesCleanlyWithExit130) {
   auto replay_copy = CliProcess({"replay", copy, "--format", "csv", "--full-speed"});
   EXPECT_EQ(replay_copy.finish(), 0);
   EXPECT_EQ(replay_copy.out(),
-            "time,device,address,source,kind,distance_m,pulse_width_ns,targets,presence,pulses_between_events,error,"
-            "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text,suspect,suspect_reason\n"
+            "time,device,address,source,kind,distance_m,pulse_width_ns,targets,presence,pulses_between_events,pulses_"
+            "overflow,error,"
+            "code,distance_mm,signal,derivative_mm,error_text,suspect,suspect_reason\n"
             "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,averaging,12.3450,18.000,,,,,,,,,,,false,\n");
 }
 

@@ -2,9 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/record/capture.hpp"
 #include "rangekit/record/format.hpp"
 #include "rangekit/record/stream_loop.hpp"
+#include "rangekit/uls/family.hpp"
 #include "record/fake_source.hpp"
 #include "record/temp_dir.hpp"
 
@@ -100,7 +102,7 @@ TEST(Replay, DeviceFilterKeepsOneFamilyAndEveryEvent) {
     ASSERT_TRUE(capture.ok());
     ASSERT_TRUE((*capture)->write(uls_averaging()).ok());
     ASSERT_TRUE((*capture)->write_event(event(StreamEventKind::disconnected, "gone")).ok());
-    ASSERT_TRUE((*capture)->write(ls5_result(7, 1.0, SignalState::ok)).ok());
+    ASSERT_TRUE((*capture)->write(ls5_result(7, 1.0, ls5::SignalState::ok)).ok());
   }
   auto source = open_replay(path, ReplayOptions{0.0, "ls5"});
   ASSERT_TRUE(source.ok());
@@ -130,19 +132,19 @@ void expect_replay_identical_to_live(OutputFormat format) {
   auto binning_with_odd_values = uls_binning();
   binning_with_odd_values.targets.push_back({0.1 + 0.2, 4294967295u});
   auto averaging = uls_averaging(1ms);
-  averaging.distance_m = 1.0 / 3.0;
+  averaging.set(uls::channel::distance_m, 1.0 / 3.0);
   // L60, L63: a 0.5/5 sensor's 0.0001 mm (table 5.1) and a derivative keep their digits.
-  auto fine = ls5_result(21124, 2.1124, SignalState::ok);
-  fine.resolution_mm = 0.0001;
-  auto derivative = ls5_result(25050, std::nullopt, SignalState::ok);
-  derivative.kind = SampleKind::ls5_derivative;
-  derivative.derivative_mm = 0.1;
-  derivative.resolution_mm = 0.001;
+  auto fine = ls5_result(21124, 2.1124, ls5::SignalState::ok);
+  fine.set(ls5::channel::resolution_mm, 0.0001);
+  auto derivative = ls5_result(25050, std::nullopt, ls5::SignalState::ok);
+  derivative.kind = ls5::kind::derivative;
+  derivative.set(ls5::channel::derivative_mm, 0.1);
+  derivative.set(ls5::channel::resolution_mm, 0.001);
   FakeSource source({averaging, binning_with_odd_values, event(StreamEventKind::bad_frame, "half \"frame\""),
                      // The switch to polling is an event, replayed as one.
                      event(StreamEventKind::polling, "/dev/ttyUSB0: polling with BM every 50 ms"), uls_look_down(),
-                     uls_look_down_overflow(), uls_error(), ls5_result(12345, 1234.5, SignalState::ok),
-                     ls5_result(65534, std::nullopt, SignalState::none_yet), fine, derivative});
+                     uls_look_down_overflow(), uls_error(), ls5_result(12345, 1234.5, ls5::SignalState::ok),
+                     ls5_result(65534, std::nullopt, ls5::SignalState::none_yet), fine, derivative});
   const std::atomic<bool> stop{false};
   StreamLoopOptions options;
   options.format = format;
@@ -202,7 +204,7 @@ TEST(CaptureBulkRead, GivesWhatTheReplayGivesInTheSameOrder) {
   {
     auto capture = open_capture(path);
     ASSERT_TRUE(capture.ok());
-    auto suspect = ls5_result(34845, 69.69, SignalState::ok);
+    auto suspect = ls5_result(34845, 69.69, ls5::SignalState::ok);
     suspect.suspect = true;
     suspect.suspect_reason = "jump: 20 mm in 1 ms";
     const std::vector<StreamItem> items{uls_binning(),
@@ -211,8 +213,8 @@ TEST(CaptureBulkRead, GivesWhatTheReplayGivesInTheSameOrder) {
                                         uls_look_down_overflow(),
                                         uls_look_down(),
                                         suspect,
-                                        ls5_result(24845, 49.69, SignalState::ok),
-                                        ls5_result(65535, std::nullopt, SignalState::lost),
+                                        ls5_result(24845, 49.69, ls5::SignalState::ok),
+                                        ls5_result(65535, std::nullopt, ls5::SignalState::lost),
                                         uls_error()};
     for (const auto& item : items) {
       if (const auto* sample = std::get_if<Sample>(&item)) {
@@ -234,11 +236,12 @@ TEST(CaptureBulkRead, GivesWhatTheReplayGivesInTheSameOrder) {
 TEST(CaptureBulkRead, ArrayFieldsLeaveOutSourceResolutionAndSuspectReason) {
   TempDir dir;
   const auto path = dir.file("array.sqlite");
-  auto suspect = ls5_result(34845, 69.69, SignalState::ok);
+  auto suspect = ls5_result(34845, 69.69, ls5::SignalState::ok);
   suspect.suspect = true;
   suspect.suspect_reason = "jump: 20 mm in 1 ms";
-  suspect.resolution_mm = 0.002;
-  capture_samples(path, {uls_binning(), suspect, uls_look_down_overflow(), ls5_result(24845, 49.69, SignalState::ok)});
+  suspect.set(ls5::channel::resolution_mm, 0.002);
+  capture_samples(path,
+                  {uls_binning(), suspect, uls_look_down_overflow(), ls5_result(24845, 49.69, ls5::SignalState::ok)});
   const auto read = [&path](CaptureFields fields) {
     std::vector<Sample> samples;
     const auto status = for_each_in_capture(
@@ -250,10 +253,10 @@ TEST(CaptureBulkRead, ArrayFieldsLeaveOutSourceResolutionAndSuspectReason) {
   ASSERT_EQ(expected.size(), 4U);
   EXPECT_FALSE(expected[1].source.empty());
   EXPECT_EQ(expected[1].suspect_reason, "jump: 20 mm in 1 ms");
-  EXPECT_EQ(expected[1].resolution_mm, 0.002);
+  EXPECT_EQ(expected[1].get(ls5::channel::resolution_mm), 0.002);
   for (Sample& sample : expected) {
     sample.source.clear();
-    sample.resolution_mm.reset();
+    sample.set(ls5::channel::resolution_mm, std::nullopt);
     sample.suspect_reason.clear();
   }
   EXPECT_EQ(read(CaptureFields::array), expected);
@@ -301,7 +304,7 @@ TEST(CaptureBulkRead, SampleBoundIsTheSpanOfTheSamplesSequenceNumbers) {
     ASSERT_TRUE((*capture)->write_event(event(StreamEventKind::disconnected, "gone")).ok());  // seq 1
     ASSERT_TRUE((*capture)->write(uls_averaging(1ms)).ok());                                  // seq 2
     ASSERT_TRUE((*capture)->write_event(event(StreamEventKind::reconnected, "back")).ok());   // seq 3
-    ASSERT_TRUE((*capture)->write(ls5_result(24845, 49.69, SignalState::ok)).ok());           // seq 4
+    ASSERT_TRUE((*capture)->write(ls5_result(24845, 49.69, ls5::SignalState::ok)).ok());      // seq 4
     ASSERT_TRUE((*capture)->write(uls_averaging(2ms)).ok());                                  // seq 5
   }
   const auto bound = capture_sample_bound(path);

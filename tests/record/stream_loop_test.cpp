@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/record/replay.hpp"
 #include "record/fake_source.hpp"
 #include "record/temp_dir.hpp"
@@ -27,8 +28,8 @@ StreamLoopOptions to_file(const std::string& path, OutputFormat format = OutputF
 TEST(StreamLoop, SourceFinishedWritesEveryItemAsJsonLines) {
   TempDir dir;
   const auto path = dir.file("out.jsonl");
-  FakeSource source(
-      {uls_error(), event(StreamEventKind::reconnected, "back"), ls5_result(65535, std::nullopt, SignalState::lost)});
+  FakeSource source({uls_error(), event(StreamEventKind::reconnected, "back"),
+                     ls5_result(65535, std::nullopt, ls5::SignalState::lost)});
   const std::atomic<bool> stop{false};
   const auto outcome = run_stream_loop(source, to_file(path), stop);
   EXPECT_EQ(outcome.reason, StopReason::source_finished);
@@ -51,7 +52,7 @@ TEST(StreamLoop, CountsEachSourcesSamplesApart) {
   auto second = uls_error();
   second.source = "/dev/ttyUSB1";
   FakeSource source(
-      {uls_error(), ls5_result(65535, std::nullopt, SignalState::lost), uls_error(), second, uls_error()});
+      {uls_error(), ls5_result(65535, std::nullopt, ls5::SignalState::lost), uls_error(), second, uls_error()});
   const std::atomic<bool> stop{false};
   const auto outcome = run_stream_loop(source, to_file(dir.file("out.jsonl")), stop);
   ASSERT_EQ(outcome.stats.sources.size(), 3U);

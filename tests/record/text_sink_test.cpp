@@ -35,9 +35,10 @@ TEST(TextSink, CsvStartsWithTheHeaderAndLeavesEventsOut) {
     ASSERT_TRUE((*sink)->write(uls_error()).ok());
   }  // closing flushes
   EXPECT_EQ(read_file(path),
-            "time,device,address,source,kind,distance_m,pulse_width_ns,targets,presence,pulses_between_events,error,"
-            "code,distance_mm,signal,derivative_mm,pulses_overflow,error_text,suspect,suspect_reason\n"
-            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,4,,,,,,Lock Not Found (display: Target Not "
+            "time,device,address,source,kind,distance_m,pulse_width_ns,targets,presence,pulses_between_events,pulses_"
+            "overflow,error,"
+            "code,distance_mm,signal,derivative_mm,error_text,suspect,suspect_reason\n"
+            "2026-11-26T01:02:03.456Z,uls,3,/dev/ttyUSB0,error,,,,,,,4,,,,,Lock Not Found (display: Target Not "
             "Found),false,\n");
 }
 

@@ -3,6 +3,8 @@
 // (H:M:S:mS), Index value in array, Number of Targets, Distance, Units. Look Down Mode:
 // (H:M:S:mS), ON/OFF."
 #include "rangekit/uls/interface_log.hpp"
+#include "rangekit/ls5/family.hpp"
+#include "rangekit/uls/family.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,22 +25,22 @@ Sample uls(SampleKind kind) {
 TEST(InterfaceLog, U100_EachModeWithItsColumns) {
   uls::InterfaceLogWriter writer;
   std::string out;
-  Sample averaging = uls(SampleKind::uls_averaging);
-  averaging.distance_m = 12.345;
-  averaging.pulse_width = 18000;
+  Sample averaging = uls(uls::kind::averaging);
+  averaging.set(uls::channel::distance_m, 12.345);
+  averaging.set(uls::channel::pulse_width_ps, 18000);
   ASSERT_TRUE(writer.append(out, averaging));
-  averaging.pulse_width.reset();
+  averaging.set(uls::channel::pulse_width_ps, std::nullopt);
   ASSERT_TRUE(writer.append(out, averaging));
-  Sample binning = uls(SampleKind::uls_binning);
+  Sample binning = uls(uls::kind::binning);
   binning.targets = {{10.5, 3}, {20.25, 1}};
   ASSERT_TRUE(writer.append(out, binning));
-  Sample look_down = uls(SampleKind::uls_look_down);
-  look_down.presence = true;
+  Sample look_down = uls(uls::kind::look_down);
+  look_down.set(uls::channel::presence, true);
   ASSERT_TRUE(writer.append(out, look_down));
-  look_down.presence = false;
+  look_down.set(uls::channel::presence, false);
   ASSERT_TRUE(writer.append(out, look_down));
-  Sample error = uls(SampleKind::uls_error);
-  error.device_error = 4;
+  Sample error = uls(uls::kind::error);
+  error.set(uls::channel::error, 4);
   ASSERT_TRUE(writer.append(out, error));
   EXPECT_EQ(out,
             "Time (H:M:S:mS), Distance, Units, Intensity\n"
@@ -58,7 +60,7 @@ TEST(InterfaceLog, U100_EachModeWithItsColumns) {
 TEST(InterfaceLog, U121_BinningIndexStartsAtZeroAsOnTheWire) {
   uls::InterfaceLogWriter writer;
   std::string out;
-  Sample binning = uls(SampleKind::uls_binning);
+  Sample binning = uls(uls::kind::binning);
   binning.targets = {{4.572, 42}, {7.1, 13}, {9.25, 2}};
   ASSERT_TRUE(writer.append(out, binning));
   EXPECT_EQ(out,
@@ -73,8 +75,8 @@ TEST(InterfaceLog, U121_BinningIndexStartsAtZeroAsOnTheWire) {
 TEST(InterfaceLog, U121_EveryFileStartsWithItsColumnLine) {
   uls::InterfaceLogWriter writer;
   std::string out;
-  Sample error = uls(SampleKind::uls_error);
-  error.device_error = 4;
+  Sample error = uls(uls::kind::error);
+  error.set(uls::channel::error, 4);
   ASSERT_TRUE(writer.append(out, error));
   ASSERT_TRUE(writer.append(out, error));
   EXPECT_EQ(out,
@@ -83,7 +85,7 @@ TEST(InterfaceLog, U121_EveryFileStartsWithItsColumnLine) {
             "13:04:05:123, ERROR 4\n");
   out.clear();
   uls::InterfaceLogWriter after_binning;
-  Sample binning = uls(SampleKind::uls_binning);
+  Sample binning = uls(uls::kind::binning);
   binning.targets = {{4.572, 42}};
   ASSERT_TRUE(after_binning.append(out, binning));
   ASSERT_TRUE(after_binning.append(out, error));
@@ -98,7 +100,7 @@ TEST(InterfaceLog, U100_AnLs5SampleHasNoLogLayout) {
   std::string out;
   Sample ls5;
   ls5.device = "ls5";
-  ls5.kind = SampleKind::ls5_result;
+  ls5.kind = ls5::kind::result;
   const Status refused = writer.append(out, ls5);
   ASSERT_FALSE(refused.ok());
   EXPECT_EQ(refused.error().code, Errc::unsupported);

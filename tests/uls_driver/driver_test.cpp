@@ -15,6 +15,7 @@
 #include "rangekit/uls/bus.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/errors.hpp"
+#include "rangekit/uls/family.hpp"
 #include "uls_driver/scripted_device.hpp"
 
 namespace rangekit::uls {
@@ -310,7 +311,7 @@ TEST(UlsDriver, MeasureCollectsAWholeBinningArray) {
   });
   auto sample = rig.driver->measure();
   ASSERT_TRUE(sample) << sample.error().message;
-  EXPECT_EQ(sample->kind, SampleKind::uls_binning);
+  EXPECT_EQ(sample->kind, uls::kind::binning);
   ASSERT_EQ(sample->targets.size(), 2U);
   EXPECT_DOUBLE_EQ(sample->targets[1].distance_m, 25.5);
   EXPECT_EQ(sample->targets[0].strength, 300U);
@@ -351,12 +352,12 @@ TEST(UlsDriver, StreamDecodesAveragingLinesAndErrors) {
   ASSERT_TRUE(stream) << stream.error().message;
   const auto samples = samples_of(take(**stream, 3));
   ASSERT_EQ(samples.size(), 3U);
-  EXPECT_EQ(samples[0].kind, SampleKind::uls_averaging);
-  EXPECT_DOUBLE_EQ(*samples[0].distance_m, 12.5);
-  EXPECT_EQ(*samples[0].pulse_width, 2100U);
-  EXPECT_EQ(samples[1].kind, SampleKind::uls_error);
-  EXPECT_EQ(*samples[1].device_error, 4);
-  EXPECT_DOUBLE_EQ(*samples[2].distance_m, 13.0);
+  EXPECT_EQ(samples[0].kind, uls::kind::averaging);
+  EXPECT_DOUBLE_EQ(*samples[0].get(uls::channel::distance_m), 12.5);
+  EXPECT_EQ(*samples[0].get(uls::channel::pulse_width_ps), 2100U);
+  EXPECT_EQ(samples[1].kind, uls::kind::error);
+  EXPECT_EQ(*samples[1].get(uls::channel::error), 4);
+  EXPECT_DOUBLE_EQ(*samples[2].get(uls::channel::distance_m), 13.0);
   // A get while streaming: the reader hands the reply over.
   auto version = rig.driver->version();
   ASSERT_TRUE(version) << version.error().message;
@@ -391,7 +392,7 @@ TEST(UlsDriver, TheStreamReaderGathersAfterAReadAndAStopEndsTheGather) {
   EXPECT_FALSE((*stream)->next(100ms).has_value());
   const auto third = samples_of(take(**stream, 1));
   ASSERT_EQ(third.size(), 1U);
-  EXPECT_DOUBLE_EQ(*third[0].distance_m, 14.0);
+  EXPECT_DOUBLE_EQ(*third[0].get(uls::channel::distance_m), 14.0);
 
   options.read_gather = 20s;  // a stop must not wait this out
   ScriptedDevice* slow_device = nullptr;
@@ -442,8 +443,8 @@ TEST(UlsDriver, U85_LinesOfAUnitAlreadyMeasuringAreNotDecodedBeforeItsSettingsAr
   }
   const auto samples = samples_of(items);
   ASSERT_EQ(samples.size(), 2U);
-  EXPECT_EQ(*samples[0].pulse_width, 2000U);  // the line before GO's $OK: settings known by then
-  EXPECT_DOUBLE_EQ(*samples[1].distance_m, 12.5);
+  EXPECT_EQ(*samples[0].get(uls::channel::pulse_width_ps), 2000U);  // the line before GO's $OK: settings known by then
+  EXPECT_DOUBLE_EQ(*samples[1].get(uls::channel::distance_m), 12.5);
   EXPECT_EQ(rig.driver->counters().bad_frames, 0U);
   EXPECT_GE(rig.driver->counters().undecoded, 1U);  // at least the line before the $MM reply
 }
@@ -530,7 +531,7 @@ TEST(UlsDriver, U86_AUnitFoundMeasuringIsLeftMeasuring) {
     rig.device->send("$BM,13.000,2200\r");
     const auto samples = samples_of(take(**stream, 1));
     ASSERT_EQ(samples.size(), 1U);
-    EXPECT_DOUBLE_EQ(*samples[0].distance_m, 13.0);
+    EXPECT_DOUBLE_EQ(*samples[0].get(uls::channel::distance_m), 13.0);
     if (std::string(ending) == "stop_stream") rig.driver->stop_stream();
     if (std::string(ending) == "stream destroyed") stream->reset();
     if (std::string(ending) == "destructor") rig.driver.reset();
@@ -575,13 +576,13 @@ TEST(UlsDriver, StreamMakesOneSamplePerBinningArrayAndReadsLookDown) {
   ASSERT_TRUE(stream) << stream.error().message;
   samples = samples_of(take(**stream, 3));
   ASSERT_EQ(samples.size(), 3U);
-  EXPECT_EQ(samples[0].presence, false);
-  EXPECT_EQ(samples[1].presence, true);
-  EXPECT_EQ(samples[1].pulses_between_events, 3000U);
+  EXPECT_EQ(samples[0].get(uls::channel::presence), false);
+  EXPECT_EQ(samples[1].get(uls::channel::presence), true);
+  EXPECT_EQ(samples[1].get(uls::channel::pulses_between_events), 3000U);
   // docs/conformance.md U61/U88: $0000 is more than 65535 pulses, not 0.
-  EXPECT_EQ(samples[2].presence, true);
-  EXPECT_TRUE(samples[2].pulses_overflow);
-  EXPECT_FALSE(samples[2].pulses_between_events.has_value());
+  EXPECT_EQ(samples[2].get(uls::channel::presence), true);
+  EXPECT_TRUE(samples[2].get(uls::channel::pulses_overflow).value_or(false));
+  EXPECT_FALSE(samples[2].get(uls::channel::pulses_between_events).has_value());
   rig.driver->stop_stream();
 }
 
@@ -597,7 +598,7 @@ TEST(UlsDriver, PolledStreamAsksWithBm) {
   EXPECT_EQ(rig.driver->active_stream_mode(), StreamMode::polled);
   const auto samples = samples_of(take(**stream, 3));
   ASSERT_EQ(samples.size(), 3U);
-  EXPECT_EQ(*samples[2].pulse_width, 3U);
+  EXPECT_EQ(*samples[2].get(uls::channel::pulse_width_ps), 3U);
   rig.driver->stop_stream();
 }
 
@@ -636,7 +637,8 @@ TEST(UlsDriver, U89_PolledStreamReportsEachMeasurementOnce) {
   rig.driver->stop_stream();
   ASSERT_EQ(samples.size(), 4U);
   for (std::size_t i = 1; i < samples.size(); ++i)
-    EXPECT_GT(*samples[i].pulse_width, *samples[i - 1].pulse_width) << "sample " << i << " repeats a measurement";
+    EXPECT_GT(*samples[i].get(uls::channel::pulse_width_ps), *samples[i - 1].get(uls::channel::pulse_width_ps))
+        << "sample " << i << " repeats a measurement";
 }
 
 // A unit in look down with time between events on (§8 Look Down Mode: "$XXXX output at the
@@ -649,7 +651,7 @@ std::string look_down_reply(const std::string& request) {
 
 std::vector<Sample> look_down_samples(const std::vector<StreamItem>& items) {
   auto samples = samples_of(items);
-  for (const auto& sample : samples) EXPECT_EQ(sample.kind, SampleKind::uls_look_down);
+  for (const auto& sample : samples) EXPECT_EQ(sample.kind, uls::kind::look_down);
   return samples;
 }
 
@@ -682,9 +684,9 @@ TEST(UlsDriver, U87_LookDownSilenceIsNormalAndStartsNoPolling) {
   rig.driver->stop_stream();
   const auto samples = look_down_samples(items);
   ASSERT_EQ(samples.size(), 2U);
-  EXPECT_EQ(samples[0].presence, true);
-  EXPECT_EQ(samples[0].pulses_between_events, 3000U);
-  EXPECT_EQ(samples[1].presence, false);
+  EXPECT_EQ(samples[0].get(uls::channel::presence), true);
+  EXPECT_EQ(samples[0].get(uls::channel::pulses_between_events), 3000U);
+  EXPECT_EQ(samples[1].get(uls::channel::presence), false);
   EXPECT_EQ(count_requests(*rig.device, "$BM"), 0U);
 }
 
@@ -705,10 +707,10 @@ TEST(UlsDriver, U87_PolledLookDownReportsAnEdgeOnce) {
   const auto samples = look_down_samples(take(**stream, 3));
   rig.driver->stop_stream();
   ASSERT_EQ(samples.size(), 3U);
-  EXPECT_EQ(samples[0].presence, true);
-  EXPECT_EQ(samples[1].presence, false);
-  EXPECT_EQ(samples[2].presence, true);  // a new edge, though its count equals the first one's
-  EXPECT_EQ(samples[2].pulses_between_events, 3000U);
+  EXPECT_EQ(samples[0].get(uls::channel::presence), true);
+  EXPECT_EQ(samples[1].get(uls::channel::presence), false);
+  EXPECT_EQ(samples[2].get(uls::channel::presence), true);  // a new edge, though its count equals the first one's
+  EXPECT_EQ(samples[2].get(uls::channel::pulses_between_events), 3000U);
   EXPECT_GE(polls.load(), 7);
 }
 
@@ -740,7 +742,7 @@ TEST(UlsDriver, AutomaticStreamPollsWhenNoContinuousLinesArriveOnThisPort) {
     }
   }
   EXPECT_NE(std::find(kinds.begin(), kinds.end(), StreamEventKind::polling), kinds.end());
-  EXPECT_DOUBLE_EQ(*samples[0].distance_m, 8.0);
+  EXPECT_DOUBLE_EQ(*samples[0].get(uls::channel::distance_m), 8.0);
   rig.driver->stop_stream();
 }
 
@@ -791,7 +793,7 @@ TEST(UlsDriver, MidFrameDisconnectGivesAnEventAndTheStreamResumesOnReopen) {
   EXPECT_NE(std::find(kinds.begin(), kinds.end(), StreamEventKind::reconnected), kinds.end());
   const auto samples = samples_of(items);
   ASSERT_EQ(samples.size(), 1U);
-  EXPECT_DOUBLE_EQ(*samples[0].distance_m, 1.0);  // not the half frame "$BM,2.0"
+  EXPECT_DOUBLE_EQ(*samples[0].get(uls::channel::distance_m), 1.0);  // not the half frame "$BM,2.0"
   driver.stop_stream(AfterStream::keep_measuring);
   EXPECT_FALSE(driver.streaming());
 }
@@ -880,14 +882,14 @@ TEST(UlsDriver, OwnRequestsEchoedByTheAdapterAreSkipped) {
   ASSERT_TRUE(rig.driver->set_prf(1000));
   auto reading = rig.driver->measure();
   ASSERT_TRUE(reading) << reading.error().message;
-  EXPECT_DOUBLE_EQ(*reading->distance_m, 12.5);
+  EXPECT_DOUBLE_EQ(*reading->get(uls::channel::distance_m), 12.5);
   ASSERT_TRUE(rig.driver->broadcast("GO"));
   auto stream = rig.driver->start_stream(StreamMode::polled);
   ASSERT_TRUE(stream) << stream.error().message;
   const auto samples = samples_of(take(**stream, 3));
   rig.driver->stop_stream();
   ASSERT_EQ(samples.size(), 3U);
-  EXPECT_DOUBLE_EQ(*samples[2].distance_m, 12.5);
+  EXPECT_DOUBLE_EQ(*samples[2].get(uls::channel::distance_m), 12.5);
   const DriverCounters counters = rig.driver->counters();
   EXPECT_EQ(counters.bad_frames, 0U);
   EXPECT_EQ(counters.retries, 0U);
@@ -923,7 +925,7 @@ TEST(UlsDriver, U77_StartOnAUnitAlreadyMeasuringIsNoError) {
   ASSERT_TRUE(stream) << stream.error().message;
   const auto samples = samples_of(take(**stream, 1));
   ASSERT_EQ(samples.size(), 1U);
-  EXPECT_DOUBLE_EQ(*samples[0].distance_m, 12.5);
+  EXPECT_DOUBLE_EQ(*samples[0].get(uls::channel::distance_m), 12.5);
   rig.driver->stop_stream();
 }
 

@@ -6,6 +6,7 @@
 #include "hub/site_fixture.hpp"
 #include "rangekit/core/family.hpp"
 #include "rangekit/hub/service_family.hpp"
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/web/server.hpp"
 #include "web/http_client.hpp"
 #include "web/json_views.hpp"
@@ -100,9 +101,9 @@ TEST(WebFamilies, ASampleItemCarriesItsReading) {
   item.sensor = "belt";
   Sample sample;
   sample.device = "ls5";
-  sample.kind = SampleKind::ls5_result;
-  sample.distance_mm = 12.3456;
-  sample.resolution_mm = 0.001;
+  sample.kind = ls5::kind::result;
+  sample.set(ls5::channel::distance_mm, 12.3456);
+  sample.set(ls5::channel::resolution_mm, 0.001);
   item.item = sample;
   const auto json = nlohmann::json::parse(web::item_json(item));
   const auto reading = reading_of(sample);
@@ -112,8 +113,8 @@ TEST(WebFamilies, ASampleItemCarriesItsReading) {
   EXPECT_DOUBLE_EQ(json["reading"]["value"].get<double>(), 12.346);  // the 3 decimals of a 0.001 mm step
   EXPECT_EQ(json["data"]["device"], "ls5");
 
-  sample.distance_mm.reset();
-  sample.signal = SignalState::lost;
+  sample.set(ls5::channel::distance_mm, std::nullopt);
+  sample.set(ls5::channel::signal, ls5::SignalState::lost);
   item.item = sample;
   const auto gap = nlohmann::json::parse(web::item_json(item));
   EXPECT_FALSE(gap.contains("reading")) << gap.dump();

@@ -1,5 +1,6 @@
 // `GET /api/events?max_rate=N` (docs/api.md): a sensor's samples merged per bucket.
 #include "web/sample_aggregate.hpp"
+#include "rangekit/ls5/family.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,11 +13,11 @@ using namespace rangekit;
 Sample ls5(std::optional<double> distance_mm, bool suspect = false) {
   Sample sample;
   sample.device = "ls5";
-  sample.kind = SampleKind::ls5_result;
-  sample.distance_mm = distance_mm;
-  sample.signal = distance_mm ? SignalState::ok : SignalState::lost;
+  sample.kind = ls5::kind::result;
+  sample.set(ls5::channel::distance_mm, distance_mm);
+  sample.set(ls5::channel::signal, distance_mm ? ls5::SignalState::ok : ls5::SignalState::lost);
   sample.suspect = suspect;
-  sample.resolution_mm = 0.001;  // an LS5 of 25 mm range (table 3.1): 3 decimals
+  sample.set(ls5::channel::resolution_mm, 0.001);  // an LS5 of 25 mm range (table 3.1): 3 decimals
   return sample;
 }
 

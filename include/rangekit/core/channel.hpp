@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string_view>
 
 namespace rangekit {
@@ -18,6 +19,9 @@ enum class Quantity : std::uint8_t {
   pulse_count,      // laser pulses between two events
   result_code,      // the raw number the sensor sent
   error_number,     // the sensor's own error number
+  signal,           // whether the sensor sees a target: 0 it does, another state why not
+  overflow,         // 1 when a count went beyond what the sensor can send
+  resolution,       // one step of the sensor's values where this sample was read
 };
 
 enum class Unit : std::uint8_t { none, metre, millimetre, nanosecond };
@@ -29,11 +33,38 @@ const char* unit_symbol(Unit unit) noexcept;
 // The factor from `unit` to the metre, for the length units only.
 std::optional<double> metres_per(Unit unit) noexcept;
 
+// How a channel's value is written: a number, true/false, the name of a state, or the
+// sample's targets (a list of distance and strength).
+enum class ChannelForm : std::uint8_t { number, flag, state, targets };
+
+// How a channel is kept in a capture's samples table (record/capture.hpp).
+enum class ColumnType : std::uint8_t { real, integer, text };
+struct CaptureColumn {
+  std::string_view name;  // "distance_m"; channels of two families with one name share it
+  ColumnType type = ColumnType::real;
+  // An integer column holds value × scale (a pulse width in ns kept as the wire's ps).
+  double scale = 1;
+};
+
 struct ChannelDescriptor {
   std::string_view key;  // the JSON and CSV key: "distance_m"
   Quantity quantity = Quantity::distance;
   Unit unit = Unit::none;
   std::string_view description;  // one line for help and the API's descriptors
+  ChannelForm form = ChannelForm::number;
+  // Decimals a number is written with; 0 for a count.
+  int decimals = 0;
+  // A channel of the same family holding this one's step (LS5's discreteness): when a sample
+  // has it, its decimals replace `decimals`. -1 for none.
+  int step_channel = -1;
+  // The names of a state's values, 0 first ("ok", "none_yet", "lost").
+  std::span<const std::string_view> states = {};
+  CaptureColumn capture;
+  // False: kept in captures and used by the family, but not a column of CSV or JSON lines.
+  bool in_stream = true;
+  // The value an absent channel has in a line of a kind that lists it (a flag false unless set);
+  // none: written as null.
+  std::optional<double> otherwise = std::nullopt;
 };
 
 // The one number a sample reports, with the channel that gives it its meaning: what the

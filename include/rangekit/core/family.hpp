@@ -31,10 +31,21 @@ struct QualityInput {
   std::optional<double> pulse_width_ps;
 };
 
+// A kind of sample of a family (a ULS binning burst, an LS5 derivative): its name in JSON,
+// CSV and captures, and the channels its line shows, in order.
+struct KindDescriptor {
+  std::string_view name;  // "binning"
+  std::span<const std::uint8_t> channels;
+  std::string_view former_name = {};  // how captures of older versions spell it
+};
+
 struct FamilyDescriptor {
   std::string_view name;   // the `device` of its samples, its CLI subcommand: "uls"
   std::string_view title;  // "LTI Universal Laser Sensor"
+  // At most ChannelValues::capacity; a sample's ChannelKey is an index here.
   std::span<const ChannelDescriptor> channels;
+  // A sample's SampleKind is an index here.
+  std::span<const KindDescriptor> kinds;
   // The one number a sample reports (channel.hpp), none when it has no value: a gap.
   std::optional<Reading> (*reading)(const Sample& sample) = nullptr;
   // The quality checks' view of a sample; none when its kind is not judged (targets that come
@@ -48,6 +59,12 @@ struct FamilyDescriptor {
   // A unit address as the family's documents and site file write it ("A", "0x9C"); none: in
   // decimal, as every other number. Whatever a person reads spells an address this way.
   std::string (*address_text)(int address) = nullptr;
+  // The words of a sample in the stream's text form, after its time, family and address
+  // ("  1.234 m  pw 12.000 ns"); none: its kind's channels as key=value.
+  void (*append_text)(std::string& out, const Sample& sample) = nullptr;
+  // Completes a sample read from a capture an older version wrote (a value it kept another
+  // way); none when there is nothing to complete.
+  void (*read_back)(Sample& sample) = nullptr;
 };
 
 // Adds a family; a second one of the same name replaces the first. Called from the
@@ -58,6 +75,19 @@ std::span<const FamilyDescriptor* const> families() noexcept;
 const FamilyDescriptor* find_family(std::string_view name) noexcept;
 // A channel of a family by its key.
 const ChannelDescriptor* find_channel(const FamilyDescriptor& family, std::string_view key) noexcept;
+// The index of a family's channel (its ChannelKey's) by its key.
+std::optional<std::size_t> channel_index(const FamilyDescriptor& family, std::string_view key) noexcept;
+
+// The family of a sample; none for a family not registered.
+const FamilyDescriptor* family_of(const Sample& sample) noexcept;
+// The sample's kind as its family describes it; none for a family not registered or a kind it has not.
+const KindDescriptor* kind_of(const Sample& sample) noexcept;
+// The kind's name, "unknown" when kind_of has none.
+std::string_view kind_name_of(const Sample& sample) noexcept;
+// A kind of the family by its name or former name.
+std::optional<SampleKind> find_kind(const FamilyDescriptor& family, std::string_view name) noexcept;
+// The value of the sample's first channel of `quantity` (its error number, its signal state).
+std::optional<double> value_of(const Sample& sample, Quantity quantity) noexcept;
 
 // The sample's reading as its family defines it; none for a family not registered.
 std::optional<Reading> reading_of(const Sample& sample);

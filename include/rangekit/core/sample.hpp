@@ -1,31 +1,78 @@
-// One measurement as the host received it, in a form both families share, so
-// stream output (jsonl/csv/text), SQLite capture and replay handle ULS and LS5
-// alike. Field names follow the JSON keys of docs/cli.md.
+// One measurement as the host received it: its time, source and kind, and a value for each
+// of its family's channels (core/channel.hpp), so stream output, capture and every face
+// handle any family alike.
 #pragma once
 
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <initializer_list>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "rangekit/core/shared_name.hpp"
 
 namespace rangekit {
 
-enum class SampleKind : std::uint8_t {
-  uls_averaging,   // distance_m and/or pulse_width
-  uls_binning,     // targets (one complete target array)
-  uls_look_down,   // presence and/or pulses_between_events (or pulses_overflow)
-  uls_error,       // device_error (e.g. $ER,4 target not found)
-  ls5_result,      // code, distance_mm, signal
-  ls5_derivative,  // code, derivative_mm, signal: «Type of preliminary result» 01 (LS5 §8.8/§8.9)
+// What a sample is, as its family numbers its kinds (FamilyDescriptor::kinds): a ULS
+// averaging line, an LS5 derivative. Generic code names it through the family.
+enum class SampleKind : std::uint8_t {};
+
+// A channel of a family (the index of its ChannelDescriptor), typed by how the family's own
+// code reads it: a distance as a double, a flag as a bool, a count as an integer.
+// The key names its family: a sample of another family has no value for it (its channel of the
+// same index means something else).
+template <class T>
+struct ChannelKey {
+  std::string_view family;
+  std::uint8_t index = 0;
+  // The key's value is the channel's × scale: a pulse width kept in ns, read in ps (1000).
+  double scale = 1;
 };
 
-const char* sample_kind_name(SampleKind kind) noexcept;
+// The channels a sample has a value for, each in its channel's unit: a fixed slot per
+// channel, so a sample allocates nothing for them and a copy is a copy of bytes.
+class ChannelValues {
+ public:
+  static constexpr std::size_t capacity = 16;
+
+  [[nodiscard]] std::optional<double> get(std::size_t channel) const noexcept {
+    if (!has(channel)) return std::nullopt;
+    return values_[channel];
+  }
+  [[nodiscard]] bool has(std::size_t channel) const noexcept {
+    return channel < capacity && (present_ & (1U << channel)) != 0;
+  }
+  // A channel beyond the capacity is not kept (a family has at most `capacity`, checked
+  // when it registers).
+  void set(std::size_t channel, double value) noexcept {
+    if (channel >= capacity) return;
+    values_[channel] = value;
+    present_ = static_cast<std::uint16_t>(present_ | (1U << channel));
+  }
+  void erase(std::size_t channel) noexcept {
+    if (channel < capacity) present_ = static_cast<std::uint16_t>(present_ & ~(1U << channel));
+  }
+  void clear() noexcept { present_ = 0; }
+  [[nodiscard]] bool empty() const noexcept { return present_ == 0; }
+
+  friend bool operator==(const ChannelValues& a, const ChannelValues& b) noexcept {
+    if (a.present_ != b.present_) return false;
+    for (std::size_t channel = 0; channel < capacity; ++channel) {
+      if (a.has(channel) && a.values_[channel] != b.values_[channel]) return false;
+    }
+    return true;
+  }
+
+ private:
+  std::array<double, capacity> values_{};
+  std::uint16_t present_ = 0;
+};
 
 struct TargetHit {
   double distance_m = 0;
@@ -96,42 +143,52 @@ class TargetList {
   std::vector<TargetHit> overflow_;  // all of them, once there are more than inline_capacity
 };
 
-// LS5 result-code meaning (§9.3): a distance, 65534 no measurement yet, 65535 no signal.
-enum class SignalState : std::uint8_t { ok, none_yet, lost };
-const char* signal_state_name(SignalState state) noexcept;
-
 struct Sample {
   std::chrono::system_clock::time_point time;  // host receive time (UTC)
-  std::string device;                          // "uls" or "ls5"
+  std::string device;                          // its family's name: "uls", "ls5"
   SharedName source;  // port path or UDP endpoint it came from; shared, so a copy does not allocate
   int address = -1;   // bus address, -1 when the protocol has none
-  SampleKind kind = SampleKind::uls_averaging;
+  SampleKind kind{};  // one of its family's kinds
 
-  // ULS averaging
-  std::optional<double> distance_m;
-  std::optional<std::uint32_t> pulse_width;  // as on the wire (picoseconds)
-  // ULS binning
+  // Its channels' values, in each channel's unit (the family's channel descriptors).
+  ChannelValues values;
+  // The targets of one burst, for a family whose channels include targets.
   TargetList targets;
-  // ULS look down
-  std::optional<bool> presence;
-  std::optional<std::uint32_t> pulses_between_events;
-  // `$0000`: more than 65535 pulses between the edges (§8 "signifying maximum time
-  // occurred"); pulses_between_events is then empty (U88).
-  bool pulses_overflow = false;
-  // ULS measurement error number ($ER,n)
-  std::optional<int> device_error;
-  // LS5
-  std::optional<std::uint16_t> code;
-  std::optional<double> distance_mm;    // ls5_result: formula 8.1; null on 65534/65535
-  std::optional<double> derivative_mm;  // ls5_derivative: formula 8.2; null on 65534/65535
-  std::optional<SignalState> signal;
-  // The sensor's discreteness (LS5 table 3.1): how many decimals its millimetres deserve.
-  std::optional<double> resolution_mm;
   // Quality (docs/reliability.md): the frame decoded, but the value is one no real target
   // gives here (core/sample_quality.hpp); suspect_reason says which check and why.
   // Neither protocol has a checksum, so this is the only sign of a corrupted line.
   bool suspect = false;
   std::string suspect_reason;
+
+  template <class T>
+  [[nodiscard]] std::optional<T> get(ChannelKey<T> key) const noexcept {
+    if (device != key.family) return std::nullopt;
+    const auto value = values.get(key.index);
+    if (!value) return std::nullopt;
+    if constexpr (std::is_same_v<T, bool>) {
+      return *value != 0;
+    } else if constexpr (std::is_enum_v<T>) {
+      return static_cast<T>(static_cast<std::underlying_type_t<T>>(*value));
+    } else if constexpr (std::is_integral_v<T>) {
+      return static_cast<T>(std::llround(*value * key.scale));  // ps of 12.345 ns: 12345, not 12344
+    } else {
+      return static_cast<T>(*value * key.scale);
+    }
+  }
+  // Sets the channel, or clears it for nullopt; nothing for a key of another family than `device`.
+  template <class T>
+  void set(ChannelKey<T> key, std::type_identity_t<std::optional<T>> value) noexcept {
+    if (device != key.family) return;
+    if (!value) {
+      values.erase(key.index);
+    } else if constexpr (std::is_same_v<T, bool>) {
+      values.set(key.index, *value ? 1.0 : 0.0);
+    } else if constexpr (std::is_enum_v<T>) {
+      values.set(key.index, static_cast<double>(static_cast<std::underlying_type_t<T>>(*value)));
+    } else {
+      values.set(key.index, static_cast<double>(*value) / key.scale);
+    }
+  }
 
   friend bool operator==(const Sample&, const Sample&) = default;
 };

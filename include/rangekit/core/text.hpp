@@ -43,6 +43,9 @@ std::string printable(std::string_view text, bool ascii_only = false, std::size_
 // word's length, at least 1, and no other candidate is as close; nothing otherwise.
 std::optional<std::string> closest(std::string_view typed, std::span<const std::string> candidates);
 
+// Appends printf-formatted text (at most 511 bytes of it).
+[[gnu::format(printf, 2, 3)]] void append_printf(std::string& out, const char* format, ...);
+
 // Upper-case ASCII letters in place of lower-case ones.
 inline char to_upper(char c) noexcept { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }
 

@@ -1,9 +1,8 @@
 // The three text forms of a sample or event, shared by the stream sinks, replay
 // and the benches. Every function appends one complete line (with '\n') so a
-// sink can batch many lines into one write. Numbers use fixed decimals (metres
-// 4; millimetres as many as the sample's resolution_mm has, 2 when unknown) so
-// the same sample always gives the same bytes, live or replayed. docs/capture.md
-// lists every field.
+// sink can batch many lines into one write. Numbers use their channel's decimals
+// (core/channel.hpp) so the same sample always gives the same bytes, live or
+// replayed. docs/capture.md lists every field.
 #pragma once
 
 #include <chrono>
@@ -21,8 +20,10 @@ void append_jsonl(std::string& out, const Sample& sample);
 // {"time":...,"event":...,"message":...,"count":...}
 void append_jsonl(std::string& out, const StreamEvent& event);
 
-// The CSV header row: the JSON keys in the same order, targets as "d1:s1;d2:s2".
-const char* csv_header() noexcept;
+// The CSV header row: time, device, address, source and kind, then every registered family's
+// channels (their JSON keys, in registration order), error_text, suspect and suspect_reason.
+// Targets are written "d1:s1;d2:s2".
+std::string csv_header();
 void append_csv(std::string& out, const Sample& sample);
 
 // 01:02:03.456 uls #3  12.345 m  pw 18000   (UTC time of day)

@@ -9,6 +9,7 @@
 
 #include "rangekit/core/stream_queue.hpp"
 #include "rangekit/ls5/driver.hpp"
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/ls5/settings.hpp"
 
 namespace rangekit::ls5 {
@@ -28,23 +29,25 @@ Sample make_ls5_sample(ResultCode code, std::optional<double> range_mm, SharedNa
   const bool has_range = range_mm && *range_mm > 0;
   Sample sample;
   sample.time = std::chrono::system_clock::now();
-  sample.device = "ls5";
+  sample.device = family().name;
   sample.source = std::move(source);
   sample.address = address;
-  sample.kind = derivative ? SampleKind::ls5_derivative : SampleKind::ls5_result;
-  sample.code = code.value;
-  if (has_range) sample.resolution_mm = discreteness_mm(*range_mm);  // table 3.1 (L63)
+  sample.kind = derivative ? kind::derivative : kind::result;
+  sample.set(channel::code, code.value);
+  if (has_range) sample.set(channel::resolution_mm, discreteness_mm(*range_mm));  // table 3.1 (L63)
   switch (code.kind) {
     case CodeKind::result:
-      sample.signal = SignalState::ok;
-      if (has_range && derivative) sample.derivative_mm = derivative_mm(code.value, *range_mm);  // formula 8.2
-      if (has_range && !derivative) sample.distance_mm = distance_mm(code.value, *range_mm);     // formula 8.1
+      sample.set(channel::signal, SignalState::ok);
+      if (has_range && derivative)
+        sample.set(channel::derivative_mm, derivative_mm(code.value, *range_mm));  // formula 8.2
+      if (has_range && !derivative)
+        sample.set(channel::distance_mm, distance_mm(code.value, *range_mm));  // formula 8.1
       break;
     case CodeKind::no_measurement_yet:
-      sample.signal = SignalState::none_yet;
+      sample.set(channel::signal, SignalState::none_yet);
       break;
     case CodeKind::no_signal:
-      sample.signal = SignalState::lost;
+      sample.set(channel::signal, SignalState::lost);
       break;
   }
   return sample;

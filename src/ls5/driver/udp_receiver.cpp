@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "rangekit/core/stream_queue.hpp"
+#include "rangekit/ls5/family.hpp"
 #include "rangekit/ls5/result_code.hpp"
 #include "rangekit/ls5/udp_packet.hpp"
 
@@ -20,13 +21,13 @@ Sample record_sample(const UdpRecord& record, std::size_t index, const UdpPacket
                      int address, std::chrono::system_clock::time_point time) {
   Sample sample;
   sample.time = time;
-  sample.device = "ls5";
+  sample.device = family().name;
   sample.source = source;
   sample.address = address;
   // State bit 3: "the result corresponds to the distance derivative" (§10.1, L60).
-  sample.kind = record.derivative() ? SampleKind::ls5_derivative : SampleKind::ls5_result;
-  sample.code = record.code;                                                         // the §10.1 code, 0-0x4000 (L45)
-  if (packet.range_mm > 0) sample.resolution_mm = discreteness_mm(packet.range_mm);  // table 3.1 (L63)
+  sample.kind = record.derivative() ? kind::derivative : kind::result;
+  sample.set(channel::code, record.code);  // the §10.1 code, 0-0x4000 (L45)
+  if (packet.range_mm > 0) sample.set(channel::resolution_mm, discreteness_mm(packet.range_mm));  // table 3.1 (L63)
   if (auto state = check_udp_state(record.state); !state) {
     // Kept in its place with its code, but a word not as documented says nothing sure: no
     // signal, no value (L85).
@@ -35,23 +36,23 @@ Sample record_sample(const UdpRecord& record, std::size_t index, const UdpPacket
     return sample;
   }
   if (!record.measured()) {
-    sample.signal = SignalState::none_yet;
+    sample.set(channel::signal, SignalState::none_yet);
   } else if (!record.in_range()) {
-    sample.signal = SignalState::lost;
+    sample.set(channel::signal, SignalState::lost);
   } else if (record.code > udp_full_scale_code) {
     // Past 0x4000, the end of the range of formula 10.1: out of range whatever bit 2 says (L86).
-    sample.signal = SignalState::lost;
+    sample.set(channel::signal, SignalState::lost);
     sample.suspect = true;
     sample.suspect_reason = "code " + std::to_string(record.code) + " is above 0x4000 (16384), the end of the range, " +
                             "while the state word says in range: out of range";
   } else {
-    sample.signal = SignalState::ok;
+    sample.set(channel::signal, SignalState::ok);
     if (record.derivative()) {
       auto derivative = udp_derivative_mm(record, packet.range_mm);  // formula 8.2 scaled to 0x4000 (L87)
-      if (derivative) sample.derivative_mm = *derivative;
+      if (derivative) sample.set(channel::derivative_mm, *derivative);
     } else {
       auto distance = udp_distance_mm(record, packet.range_mm);  // formula 10.1
-      if (distance) sample.distance_mm = *distance;
+      if (distance) sample.set(channel::distance_mm, *distance);
     }
   }
   return sample;

@@ -18,6 +18,7 @@
 #include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "rangekit/uls/errors.hpp"
+#include "rangekit/uls/family.hpp"
 #include "rangekit/uls/formulas.hpp"
 #include "rangekit/uls/host_config.hpp"
 #include "rangekit/uls/named_settings.hpp"
@@ -76,18 +77,21 @@ Result<std::unique_ptr<Driver>> open_driver(const LinkOptions& link, bool with_r
 }
 
 std::string format_sample(const Sample& sample) {
-  std::string text = sample_kind_name(sample.kind);
+  std::string text(kind_name_of(sample));
   // "error 4: Lock Not Found (display: Target Not Found)": §10's words, not a bare number (U90).
-  if (sample.device_error) text += fmt::format(" {}: {}", *sample.device_error, error_text(*sample.device_error));
+  if (const auto number = sample.get(channel::error)) text += fmt::format(" {}: {}", *number, error_text(*number));
   if (sample.address >= 0) text += " address=" + address_text(static_cast<std::uint8_t>(sample.address));
-  if (sample.distance_m) text += fmt::format(" distance_m={:.3f}", *sample.distance_m);
+  if (const auto metres = sample.get(channel::distance_m)) text += fmt::format(" distance_m={:.3f}", *metres);
   // Picoseconds on the wire (U8), shown in ns with the unit in the name (U92).
-  if (sample.pulse_width) text += fmt::format(" pulse_width_ns={:.3f}", *sample.pulse_width / 1000.0);
+  if (const auto picoseconds = sample.get(channel::pulse_width_ps))
+    text += fmt::format(" pulse_width_ns={:.3f}", *picoseconds / 1000.0);
   for (std::size_t i = 0; i < sample.targets.size(); ++i)
     text += fmt::format(" target{}={:.3f}m/{}", i, sample.targets[i].distance_m, sample.targets[i].strength);
-  if (sample.presence) text += fmt::format(" presence={}", *sample.presence ? "true" : "false");
-  if (sample.pulses_between_events) text += fmt::format(" pulses_between_events={}", *sample.pulses_between_events);
-  if (sample.pulses_overflow) text += " pulses_between_events>65535";
+  if (const auto present = sample.get(channel::presence))
+    text += fmt::format(" presence={}", *present ? "true" : "false");
+  if (const auto pulses = sample.get(channel::pulses_between_events))
+    text += fmt::format(" pulses_between_events={}", *pulses);
+  if (sample.get(channel::pulses_overflow).value_or(false)) text += " pulses_between_events>65535";
   return text;
 }
 

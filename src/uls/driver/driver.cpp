@@ -9,6 +9,7 @@
 #include "rangekit/core/text.hpp"
 #include "rangekit/uls/describe.hpp"
 #include "rangekit/uls/errors.hpp"
+#include "rangekit/uls/family.hpp"
 #include "rangekit/uls/formulas.hpp"
 #include "rangekit/uls/frame.hpp"
 #include "uls/driver/binning_array.hpp"
@@ -83,28 +84,28 @@ StatusInfo decode_status(std::uint8_t value) noexcept {
 Sample sample_from_reading(const Reading& reading, int address, const SharedName& source) {
   Sample sample;
   sample.time = std::chrono::system_clock::now();
-  sample.device = "uls";
+  sample.device = family().name;
   sample.source = source;
   sample.address = address;
   if (const auto* averaging = std::get_if<AveragingReading>(&reading)) {
-    sample.kind = SampleKind::uls_averaging;
-    if (averaging->range) sample.distance_m = averaging->range->metres;
-    sample.pulse_width = averaging->pulse_width_ps;
+    sample.kind = kind::averaging;
+    if (averaging->range) sample.set(channel::distance_m, averaging->range->metres);
+    sample.set(channel::pulse_width_ps, averaging->pulse_width_ps);
   } else if (const auto* target = std::get_if<BinningTarget>(&reading)) {
-    sample.kind = SampleKind::uls_binning;
+    sample.kind = kind::binning;
     sample.targets.push_back(TargetHit{target->range.metres, target->strength});
   } else if (const auto* look = std::get_if<LookDownReading>(&reading)) {
-    sample.kind = SampleKind::uls_look_down;
-    sample.presence = look->present;
+    sample.kind = kind::look_down;
+    sample.set(channel::presence, look->present);
   } else if (const auto* event = std::get_if<TimeBetweenEvents>(&reading)) {
-    sample.kind = SampleKind::uls_look_down;
-    sample.presence = event->kind != TimeBetweenEvents::Kind::no_presence;
+    sample.kind = kind::look_down;
+    sample.set(channel::presence, event->kind != TimeBetweenEvents::Kind::no_presence);
     // U88: `$0000` is more than 65535 pulses, not 0.
-    if (event->kind == TimeBetweenEvents::Kind::pulses) sample.pulses_between_events = event->pulses;
-    sample.pulses_overflow = event->kind == TimeBetweenEvents::Kind::overflow;
+    if (event->kind == TimeBetweenEvents::Kind::pulses) sample.set(channel::pulses_between_events, event->pulses);
+    sample.set(channel::pulses_overflow, event->kind == TimeBetweenEvents::Kind::overflow);
   } else if (const auto* error = std::get_if<MeasurementError>(&reading)) {
-    sample.kind = SampleKind::uls_error;
-    sample.device_error = error->number;
+    sample.kind = kind::error;
+    sample.set(channel::error, error->number);
   }
   return sample;
 }

@@ -8,6 +8,7 @@
 
 #include "rangekit/core/stream_queue.hpp"
 #include "rangekit/uls/driver.hpp"
+#include "rangekit/uls/family.hpp"
 #include "rangekit/uls/formulas.hpp"
 #include "uls/driver/binning_array.hpp"
 
@@ -125,8 +126,10 @@ void Driver::handle_measurement(const Measurement& measurement) {
 // A look-down poll reads the state the last edge left (§2 Single Measurement, "the most recent
 // measurement"): the same answer again is no new edge (U87).
 bool same_look_down_answer(const Sample& a, const Sample& b) noexcept {
-  return a.kind == b.kind && a.presence == b.presence && a.pulses_between_events == b.pulses_between_events &&
-         a.pulses_overflow == b.pulses_overflow && a.device_error == b.device_error;
+  return a.kind == b.kind && a.get(channel::presence) == b.get(channel::presence) &&
+         a.get(channel::pulses_between_events) == b.get(channel::pulses_between_events) &&
+         a.get(channel::pulses_overflow).value_or(false) == b.get(channel::pulses_overflow).value_or(false) &&
+         a.get(channel::error) == b.get(channel::error);
 }
 
 bool Driver::repeats_last_poll(const Sample& sample) {

@@ -9,6 +9,7 @@
 
 #include "rangekit/uls/bus.hpp"
 #include "rangekit/uls/driver.hpp"
+#include "rangekit/uls/family.hpp"
 #include "rangekit/uls/formulas.hpp"
 #include "rangekit/uls/host_config.hpp"
 #include "rangekit/uls/named_settings.hpp"
@@ -85,8 +86,8 @@ std::string distance_text(double metres, uls::Units units) {
 }
 
 std::string sample_text(const Sample& sample, uls::Units units) {
-  if (sample.device_error) return "error " + std::to_string(*sample.device_error);
-  if (sample.distance_m) return distance_text(*sample.distance_m, units);
+  if (const auto number = sample.get(channel::error)) return "error " + std::to_string(*number);
+  if (const auto metres = sample.get(channel::distance_m)) return distance_text(*metres, units);
   if (!sample.targets.empty()) {
     std::string text = std::to_string(sample.targets.size()) + (sample.targets.size() == 1 ? " target:" : " targets:");
     for (std::size_t i = 0; i < sample.targets.size(); ++i) {
@@ -94,7 +95,7 @@ std::string sample_text(const Sample& sample, uls::Units units) {
     }
     return text;
   }
-  if (sample.presence) return *sample.presence ? "ON" : "OFF";
+  if (const auto present = sample.get(channel::presence)) return *present ? "ON" : "OFF";
   return "";
 }
 
