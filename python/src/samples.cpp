@@ -71,14 +71,14 @@ double to_seconds(std::chrono::system_clock::time_point time) noexcept {
 }
 
 // The sample's kind among every family's kinds (rangekit.sample_kinds); 255 for one not registered.
-std::uint8_t kind_number(const Sample& sample) {
+std::uint8_t kind_number(const FamilyDescriptor* family, const Sample& sample) {
   std::size_t number = 0;
-  for (const FamilyDescriptor* family : families()) {
-    if (family->name == sample.device) {
+  for (const FamilyDescriptor* registered : families()) {
+    if (registered == family) {
       const auto kind = static_cast<std::size_t>(sample.kind);
       return kind < family->kinds.size() ? static_cast<std::uint8_t>(number + kind) : 255;
     }
-    number += family->kinds.size();
+    number += registered->kinds.size();
   }
   return 255;
 }
@@ -89,14 +89,16 @@ SampleRecord to_record(const Sample& sample) noexcept {
   record.distance_m = not_a_number;
   record.intensity = not_a_number;
   record.address = static_cast<std::int16_t>(sample.address);
-  record.kind = kind_number(sample);
+  // One lookup of the family for the record (a bulk read converts millions of samples).
+  const FamilyDescriptor* family = family_of(sample);
+  record.kind = kind_number(family, sample);
   // The sample's reading (core/family.hpp) in metres, when it is a length at all.
-  if (const auto reading = reading_of(sample)) {
+  if (const auto reading = family != nullptr && family->reading != nullptr ? family->reading(sample) : std::nullopt) {
     if (const auto scale = metres_per(reading->channel->unit)) record.distance_m = reading->value * *scale;
   }
   // The columns only some families fill, by the sample's own family.
-  if (const PythonFamily* family = find_python_family(sample.device); family != nullptr && family->fill_record)
-    family->fill_record(sample, record);
+  if (const PythonFamily* python = find_python_family(sample.device); python != nullptr && python->fill_record)
+    python->fill_record(sample, record);
   if (!std::isnan(record.distance_m)) record.flags |= flag::valid;
   if (sample.suspect) record.flags |= flag::suspect;
   return record;

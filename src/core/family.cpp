@@ -110,7 +110,12 @@ std::optional<std::size_t> channel_index(const FamilyDescriptor& family, std::st
   return std::nullopt;
 }
 
-const FamilyDescriptor* family_of(const Sample& sample) noexcept { return find_family(sample.device); }
+const FamilyDescriptor* family_of(const Sample& sample) noexcept {
+  for (const FamilyDescriptor* family : families()) {
+    if (sample.is_of(family->name)) return family;
+  }
+  return nullptr;
+}
 
 const KindDescriptor* kind_of(const Sample& sample) noexcept {
   const FamilyDescriptor* family = family_of(sample);

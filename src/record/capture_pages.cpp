@@ -119,16 +119,34 @@ const char* storage_name(StorageClass type) {
 // The fields of CaptureFields::array, as read_sample_into in replay.cpp fills them from
 // the SQLite reader's row (source, the channels not shown in the stream and suspect_reason
 // stay empty).
-void fill_array_sample(Row& row, Sample& sample) {
+// The family and kind of the row before: rows of one source follow each other, so most rows
+// are read without looking either up again.
+struct LastLookup {
+  const FamilyColumns* columns = nullptr;
+  std::string kind_name;
+  SampleKind kind{};
+};
+
+void fill_array_sample(Row& row, Sample& sample, LastLookup& last) {
   sample.time = std::chrono::system_clock::time_point(std::chrono::duration_cast<std::chrono::system_clock::duration>(
       std::chrono::nanoseconds(row.integer<std::int64_t>(time_ns).value_or(0))));
-  sample.device.assign(row.text(device));
+  const std::string_view family_name = row.text(device);
+  if (sample.device != family_name) sample.device.assign(family_name);
   sample.address = row.integer<int>(address).value_or(-1);
   const CaptureLayout& layout = capture_layout();
-  const FamilyColumns* columns = layout.columns_of(sample.device);
+  if (last.columns == nullptr || last.columns->family->name != family_name) {
+    last.columns = layout.columns_of(family_name);
+    last.kind_name.clear();
+  }
+  const FamilyColumns* columns = last.columns;
   sample.kind = SampleKind{};
   if (columns != nullptr) {
-    sample.kind = find_kind(*columns->family, row.text(kind)).value_or(SampleKind{});
+    const std::string_view kind_name = row.text(kind);
+    if (kind_name != last.kind_name) {
+      last.kind_name.assign(kind_name);
+      last.kind = find_kind(*columns->family, kind_name).value_or(SampleKind{});
+    }
+    sample.kind = last.kind;
     read_channels(row, CaptureLayout::first_channel_column, *columns, sample, true);
   } else {
     sample.values.clear();
@@ -179,6 +197,7 @@ Status read_samples_pages(const std::string& path, std::uint32_t root, std::stri
   if ((*pages)->geometry().text_encoding != utf8) return make_error(Errc::io, prefix + "text is not UTF-8");
   std::vector<FieldValue> fields(capture_layout().column_count());
   Sample sample;  // one for every row: its strings keep their storage
+  LastLookup last;
   std::optional<Error> failure;
   auto walked = sqlite_pages::walk_table(**pages, root, [&](std::int64_t seq, std::span<const std::uint8_t> record) {
     if (!sqlite_pages::decode_record(record, fields)) {
@@ -187,7 +206,7 @@ Status read_samples_pages(const std::string& path, std::uint32_t root, std::stri
     }
     Row row(fields);
     if (!wanted_device.empty() && row.text(device) != wanted_device) return true;
-    fill_array_sample(row, sample);
+    fill_array_sample(row, sample, last);
     if (const Mismatch* mismatch = row.first_mismatch()) {
       failure =
           make_error(Errc::io, prefix + "row " + std::to_string(seq) + ": column " + column_name(mismatch->column) +
