@@ -296,7 +296,8 @@ void append_csv(std::string& out, const Sample& sample) {
   std::optional<double> error_number;
   for (const std::string_view key : csv_keys()) {
     out += ',';
-    const auto index = family != nullptr ? channel_index(*family, key) : std::nullopt;
+    if (family == nullptr) continue;
+    const auto index = channel_index(*family, key);
     if (!index) continue;
     const ChannelDescriptor& channel = family->channels[*index];
     if (channel.form == ChannelForm::targets) {

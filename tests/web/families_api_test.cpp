@@ -45,6 +45,17 @@ TEST(WebFamilies, ListsEveryRegisteredFamilyAsItsDescriptorsSay) {
       EXPECT_EQ(row["quantity"], quantity_name(channel.quantity));
       EXPECT_EQ(row["unit"], unit_symbol(channel.unit));
       EXPECT_EQ(row["description"], channel.description);
+      EXPECT_EQ(row["in_stream"], channel.in_stream);
+      EXPECT_EQ(row["states"].size(), channel.states.size()) << channel.key;
+    }
+    // Each kind with the keys its line carries: what a client reads a sample's line by.
+    ASSERT_EQ(json["kinds"].size(), family.kinds.size()) << family.name;
+    for (std::size_t k = 0; k < family.kinds.size(); ++k) {
+      EXPECT_EQ(json["kinds"][k]["name"], family.kinds[k].name);
+      ASSERT_EQ(json["kinds"][k]["channels"].size(), family.kinds[k].channels.size());
+      for (std::size_t c = 0; c < family.kinds[k].channels.size(); ++c) {
+        EXPECT_EQ(json["kinds"][k]["channels"][c], family.channels[family.kinds[k].channels[c]].key);
+      }
     }
     const hub::ServiceFamily* service = hub::find_service_family(family.name);
     ASSERT_NE(service, nullptr) << family.name;

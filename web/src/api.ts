@@ -68,8 +68,18 @@ export interface Reading {
 export interface Channel {
   key: string;
   quantity: string;  // 'distance', 'distance_change', 'presence', ...
-  unit: string;      // 'm', 'mm', 'ps'; '' for a count or a state
+  unit: string;      // 'm', 'mm', 'ns'; '' for a count or a state
   description: string;
+  form: 'number' | 'flag' | 'state' | 'targets';  // how a sample's line writes it
+  decimals: number;
+  in_stream: boolean;  // false: kept in captures only
+  states: string[];    // a state's names, 0 first
+}
+
+// A kind of sample and the keys its line carries, in order.
+export interface Kind {
+  name: string;
+  channels: string[];
 }
 
 // POST /api/sensors/{name}/actions/{action}: what a sensor of the family does, and the values
@@ -85,6 +95,7 @@ export interface Family {
   name: string;
   title: string;
   channels: Channel[];
+  kinds: Kind[];
   actions: Action[];
 }
 

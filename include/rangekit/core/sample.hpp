@@ -175,6 +175,18 @@ struct Sample {
       return static_cast<T>(*value * key.scale);
     }
   }
+  // A key's value as the number kept: a flag 1 or 0, a state its number.
+  template <class T>
+  static double number_of(T value) noexcept {
+    if constexpr (std::is_same_v<T, bool>) {
+      return value ? 1.0 : 0.0;
+    } else if constexpr (std::is_enum_v<T>) {
+      return static_cast<double>(static_cast<std::underlying_type_t<T>>(value));
+    } else {
+      return static_cast<double>(value);
+    }
+  }
+
   // Whether the sample is of this family: a short name compared in place, as a bulk read asks
   // it for every channel of millions of samples.
   [[nodiscard]] bool is_of(std::string_view family) const noexcept {
@@ -191,13 +203,9 @@ struct Sample {
     if (!is_of(key.family)) return;
     if (!value) {
       values.erase(key.index);
-    } else if constexpr (std::is_same_v<T, bool>) {
-      values.set(key.index, *value ? 1.0 : 0.0);
-    } else if constexpr (std::is_enum_v<T>) {
-      values.set(key.index, static_cast<double>(static_cast<std::underlying_type_t<T>>(*value)));
-    } else {
-      values.set(key.index, static_cast<double>(*value) / key.scale);
+      return;
     }
+    values.set(key.index, number_of(*value) / key.scale);
   }
 
   friend bool operator==(const Sample&, const Sample&) = default;
