@@ -148,6 +148,17 @@ std::optional<double> value_of(const Sample& sample, Quantity quantity) noexcept
   return std::nullopt;
 }
 
+bool signal_lost(const Sample& sample) noexcept {
+  const FamilyDescriptor* family = family_of(sample);
+  if (family == nullptr) return false;
+  for (std::size_t index = 0; index < family->channels.size(); ++index) {
+    const ChannelDescriptor& channel = family->channels[index];
+    if (channel.quantity != Quantity::signal || channel.states.size() < 2) continue;
+    return sample.values.get(index) == static_cast<double>(channel.states.size() - 1);
+  }
+  return false;
+}
+
 std::optional<Reading> reading_of(const Sample& sample) {
   const FamilyDescriptor* family = family_of(sample);
   if (family == nullptr || family->reading == nullptr) return std::nullopt;

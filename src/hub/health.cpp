@@ -36,8 +36,7 @@ void HealthTracker::record(const StreamItem& item, std::chrono::steady_clock::ti
       ++health_.errors;
       ++health_.errors_by_number[static_cast<int>(*number)];
     }
-    // A signal state other than 0: the sensor sees no target (an LS5 65535).
-    if (value_of(*sample, Quantity::signal).value_or(0) != 0) ++health_.no_signal;
+    if (signal_lost(*sample)) ++health_.no_signal;
     if (sample->suspect) ++health_.suspect;
     count_sample(now);
     return;

@@ -119,8 +119,8 @@ void read_sample_into(sqlite3_stmt* row, Sample& sample) {
   const CaptureLayout& layout = capture_layout();
   const FamilyColumns* columns = layout.columns_of(sample.device);
   sample.kind = SampleKind{};
-  if (columns != nullptr) sample.kind = find_kind(*columns->family, column(5).text()).value_or(SampleKind{});
   if (columns != nullptr) {
+    sample.kind = find_kind(*columns->family, column(5).text()).value_or(SampleKind{});
     SqliteRow values(row);
     read_channels(values, first_channel_in_row, *columns, sample, false);
   } else {

@@ -24,12 +24,16 @@ TEST(Health, CountsEveryKindOfItem) {
   no_signal.device = "ls5";
   no_signal.set(ls5::channel::signal, ls5::SignalState::lost);
   tracker.record(no_signal, t0);
+  // 65534, no measurement yet, is a record but no loss of the signal.
+  Sample not_yet = no_signal;
+  not_yet.set(ls5::channel::signal, ls5::SignalState::none_yet);
+  tracker.record(not_yet, t0);
   tracker.record(StreamEvent{{}, StreamEventKind::lost_records, "gap", 168}, t0);
   tracker.record(StreamEvent{{}, StreamEventKind::bad_frame, "junk", 0}, t0);
   tracker.record(StreamEvent{{}, StreamEventKind::disconnected, "gone", 0}, t0);
   auto health = tracker.snapshot(t0);
   EXPECT_FALSE(health.connected);
-  EXPECT_EQ(health.records, 3u);
+  EXPECT_EQ(health.records, 4u);
   EXPECT_EQ(health.errors, 2u);
   EXPECT_EQ(health.errors_by_number.at(4), 2u);
   EXPECT_EQ(health.no_signal, 1u);

@@ -19,7 +19,8 @@ enum class Quantity : std::uint8_t {
   pulse_count,      // laser pulses between two events
   result_code,      // the raw number the sensor sent
   error_number,     // the sensor's own error number
-  signal,           // whether the sensor sees a target: 0 it does, another state why not
+  signal,           // whether the sensor sees a target: 0 it does, its last state it sees none,
+                    // the states between why there is no value yet
   overflow,         // 1 when a count went beyond what the sensor can send
   resolution,       // one step of the sensor's values where this sample was read
 };

@@ -88,6 +88,9 @@ std::string_view kind_name_of(const Sample& sample) noexcept;
 std::optional<SampleKind> find_kind(const FamilyDescriptor& family, std::string_view name) noexcept;
 // The value of the sample's first channel of `quantity` (its error number, its signal state).
 std::optional<double> value_of(const Sample& sample, Quantity quantity) noexcept;
+// Whether the sample says its sensor sees no target: its signal channel in its last state (an
+// LS5 65535, not 65534's "no measurement yet").
+bool signal_lost(const Sample& sample) noexcept;
 
 // The sample's reading as its family defines it; none for a family not registered.
 std::optional<Reading> reading_of(const Sample& sample);

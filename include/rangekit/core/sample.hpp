@@ -175,18 +175,6 @@ struct Sample {
       return static_cast<T>(*value * key.scale);
     }
   }
-  // A key's value as the number kept: a flag 1 or 0, a state its number.
-  template <class T>
-  static double number_of(T value) noexcept {
-    if constexpr (std::is_same_v<T, bool>) {
-      return value ? 1.0 : 0.0;
-    } else if constexpr (std::is_enum_v<T>) {
-      return static_cast<double>(static_cast<std::underlying_type_t<T>>(value));
-    } else {
-      return static_cast<double>(value);
-    }
-  }
-
   // Whether the sample is of this family: a short name compared in place, as a bulk read asks
   // it for every channel of millions of samples.
   [[nodiscard]] bool is_of(std::string_view family) const noexcept {
@@ -209,6 +197,19 @@ struct Sample {
   }
 
   friend bool operator==(const Sample&, const Sample&) = default;
+
+ private:
+  // A key's value as the number kept: a flag 1 or 0, a state its number.
+  template <class T>
+  static double number_of(T value) noexcept {
+    if constexpr (std::is_same_v<T, bool>) {
+      return value ? 1.0 : 0.0;
+    } else if constexpr (std::is_enum_v<T>) {
+      return static_cast<double>(static_cast<std::underlying_type_t<T>>(value));
+    } else {
+      return static_cast<double>(value);
+    }
+  }
 };
 
 // A link event a stream reports besides samples: the cable went away, came back,
