@@ -6,17 +6,14 @@
 #include <cstddef>
 
 #include "ls5/emulator/command_handlers.hpp"
+#include "rangekit/sim/handler_table.hpp"
 
 namespace rangekit::ls5::emulator {
 
 Firmware::CommandHandler Firmware::handler(CommandId id) noexcept {
   using Id = CommandId;
-  struct Row {
-    CommandId id;
-    CommandHandler handle;
-  };
   // In CommandId's order, as the codec's table: a row is found by its id.
-  static constexpr std::array<Row, command_count> rows{{
+  static constexpr std::array<sim::HandlerRow<CommandId, CommandHandler>, command_count> rows{{
       {Id::identification, &Firmware::handle_identification},
       {Id::read_parameter, &Firmware::handle_read_parameter},
       {Id::write_parameter, &Firmware::handle_write_parameter},
@@ -30,16 +27,7 @@ Firmware::CommandHandler Firmware::handler(CommandId id) noexcept {
       {Id::read_last, &Firmware::handle_read_last},
       {Id::restore_defaults, &Firmware::handle_restore_defaults},
   }};
-  // A row left out leaves a default one, whose id 0 is out of order too. (Comparing the member
-  // pointers with nullptr is no constant expression under the sanitizers.)
-  static_assert(
-      [] {
-        for (std::size_t i = 0; i < rows.size(); ++i) {
-          if (static_cast<std::size_t>(rows[i].id) != i) return false;
-        }
-        return true;
-      }(),
-      "LS5 handler rows out of CommandId order");
+  static_assert(sim::in_id_order(rows), "LS5 handler rows out of CommandId order");
   return rows[static_cast<std::size_t>(id)].handle;
 }
 

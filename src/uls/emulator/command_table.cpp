@@ -4,18 +4,15 @@
 
 #include <array>
 
+#include "rangekit/sim/handler_table.hpp"
 #include "uls/emulator/command_handlers.hpp"
 
 namespace rangekit::uls::emulator {
 
 Firmware::CommandHandler Firmware::handler(CommandId id) noexcept {
   using Id = CommandId;
-  struct Row {
-    CommandId id;
-    CommandHandler handle;
-  };
   // In CommandId's order, as the codec's table: a row is found by its id.
-  static constexpr std::array<Row, command_count> rows{{
+  static constexpr std::array<sim::HandlerRow<CommandId, CommandHandler>, command_count> rows{{
       {Id::dither, &Firmware::handle_flag<&Settings::dither>},
       {Id::measure, &Firmware::handle_measure},
       {Id::version, &Firmware::handle_version},
@@ -53,16 +50,7 @@ Firmware::CommandHandler Firmware::handler(CommandId id) noexcept {
       {Id::address, &Firmware::handle_address},
       {Id::offset, &Firmware::handle_distance<&Settings::offset_m>},
   }};
-  // A row left out leaves a default one, whose id 0 is out of order too. (Comparing the member
-  // pointers with nullptr is no constant expression under the sanitizers.)
-  static_assert(
-      [] {
-        for (std::size_t i = 0; i < rows.size(); ++i) {
-          if (static_cast<std::size_t>(rows[i].id) != i) return false;
-        }
-        return true;
-      }(),
-      "ULS handler rows out of CommandId order");
+  static_assert(sim::in_id_order(rows), "ULS handler rows out of CommandId order");
   return rows[static_cast<std::size_t>(id)].handle;
 }
 
