@@ -188,18 +188,21 @@ struct HeldPort {
   }
 };
 
-// Writes a source port high byte first, as table 9.2 lists 6E before 6F.
-void set_source_port(Session& s, std::uint16_t port) {
+// Writes a port into the parameter pair at `high_parameter`, high byte first, as table 9.2 lists
+// each port's high byte before its low one (source 6E/6F, destination 6C/6D).
+void set_port(Session& s, unsigned high_parameter, std::uint16_t port) {
   char high[16];
   char low[16];
-  std::snprintf(high, sizeof high, "#01W6E%02X\r", port >> 8U);
-  std::snprintf(low, sizeof low, "#01W6F%02X\r", port & 0xFFU);
+  std::snprintf(high, sizeof high, "#01W%02X%02X\r", high_parameter, port >> 8U);
+  std::snprintf(low, sizeof low, "#01W%02X%02X\r", high_parameter + 1, port & 0xFFU);
   for (const char* command : {high, low}) {
     std::string echo = command;
     echo[0] = '!';
     EXPECT_EQ(s.exchange(command, 9), echo);
   }
 }
+
+void set_source_port(Session& s, std::uint16_t port) { set_port(s, 0x6E, port); }
 
 // The next datagram's sender port, waiting for it up to 2 s after virtual time has moved a packet on.
 std::optional<std::uint16_t> next_packet_port(Session& s, UdpSocket& receiver) {
@@ -258,18 +261,7 @@ TEST(Ls5Sim, UdpPacketsComeFromTheSourcePortTheParametersNameL82) {
   EXPECT_EQ(sim.wait(), 0);
 }
 
-// Writes a destination port high byte first, as table 9.2 lists 6C before 6D.
-void set_destination_port(Session& s, std::uint16_t port) {
-  char high[16];
-  char low[16];
-  std::snprintf(high, sizeof high, "#01W6C%02X\r", port >> 8U);
-  std::snprintf(low, sizeof low, "#01W6D%02X\r", port & 0xFFU);
-  for (const char* command : {high, low}) {
-    std::string echo = command;
-    echo[0] = '!';
-    EXPECT_EQ(s.exchange(command, 9), echo);
-  }
-}
+void set_destination_port(Session& s, std::uint16_t port) { set_port(s, 0x6C, port); }
 
 TEST(Ls5Sim, UdpPacketsGoWhereTheDestinationParametersSayL93) {
   // Table 9.2 "Destination IP address" 5C-5F and "Destination port number" 6C/6D; --udp gives
