@@ -97,10 +97,8 @@ std::span<const FamilyDescriptor* const> families() noexcept { return registry()
 const FamilyDescriptor* find_family(std::string_view name) noexcept { return registry().find(name); }
 
 const ChannelDescriptor* find_channel(const FamilyDescriptor& family, std::string_view key) noexcept {
-  for (const ChannelDescriptor& channel : family.channels) {
-    if (channel.key == key) return &channel;
-  }
-  return nullptr;
+  const auto index = channel_index(family, key);
+  return index ? &family.channels[*index] : nullptr;
 }
 
 std::optional<std::size_t> channel_index(const FamilyDescriptor& family, std::string_view key) noexcept {
@@ -110,6 +108,23 @@ std::optional<std::size_t> channel_index(const FamilyDescriptor& family, std::st
   return std::nullopt;
 }
 
+std::optional<std::size_t> channel_index(const FamilyDescriptor& family, Quantity quantity) noexcept {
+  for (std::size_t index = 0; index < family.channels.size(); ++index) {
+    if (family.channels[index].quantity == quantity) return index;
+  }
+  return std::nullopt;
+}
+
+int channel_decimals(const ChannelDescriptor& channel, const Sample& sample) noexcept {
+  if (channel.step_channel >= 0) {
+    if (const auto step = sample.values.get(static_cast<std::size_t>(channel.step_channel))) {
+      const int decimals = decimals_of_step(*step);
+      if (decimals >= 0) return std::min(decimals, 6);
+    }
+  }
+  return channel.decimals;
+}
+
 const FamilyDescriptor* family_of(const Sample& sample) noexcept {
   for (const FamilyDescriptor* family : families()) {
     if (sample.is_of(family->name)) return family;
@@ -117,17 +132,19 @@ const FamilyDescriptor* family_of(const Sample& sample) noexcept {
   return nullptr;
 }
 
-const KindDescriptor* kind_of(const Sample& sample) noexcept {
-  const FamilyDescriptor* family = family_of(sample);
+const KindDescriptor* kind_of(const FamilyDescriptor* family, const Sample& sample) noexcept {
   const auto index = static_cast<std::size_t>(sample.kind);
   if (family == nullptr || index >= family->kinds.size()) return nullptr;
   return &family->kinds[index];
 }
 
-std::string_view kind_name_of(const Sample& sample) noexcept {
-  const KindDescriptor* kind = kind_of(sample);
+const KindDescriptor* kind_of(const Sample& sample) noexcept { return kind_of(family_of(sample), sample); }
+
+std::string_view kind_name_of(const KindDescriptor* kind) noexcept {
   return kind != nullptr ? kind->name : std::string_view("unknown");
 }
+
+std::string_view kind_name_of(const Sample& sample) noexcept { return kind_name_of(kind_of(sample)); }
 
 std::optional<SampleKind> find_kind(const FamilyDescriptor& family, std::string_view name) noexcept {
   for (std::size_t index = 0; index < family.kinds.size(); ++index) {
@@ -142,21 +159,17 @@ std::optional<SampleKind> find_kind(const FamilyDescriptor& family, std::string_
 std::optional<double> value_of(const Sample& sample, Quantity quantity) noexcept {
   const FamilyDescriptor* family = family_of(sample);
   if (family == nullptr) return std::nullopt;
-  for (std::size_t index = 0; index < family->channels.size(); ++index) {
-    if (family->channels[index].quantity == quantity) return sample.values.get(index);
-  }
-  return std::nullopt;
+  const auto index = channel_index(*family, quantity);
+  return index ? sample.values.get(*index) : std::nullopt;
 }
 
 bool signal_lost(const Sample& sample) noexcept {
   const FamilyDescriptor* family = family_of(sample);
   if (family == nullptr) return false;
-  for (std::size_t index = 0; index < family->channels.size(); ++index) {
-    const ChannelDescriptor& channel = family->channels[index];
-    if (channel.quantity != Quantity::signal || channel.states.size() < 2) continue;
-    return sample.values.get(index) == static_cast<double>(channel.states.size() - 1);
-  }
-  return false;
+  const auto index = channel_index(*family, Quantity::signal);
+  if (!index) return false;
+  const std::size_t states = family->channels[*index].states.size();
+  return states >= 2 && sample.values.get(*index) == static_cast<double>(states - 1);
 }
 
 std::optional<Reading> reading_of(const Sample& sample) {

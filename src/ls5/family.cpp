@@ -1,6 +1,5 @@
 #include "rangekit/ls5/family.hpp"
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -70,13 +69,6 @@ static_assert(kinds[static_cast<std::size_t>(kind::derivative)].name == "derivat
 const ChannelDescriptor& distance = channels[channel::distance_mm.index];
 const ChannelDescriptor& derivative = channels[channel::derivative_mm.index];
 
-// As many decimals as the sensor's discreteness has (0.0001 mm: 4, 0.1 mm: 1; table 3.1, L63).
-int millimetre_decimals(const Sample& sample) {
-  const auto step = sample.get(channel::resolution_mm);
-  const int decimals = step ? decimals_of_step(*step) : -1;
-  return decimals < 0 ? default_decimals : std::min(decimals, 6);
-}
-
 // A result: its distance; a derivative: the change. 65534 and 65535 (§9.3) carry neither.
 std::optional<Reading> reading(const Sample& sample) {
   if (sample.get(channel::signal).value_or(SignalState::ok) != SignalState::ok) return std::nullopt;
@@ -106,7 +98,9 @@ void append_text(std::string& out, const Sample& sample) {
   if (is_derivative) out += "  derivative";
   const auto signal = sample.get(channel::signal);
   if (const auto value = sample.get(is_derivative ? channel::derivative_mm : channel::distance_mm)) {
-    append_printf(out, is_derivative ? " %+.*f mm" : "  %.*f mm", millimetre_decimals(sample), *value);
+    // As many decimals as the sensor's discreteness has (0.0001 mm: 4, 0.1 mm: 1; table 3.1, L63).
+    append_printf(out, is_derivative ? " %+.*f mm" : "  %.*f mm",
+                  channel_decimals(is_derivative ? derivative : distance, sample), *value);
   } else if (signal == SignalState::none_yet) {
     out += "  no measurement yet";
   } else if (signal == SignalState::lost) {

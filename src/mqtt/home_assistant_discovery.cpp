@@ -43,10 +43,8 @@ std::vector<Message> discovery_messages(const Link& link, const hub::MqttConfig&
   const FamilyDescriptor* family = find_family(link.config.family);
   const auto channel_of = [family](Quantity quantity) -> const ChannelDescriptor* {
     if (family == nullptr) return nullptr;
-    for (const ChannelDescriptor& channel : family->channels) {
-      if (channel.quantity == quantity) return &channel;
-    }
-    return nullptr;
+    const auto index = channel_index(*family, quantity);
+    return index ? &family->channels[*index] : nullptr;
   };
   if (const ChannelDescriptor* distance = channel_of(Quantity::distance)) {
     // A window carries "last" in its reading's unit (a look-down window's is a presence, no

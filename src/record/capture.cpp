@@ -152,10 +152,12 @@ class SqliteCapture final : public CaptureSink {
     bind_text_in_place(statement, 4, sample.device);
     bind_text_in_place(statement, 5, sample.source.str());
     bind_optional_integer(statement, 6, sample.address >= 0 ? std::optional<int>(sample.address) : std::nullopt);
-    const std::string_view kind = kind_name_of(sample);
-    sqlite3_bind_text(statement, 7, kind.data(), static_cast<int>(kind.size()), SQLITE_STATIC);
-    bind_channels(statement, sample);
     const CaptureLayout& layout = capture_layout();
+    if (columns_ == nullptr || columns_->family->name != sample.device) columns_ = layout.columns_of(sample.device);
+    const KindDescriptor* kind = kind_of(columns_ != nullptr ? columns_->family : nullptr, sample);
+    const std::string_view kind_name = kind_name_of(kind);
+    sqlite3_bind_text(statement, 7, kind_name.data(), static_cast<int>(kind_name.size()), SQLITE_STATIC);
+    bind_channels(statement, sample, kind);
     const int suspect = static_cast<int>(layout.suspect_column()) + 1;
     sqlite3_bind_int64(statement, suspect, sample.suspect ? 1 : 0);
     if (sample.suspect) {
@@ -199,17 +201,15 @@ class SqliteCapture final : public CaptureSink {
   [[nodiscard]] const std::string& path() const override { return path_; }
 
  private:
-  // The channel columns: the sample's family's values, NULL in the others.
-  void bind_channels(sqlite3_stmt* statement, const Sample& sample) {
+  // The channel columns: the values of the sample's family (columns_), NULL in the others.
+  void bind_channels(sqlite3_stmt* statement, const Sample& sample, const KindDescriptor* kind) {
     const CaptureLayout& layout = capture_layout();
     const int first = static_cast<int>(CaptureLayout::first_channel_column) + 1;
     for (std::size_t column = 0; column < layout.channels.size(); ++column) {
       sqlite3_bind_null(statement, first + static_cast<int>(column));
     }
-    if (columns_ == nullptr || columns_->family->name != sample.device) columns_ = layout.columns_of(sample.device);
     if (columns_ == nullptr) return;
     const FamilyDescriptor& family = *columns_->family;
-    const KindDescriptor* kind = kind_of(sample);
     for (std::size_t index = 0; index < family.channels.size(); ++index) {
       const auto column = columns_->column_of_channel[index];
       if (!column) continue;
@@ -217,8 +217,7 @@ class SqliteCapture final : public CaptureSink {
       const ChannelDescriptor& channel = family.channels[index];
       if (channel.form == ChannelForm::targets) {
         // A burst of no targets is kept as [] on a line of a kind that has them.
-        const bool listed =
-            kind != nullptr && std::find(kind->channels.begin(), kind->channels.end(), index) != kind->channels.end();
+        const bool listed = kind != nullptr && kind->shows(index);
         if (!listed && sample.targets.empty()) continue;
         targets_text_.clear();
         append_targets_json(targets_text_, sample.targets);

@@ -95,18 +95,6 @@ void append_csv_text(std::string& out, const std::string& text) {
 void append_bool(std::string& out, bool value) { out += value ? "true" : "false"; }
 void append_int(std::string& out, int value) { append_signed(out, value); }
 
-// The decimals of a number channel: its step's when the sample has one (LS5's discreteness,
-// at most 6), its own otherwise.
-int decimals_of(const ChannelDescriptor& channel, const Sample& sample) {
-  if (channel.step_channel >= 0) {
-    if (const auto step = sample.values.get(static_cast<std::size_t>(channel.step_channel))) {
-      const int decimals = decimals_of_step(*step);
-      if (decimals >= 0) return std::min(decimals, 6);
-    }
-  }
-  return channel.decimals;
-}
-
 // A value of the channel; JSON has no NaN or infinity, so such a value is written as null,
 // and a state is a quoted name there.
 void append_value(std::string& out, const ChannelDescriptor& channel, const Sample& sample, double value, bool json) {
@@ -127,7 +115,7 @@ void append_value(std::string& out, const ChannelDescriptor& channel, const Samp
       break;
   }
   if (std::isfinite(value)) {
-    append_printf(out, "%.*f", decimals_of(channel, sample), value);
+    append_printf(out, "%.*f", channel_decimals(channel, sample), value);
   } else {
     out += "null";
   }
@@ -214,12 +202,12 @@ void append_jsonl(std::string& out, const Sample& sample) {
   }
   append_json_key(out, "source");
   append_json_string(out, sample.source.str());
+  const FamilyDescriptor* family = family_of(sample);
+  const KindDescriptor* kind = kind_of(family, sample);
   append_json_key(out, "kind");
   out += '"';
-  out += kind_name_of(sample);
+  out += kind_name_of(kind);
   out += '"';
-  const FamilyDescriptor* family = family_of(sample);
-  const KindDescriptor* kind = kind_of(sample);
   if (family != nullptr && kind != nullptr) {
     for (const std::uint8_t index : kind->channels) {
       const ChannelDescriptor& channel = family->channels[index];
@@ -290,9 +278,9 @@ void append_csv(std::string& out, const Sample& sample) {
   out += ',';
   append_csv_text(out, sample.source.str());
   out += ',';
-  out += kind_name_of(sample);
   const FamilyDescriptor* family = family_of(sample);
-  const KindDescriptor* kind = kind_of(sample);
+  const KindDescriptor* kind = kind_of(family, sample);
+  out += kind_name_of(kind);
   std::optional<double> error_number;
   for (const std::string_view key : csv_keys()) {
     out += ',';
@@ -306,8 +294,7 @@ void append_csv(std::string& out, const Sample& sample) {
     }
     auto value = sample.values.get(*index);
     // The value an absent channel has is shown on the lines of kinds that list it.
-    if (!value && kind != nullptr &&
-        std::find(kind->channels.begin(), kind->channels.end(), *index) != kind->channels.end()) {
+    if (!value && kind != nullptr && kind->shows(*index)) {
       value = channel.otherwise;
     }
     if (!value) continue;
@@ -325,7 +312,7 @@ void append_csv(std::string& out, const Sample& sample) {
 
 // The kind's channels as key=value, for a family without words of its own.
 void append_channels_text(std::string& out, const FamilyDescriptor& family, const Sample& sample) {
-  const KindDescriptor* kind = kind_of(sample);
+  const KindDescriptor* kind = kind_of(&family, sample);
   if (kind == nullptr) return;
   for (const std::uint8_t index : kind->channels) {
     const ChannelDescriptor& channel = family.channels[index];

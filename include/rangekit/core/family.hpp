@@ -37,6 +37,14 @@ struct KindDescriptor {
   std::string_view name;  // "binning"
   std::span<const std::uint8_t> channels;
   std::string_view former_name = {};  // how captures of older versions spell it
+
+  // Whether its line shows the channel of this index.
+  [[nodiscard]] constexpr bool shows(std::size_t channel) const noexcept {
+    for (const std::uint8_t shown : channels) {
+      if (shown == channel) return true;
+    }
+    return false;
+  }
 };
 
 struct FamilyDescriptor {
@@ -77,13 +85,22 @@ const FamilyDescriptor* find_family(std::string_view name) noexcept;
 const ChannelDescriptor* find_channel(const FamilyDescriptor& family, std::string_view key) noexcept;
 // The index of a family's channel (its ChannelKey's) by its key.
 std::optional<std::size_t> channel_index(const FamilyDescriptor& family, std::string_view key) noexcept;
+// The index of a family's first channel of `quantity` (its distance, its error number).
+std::optional<std::size_t> channel_index(const FamilyDescriptor& family, Quantity quantity) noexcept;
+
+// The decimals a number channel is written with in this sample: its step's when the sample
+// has one (an LS5's discreteness, at most 6), the channel's own otherwise.
+int channel_decimals(const ChannelDescriptor& channel, const Sample& sample) noexcept;
 
 // The family of a sample; none for a family not registered.
 const FamilyDescriptor* family_of(const Sample& sample) noexcept;
 // The sample's kind as its family describes it; none for a family not registered or a kind it has not.
 const KindDescriptor* kind_of(const Sample& sample) noexcept;
+// The same, for a caller that has the sample's family at hand.
+const KindDescriptor* kind_of(const FamilyDescriptor* family, const Sample& sample) noexcept;
 // The kind's name, "unknown" when kind_of has none.
 std::string_view kind_name_of(const Sample& sample) noexcept;
+std::string_view kind_name_of(const KindDescriptor* kind) noexcept;
 // A kind of the family by its name or former name.
 std::optional<SampleKind> find_kind(const FamilyDescriptor& family, std::string_view name) noexcept;
 // The value of the sample's first channel of `quantity` (its error number, its signal state).
