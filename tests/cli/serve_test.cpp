@@ -222,6 +222,23 @@ TEST(ServeDemo, AKilledServiceTakesItsEmulatorsAlong) {
   }
 }
 
+// Reads the service's summary lines until one says it streams and has counted records.
+bool streams_with_records(Child& service) {
+  for (std::string line = service.read_line(); !line.empty(); line = service.read_line()) {
+    if (line.find("streaming") != std::string::npos && line.find("records 0 ") == std::string::npos) return true;
+  }
+  return false;
+}
+
+// Reads the service's output to its end and gives its last "capture ..." line.
+std::string last_capture_line(Child& service) {
+  std::string capture_line;
+  for (std::string line = service.read_line(); !line.empty(); line = service.read_line()) {
+    if (line.rfind("capture ", 0) == 0) capture_line = line;
+  }
+  return capture_line;
+}
+
 // The service's "capture ...: N samples, 0 lost → FILE" line: the capture was committed and
 // closed, it replays, and holds what the service said it wrote.
 void expect_capture_whole(const TempDir& dir, const std::string& capture_line) {
@@ -250,19 +267,11 @@ TEST(Serve, U86_SigtermClosesTheCaptureReleasesThePortAndLeavesTheLs5NotStreamin
       write_site(dir, "[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"" + port + "\"\ncapture = true\n");
   Child service({"serve", "--config", site, "--listen", "127.0.0.1:0"});
   ASSERT_NE(api_port(service), 0);
-  // The summary lines, until the service streams and has counted records.
-  std::string line;
-  for (line = service.read_line(); !line.empty(); line = service.read_line()) {
-    if (line.find("streaming") != std::string::npos && line.find("records 0 ") == std::string::npos) break;
-  }
-  ASSERT_FALSE(line.empty());
+  ASSERT_TRUE(streams_with_records(service));
   ASSERT_EQ(emulator_outputs(control).value("streaming", false), true);
 
   service.terminate();
-  std::string capture_line;
-  for (line = service.read_line(); !line.empty(); line = service.read_line()) {
-    if (line.rfind("capture ", 0) == 0) capture_line = line;
-  }
+  const std::string capture_line = last_capture_line(service);
   EXPECT_EQ(service.wait(), 130);
   EXPECT_EQ(emulator_outputs(control).value("streaming", true), false);
   const auto info = run_cli(dir.path, {"ls5", "info", "--port", port});
@@ -285,6 +294,9 @@ TEST(Serve, SigtermWhileWritesArriveEndsCleanlyWithTheCaptureWhole) {
   Child service({"serve", "--config", site, "--listen", "127.0.0.1:0"});
   const std::uint16_t api = api_port(service);
   ASSERT_NE(api, 0);
+  // Writes begin once records arrive: on a slow (sanitizer) build the writes could otherwise
+  // all be answered before the first record, leaving the capture nothing to check.
+  ASSERT_TRUE(streams_with_records(service));
   std::atomic<bool> stopping{false};
   std::atomic<int> answered{0};
   std::atomic<int> closed{0};
@@ -315,10 +327,7 @@ TEST(Serve, SigtermWhileWritesArriveEndsCleanlyWithTheCaptureWhole) {
   }
   ASSERT_GE(answered.load(), 6) << "the writes were not being answered";
   service.terminate();
-  std::string capture_line;
-  for (std::string line = service.read_line(); !line.empty(); line = service.read_line()) {
-    if (line.rfind("capture ", 0) == 0) capture_line = line;
-  }
+  const std::string capture_line = last_capture_line(service);
   EXPECT_EQ(service.wait(), 130);
   stopping = true;
   for (auto& thread : writers) thread.join();
