@@ -18,6 +18,7 @@ test_packages=(
   clang-14 libclang-rt-14-dev clang-format clang-tidy
   dpkg-dev  # dpkg-shlibdeps, for make package
   openssl  # the TLS test makes its own certificate
+  libmodbus-dev mbpoll  # the Modbus tests ask with libmodbus's client and mbpoll (docs/modbus.md)
   mosquitto mosquitto-clients  # the MQTT tests start a loopback broker and subscribe (docs/mqtt.md)
   python3-numpy python3-pytest python3-serial  # the Python package's tests and benchmark (/usr/bin/python3)
   python3-pandas  # Capture.dataframe() is tested, not skipped

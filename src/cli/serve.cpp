@@ -17,6 +17,7 @@
 #include "rangekit/core/descriptor_limit.hpp"
 #include "rangekit/hub/captures.hpp"
 #include "rangekit/hub/hub.hpp"
+#include "rangekit/modbus/face.hpp"
 #include "rangekit/mqtt/bridge.hpp"
 #include "rangekit/mqtt/local_broker.hpp"
 #include "rangekit/web/server.hpp"
@@ -28,10 +29,12 @@ struct ServeOptions {
   std::string config;
   std::string check;
   bool demo = false;
-  std::string listen;     // overrides [service] listen
-  std::string mqtt;       // overrides [mqtt] broker
-  double duration_s = 0;  // 0: until Ctrl-C or SIGTERM
-  bool table = false;     // redraw the table each second even when stdout is no terminal
+  std::string listen;       // overrides [service] listen
+  std::string mqtt;         // overrides [mqtt] broker
+  std::string modbus;       // overrides [modbus] listen
+  bool modbus_map = false;  // print the register map of --config, --demo or --check's site and end
+  double duration_s = 0;    // 0: until Ctrl-C or SIGTERM
+  bool table = false;       // redraw the table each second even when stdout is no terminal
 };
 
 // One line per mistake, all of them (the site file's reader gathers every one).
@@ -46,6 +49,42 @@ int site_refused(const std::string& path, const Error& error) {
   }
   if (count > 1) fmt::print(stderr, "rangekit serve: {} mistakes in {}\n", count, path);
   return error.code == Errc::io ? exit_io : exit_bad_input;
+}
+
+// "1 belt, 2 silo".
+std::string modbus_unit_list(const hub::SiteConfig& site) {
+  std::string list;
+  for (const auto& [unit, sensor] : hub::modbus_units(site)) {
+    list += (list.empty() ? "" : ", ") + std::to_string(unit) + " " + sensor;
+  }
+  return list;
+}
+
+int print_modbus_map(const hub::SiteConfig& site) {
+  auto csv = modbus::register_map_csv(hub::modbus_units(site), site.modbus.word_order, site.modbus.writable);
+  if (!csv) {
+    fmt::print(stderr, "rangekit serve: {}\n", csv.error().message);
+    return exit_bad_input;
+  }
+  fmt::print("{}", *csv);
+  return exit_ok;
+}
+
+// The Modbus face, when the site file or --modbus asks for it.
+Result<std::unique_ptr<modbus::Face>> start_modbus(hub::Hub& hub, const hub::SiteConfig& site,
+                                                   const ServeOptions& options) {
+  modbus::FaceOptions face_options;
+  face_options.listen = options.modbus.empty() ? site.modbus.listen : options.modbus;
+  if (face_options.listen.empty()) return std::unique_ptr<modbus::Face>();
+  face_options.word_order = site.modbus.word_order;
+  face_options.writable = site.modbus.writable;
+  face_options.allow = site.modbus.allow;
+  face_options.units = hub::modbus_units(site);
+  face_options.log = [](const std::string& line) {
+    fmt::print("{}\n", line);
+    std::fflush(stdout);
+  };
+  return modbus::Face::start(hub, face_options);
 }
 
 int check_site(const std::string& path) {
@@ -67,6 +106,10 @@ int check_site(const std::string& path) {
                mqtt.max_rate_hz > 0 ? fmt::format("at most {} readings/s per sensor", mqtt.max_rate_hz)
                                     : std::string("every reading"),
                mqtt.discovery ? "under " + mqtt.discovery_prefix + "/" : std::string("off"));
+  }
+  if (!site->modbus.listen.empty()) {
+    fmt::print("  modbus {}: units {}, word order {}, {}\n", site->modbus.listen, modbus_unit_list(*site),
+               site->modbus.word_order, site->modbus.writable ? "writable" : "read only");
   }
   return exit_ok;
 }
@@ -153,6 +196,20 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
         site->sensors.size(), mqtt_config.broker, mqtt_config.base_topic, address->host, address->port,
         mqtt_config.base_topic);
   }
+  auto modbus_face = start_modbus(*hub, *site, options);
+  if (!modbus_face) {
+    fmt::print(stderr, "rangekit serve: {}\n", modbus_face.error().message);
+    if (bridge) bridge->stop();
+    hub->stop();
+    return exit_code_for(modbus_face.error());
+  }
+  if (*modbus_face) {
+    const Endpoint modbus_at = (*modbus_face)->local_endpoint();
+    fmt::print(
+        "rangekit serve: Modbus TCP on {}:{}, units {} (docs/modbus.md; try: mbpoll -m tcp -p {} -a 1 -t 3 -r 1 "
+        "-c 10 -1 {})\n",
+        modbus_at.host, modbus_at.port, modbus_unit_list(*site), modbus_at.port, modbus_at.host);
+  }
   // Captures go where [service] capture_dir says, relative to the site file's folder.
   std::filesystem::path capture_dir = site->service.capture_dir;
   if (capture_dir.is_relative() && !site->file.empty()) {
@@ -166,6 +223,7 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   auto server = web::Server::start(*hub, server_options);
   if (!server) {
     fmt::print(stderr, "rangekit serve: {}\n", server.error().message);
+    if (*modbus_face) (*modbus_face)->stop();
     if (bridge) bridge->stop();
     hub->stop();
     return exit_code_for(server.error());
@@ -201,7 +259,8 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
     next_summary += std::chrono::seconds(1);
     monitor.tick(hub->sensors());
   }
-  (*server)->stop();           // no new requests; streams closed
+  (*server)->stop();  // no new requests; streams closed
+  if (*modbus_face) (*modbus_face)->stop();
   if (bridge) bridge->stop();  // every sensor marked offline on the broker, then a clean disconnect
   captures.stop_all();         // every capture committed and closed
   hub->stop();                 // streams ended as found, ports released
@@ -210,12 +269,24 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   }
   for (const hub::SensorSnapshot& sensor : hub->sensors()) fmt::print("{}\n", summary_line(sensor));
   if (bridge) fmt::print("{}\n", mqtt_summary(bridge->stats()));
+  if (*modbus_face) {
+    const modbus::FaceStats stats = (*modbus_face)->stats();
+    fmt::print("modbus: requests {}, exceptions {}, refused {}, malformed {}, commands {}\n", stats.requests,
+               stats.exceptions, stats.refused, stats.malformed, stats.commands);
+  }
   return signals.stopped() ? exit_interrupted : exit_ok;
+}
+
+int modbus_map_of(const std::string& path) {
+  auto site = hub::load_site_config(path);
+  if (!site) return site_refused(path, site.error());
+  return print_modbus_map(*site);
 }
 
 int serve(const ServeOptions& options) {
   auto site = hub::load_site_config(options.config);
   if (!site) return site_refused(options.config, site.error());
+  if (options.modbus_map) return print_modbus_map(*site);
   const StopSignals signals;
   return serve_site(*site, options, signals);
 }
@@ -224,11 +295,24 @@ int serve(const ServeOptions& options) {
 // group, so Ctrl-C reaches the service only, which ends its streams and then stops them.
 int serve_demo(const ServeOptions& options) {
   const StopSignals signals;
+  // With --modbus-map stdout is the CSV alone: the emulators' progress goes to stderr.
+  const int saved_stdout = options.modbus_map ? ::dup(STDOUT_FILENO) : -1;
+  if (saved_stdout >= 0) ::dup2(STDERR_FILENO, STDOUT_FILENO);
   auto demo = DemoSite::start();
+  if (saved_stdout >= 0) {
+    std::fflush(stdout);
+    ::dup2(saved_stdout, STDOUT_FILENO);
+    ::close(saved_stdout);
+  }
   if (signals.stopped()) return exit_interrupted;  // Ctrl-C while they started: they are stopped
   if (!demo) {
     fmt::print(stderr, "rangekit serve --demo: {}\n", demo.error().describe());
     return exit_code_for(demo.error());
+  }
+  if (options.modbus_map) {
+    const int code = print_modbus_map(demo->site());
+    demo->stop();
+    return code;
   }
   // No broker given: a mosquitto of its own on a free loopback port, when one is installed.
   ServeOptions with_broker = options;
@@ -278,6 +362,11 @@ void add_serve_command(CLI::App& app, int& exit_code) {
   serve_app->add_option("--mqtt", options->mqtt,
                         "broker URL mqtt://HOST[:PORT] or mqtts://HOST[:PORT]: publish every sensor there (overrides "
                         "[mqtt] broker; --demo without it starts a local mosquitto when one is installed)");
+  serve_app->add_option("--modbus", options->modbus,
+                        "HOST:PORT: answer Modbus TCP there, each sensor a unit (overrides [modbus] listen; "
+                        "docs/modbus.md)");
+  serve_app->add_flag("--modbus-map", options->modbus_map,
+                      "print the Modbus register map of the site (--config, --check or --demo) as CSV and end");
   serve_app->add_flag("--table", options->table,
                       "redraw every sensor's line each second, as on a terminal, also when stdout is not one");
   serve_app->add_option("--duration", options->duration_s, "stop after S seconds (default: until Ctrl-C)")
@@ -289,7 +378,7 @@ void add_serve_command(CLI::App& app, int& exit_code) {
       fmt::print(stderr, "rangekit serve: give one of --config, --check and --demo\n");
       exit_code = exit_usage;
     } else if (!options->check.empty()) {
-      exit_code = check_site(options->check);
+      exit_code = options->modbus_map ? modbus_map_of(options->check) : check_site(options->check);
     } else if (options->demo) {
       exit_code = serve_demo(*options);
     } else if (!options->config.empty()) {

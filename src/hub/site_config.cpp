@@ -8,12 +8,14 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
 #include <map>
 
 #include "core/toml.hpp"  // private: toml++ is no part of the public API
+#include "rangekit/core/address_range.hpp"
 #include "rangekit/core/text.hpp"
 #include "rangekit/core/udp.hpp"
 #include "rangekit/hub/service_family.hpp"
@@ -167,6 +169,10 @@ Status read_sensor_key(std::string_view file, std::string_view k, const toml::no
       return at(file, node, Errc::out_of_range, "max_speed must be above 0 and at most 1e6 m/s");
     }
     sensor.max_speed_mps = *speed;
+  } else if (k == "modbus_unit") {
+    auto unit = integer_in(file, node, k, 1, 247, "a Modbus unit id is 1 to 247");
+    if (!unit) return std::move(unit).error();
+    sensor.modbus_unit = static_cast<int>(*unit);
   }
   return ok_status();
 }
@@ -178,7 +184,7 @@ Result<SensorConfig> sensor_from(std::string_view file, const toml::table& table
   sensor.line = table.source().begin.line;
   found.add(only_keys(file, table, "[[sensor]]",
                       {"name", "family", "port", "baud", "format", "address", "udp", "stream", "capture", "max_speed",
-                       "drop_suspect"}));
+                       "drop_suspect", "modbus_unit"}));
   const toml::node* name = table.get("name");
   if (name == nullptr)
     return make_error(Errc::invalid_frame,
@@ -268,6 +274,51 @@ Status check_service(std::string_view file, const toml::table& table, ServiceCon
     return at(file, table, Errc::invalid_frame, "[service] needs both tls_certificate and tls_key, or neither");
   }
   return ok_status();
+}
+
+Status check_modbus(std::string_view file, const toml::table& table, ModbusConfig& modbus) {
+  modbus.line = table.source().begin.line;
+  if (auto checked = only_keys(file, table, "[modbus]", {"listen", "word_order", "writable", "allow"}); !checked) {
+    return checked;
+  }
+  Mistakes mistakes;
+  for (const auto& [key, node] : table) {
+    const std::string_view k = key.str();
+    if (k == "writable") {
+      auto flag = flag_of(file, node, k);
+      if (!flag) return std::move(flag).error();
+      modbus.writable = *flag;
+    } else if (k == "allow") {
+      const auto* list = node.as_array();
+      if (list == nullptr) return at(file, node, Errc::invalid_frame, "allow must be a list: [\"10.0.0.0/8\"]");
+      for (const toml::node& each : *list) {
+        auto text = text_of(file, each, "each of allow");
+        if (!text) return std::move(text).error();
+        if (auto range = parse_address_range(*text); !range) {
+          mistakes.add(at(file, each, Errc::out_of_range, "allow " + range.error().message));
+        }
+        modbus.allow.push_back(*text);
+      }
+    } else {
+      auto text = text_of(file, node, k);
+      if (!text) return std::move(text).error();
+      if (k == "listen") {
+        if (auto endpoint = parse_endpoint(*text); !endpoint) {
+          return at(file, node, Errc::out_of_range, "listen '" + *text + "': " + endpoint.error().message);
+        }
+        modbus.listen = *text;
+      } else {
+        std::string upper = *text;
+        std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return std::toupper(c); });
+        if (std::find(modbus_word_orders.begin(), modbus_word_orders.end(), upper) == modbus_word_orders.end()) {
+          return at(file, node, Errc::out_of_range,
+                    "word_order '" + *text + "' is not ABCD, CDAB, BADC or DCBA (A: the most significant byte)");
+        }
+        modbus.word_order = upper;
+      }
+    }
+  }
+  return mistakes.status();
 }
 
 Status check_qos(std::string_view file, const toml::node& node, std::string_view key, int& qos) {
@@ -424,6 +475,18 @@ Status check_ports(const SiteConfig& site) {
   for (const PortGroup& group : port_groups(site)) {
     for (std::size_t i = 1; i < group.sensors.size(); ++i) mistakes.add(check_shared_port(site, group, i));
   }
+  // Unit ids, given or by position, name one sensor each.
+  std::map<std::uint8_t, std::string> units;
+  for (const auto& unit : modbus_units(site)) {
+    if (auto [it, inserted] = units.emplace(unit); !inserted) {
+      const auto sensor = std::find_if(site.sensors.begin(), site.sensors.end(),
+                                       [&](const SensorConfig& each) { return each.name == unit.second; });
+      mistakes.add(make_error(Errc::invalid_frame,
+                              site.file + ":" + std::to_string(sensor->line) + ": Modbus unit " +
+                                  std::to_string(unit.first) + " of '" + unit.second + "' is also the unit of '" +
+                                  it->second + "' (a sensor without modbus_unit takes its position in the file)"));
+    }
+  }
   return mistakes.status();
 }
 
@@ -462,6 +525,16 @@ Result<BrokerAddress> parse_broker_url(std::string_view url) {
   return address;
 }
 
+std::vector<std::pair<std::uint8_t, std::string>> modbus_units(const SiteConfig& site) {
+  std::vector<std::pair<std::uint8_t, std::string>> units;
+  for (std::size_t at = 0; at < site.sensors.size(); ++at) {
+    const SensorConfig& sensor = site.sensors[at];
+    if (!sensor.modbus_unit && at + 1 > 247) continue;  // past the last unit id: none unless given
+    units.emplace_back(static_cast<std::uint8_t>(sensor.modbus_unit.value_or(static_cast<int>(at + 1))), sensor.name);
+  }
+  return units;
+}
+
 bool PortGroup::bus() const noexcept {
   const ServiceFamily* described = find_service_family(family);
   return sensors.size() > 1 || (described != nullptr && described->bus && sensors.front()->address.has_value());
@@ -487,7 +560,7 @@ Result<SiteConfig> parse_site_config(std::string_view text, std::string_view fil
   const toml::table& root = *parsed;
   SiteConfig site;
   site.file = std::string(file_name);
-  if (auto checked = only_keys(file_name, root, "the site file", {"service", "mqtt", "sensor"}); !checked) {
+  if (auto checked = only_keys(file_name, root, "the site file", {"service", "mqtt", "modbus", "sensor"}); !checked) {
     return std::move(checked).error();
   }
   Mistakes mistakes;
@@ -505,6 +578,14 @@ Result<SiteConfig> parse_site_config(std::string_view text, std::string_view fil
       mistakes.add(at(file_name, *mqtt, Errc::invalid_frame, "mqtt must be a table: [mqtt]"));
     } else {
       mistakes.add(check_mqtt(file_name, *table, site.mqtt));
+    }
+  }
+  if (const toml::node* modbus = root.get("modbus")) {
+    const auto* table = modbus->as_table();
+    if (table == nullptr) {
+      mistakes.add(at(file_name, *modbus, Errc::invalid_frame, "modbus must be a table: [modbus]"));
+    } else {
+      mistakes.add(check_modbus(file_name, *table, site.modbus));
     }
   }
   const toml::node* sensors = root.get("sensor");

@@ -107,7 +107,7 @@ port = "/dev/ttyUSB1"
 TEST(SiteConfig, RefusesWithFileLineAndReason) {
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nspeed = 9600\n"),
             "site.toml:5: unknown key 'speed' in [[sensor]] (allowed: name, family, port, baud, format, address, udp, "
-            "stream, capture, max_speed, drop_suspect)");
+            "stream, capture, max_speed, drop_suspect, modbus_unit)");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"lms\"\nport = \"/dev/x\"\n"),
             "site.toml:3: family 'lms' is not \"uls\" or \"ls5\"");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a b\"\nfamily = \"uls\"\nport = \"/dev/x\"\n"),
@@ -131,8 +131,44 @@ TEST(SiteConfig, RefusesWithFileLineAndReason) {
             "site.toml: no sensors: add a [[sensor]] table for each");
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nstream = \"yes\"\n"),
             "site.toml:5: stream must be true or false");
-  EXPECT_EQ(refusal("[http]\n"), "site.toml:1: unknown key 'http' in the site file (allowed: service, mqtt, sensor)");
+  EXPECT_EQ(refusal("[http]\n"),
+            "site.toml:1: unknown key 'http' in the site file (allowed: service, mqtt, modbus, sensor)");
   EXPECT_NE(refusal("[[sensor]]\nname = \n").find("site.toml:2:"), std::string::npos);  // TOML syntax
+}
+
+// [modbus] and each sensor's unit id (docs/modbus.md): a unit is the sensor's position unless given.
+TEST(SiteConfig, ModbusTableAndUnitIds) {
+  const std::string two =
+      "[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\n"
+      "[[sensor]]\nname = \"b\"\nfamily = \"uls\"\nport = \"/dev/y\"\nmodbus_unit = 12\n";
+  const SiteConfig plain = parse_ok(two);
+  EXPECT_TRUE(plain.modbus.listen.empty());
+  EXPECT_EQ(plain.modbus.word_order, "ABCD");
+  EXPECT_EQ(modbus_units(plain), (std::vector<std::pair<std::uint8_t, std::string>>{{1, "a"}, {12, "b"}}));
+  const SiteConfig set = parse_ok(
+      "[modbus]\nlisten = \"0.0.0.0:502\"\nword_order = \"cdab\"\nwritable = true\nallow = [\"10.0.0.0/8\", "
+      "\"192.168.1.7\"]\n" +
+      two);
+  EXPECT_EQ(set.modbus.listen, "0.0.0.0:502");
+  EXPECT_EQ(set.modbus.word_order, "CDAB");
+  EXPECT_TRUE(set.modbus.writable);
+  EXPECT_EQ(set.modbus.allow, (std::vector<std::string>{"10.0.0.0/8", "192.168.1.7"}));
+  EXPECT_EQ(refusal("[modbus]\nword_order = \"ABDC\"\n" + two),
+            "site.toml:2: word_order 'ABDC' is not ABCD, CDAB, BADC or DCBA (A: the most significant byte)");
+  EXPECT_EQ(refusal("[modbus]\nallow = [\"10.0.0.1/8\"]\n" + two),
+            "site.toml:2: allow '10.0.0.1/8' has host bits set: a /8 range starts at a multiple of its size");
+  EXPECT_EQ(refusal("[modbus]\nallow = [\"plant\"]\n" + two),
+            "site.toml:2: allow 'plant' is not an IPv4 address or range (10.0.0.0/8)");
+  EXPECT_EQ(refusal("[modbus]\nlisten = \"nowhere\"\n" + two).rfind("site.toml:2: listen 'nowhere'", 0), 0u);
+  EXPECT_EQ(refusal("[modbus]\nport = 502\n" + two),
+            "site.toml:2: unknown key 'port' in [modbus] (allowed: listen, word_order, writable, allow)");
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nmodbus_unit = 248\n"),
+            "site.toml:5: modbus_unit = 248: a Modbus unit id is 1 to 247");
+  // b takes 1, which is a's by position.
+  EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\n"
+                    "[[sensor]]\nname = \"b\"\nfamily = \"uls\"\nport = \"/dev/y\"\nmodbus_unit = 1\n"),
+            "site.toml:5: Modbus unit 1 of 'b' is also the unit of 'a' (a sensor without modbus_unit takes its "
+            "position in the file)");
 }
 
 // How many captures run at once: 16 unless [service] says, from 1 to 1024.

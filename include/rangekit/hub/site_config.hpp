@@ -3,10 +3,12 @@
 // and the service refuse the same files with the same messages.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "rangekit/core/result.hpp"
@@ -28,7 +30,8 @@ struct SensorConfig {
   // default of core/sample_quality.hpp), and whether suspect samples are left out.
   std::optional<double> max_speed_mps;
   bool drop_suspect = false;
-  std::size_t line = 0;  // where it was declared, for later messages
+  std::optional<int> modbus_unit;  // its unit id on the Modbus face (1-247); none: its position from 1
+  std::size_t line = 0;            // where it was declared, for later messages
 };
 
 struct ServiceConfig {
@@ -62,6 +65,17 @@ struct MqttConfig {
   std::size_t line = 0;             // where [mqtt] was declared
 };
 
+// The `[modbus]` table: the Modbus TCP face (docs/modbus.md). Only settings live here.
+struct ModbusConfig {
+  std::string listen;  // HOST:PORT; empty: no Modbus face
+  std::string word_order = "ABCD";
+  bool writable = false;           // the command register
+  std::vector<std::string> allow;  // IPv4 addresses or ranges that may connect besides loopback
+  std::size_t line = 0;            // where [modbus] was declared
+};
+// The word orders of [modbus] word_order, for the check and its message.
+inline constexpr std::array<std::string_view, 4> modbus_word_orders{"ABCD", "CDAB", "BADC", "DCBA"};
+
 // A broker URL taken apart: mqtt://host:port or mqtts://host:port.
 struct BrokerAddress {
   bool tls = false;
@@ -74,8 +88,12 @@ struct SiteConfig {
   std::string file;  // as given, for messages
   ServiceConfig service;
   MqttConfig mqtt;
+  ModbusConfig modbus;
   std::vector<SensorConfig> sensors;
 };
+
+// Each sensor's Modbus unit id: its modbus_unit, else its position in the file from 1 (up to 247).
+std::vector<std::pair<std::uint8_t, std::string>> modbus_units(const SiteConfig& site);
 
 // The sensors sharing one serial port: one sensor alone, or several of a family that has a
 // bus (each with its own address).
