@@ -17,7 +17,8 @@ Status check_units(const hub::Hub& hub, const std::vector<std::pair<std::uint8_t
   std::set<std::uint8_t> seen;
   for (const auto& [unit, sensor] : units) {
     if (unit < 1 || unit > 247) {
-      return make_error(Errc::out_of_range, "modbus unit " + std::to_string(unit) + " of '" + sensor + "' is not 1-247");
+      return make_error(Errc::out_of_range,
+                        "modbus unit " + std::to_string(unit) + " of '" + sensor + "' is not 1-247");
     }
     if (!seen.insert(unit).second) {
       return make_error(Errc::out_of_range, "modbus unit " + std::to_string(unit) + " is given twice");
@@ -32,7 +33,8 @@ Status check_units(const hub::Hub& hub, const std::vector<std::pair<std::uint8_t
 }  // namespace
 
 struct Face::Impl {
-  Impl(hub::Hub& h, FaceOptions o, WordOrder order) : hub(h), options(std::move(o)), units(h, order, options.writable) {}
+  Impl(hub::Hub& h, FaceOptions o, WordOrder order)
+      : hub(h), options(std::move(o)), units(h, order, options.writable) {}
 
   hub::Hub& hub;
   FaceOptions options;
@@ -58,7 +60,8 @@ Result<std::unique_ptr<Face>> Face::start(hub::Hub& hub, FaceOptions options) {
   }
   ServerSettings settings;
   auto listen = parse_endpoint(options.listen);
-  if (!listen) return make_error(Errc::out_of_range, "modbus listen '" + options.listen + "': " + listen.error().message);
+  if (!listen)
+    return make_error(Errc::out_of_range, "modbus listen '" + options.listen + "': " + listen.error().message);
   settings.listen = *listen;
   for (const std::string& text : options.allow) {
     auto range = parse_address_range(text);

@@ -1,4 +1,5 @@
 #include <chrono>
+#include <thread>
 
 #include "modbus/face_impl.hpp"
 #include "rangekit/hub/hub.hpp"
@@ -7,6 +8,9 @@ namespace rangekit::modbus {
 namespace {
 
 constexpr std::chrono::milliseconds health_interval{100};
+// Items are taken at most this often, so a site's samples cost the face one wake-up per
+// gather rather than one per sample; a register is then at most this much older.
+constexpr std::chrono::milliseconds gather{10};
 
 }  // namespace
 
@@ -69,7 +73,8 @@ void FaceUnits::run_commands() {
     lock.lock();
     Unit& target = units_.at(unit);
     target.command_running = false;
-    target.holding[holding::command_state] = static_cast<std::uint16_t>(done ? CommandState::done : CommandState::failed);
+    target.holding[holding::command_state] =
+        static_cast<std::uint16_t>(done ? CommandState::done : CommandState::failed);
     ++target.holding[holding::command_done];
   }
 }
@@ -83,7 +88,7 @@ void FaceUnits::stop_commands() {
 void FaceUnits::run_updates(const hub::SubscriptionPtr& subscription, const std::atomic<bool>& stopping) {
   auto next_health = std::chrono::steady_clock::now();
   while (!stopping) {
-    const std::vector<hub::HubItemPtr> items = subscription->take(1024, health_interval);
+    const std::vector<hub::HubItemPtr> items = subscription->take(4096, health_interval);
     const auto now = std::chrono::steady_clock::now();
     bool link_changed = false;
     {
@@ -98,14 +103,16 @@ void FaceUnits::run_updates(const hub::SubscriptionPtr& subscription, const std:
         }
       }
     }
-    if (!link_changed && now < next_health) continue;
-    next_health = now + health_interval;
-    const auto sensors = hub_.sensors();
-    const std::lock_guard lock(mutex_);
-    for (const hub::SensorSnapshot& sensor : sensors) {
-      const auto unit = by_sensor_.find(sensor.config.name);
-      if (unit != by_sensor_.end()) apply_health(units_.at(unit->second).state, sensor.streaming, sensor.health);
+    if (link_changed || now >= next_health) {
+      next_health = now + health_interval;
+      const auto sensors = hub_.sensors();
+      const std::lock_guard lock(mutex_);
+      for (const hub::SensorSnapshot& sensor : sensors) {
+        const auto unit = by_sensor_.find(sensor.config.name);
+        if (unit != by_sensor_.end()) apply_health(units_.at(unit->second).state, sensor.streaming, sensor.health);
+      }
     }
+    if (!items.empty() && !stopping) std::this_thread::sleep_until(now + gather);  // paces the wake-ups
   }
 }
 

@@ -76,10 +76,9 @@ void append_rows(std::string& out, std::uint8_t unit, std::string_view sensor, s
                  std::span<const RegisterRow> rows, WordOrder order) {
   for (const RegisterRow& row : rows) {
     out += std::to_string(unit) + "," + csv_field(sensor) + "," + std::string(table) + "," +
-           std::to_string(row.address) + "," + std::string(register_type_name(row.type)) + "," +
-           std::string(row.name) + "," + std::string(row.unit) + "," +
-           std::string(words_of(row.type) == 2 ? word_order_name(order) : "") + "," + csv_field(row.description) +
-           "\n";
+           std::to_string(row.address) + "," + std::string(register_type_name(row.type)) + "," + std::string(row.name) +
+           "," + std::string(row.unit) + "," + std::string(words_of(row.type) == 2 ? word_order_name(order) : "") +
+           "," + csv_field(row.description) + "\n";
   }
 }
 
@@ -98,11 +97,16 @@ std::string_view word_order_name(WordOrder order) noexcept { return word_order_n
 
 std::string_view register_type_name(RegisterType type) noexcept {
   switch (type) {
-    case RegisterType::float32: return "float32";
-    case RegisterType::int32: return "int32";
-    case RegisterType::uint32: return "uint32";
-    case RegisterType::uint16: return "uint16";
-    case RegisterType::bits16: return "bits16";
+    case RegisterType::float32:
+      return "float32";
+    case RegisterType::int32:
+      return "int32";
+    case RegisterType::uint32:
+      return "uint32";
+    case RegisterType::uint16:
+      return "uint16";
+    case RegisterType::bits16:
+      return "bits16";
   }
   return "uint16";
 }
@@ -124,10 +128,14 @@ std::array<std::uint16_t, 2> words_of_u32(std::uint32_t value, WordOrder order) 
   const auto low = static_cast<std::uint16_t>(value & 0xFFFFU);
   const auto swapped = [](std::uint16_t word) { return static_cast<std::uint16_t>((word >> 8) | (word << 8)); };
   switch (order) {
-    case WordOrder::abcd: return {high, low};
-    case WordOrder::cdab: return {low, high};
-    case WordOrder::badc: return {swapped(high), swapped(low)};
-    case WordOrder::dcba: return {swapped(low), swapped(high)};
+    case WordOrder::abcd:
+      return {high, low};
+    case WordOrder::cdab:
+      return {low, high};
+    case WordOrder::badc:
+      return {swapped(high), swapped(low)};
+    case WordOrder::dcba:
+      return {swapped(low), swapped(high)};
   }
   return {high, low};
 }

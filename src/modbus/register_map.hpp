@@ -16,7 +16,7 @@ namespace rangekit::modbus {
 // Modbus habit (big-endian words, high word first); the others are what some PLCs expect.
 enum class WordOrder : std::uint8_t { abcd, cdab, badc, dcba };
 std::optional<WordOrder> parse_word_order(std::string_view text);  // "ABCD", "cdab", ...
-std::string_view word_order_name(WordOrder order) noexcept;         // "ABCD"
+std::string_view word_order_name(WordOrder order) noexcept;        // "ABCD"
 
 enum class RegisterType : std::uint8_t { float32, int32, uint32, uint16, bits16 };
 std::string_view register_type_name(RegisterType type) noexcept;  // "float32"
@@ -46,7 +46,7 @@ inline constexpr std::uint16_t errors = 11;
 inline constexpr std::uint16_t lost = 13;
 inline constexpr std::uint16_t target_count = 16;
 inline constexpr std::uint16_t first_target_mm = 17;
-inline constexpr std::size_t max_targets = 15;  // the ULS's binning limit (§3, §9)
+inline constexpr std::size_t max_targets = 15;                           // the ULS's binning limit (§3, §9)
 inline constexpr std::size_t count = first_target_mm + 2 * max_targets;  // 47 registers: 0-46
 }  // namespace input
 

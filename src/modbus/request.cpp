@@ -96,7 +96,8 @@ std::uint8_t answer_request(Bytes frame, UnitTable& units, std::vector<std::uint
   const std::uint8_t unit = frame[6];
   if (!units.has_unit(unit)) return refuse(frame, function, exception::gateway_target_failed, out);
   switch (function) {
-    case read_input: return answer_read(frame, pdu, units.input_registers(unit), out);
+    case read_input:
+      return answer_read(frame, pdu, units.input_registers(unit), out);
     case read_holding:
       if (!units.writable()) return refuse(frame, function, exception::illegal_function, out);
       return answer_read(frame, pdu, units.holding_registers(unit), out);
@@ -104,7 +105,8 @@ std::uint8_t answer_request(Bytes frame, UnitTable& units, std::vector<std::uint
     case write_multiple:
       if (!units.writable()) return refuse(frame, function, exception::illegal_function, out);
       return answer_write(frame, pdu, units, out);
-    default: return refuse(frame, function, exception::illegal_function, out);
+    default:
+      return refuse(frame, function, exception::illegal_function, out);
   }
 }
 

@@ -22,7 +22,7 @@ inline constexpr std::uint8_t busy = 0x06;
 inline constexpr std::uint8_t gateway_target_failed = 0x0B;
 }  // namespace exception
 
-inline constexpr std::size_t mbap_header_size = 7;                       // transaction, protocol, length, unit
+inline constexpr std::size_t mbap_header_size = 7;                   // transaction, protocol, length, unit
 inline constexpr std::size_t max_adu_size = mbap_header_size + 253;  // the PDU is at most 253 bytes
 
 // One request: the MBAP header's length says where it ends. A protocol id other than 0 or a

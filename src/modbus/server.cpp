@@ -10,6 +10,7 @@ namespace {
 
 namespace net = boost::asio;
 using tcp = net::ip::tcp;
+using Clock = std::chrono::steady_clock;
 
 // Loopback always; beyond it, an address the site file's allow list names.
 bool allowed(const net::ip::address& peer, const std::vector<AddressRange>& allow) {
@@ -36,6 +37,7 @@ struct Server::Impl {
     std::array<std::uint8_t, 2 * max_adu_size> buffer{};
     std::size_t held = 0;  // bytes of buffer not yet a whole request
     std::vector<std::uint8_t> out;
+    Clock::time_point last_request = Clock::now();
   };
   using ConnectionPtr = std::shared_ptr<Connection>;
 
@@ -65,6 +67,7 @@ struct Server::Impl {
     connection->socket = std::move(socket);
     connections.push_back(connection);
     counters.clients = connections.size();
+    watch_idle(connection);
     read(connection);
   }
 
@@ -76,11 +79,21 @@ struct Server::Impl {
     counters.clients = connections.size();
   }
 
-  void read(const ConnectionPtr& connection) {
-    connection->idle.expires_after(settings.idle_timeout);
+  // A connection that asks nothing for idle_timeout is closed: one timer per connection
+  // looks at its last request, so a request costs no timer operation.
+  void watch_idle(const ConnectionPtr& connection) {
+    connection->idle.expires_after(settings.idle_timeout / 2);
     connection->idle.async_wait([this, connection](boost::system::error_code error) {
-      if (!error) close(connection);  // asked nothing for idle_timeout
+      if (error || !connection->socket.is_open()) return;
+      if (Clock::now() - connection->last_request >= settings.idle_timeout) {
+        close(connection);
+        return;
+      }
+      watch_idle(connection);
     });
+  }
+
+  void read(const ConnectionPtr& connection) {
     auto room = net::buffer(connection->buffer.data() + connection->held, connection->buffer.size() - connection->held);
     connection->socket.async_read_some(room, [this, connection](boost::system::error_code error, std::size_t got) {
       if (error) {
@@ -88,6 +101,7 @@ struct Server::Impl {
         return;
       }
       connection->held += got;
+      connection->last_request = Clock::now();
       answer(connection);
     });
   }
@@ -153,8 +167,8 @@ Result<std::unique_ptr<Server>> Server::bind(ServerSettings settings, UnitTable&
   if (!error) impl->acceptor.bind(endpoint, error);
   if (!error) impl->acceptor.listen(net::socket_base::max_listen_connections, error);
   if (error) {
-    return make_error(Errc::io, "modbus: cannot listen on " + impl->settings.listen.to_string() + ": " +
-                                    error.message());
+    return make_error(Errc::io,
+                      "modbus: cannot listen on " + impl->settings.listen.to_string() + ": " + error.message());
   }
   const auto bound = impl->acceptor.local_endpoint(error);
   impl->local = Endpoint{bound.address().to_string(), bound.port()};

@@ -70,8 +70,8 @@ void apply_sample(UnitState& state, const Sample& sample, std::chrono::steady_cl
     state.target_count = 1;
   }
   const auto presence = value_of(sample, Quantity::presence);
-  state.no_target = signal_lost(sample) || (presence && *presence == 0) ||
-                    (sample.targets.empty() && shows_targets(sample));
+  state.no_target =
+      signal_lost(sample) || (presence && *presence == 0) || (sample.targets.empty() && shows_targets(sample));
 }
 
 void apply_health(UnitState& state, bool streaming, const hub::SensorHealth& health) {
