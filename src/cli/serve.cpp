@@ -183,13 +183,6 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
       return exit_code_for(started_bridge.error());
     }
     bridge = std::move(*started_bridge);
-    server_options.faces = [&bridge] {
-      const mqtt::BridgeStats stats = bridge->stats();
-      web::FaceHealth face{"mqtt", stats.error.empty(), stats.error, stats.connected, stats.broker, {}};
-      face.counters = {{"published", stats.published},   {"queued", stats.queued},     {"dropped", stats.dropped},
-                       {"reconnects", stats.reconnects}, {"commands", stats.commands}, {"refusals", stats.refusals}};
-      return std::vector<web::FaceHealth>{face};
-    };
     const auto address = hub::parse_broker_url(mqtt_config.broker);
     fmt::print(
         "rangekit serve: publishing {} sensors to {} under {}/ (watch: mosquitto_sub -h {} -p {} -v -t '{}/#')\n",
@@ -201,7 +194,8 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
     fmt::print(stderr, "rangekit serve: {}\n", modbus_face.error().message);
     if (bridge) bridge->stop();
     hub->stop();
-    return exit_code_for(modbus_face.error());
+    // A setting the face refuses is a mistake of the site file or --modbus, like one --check finds.
+    return modbus_face.error().code == Errc::io ? exit_code_for(modbus_face.error()) : exit_bad_input;
   }
   if (*modbus_face) {
     const Endpoint modbus_at = (*modbus_face)->local_endpoint();
@@ -210,6 +204,25 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
         "-c 10 -1 {})\n",
         modbus_at.host, modbus_at.port, modbus_unit_list(*site), modbus_at.port, modbus_at.host);
   }
+  // The other faces' health on /healthz.
+  server_options.faces = [&bridge, &modbus_face] {
+    std::vector<web::FaceHealth> faces;
+    if (bridge) {
+      const mqtt::BridgeStats stats = bridge->stats();
+      web::FaceHealth face{"mqtt", stats.error.empty(), stats.error, stats.connected, stats.broker, {}};
+      face.counters = {{"published", stats.published},   {"queued", stats.queued},     {"dropped", stats.dropped},
+                       {"reconnects", stats.reconnects}, {"commands", stats.commands}, {"refusals", stats.refusals}};
+      faces.push_back(std::move(face));
+    }
+    if (*modbus_face) {
+      const modbus::FaceStats stats = (*modbus_face)->stats();
+      web::FaceHealth face{"modbus", true, "", true, (*modbus_face)->local_endpoint().to_string(), {}};
+      face.counters = {{"clients", stats.clients}, {"requests", stats.requests},   {"exceptions", stats.exceptions},
+                       {"refused", stats.refused}, {"malformed", stats.malformed}, {"commands", stats.commands}};
+      faces.push_back(std::move(face));
+    }
+    return faces;
+  };
   // Captures go where [service] capture_dir says, relative to the site file's folder.
   std::filesystem::path capture_dir = site->service.capture_dir;
   if (capture_dir.is_relative() && !site->file.empty()) {

@@ -44,8 +44,8 @@ Result<AddressRange> parse_address_range(std::string_view text) {
   }
   const std::uint32_t mask = prefix == 0 ? 0 : ~std::uint32_t{0} << (32 - prefix);
   if ((*address & ~mask) != 0) {
-    return make_error(Errc::out_of_range,
-                      "'" + std::string(text) + "' has host bits set: a /" + std::to_string(prefix) + " range starts at a multiple of its size");
+    return make_error(Errc::out_of_range, "'" + std::string(text) + "' has host bits set: a /" +
+                                              std::to_string(prefix) + " range starts at a multiple of its size");
   }
   return AddressRange{*address, mask};
 }

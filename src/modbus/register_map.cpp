@@ -18,7 +18,7 @@ constexpr std::array<RegisterRow, 10> fixed_input_rows{{
     {input::status, RegisterType::bits16, "status", "",
      "bit 0 connected, 1 streaming, 2 reading valid, 3 suspect, 4 stale, 5 no target"},
     {input::device_error, RegisterType::uint16, "device_error", "",
-     "the last sample's device error number or result code (ULS §10, LS5 §9.3), 0 for none"},
+     "the last sample's device error number, or its result code when it saw nothing; 0 for none"},
     {input::sequence, RegisterType::uint32, "sequence", "", "rises by one with every new sample"},
     {input::age_ms, RegisterType::uint16, "age_ms", "ms", "since the last sample arrived, at most 65535"},
     {input::records, RegisterType::uint32, "records", "", "samples read since the service started"},

@@ -145,7 +145,7 @@ TEST(ModbusFace, ExceptionsNameWhatIsWrong) {
   LiveFace live(false);
   ASSERT_NE(live.port, 0);
   Client client(live.port);
-  EXPECT_EQ(error_of(client.read_input(99, 0, 1)), EMBXGTAR);  // no sensor is unit 99
+  EXPECT_EQ(error_of(client.read_input(99, 0, 1)), EMBXGTAR);    // no sensor is unit 99
   EXPECT_EQ(error_of(client.read_input(2, 40, 10)), EMBXILADD);  // past register 46
   EXPECT_EQ(error_of(client.read_holding(2, 0, 1)), EMBXILFUN);  // read only
   EXPECT_EQ(client.write(2, 0, 3), EMBXILFUN);

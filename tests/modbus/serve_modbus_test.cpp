@@ -6,8 +6,11 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <fstream>
+#include <map>
 #include <regex>
 #include <set>
+#include <sstream>
 
 #include "child_process.hpp"
 #include "ls5_driver/cli_process.hpp"
@@ -61,8 +64,7 @@ TEST(ServeModbus, MbpollReadsTheDemosSiloAsTheApiHasIt) {
   std::string units;
   static const std::regex api_line(R"(API on http://127\.0\.0\.1:(\d+)/)");
   static const std::regex modbus_line(R"(Modbus TCP on 127\.0\.0\.1:(\d+), units (.*) \(docs)");
-  for (std::string line = service.read_line(); !line.empty() && (api == 0 || modbus == 0);
-       line = service.read_line()) {
+  for (std::string line = service.read_line(); !line.empty() && (api == 0 || modbus == 0); line = service.read_line()) {
     log += line;
     std::smatch found;
     if (std::regex_search(line, found, api_line)) api = static_cast<std::uint16_t>(std::stoi(found[1]));
@@ -99,8 +101,8 @@ TEST(ServeModbus, MbpollReadsTheDemosSiloAsTheApiHasIt) {
   ASSERT_EQ(status.exit_code, 0) << status.out;
   ASSERT_EQ(std::stoi(values_of(status.out).at(4)) & 0b111, 0b111) << status.out;  // connected, streaming, valid
   // The float at 0-1, big-endian words (-B: ABCD, the default word order).
-  const ProgramRun reading = run_program(dir, {"mbpoll", "-m", "tcp", "-p", port, "-a", silo_unit, "-t", "3:float", "-B",
-                                        "-0", "-r", "0", "-c", "1", "-1", "127.0.0.1"});
+  const ProgramRun reading = run_program(dir, {"mbpoll", "-m", "tcp", "-p", port, "-a", silo_unit, "-t", "3:float",
+                                               "-B", "-0", "-r", "0", "-c", "1", "-1", "127.0.0.1"});
   ASSERT_EQ(reading.exit_code, 0) << reading.out;
   const double millimetres = std::stod(values_of(reading.out).at(0));
   const auto samples = web_test::http(api, "GET", "/api/sensors/silo/samples?limit=1000");
@@ -114,16 +116,59 @@ TEST(ServeModbus, MbpollReadsTheDemosSiloAsTheApiHasIt) {
   }
   // mbpoll prints 6 significant digits: 10497 mm is 10.497 m to the micrometre.
   EXPECT_TRUE(distances_um.contains(std::lround(millimetres * 1000.0)))
-      << millimetres << " mm is none of the silo's last readings\n" << reading.out;
+      << millimetres << " mm is none of the silo's last readings\n"
+      << reading.out;
 
-  const ProgramRun nobody = run_program(dir, {"mbpoll", "-m", "tcp", "-p", port, "-a", "99", "-t", "3", "-0", "-r", "0",
-                                       "-c", "1", "-1", "127.0.0.1"});
+  const ProgramRun nobody = run_program(
+      dir, {"mbpoll", "-m", "tcp", "-p", port, "-a", "99", "-t", "3", "-0", "-r", "0", "-c", "1", "-1", "127.0.0.1"});
   EXPECT_NE(nobody.out.find("Target device failed to respond"), std::string::npos) << nobody.out;
   service.terminate();
   std::string tail;
   for (std::string line = service.read_line(); !line.empty(); line = service.read_line()) tail += line;
   EXPECT_EQ(service.wait(), 130);
   EXPECT_NE(tail.find("modbus: requests "), std::string::npos) << tail;
+}
+
+}  // namespace
+
+namespace {
+
+std::filesystem::path write_site(const TempDir& dir, const std::string& text) {
+  const auto path = dir.path / "site.toml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+// The map a PLC engineer imports: every register of every unit, the site's unit ids and word order.
+TEST(ServeModbus, TheMapOfASiteFileIsItsUnitsRegistersAsCsv) {
+  TempDir dir;
+  const auto site = write_site(dir,
+                               "[modbus]\nword_order = \"CDAB\"\nwritable = true\n"
+                               "[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"/dev/x\"\n"
+                               "[[sensor]]\nname = \"silo\"\nfamily = \"uls\"\nport = \"/dev/y\"\nmodbus_unit = 20\n");
+  const auto run = ls5_driver_test::run_cli(dir.path, {"serve", "--check", site.string(), "--modbus-map"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::istringstream lines(run.out);
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(line, "unit,sensor,table,register,type,name,unit_of_measure,word_order,description");
+  std::map<std::string, int> rows;
+  while (std::getline(lines, line)) ++rows[line.substr(0, line.find(',', line.find(',') + 1))];
+  EXPECT_EQ(rows, (std::map<std::string, int>{{"1,belt", 25 + 3}, {"20,silo", 25 + 3}}));  // 25 input, 3 holding
+  EXPECT_NE(run.out.find("20,silo,input,2,int32,reading_um,um,CDAB,"), std::string::npos) << run.out;
+  const auto check = ls5_driver_test::run_cli(dir.path, {"serve", "--check", site.string()});
+  EXPECT_EQ(check.exit_code, 0) << check.err;
+}
+
+// Modbus has no authentication: beyond loopback the site file must say who may connect.
+TEST(ServeModbus, ListeningBeyondLoopbackWithoutAnAllowListIsRefusedAtStart) {
+  TempDir dir;
+  const auto site = write_site(
+      dir, "[[sensor]]\nname = \"belt\"\nfamily = \"ls5\"\nport = \"" + (dir.path / "nothing-here").string() + "\"\n");
+  const auto run = ls5_driver_test::run_cli(
+      dir.path, {"serve", "--config", site.string(), "--listen", "127.0.0.1:0", "--modbus", "0.0.0.0:0"});
+  EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
+  EXPECT_NE(run.err.find("is beyond loopback: name who may connect with [modbus] allow"), std::string::npos) << run.err;
 }
 
 }  // namespace

@@ -26,7 +26,7 @@ struct FaceOptions {
   std::vector<std::string> allow;
   // Unit id (1-247) and the sensor it reads.
   std::vector<std::pair<std::uint8_t, std::string>> units;
-  std::size_t max_clients = 64;                // connections at once; one more is closed at once
+  std::size_t max_clients = 64;                   // connections at once; one more is closed at once
   std::chrono::milliseconds idle_timeout{60000};  // a connection that asks nothing this long is closed
   std::function<void(const std::string&)> log;    // one line per event worth telling
 };
