@@ -11,12 +11,14 @@ build_packages=(
   libfmt-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libsqlite3-dev
   libboost1.81-dev libssl-dev  # Beast + asio (+ OpenSSL for HTTPS): the service's HTTP/SSE face (docs/api.md)
   libmosquitto-dev  # the service's MQTT face (docs/mqtt.md)
+  libsystemd-dev  # sd_notify: rangekit serve as a Type=notify service with a watchdog (docs/deploy.md)
   pybind11-dev python3-dev  # the Python package (python/, docs/python.md)
 )
 test_packages=(
   libgtest-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev clang-format clang-tidy
   dpkg-dev  # dpkg-shlibdeps, for make package
+  systemd  # systemd-analyze verify of the packaged unit (tests/cli/service_unit_test.cpp)
   openssl  # the TLS test makes its own certificate
   libmodbus-dev mbpoll  # the Modbus tests ask with libmodbus's client and mbpoll (docs/modbus.md)
   mosquitto mosquitto-clients  # the MQTT tests start a loopback broker and subscribe (docs/mqtt.md)

@@ -14,6 +14,7 @@
 #include "cli/demo_site.hpp"
 #include "cli/serve_monitor.hpp"
 #include "cli/stop_signals.hpp"
+#include "cli/systemd_notify.hpp"
 #include "rangekit/core/descriptor_limit.hpp"
 #include "rangekit/hub/captures.hpp"
 #include "rangekit/hub/hub.hpp"
@@ -120,20 +121,20 @@ std::string mqtt_summary(const mqtt::BridgeStats& stats) {
                      stats.reconnects, stats.commands, stats.error.empty() ? "" : "; " + stats.error);
 }
 
-// Beyond loopback every write and stream needs the token: made on the first start,
-// kept with mode 0600 beside the site file (or where [service] token_file says), printed once.
+// Beyond loopback every write and stream needs the token: made on the first start, kept with
+// mode 0600 beside the site file or in systemd's state folder (or where [service] token_file
+// says), printed once; not into the journal, which more users may read than the file.
 Result<std::string> token_for(const hub::SiteConfig& site, const std::string& listen) {
   auto endpoint = parse_endpoint(listen);
   if (!endpoint) return make_error(Errc::out_of_range, "listen '" + listen + "': " + endpoint.error().message);
   if (web::is_loopback_host(endpoint->host)) return std::string();
-  std::string path = site.service.token_file;
-  if (path.empty()) {
-    const auto slash = site.file.rfind('/');
-    path = (slash == std::string::npos ? std::string(".") : site.file.substr(0, slash)) + "/rangekit-token";
-  }
+  const std::string path =
+      state_path(site.service.token_file.empty() ? "rangekit-token" : site.service.token_file, site.file);
   auto token = web::load_or_create_token(path);
   if (!token) return std::move(token).error();
-  if (token->created) {
+  if (token->created && writes_to_journal(stdout)) {
+    fmt::print("listening beyond loopback: every write and stream needs the token just made in {} (mode 0600)\n", path);
+  } else if (token->created) {
     fmt::print("listening beyond loopback: every write and stream needs this token (kept in {}, shown once):\n  {}\n",
                path, token->value);
   } else {
@@ -223,11 +224,8 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
     }
     return faces;
   };
-  // Captures go where [service] capture_dir says, relative to the site file's folder.
-  std::filesystem::path capture_dir = site->service.capture_dir;
-  if (capture_dir.is_relative() && !site->file.empty()) {
-    capture_dir = std::filesystem::path(site->file).parent_path() / capture_dir;
-  }
+  // Captures go where [service] capture_dir says; relative: in systemd's state folder, else beside the site file.
+  const std::filesystem::path capture_dir = state_path(site->service.capture_dir, site->file);
   hub::CaptureLimits capture_limits;
   capture_limits.running = site->service.max_captures;
   hub::CaptureManager captures(*hub, capture_dir.string(), capture_limits);
@@ -262,16 +260,20 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
                server_options.token.empty() ? "" : "#token=TOKEN");
   }
   std::fflush(stdout);
+  SystemdNotify systemd;  // every session and face started: ready (docs/deploy.md)
+  systemd.ready(states_line(hub->sensors()));
   const auto started = std::chrono::steady_clock::now();
   const auto limit = std::chrono::duration<double>(options.duration_s);
   auto next_summary = started + std::chrono::seconds(1);
-  ServeMonitor monitor(stdout, options.table || ::isatty(STDOUT_FILENO) == 1);
+  ServeMonitor monitor(stdout, options.table || ::isatty(STDOUT_FILENO) == 1, !writes_to_journal(stdout));
   while (!signals.stopped() && (options.duration_s <= 0 || std::chrono::steady_clock::now() - started < limit)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));  // polls the stop flag; not a synchronisation
+    systemd.keep_alive([&] { return states_line(hub->sensors()); });
     if (std::chrono::steady_clock::now() < next_summary) continue;
     next_summary += std::chrono::seconds(1);
     monitor.tick(hub->sensors());
   }
+  systemd.stopping();
   (*server)->stop();  // no new requests; streams closed
   if (*modbus_face) (*modbus_face)->stop();
   if (bridge) bridge->stop();  // every sensor marked offline on the broker, then a clean disconnect

@@ -31,6 +31,18 @@ std::string summary_line(const hub::SensorSnapshot& sensor) {
                      health.errors, health.lost, health.bad_frames, health.reconnects);
 }
 
+std::string states_line(const std::vector<hub::SensorSnapshot>& sensors) {
+  std::map<std::string, std::size_t> counts;  // by state, in name order
+  for (const hub::SensorSnapshot& sensor : sensors) ++counts[state_of(sensor)];
+  std::string line = fmt::format("{} sensor{}", sensors.size(), sensors.size() == 1 ? "" : "s");
+  const char* separator = ": ";
+  for (const auto& [state, count] : counts) {
+    line += fmt::format("{}{} {}", separator, count, state);
+    separator = ", ";
+  }
+  return line;
+}
+
 void ServeMonitor::tick(const std::vector<hub::SensorSnapshot>& sensors) {
   // Up over the last table and clear it: the changes go above, the new table below them.
   if (table_ && drawn_ > 0) fmt::print(out_, "\x1b[{}A\x1b[J", drawn_);
@@ -39,8 +51,11 @@ void ServeMonitor::tick(const std::vector<hub::SensorSnapshot>& sensors) {
     auto& said = said_[sensor.config.name];
     if (state == said) continue;
     std::string time;
-    record::append_iso_time(time, std::chrono::system_clock::now());
-    fmt::print(out_, "{} {}: {}\n", time, sensor.config.name, state);
+    if (timestamps_) {
+      record::append_iso_time(time, std::chrono::system_clock::now());
+      time += ' ';
+    }
+    fmt::print(out_, "{}{}: {}\n", time, sensor.config.name, state);
     said = std::move(state);
   }
   drawn_ = 0;

@@ -14,15 +14,21 @@ namespace rangekit::cli {
 // One line of the table: name, family, state, rate and counts.
 std::string summary_line(const hub::SensorSnapshot& sensor);
 
+// "3 sensors: 2 streaming, 1 disconnected": the service's state in a line (systemctl status).
+std::string states_line(const std::vector<hub::SensorSnapshot>& sensors);
+
 class ServeMonitor {
  public:
   // `table`: redraw the table each tick (a terminal, or --table); else only the changes.
-  ServeMonitor(std::FILE* out, bool table) : out_(out), table_(table) {}
+  // `timestamps`: begin each change with the time; the journal stamps lines itself.
+  ServeMonitor(std::FILE* out, bool table, bool timestamps = true)
+      : out_(out), table_(table), timestamps_(timestamps) {}
   void tick(const std::vector<hub::SensorSnapshot>& sensors);
 
  private:
   std::FILE* out_;
   bool table_;
+  bool timestamps_;
   std::size_t drawn_ = 0;                    // table lines on the screen, redrawn in place
   std::map<std::string, std::string> said_;  // sensor -> the state last said
 };
