@@ -31,6 +31,27 @@ if(TARGET rangekit)
   install(FILES ${PROJECT_SOURCE_DIR}/packaging/rangekit.bash-completion
     DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/bash-completion/completions RENAME rangekit COMPONENT runtime)
 endif()
+# The gateway service (docs/deploy.md): the systemd unit, the sample site file (a conffile)
+# and the FTDI latency udev rule, commented out. Under the prefix /usr (the .deb) they go
+# where systemd, udev and dpkg look; under any other prefix into PREFIX/share/rangekit,
+# as samples, so that `cmake --install --prefix DIR` writes nothing outside DIR.
+if(TARGET rangekit)
+  install(CODE "set(RANGEKIT_PACKAGING_SOURCE \"${PROJECT_SOURCE_DIR}/packaging\")" COMPONENT runtime)
+  install(CODE [[
+    if(CMAKE_INSTALL_PREFIX STREQUAL "/usr")
+      set(rangekit_unit_dir /lib/systemd/system)
+      set(rangekit_udev_dir /lib/udev/rules.d)
+      set(rangekit_config_dir /etc/rangekit)
+    else()
+      set(rangekit_unit_dir ${CMAKE_INSTALL_PREFIX}/share/rangekit/systemd)
+      set(rangekit_udev_dir ${CMAKE_INSTALL_PREFIX}/share/rangekit/udev)
+      set(rangekit_config_dir ${CMAKE_INSTALL_PREFIX}/share/rangekit)
+    endif()
+    file(INSTALL ${RANGEKIT_PACKAGING_SOURCE}/systemd/rangekit.service DESTINATION ${rangekit_unit_dir})
+    file(INSTALL ${RANGEKIT_PACKAGING_SOURCE}/udev/99-rangekit-ftdi-latency.rules DESTINATION ${rangekit_udev_dir})
+    file(INSTALL ${RANGEKIT_PACKAGING_SOURCE}/site.toml DESTINATION ${rangekit_config_dir})
+  ]] COMPONENT runtime)
+endif()
 file(GLOB RANGEKIT_DOCS ${PROJECT_SOURCE_DIR}/docs/*.md)
 install(FILES ${PROJECT_SOURCE_DIR}/README.md ${RANGEKIT_DOCS} DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT runtime)
 
@@ -53,5 +74,12 @@ if(TARGET _rangekit)
   set(CPACK_DEBIAN_PACKAGE_DEPENDS "${CPACK_DEBIAN_PACKAGE_DEPENDS}, python3 (>= ${Python3_VERSION_MAJOR}.${Python3_VERSION_MINOR}), python3 (<< ${Python3_VERSION_MAJOR}.${next_minor}), python3-numpy")
 endif()
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+# The service's user (postinst makes it with adduser, postrm's purge removes it), stopping
+# on removal, and /etc/rangekit/site.toml kept across upgrades: CPack 3.25 lists no conffile itself.
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "${CPACK_DEBIAN_PACKAGE_DEPENDS}, adduser")
+set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA ${PROJECT_SOURCE_DIR}/packaging/debian/conffiles
+  ${PROJECT_SOURCE_DIR}/packaging/debian/postinst ${PROJECT_SOURCE_DIR}/packaging/debian/prerm
+  ${PROJECT_SOURCE_DIR}/packaging/debian/postrm)
+set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 set(CPACK_STRIP_FILES ON)
 include(CPack)
