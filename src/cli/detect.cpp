@@ -11,12 +11,14 @@
 #include <algorithm>
 #include <chrono>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cli/cli_family.hpp"
 #include "cli/commands.hpp"
 #include "cli/host_sources.hpp"
+#include "cli/usb_latency.hpp"
 #include "rangekit/core/fd_transport.hpp"
 #include "rangekit/core/serial_port.hpp"
 
@@ -68,12 +70,13 @@ std::string other_format_speakers() {
   return text;
 }
 
-void print_finding(const DetectFinding& finding, bool jsonl) {
+void print_finding(const DetectFinding& finding, bool jsonl, const std::optional<UsbLatency>& latency) {
   if (jsonl) {
     nlohmann::json line{{"port", finding.port},       {"family", finding.family},
                         {"baud", finding.baud},       {"byte_format", finding.byte_format},
                         {"address", finding.address}, {"version", finding.version},
                         {"detail", finding.detail}};
+    if (latency) line["latency_timer_ms"] = latency->milliseconds;
     fmt::print("{}\n", line.dump());
   } else {
     const CliFamily* family = find_cli_family(finding.family);
@@ -128,13 +131,13 @@ struct PortScan {
 // found nothing: the other byte formats at the rates of the families that speak them,
 // factory rate first, so that a sensor moved to 8N2 at 115200 is found at the first try.
 PortScan scan_port(const DetectOptions& options, const std::string& path, const std::vector<std::uint32_t>& bauds,
-                   std::chrono::milliseconds timeout) {
+                   std::chrono::milliseconds timeout, const std::optional<UsbLatency>& latency) {
   PortScan scan;
   const auto formats = candidate_formats(options);
   const bool try_8n1 = std::find(formats.begin(), formats.end(), "8N1") != formats.end();
   auto report = [&](const DetectFinding& finding) {
     clear_progress();
-    print_finding(finding, options.jsonl);
+    print_finding(finding, options.jsonl, latency);
     ++scan.found;
   };
   // Opens the port at a rate and format; nothing when the rate cannot be set here, or when
@@ -211,7 +214,16 @@ int run_detect(const DetectOptions& options) {
       any_port_failed = true;
       continue;
     }
-    const PortScan scan = scan_port(options, path, bauds, timeout);
+    // Said before the scan, which takes seconds: on stdout beside the findings, or on stderr
+    // when stdout is JSON lines (there each finding carries latency_timer_ms).
+    const auto latency = usb_latency(path);
+    if (latency && !latency_advice(*latency).empty()) {
+      fmt::print(options.jsonl ? stderr : stdout, "{}\n", latency_advice(*latency));
+    } else if (latency && !options.jsonl) {
+      fmt::print("{}: USB serial latency timer {} ms\n", latency->device, latency->milliseconds);
+    }
+    std::fflush(stdout);
+    const PortScan scan = scan_port(options, path, bauds, timeout, latency);
     clear_progress();
     found += scan.found;
     any_port_failed = any_port_failed || scan.failed;
