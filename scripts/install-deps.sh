@@ -18,7 +18,7 @@ test_packages=(
   libgtest-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev clang-format clang-tidy
   dpkg-dev  # dpkg-shlibdeps, for make package
-  systemd  # systemd-analyze verify of the packaged unit (tests/cli/service_unit_test.cpp)
+  systemd  # systemd-analyze verify of the packaged unit (tests/cli/gateway_service_test.cpp)
   openssl  # the TLS test makes its own certificate
   libmodbus-dev mbpoll  # the Modbus tests ask with libmodbus's client and mbpoll (docs/modbus.md)
   mosquitto mosquitto-clients  # the MQTT tests start a loopback broker and subscribe (docs/mqtt.md)

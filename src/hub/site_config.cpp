@@ -278,6 +278,7 @@ Status check_service(std::string_view file, const toml::table& table, ServiceCon
 
 Status check_modbus(std::string_view file, const toml::table& table, ModbusConfig& modbus) {
   modbus.line = table.source().begin.line;
+  modbus.listen = default_modbus_listen;  // the table turns the face on, on loopback unless it says
   if (auto checked = only_keys(file, table, "[modbus]", {"listen", "word_order", "writable", "allow"}); !checked) {
     return checked;
   }

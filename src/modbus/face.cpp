@@ -84,12 +84,13 @@ Result<std::unique_ptr<Face>> Face::start(hub::Hub& hub, FaceOptions options) {
     auto snapshot = hub.sensor(sensor);
     impl->units.add(unit, sensor, snapshot ? snapshot->config.family : std::string());
   }
-  auto subscription = hub.subscribe("", 8192, hub::OverflowPolicy::drop_oldest);
-  if (!subscription) return std::move(subscription).error();
-  impl->subscription = *subscription;
   auto server = Server::bind(std::move(settings), impl->units, impl->counters);
   if (!server) return std::move(server).error();
   impl->server = std::move(*server);
+  // Subscribed last: a start that fails leaves no subscription behind in the hub.
+  auto subscription = hub.subscribe("", 8192, hub::OverflowPolicy::drop_oldest);
+  if (!subscription) return std::move(subscription).error();
+  impl->subscription = *subscription;
   Impl* state = impl.get();
   impl->updater = std::thread([state] { state->units.run_updates(state->subscription, state->stopping); });
   impl->commander = std::thread([state] { state->units.run_commands(); });

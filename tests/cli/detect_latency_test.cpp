@@ -47,8 +47,9 @@ TEST(DetectLatency, AFactoryFtdiTimerIsSaidWithWhatItCostsAPollAndTheUdevRule) {
   // The rule it names is the one the package ships, and it sets the timer it talks about.
   const std::string rule = ls5_driver_test::read_file(std::string(rangekit::test::source_dir()) +
                                                       "/packaging/udev/99-rangekit-ftdi-latency.rules");
-  EXPECT_TRUE(contains(rule, "#ACTION==\"add\", SUBSYSTEM==\"usb-serial\", DRIVER==\"ftdi_sio\", "
-                             "ATTR{latency_timer}=\"1\""))
+  EXPECT_TRUE(contains(rule,
+                       "#ACTION==\"add\", SUBSYSTEM==\"usb-serial\", DRIVER==\"ftdi_sio\", "
+                       "ATTR{latency_timer}=\"1\""))
       << rule;
 }
 

@@ -1,8 +1,8 @@
 // The gateway service the .deb installs (docs/deploy.md): the systemd unit as systemd-analyze
 // reads it, its ExecStartPre on the sample site file, its ExecStart run as systemd would run it
 // (notify socket, watchdog, journal, state folder), and a service started before its sensor.
-#include <gtest/gtest.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -257,8 +257,7 @@ TEST(ServiceUnit, ExecStartPreAcceptsTheSampleSiteFileAndItsExamples) {
   EXPECT_TRUE(cli_test::contains(run.output, "1 sensors on 1 ports")) << run.output;
 
   // "# name = ..." and "# [[sensor]]" lines uncommented; prose comments stay comments.
-  const std::regex example(R"(^# (\[|(?:name|family|port|address|broker|base_topic|listen) ))",
-                           std::regex::multiline);
+  const std::regex example(R"(^# (\[|(?:name|family|port|address|broker|base_topic|listen) ))", std::regex::multiline);
   const auto all = dir.path / "site.toml";
   std::ofstream(all) << std::regex_replace(read_file(shipped), example, "$1");
   run = cli_test::run_shell(quoted(command_of(pre.front(), all.string())));
@@ -296,7 +295,8 @@ TEST(ServiceUnit, ExecStartSaysReadyKeepsTheWatchdogAndSaysStopping) {
   for (int ping = 0; ping < 3; ++ping) {
     ASSERT_TRUE(notify.wait_for("WATCHDOG=1", std::chrono::seconds(5), seen)) << ping << ": " << seen;
   }
-  const auto said = service.line_with("ghost: disconnected: cannot open serial port " + absent, std::chrono::seconds(10));
+  const auto said =
+      service.line_with("ghost: disconnected: cannot open serial port " + absent, std::chrono::seconds(10));
   ASSERT_TRUE(said.has_value()) << service.output();
   EXPECT_EQ(said->rfind("ghost: ", 0), 0U) << "the journal stamps lines itself: " << *said;
 
@@ -325,7 +325,8 @@ TEST(ServeAtBoot, StartsWithItsPortMissingAndConnectsWhenTheSensorAppears) {
                          "port = \""
                       << port << "\"\n";
   Service service({rangekit::test::cli_path(), "serve", "--config", site}, {}, false);
-  const auto missing = service.line_with("belt: disconnected: cannot open serial port " + port, std::chrono::seconds(20));
+  const auto missing =
+      service.line_with("belt: disconnected: cannot open serial port " + port, std::chrono::seconds(20));
   ASSERT_TRUE(missing.has_value()) << service.output();
   EXPECT_EQ(missing->rfind("2", 0), 0U) << "not the journal: the line begins with its time: " << *missing;
   ASSERT_TRUE(service.running()) << service.output();

@@ -145,6 +145,7 @@ TEST(SiteConfig, ModbusTableAndUnitIds) {
   EXPECT_TRUE(plain.modbus.listen.empty());
   EXPECT_EQ(plain.modbus.word_order, "ABCD");
   EXPECT_EQ(modbus_units(plain), (std::vector<std::pair<std::uint8_t, std::string>>{{1, "a"}, {12, "b"}}));
+  EXPECT_EQ(parse_ok("[modbus]\nwritable = true\n" + two).modbus.listen, "127.0.0.1:5020");  // the table turns it on
   const SiteConfig set = parse_ok(
       "[modbus]\nlisten = \"0.0.0.0:502\"\nword_order = \"cdab\"\nwritable = true\nallow = [\"10.0.0.0/8\", "
       "\"192.168.1.7\"]\n" +

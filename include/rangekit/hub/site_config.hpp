@@ -66,8 +66,9 @@ struct MqttConfig {
 };
 
 // The `[modbus]` table: the Modbus TCP face (docs/modbus.md). Only settings live here.
+inline constexpr const char* default_modbus_listen = "127.0.0.1:5020";
 struct ModbusConfig {
-  std::string listen;  // HOST:PORT; empty: no Modbus face
+  std::string listen;  // HOST:PORT; empty: no Modbus face (a [modbus] table without it: default_modbus_listen)
   std::string word_order = "ABCD";
   bool writable = false;           // the command register
   std::vector<std::string> allow;  // IPv4 addresses or ranges that may connect besides loopback
