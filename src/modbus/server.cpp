@@ -27,6 +27,9 @@ bool allowed(const net::ip::address& peer, const std::vector<AddressRange>& allo
   return std::any_of(allow.begin(), allow.end(), [&](const AddressRange& range) { return range.contains(address); });
 }
 
+// The 1st, 2nd, 4th, 8th... of a kind of refusal: a client that repeats itself cannot flood the log.
+bool worth_logging(std::uint64_t count) { return (count & (count - 1)) == 0; }
+
 }  // namespace
 
 struct Server::Impl {
@@ -43,6 +46,10 @@ struct Server::Impl {
 
   Impl(ServerSettings s, UnitTable& u, ServerCounters& c) : settings(std::move(s)), units(u), counters(c) {}
 
+  void log(const std::string& line) const {
+    if (settings.log) settings.log(line);
+  }
+
   void accept() {
     acceptor.async_accept([this](boost::system::error_code error, tcp::socket socket) {
       if (error == net::error::operation_aborted || !acceptor.is_open()) return;
@@ -54,10 +61,15 @@ struct Server::Impl {
   void admit(tcp::socket socket) {
     boost::system::error_code ignored;
     const auto peer = socket.remote_endpoint(ignored);
-    if (ignored || !allowed(peer.address(), settings.allow) || connections.size() >= settings.max_clients) {
-      ++counters.refused;
-      if (settings.log && !ignored && !allowed(peer.address(), settings.allow)) {
-        settings.log("modbus: refused " + peer.address().to_string() + ": not in [modbus] allow");
+    const bool stranger = !ignored && !allowed(peer.address(), settings.allow);
+    if (ignored || stranger || connections.size() >= settings.max_clients) {
+      const std::uint64_t refused = ++counters.refused;
+      if (stranger && worth_logging(refused)) {
+        log("modbus: refused " + peer.address().to_string() + ": not in [modbus] allow (" + std::to_string(refused) +
+            " refused so far)");
+      } else if (!stranger && worth_logging(refused)) {
+        log("modbus: refused a connection: " + std::to_string(settings.max_clients) + " clients are connected (" +
+            std::to_string(refused) + " refused so far)");
       }
       socket.close(ignored);
       return;
@@ -115,9 +127,10 @@ struct Server::Impl {
       const FrameScan scan = scan_mbap_frame(rest);
       if (scan.status == FrameStatus::need_more) break;
       if (scan.status == FrameStatus::invalid) {
-        ++counters.malformed;
-        if (settings.log) {
-          settings.log(std::string("modbus: closed a connection: ") + (scan.reason != nullptr ? scan.reason : "?"));
+        const std::uint64_t malformed = ++counters.malformed;
+        if (worth_logging(malformed)) {
+          log(std::string("modbus: closed a connection: ") + (scan.reason != nullptr ? scan.reason : "not Modbus") +
+              " (" + std::to_string(malformed) + " so far)");
         }
         close(connection);
         return;
