@@ -53,8 +53,16 @@ struct Server::Impl {
   void accept() {
     acceptor.async_accept([this](boost::system::error_code error, tcp::socket socket) {
       if (error == net::error::operation_aborted || !acceptor.is_open()) return;
-      if (!error) admit(std::move(socket));
-      accept();
+      if (!error) {
+        admit(std::move(socket));
+        accept();
+        return;
+      }
+      // Out of descriptors (EMFILE) or the like: accept again a little later, not in a busy loop.
+      backoff.expires_after(std::chrono::milliseconds(100));
+      backoff.async_wait([this](boost::system::error_code waited) {
+        if (!waited && acceptor.is_open()) accept();
+      });
     });
   }
 
@@ -161,6 +169,7 @@ struct Server::Impl {
   ServerCounters& counters;
   net::io_context context{1};
   tcp::acceptor acceptor{context};
+  net::steady_timer backoff{context};
   std::list<ConnectionPtr> connections;
   Endpoint local;  // as bound, read from any thread
 };
@@ -195,6 +204,7 @@ void Server::stop() {
   net::post(impl_->context, [impl = impl_.get()] {
     boost::system::error_code ignored;
     impl->acceptor.close(ignored);
+    impl->backoff.cancel();
     while (!impl->connections.empty()) impl->close(impl->connections.front());
     impl->context.stop();
   });
