@@ -422,6 +422,93 @@ Status check_mqtt(std::string_view file, const toml::table& table, MqttConfig& m
   return ok_status();
 }
 
+// A number of readings a second: 0 (every sample) up to 10000; an integer reads as one too.
+Result<double> rate_of(std::string_view file, const toml::node& node, std::string_view key) {
+  const auto rate = node.value<double>();
+  if (!rate) return at(file, node, Errc::invalid_frame, std::string(key) + " must be a number");
+  if (!(*rate >= 0 && *rate <= 10000)) {
+    return at(file, node, Errc::out_of_range,
+              std::string(key) + " = " + std::to_string(*rate) + ": 0 (every sample) or up to 10000 a second");
+  }
+  return *rate;
+}
+
+std::string sink_kind_list() {
+  std::string list;
+  for (std::string_view kind : sink_kinds) list += (list.empty() ? "" : ", ") + std::string(kind);
+  return list;
+}
+
+// One [[sink]] table; the sensors it names must be the site's, so it is read after them.
+Status check_sink(std::string_view file, const toml::table& table, const std::vector<SensorConfig>& site_sensors,
+                  SinkConfig& sink) {
+  sink.line = table.source().begin.line;
+  if (auto checked =
+          only_keys(file, table, "[[sink]]", {"kind", "url", "sensors", "max_rate_hz", "spool_max_mb", "drain_rate"});
+      !checked) {
+    return checked;
+  }
+  Mistakes mistakes;
+  for (const auto& [key, node] : table) {
+    const std::string_view k = key.str();
+    if (k == "kind" || k == "url") {
+      auto text = text_of(file, node, k);
+      if (!text) {
+        mistakes.add(std::move(text).error());
+      } else if (k == "kind") {
+        if (std::find(sink_kinds.begin(), sink_kinds.end(), *text) == sink_kinds.end()) {
+          mistakes.add(at(file, node, Errc::out_of_range,
+                          "kind '" + *text + "' is not a sink kind (accepted: " + sink_kind_list() + ")"));
+        }
+        sink.kind = *text;
+      } else {
+        if (auto url = parse_http_url(*text); !url)
+          mistakes.add(at(file, node, Errc::out_of_range, url.error().message));
+        sink.url = *text;
+      }
+    } else if (k == "sensors") {
+      const auto* list = node.as_array();
+      if (list == nullptr) {
+        mistakes.add(at(file, node, Errc::invalid_frame, "sensors must be a list of sensor names: [\"belt\"]"));
+        continue;
+      }
+      for (const toml::node& each : *list) {
+        auto name = text_of(file, each, "each of sensors");
+        if (!name) {
+          mistakes.add(std::move(name).error());
+          continue;
+        }
+        const bool known = std::any_of(site_sensors.begin(), site_sensors.end(),
+                                       [&](const SensorConfig& sensor) { return sensor.name == *name; });
+        if (!known) {
+          mistakes.add(at(file, each, Errc::out_of_range, "sensors: '" + *name + "' is no sensor of this site"));
+        }
+        sink.sensors.push_back(*name);
+      }
+    } else if (k == "max_rate_hz") {
+      auto rate = rate_of(file, node, k);
+      if (rate) {
+        sink.max_rate_hz = *rate;
+      } else {
+        mistakes.add(std::move(rate).error());
+      }
+    } else {
+      const bool spool = k == "spool_max_mb";
+      auto value = spool ? integer_in(file, node, k, 1, 1048576, "1 to 1048576 MB (1 TB)")
+                         : integer_in(file, node, k, 1, 10000000, "1 to 10000000 rows a second");
+      if (!value) {
+        mistakes.add(std::move(value).error());
+        continue;
+      }
+      (spool ? sink.spool_max_mb : sink.drain_rate) = static_cast<std::size_t>(*value);
+    }
+  }
+  if (sink.kind.empty())
+    mistakes.add(at(file, table, Errc::invalid_frame, "[[sink]] needs a kind (" + sink_kind_list() + ")"));
+  if (sink.url.empty()) mistakes.add(at(file, table, Errc::invalid_frame, "[[sink]] needs a url"));
+  return mistakes.status();
+}
+
 std::string line_of(const SensorConfig& sensor) { return "line " + std::to_string(sensor.line); }
 
 // Several sensors on one port must agree on how the port is set up, and only
@@ -493,6 +580,42 @@ Status check_ports(const SiteConfig& site) {
 
 }  // namespace
 
+Result<HttpUrl> parse_http_url(std::string_view url) {
+  const std::string given(url);
+  if (url.rfind("http://", 0) != 0) {
+    return make_error(Errc::out_of_range, "url '" + given + "': give http://HOST:PORT/PATH (https is not built)");
+  }
+  std::string_view rest = url.substr(7);
+  HttpUrl parsed;
+  const auto slash = rest.find('/');
+  if (slash != std::string_view::npos) {
+    parsed.path = std::string(rest.substr(slash));
+    rest = rest.substr(0, slash);
+  }
+  if (rest.find('@') != std::string_view::npos) {
+    return make_error(Errc::out_of_range, "url '" + given + "': no credentials in the URL");
+  }
+  const auto colon = rest.rfind(':');
+  const std::string_view host = rest.substr(0, colon);
+  if (colon != std::string_view::npos) {
+    const std::string_view port = rest.substr(colon + 1);
+    unsigned value = 0;
+    const auto [end, error] = std::from_chars(port.data(), port.data() + port.size(), value);
+    if (port.empty() || error != std::errc{} || end != port.data() + port.size() || value == 0 || value > 65535) {
+      return make_error(Errc::out_of_range, "url '" + given + "': the port '" + std::string(port) + "' is not 1-65535");
+    }
+    parsed.port = static_cast<std::uint16_t>(value);
+  }
+  if (host.empty() || host.find_first_of(" ?#[]") != std::string_view::npos) {
+    return make_error(Errc::out_of_range, "url '" + given + "': no host name in it");
+  }
+  if (parsed.path.find_first_of(" \r\n") != std::string::npos) {
+    return make_error(Errc::out_of_range, "url '" + given + "': a path without spaces or line breaks");
+  }
+  parsed.host = std::string(host);
+  return parsed;
+}
+
 Result<BrokerAddress> parse_broker_url(std::string_view url) {
   BrokerAddress address;
   std::string_view rest;
@@ -561,7 +684,8 @@ Result<SiteConfig> parse_site_config(std::string_view text, std::string_view fil
   const toml::table& root = *parsed;
   SiteConfig site;
   site.file = std::string(file_name);
-  if (auto checked = only_keys(file_name, root, "the site file", {"service", "mqtt", "modbus", "sensor"}); !checked) {
+  if (auto checked = only_keys(file_name, root, "the site file", {"service", "mqtt", "modbus", "sensor", "sink"});
+      !checked) {
     return std::move(checked).error();
   }
   Mistakes mistakes;
@@ -608,6 +732,18 @@ Result<SiteConfig> parse_site_config(std::string_view text, std::string_view fil
     }
   }
   mistakes.add(check_ports(site));
+  if (const toml::node* sinks = root.get("sink")) {
+    const auto* list = sinks->as_array();
+    if (list == nullptr || !list->is_array_of_tables()) {
+      mistakes.add(at(file_name, *sinks, Errc::invalid_frame, "sink must be an array of tables: [[sink]]"));
+    } else {
+      for (const toml::node& node : *list) {
+        SinkConfig sink;
+        mistakes.add(check_sink(file_name, *node.as_table(), site.sensors, sink));
+        site.sinks.push_back(std::move(sink));
+      }
+    }
+  }
   if (auto found = mistakes.status(); !found) return std::move(found).error();
   return site;
 }

@@ -132,7 +132,7 @@ TEST(SiteConfig, RefusesWithFileLineAndReason) {
   EXPECT_EQ(refusal("[[sensor]]\nname = \"a\"\nfamily = \"uls\"\nport = \"/dev/x\"\nstream = \"yes\"\n"),
             "site.toml:5: stream must be true or false");
   EXPECT_EQ(refusal("[http]\n"),
-            "site.toml:1: unknown key 'http' in the site file (allowed: service, mqtt, modbus, sensor)");
+            "site.toml:1: unknown key 'http' in the site file (allowed: service, mqtt, modbus, sensor, sink)");
   EXPECT_NE(refusal("[[sensor]]\nname = \n").find("site.toml:2:"), std::string::npos);  // TOML syntax
 }
 

@@ -77,6 +77,28 @@ struct ModbusConfig {
 // The word orders of [modbus] word_order, for the check and its message.
 inline constexpr std::array<std::string_view, 4> modbus_word_orders{"ABCD", "CDAB", "BADC", "DCBA"};
 
+// One `[[sink]]` table: a historian every reading is written to, through a spool on disk
+// (docs/sinks.md). Only settings live here; the hub speaks no historian's protocol.
+struct SinkConfig {
+  std::string kind;                  // one of sink_kinds
+  std::string url;                   // influx: http://HOST:PORT/PATH
+  std::vector<std::string> sensors;  // names of the site's sensors; empty: all
+  double max_rate_hz = 0;            // readings a second per sensor; 0: every sample
+  std::size_t spool_max_mb = 1024;   // past it the oldest spooled readings are dropped
+  std::size_t drain_rate = 20000;    // spooled rows sent a second, at most
+  std::size_t line = 0;              // where [[sink]] was declared
+};
+// The kinds of [[sink]] kind, for the check and its message.
+inline constexpr std::array<std::string_view, 1> sink_kinds{"influx"};
+
+// An http:// URL taken apart (no TLS, no credentials in it).
+struct HttpUrl {
+  std::string host;
+  std::uint16_t port = 80;
+  std::string path = "/";
+};
+Result<HttpUrl> parse_http_url(std::string_view url);
+
 // A broker URL taken apart: mqtt://host:port or mqtts://host:port.
 struct BrokerAddress {
   bool tls = false;
@@ -91,6 +113,7 @@ struct SiteConfig {
   MqttConfig mqtt;
   ModbusConfig modbus;
   std::vector<SensorConfig> sensors;
+  std::vector<SinkConfig> sinks;
 };
 
 // Each sensor's Modbus unit id: its modbus_unit, else its position in the file from 1 (up to 247).
