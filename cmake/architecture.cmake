@@ -16,8 +16,9 @@ set(rangekit_allowed_links_rangekit_hub rangekit_core rangekit_record)  # no fam
 set(rangekit_allowed_links_rangekit_web rangekit_hub rangekit_core rangekit_record)
 set(rangekit_allowed_links_rangekit_mqtt rangekit_hub rangekit_core rangekit_record)
 set(rangekit_allowed_links_rangekit_modbus rangekit_hub rangekit_core)
+set(rangekit_allowed_links_rangekit_sinks rangekit_hub rangekit_core rangekit_record)
 set(rangekit_known_libraries rangekit_core rangekit_record rangekit_sim rangekit_hub rangekit_web rangekit_mqtt
-  rangekit_modbus)
+  rangekit_modbus rangekit_sinks)
 foreach(family IN LISTS RANGEKIT_FAMILIES)
   # A family's codec and driver: core only, never another family, never sim (an embedder links no emulator).
   set(rangekit_allowed_links_rangekit_${family} rangekit_core)

@@ -3,7 +3,7 @@
 # expands (C++ X-macro, dashboard, Python stub) are generated from RANGEKIT_FAMILIES.
 
 # The names generic code already uses for a library or folder of its own.
-set(RANGEKIT_RESERVED_NAMES core record sim hub web mqtt modbus cli families python)
+set(RANGEKIT_RESERVED_NAMES core record sim hub web mqtt modbus sinks cli families python)
 
 # The family's name as the documents write it ("ULS"), and all of them as a phrase ("ULS and
 # LS5") for the package's description; before project(), so no target is made here.

@@ -21,6 +21,7 @@ test_packages=(
   systemd  # systemd-analyze verify of the packaged unit (tests/cli/gateway_service_test.cpp)
   openssl  # the TLS test makes its own certificate
   libmodbus-dev mbpoll  # the Modbus tests ask with libmodbus's client and mbpoll (docs/modbus.md)
+  victoria-metrics  # the sink tests write Influx line protocol to a loopback VictoriaMetrics (docs/sinks.md)
   mosquitto mosquitto-clients  # the MQTT tests start a loopback broker and subscribe (docs/mqtt.md)
   python3-numpy python3-pytest python3-serial  # the Python package's tests and benchmark (/usr/bin/python3)
   python3-pandas  # Capture.dataframe() is tested, not skipped

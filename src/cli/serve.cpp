@@ -13,6 +13,7 @@
 #include "cli/dashboard.hpp"
 #include "cli/demo_site.hpp"
 #include "cli/serve_monitor.hpp"
+#include "cli/serve_sinks.hpp"
 #include "cli/stop_signals.hpp"
 #include "cli/systemd_notify.hpp"
 #include "rangekit/core/descriptor_limit.hpp"
@@ -112,6 +113,7 @@ int check_site(const std::string& path) {
     fmt::print("  modbus {}: units {}, word order {}, {}\n", site->modbus.listen, modbus_unit_list(*site),
                site->modbus.word_order, site->modbus.writable ? "writable" : "read only");
   }
+  for (const hub::SinkConfig& sink : site->sinks) fmt::print("  {}\n", sink_check_line(sink));
   return exit_ok;
 }
 
@@ -205,6 +207,15 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
         "-c 10 -1 {})\n",
         modbus_at.host, modbus_at.port, modbus_unit_list(*site), modbus_at.port, modbus_at.host);
   }
+  // The historian sinks: their spools in the service's state folder, beside the captures.
+  auto sink_list = start_sinks(*hub, *site, state_path("spool", site->file));
+  if (!sink_list) {
+    fmt::print(stderr, "rangekit serve: {}\n", sink_list.error().message);
+    if (*modbus_face) (*modbus_face)->stop();
+    if (bridge) bridge->stop();
+    hub->stop();
+    return exit_code_for(sink_list.error());
+  }
   // The other faces' health on /healthz.
   server_options.faces = [&bridge, &modbus_face] {
     std::vector<web::FaceHealth> faces;
@@ -276,14 +287,16 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   systemd.stopping();
   (*server)->stop();  // no new requests; streams closed
   if (*modbus_face) (*modbus_face)->stop();
-  if (bridge) bridge->stop();  // every sensor marked offline on the broker, then a clean disconnect
-  captures.stop_all();         // every capture committed and closed
-  hub->stop();                 // streams ended as found, ports released
+  if (bridge) bridge->stop();                  // every sensor marked offline on the broker, then a clean disconnect
+  captures.stop_all();                         // every capture committed and closed
+  for (auto& sink : *sink_list) sink->stop();  // queued readings spooled for the next start
+  hub->stop();                                 // streams ended as found, ports released
   for (const hub::CaptureInfo& capture : captures.list()) {
     fmt::print("capture {}: {} samples, {} lost → {}\n", capture.id, capture.samples, capture.lost, capture.path);
   }
   for (const hub::SensorSnapshot& sensor : hub->sensors()) fmt::print("{}\n", summary_line(sensor));
   if (bridge) fmt::print("{}\n", mqtt_summary(bridge->stats()));
+  for (const auto& sink : *sink_list) fmt::print("{}\n", sink_summary(sink->stats()));
   if (*modbus_face) {
     const modbus::FaceStats stats = (*modbus_face)->stats();
     fmt::print("modbus: requests {}, exceptions {}, refused {}, malformed {}, commands {}\n", stats.requests,

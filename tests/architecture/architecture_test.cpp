@@ -149,7 +149,8 @@ TEST(Architecture, OnlyAFamilysServicePartKnowsTheHub) {
 
 TEST(Architecture, FacesReachTheSensorsOnlyThroughTheHub) {
   // The MQTT bridge (docs/mqtt.md), like the HTTP face, is a face on the hub: no driver, codec or emulator.
-  for (const std::string folder : {"src/web", "src/mqtt", "include/rangekit/web", "include/rangekit/mqtt"}) {
+  for (const std::string folder : {"src/web", "src/mqtt", "src/sinks", "include/rangekit/web", "include/rangekit/mqtt",
+                                   "include/rangekit/sinks"}) {
     expect_no_include(folder, R"(^rangekit/(uls|ls5|sim)/|^(uls|ls5|sim)/)",
                       "a face reaches the sensors only through rangekit::hub");
   }

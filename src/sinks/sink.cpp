@@ -1,0 +1,281 @@
+// Two threads per sink: the intake takes the hub's items into the spool (so a slow or absent
+// historian never holds the hub's queue), the drain sends the spool oldest first and removes
+// only what the historian confirmed.
+#include "rangekit/sinks/sink.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <condition_variable>
+#include <filesystem>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "sinks/http_post.hpp"
+#include "sinks/reading_rows.hpp"
+
+namespace rangekit::sinks {
+
+using Clock = std::chrono::steady_clock;
+
+struct Sink::Impl {
+  SinkOptions options;
+  hub::HttpUrl url;
+  std::string spool_path;
+  std::unique_ptr<Spool> spool;
+  std::vector<hub::SubscriptionPtr> subscriptions;
+
+  std::mutex mutex;  // guards the flags and counters below
+  std::condition_variable wake;
+  bool stopping = false;
+  bool items_ready = false;
+  bool rows_ready = true;  // rows of an earlier run may wait
+  bool up = false;
+  std::string error;
+  std::uint64_t written = 0;
+  std::uint64_t rejected = 0;
+  std::uint64_t failures = 0;
+  std::uint64_t spool_dropped = 0;
+  bool told_full = false;  // the spool's cap is logged once
+
+  std::thread intake;
+  std::thread drain;
+
+  void log(const std::string& line) const {
+    if (options.log) options.log("sink " + options.config.url + ": " + line);
+  }
+  // Waits until `until`, or until stopping; true when stopping.
+  bool wait_stopping(Clock::time_point until) {
+    std::unique_lock lock(mutex);
+    return wake.wait_until(lock, until, [&] { return stopping; });
+  }
+
+  void run_intake();
+  void take_once(ReadingRows& rows, std::chrono::milliseconds wait);
+  void run_drain();
+  // One write of the oldest rows: how many left the spool (0: none waited), none when the
+  // write failed and waits to be retried.
+  std::optional<std::size_t> drain_once(std::chrono::milliseconds& backoff);
+  SinkStats stats();
+};
+
+std::string spool_file_name(const hub::SinkConfig& config) {
+  std::string name = config.kind + "-";
+  std::string_view url = config.url;
+  if (const auto scheme = url.find("://"); scheme != std::string_view::npos) url.remove_prefix(scheme + 3);
+  for (const char c : url) {
+    const bool plain = std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '.' || c == '_';
+    if (plain) {
+      name += c;
+    } else if (name.back() != '-') {
+      name += '-';
+    }
+  }
+  while (name.back() == '-') name.pop_back();
+  return name + ".spool";
+}
+
+void Sink::Impl::take_once(ReadingRows& rows, std::chrono::milliseconds wait) {
+  {
+    std::unique_lock lock(mutex);
+    wake.wait_for(lock, wait, [&] { return items_ready || stopping; });
+    items_ready = false;
+  }
+  std::vector<SpoolRow> batch;
+  for (const hub::SubscriptionPtr& subscription : subscriptions) {
+    for (const hub::HubItemPtr& item : subscription->take(options.batch_rows, std::chrono::milliseconds(0))) {
+      if (auto row = rows.row_of(*item, *spool)) batch.push_back(std::move(*row));
+    }
+  }
+  if (batch.empty()) return;
+  auto dropped = spool->append(batch);
+  const std::lock_guard lock(mutex);
+  if (!dropped) {
+    error = dropped.error().message;  // the rows are lost: the disk refused them
+    spool_dropped += batch.size();
+    log(error);
+    return;
+  }
+  spool_dropped += *dropped;
+  if (*dropped > 0 && !told_full) {
+    told_full = true;
+    log("spool above spool_max_mb = " + std::to_string(options.config.spool_max_mb) +
+        ": dropping the oldest readings (counted in dropped)");
+  }
+  rows_ready = true;
+  wake.notify_all();
+}
+
+void Sink::Impl::run_intake() {
+  ReadingRows rows(options.config.max_rate_hz);
+  for (;;) {
+    {
+      const std::lock_guard lock(mutex);
+      if (stopping) break;
+    }
+    take_once(rows, options.batch_time);
+  }
+  // What the hub queued until now goes to the spool too, for the next start.
+  for (const hub::SubscriptionPtr& subscription : subscriptions) subscription->close();
+  take_once(rows, std::chrono::milliseconds(0));
+}
+
+std::optional<std::size_t> Sink::Impl::drain_once(std::chrono::milliseconds& backoff) {
+  auto rows = spool->oldest(options.batch_rows);
+  if (!rows || rows->empty()) {
+    const std::lock_guard lock(mutex);
+    if (!rows) error = rows.error().message;
+    rows_ready = false;
+    return 0;
+  }
+  std::string body;
+  for (const SpoolRow& row : *rows) body += row.line;
+  auto answer = http_post(url, "text/plain; charset=utf-8", body, options.timeout);
+  const bool confirmed = answer && (answer->status == 204 || answer->status == 200);
+  // A 400 names lines the historian will never take: kept, they would block every row behind them.
+  const bool refused = answer && answer->status == 400;
+  if (confirmed || refused) {
+    if (auto removed = spool->remove_through(rows->back().id); !removed) {
+      const std::lock_guard lock(mutex);
+      error = removed.error().message;
+      return std::nullopt;
+    }
+  }
+  const std::lock_guard lock(mutex);
+  if (confirmed) {
+    if (!up) log(written == 0 && failures == 0 ? "up" : "up again, sending the spooled readings");
+    up = true;
+    error.clear();
+    written += rows->size();
+    backoff = options.backoff_min;
+    return rows->size();
+  }
+  if (refused) {
+    rejected += rows->size();
+    log("refused " + std::to_string(rows->size()) + " rows (HTTP 400): " + answer->body.substr(0, 200));
+    return rows->size();
+  }
+  ++failures;
+  const std::string why = answer ? "HTTP " + std::to_string(answer->status) : answer.error().message;
+  if (up || error.empty()) log("down (" + why + "): readings wait in the spool");
+  up = false;
+  error = why;
+  return std::nullopt;
+}
+
+void Sink::Impl::run_drain() {
+  std::chrono::milliseconds backoff = options.backoff_min;
+  for (;;) {
+    {
+      std::unique_lock lock(mutex);
+      wake.wait_for(lock, options.batch_time, [&] { return rows_ready || stopping; });
+      if (stopping) return;
+    }
+    const auto started = Clock::now();
+    const auto sent = drain_once(backoff);
+    if (!sent) {
+      if (wait_stopping(Clock::now() + backoff)) return;
+      backoff = std::min(backoff * 2, options.backoff_max);
+      continue;
+    }
+    if (*sent == 0) continue;
+    // At most drain_rate rows a second, so a long backlog does not starve the historian's other writers.
+    const auto pace = std::chrono::duration_cast<Clock::duration>(
+        std::chrono::duration<double>(static_cast<double>(*sent) / static_cast<double>(options.config.drain_rate)));
+    if (wait_stopping(started + pace)) return;
+    const std::lock_guard lock(mutex);
+    rows_ready = true;  // more may wait behind this batch
+  }
+}
+
+Result<std::unique_ptr<Sink>> Sink::start(hub::Hub& hub, SinkOptions options) {
+  if (options.config.kind != "influx") {
+    return make_error(Errc::unsupported, "sink kind '" + options.config.kind + "' is not built (accepted: influx)");
+  }
+  auto url = hub::parse_http_url(options.config.url);
+  if (!url) return std::move(url).error();
+  auto impl = std::make_unique<Impl>();
+  impl->url = *url;
+  std::error_code made;
+  std::filesystem::create_directories(options.spool_dir, made);
+  if (made) return make_error(Errc::io, "spool folder " + options.spool_dir + ": " + made.message());
+  impl->spool_path = (std::filesystem::path(options.spool_dir) / spool_file_name(options.config)).string();
+  auto spool = Spool::open(impl->spool_path, static_cast<std::uint64_t>(options.config.spool_max_mb) * 1024 * 1024);
+  if (!spool) return std::move(spool).error();
+  impl->spool = std::move(*spool);
+  std::vector<std::string> filters = options.config.sensors;
+  if (filters.empty()) filters.emplace_back();  // one subscription to every sensor
+  for (const std::string& sensor : filters) {
+    auto subscription = hub.subscribe(sensor, options.queue, hub::OverflowPolicy::drop_oldest);
+    if (!subscription) return std::move(subscription).error();
+    Impl* raw = impl.get();
+    (*subscription)->set_listener([raw] {
+      const std::lock_guard lock(raw->mutex);
+      raw->items_ready = true;
+      raw->wake.notify_all();
+    });
+    impl->subscriptions.push_back(std::move(*subscription));
+  }
+  impl->options = std::move(options);
+  Impl* raw = impl.get();
+  // Exceptions end here, never past the thread: the sink stops, the service goes on.
+  const auto guarded = [raw](void (Impl::*body)()) {
+    return [raw, body] {
+      try {
+        (raw->*body)();
+      } catch (const std::exception& error) {
+        raw->log(std::string("stopped: ") + error.what());
+      } catch (...) {
+        raw->log("stopped: unknown error");
+      }
+    };
+  };
+  impl->intake = std::thread(guarded(&Impl::run_intake));
+  impl->drain = std::thread(guarded(&Impl::run_drain));
+  return std::unique_ptr<Sink>(new Sink(std::move(impl)));
+}
+
+Sink::Sink(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+Sink::~Sink() { stop(); }
+
+void Sink::stop() {
+  {
+    const std::lock_guard lock(impl_->mutex);
+    impl_->stopping = true;
+    impl_->wake.notify_all();
+  }
+  if (impl_->intake.joinable()) impl_->intake.join();
+  if (impl_->drain.joinable()) impl_->drain.join();
+}
+
+SinkStats Sink::Impl::stats() {
+  const SpoolStats spooled = spool->stats();
+  std::uint64_t lost = 0;
+  for (const hub::SubscriptionPtr& subscription : subscriptions) lost += subscription->lost();
+  const std::lock_guard lock(mutex);
+  SinkStats stats;
+  stats.url = options.config.url;
+  stats.up = up;
+  stats.error = error;
+  stats.written = written;
+  stats.spooled = spooled.rows;
+  stats.spool_bytes = spooled.bytes;
+  stats.dropped = spool_dropped + lost;
+  stats.rejected = rejected;
+  stats.failures = failures;
+  if (spooled.rows > 0) {
+    const auto now =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+            .count();
+    stats.oldest_age_s = static_cast<double>(std::max<std::int64_t>(0, now - spooled.oldest_time_ns)) / 1e9;
+  }
+  return stats;
+}
+
+SinkStats Sink::stats() const { return impl_->stats(); }
+
+std::string Sink::spool_path() const { return impl_->spool_path; }
+
+}  // namespace rangekit::sinks

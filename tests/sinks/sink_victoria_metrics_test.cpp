@@ -1,0 +1,110 @@
+// A sink on a live hub of emulators (hub/site_fixture.hpp) into a real VictoriaMetrics on
+// loopback: every reading the sink says it wrote is there once, each sensor's sequence
+// complete; and a historian stopped for a few seconds mid-run loses nothing.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <functional>
+#include <iostream>
+
+#include "hub/site_fixture.hpp"
+#include "rangekit/hub/hub.hpp"
+#include "rangekit/sinks/sink.hpp"
+#include "sinks/victoria_metrics.hpp"
+
+namespace {
+
+using namespace rangekit;
+using Clock = std::chrono::steady_clock;
+
+// Polls `done` until it holds or `limit` passes.
+bool within(std::chrono::seconds limit, const std::function<bool()>& done) {
+  const auto deadline = Clock::now() + limit;
+  while (!done()) {
+    if (Clock::now() >= deadline) return false;
+    ::poll(nullptr, 0, 50);  // between looks at the sink's counters, not a synchronisation
+  }
+  return true;
+}
+
+sinks::SinkOptions options_for(const sinks_test::VictoriaMetrics& vm, const ls5_driver_test::TempDir& spool) {
+  sinks::SinkOptions options;
+  options.config.kind = "influx";
+  options.config.url = vm.write_url();
+  options.spool_dir = (spool.path / "spool").string();
+  options.backoff_max = std::chrono::milliseconds(1000);
+  return options;
+}
+
+// VictoriaMetrics holds exactly the sink's written readings, each sensor's sequence 1..N.
+void expect_all_there_once(const sinks_test::VictoriaMetrics& vm, std::uint64_t written) {
+  std::string problem;
+  const long long total = sinks_test::settled_total(vm, static_cast<long long>(written), problem);
+  EXPECT_TRUE(problem.empty()) << problem;
+  EXPECT_EQ(total, static_cast<long long>(written));
+  std::cout << "written " << written << ", in VictoriaMetrics " << total << "\n";
+}
+
+TEST(SinkVictoriaMetrics, EveryWrittenReadingArrivesOnce) {
+  sinks_test::VictoriaMetrics vm;
+  ASSERT_GT(vm.pid, 0);
+  hub_test::Site site;
+  auto hub = hub::Hub::start(site.config);
+  ls5_driver_test::TempDir spool;
+  auto sink = sinks::Sink::start(*hub, options_for(vm, spool));
+  ASSERT_TRUE(sink.ok()) << sink.error().message;
+  const auto started = Clock::now();
+  // About 5 s of every sensor's readings, and some of each of the site's seven.
+  ASSERT_TRUE(
+      within(std::chrono::seconds(15),
+             [&] { return Clock::now() - started >= std::chrono::seconds(5) && (*sink)->stats().written >= 200; }))
+      << "written " << (*sink)->stats().written;
+  (*sink)->stop();
+  hub->stop();
+  const sinks::SinkStats stats = (*sink)->stats();
+  EXPECT_TRUE(stats.up);
+  EXPECT_EQ(stats.dropped, 0u);
+  EXPECT_EQ(stats.rejected, 0u);
+  expect_all_there_once(vm, stats.written);
+  EXPECT_EQ(vm.sequences().size(), site.config.sensors.size()) << "a sequence for each sensor of the site";
+}
+
+TEST(SinkVictoriaMetrics, AStoppedHistorianLosesNothing) {
+  sinks_test::VictoriaMetrics vm;
+  ASSERT_GT(vm.pid, 0);
+  hub_test::Site site;
+  auto hub = hub::Hub::start(site.config);
+  ls5_driver_test::TempDir spool;
+  auto sink = sinks::Sink::start(*hub, options_for(vm, spool));
+  ASSERT_TRUE(sink.ok()) << sink.error().message;
+  ASSERT_TRUE(within(std::chrono::seconds(15), [&] { return (*sink)->stats().written >= 100; }));
+  vm.stop();
+  // Down, and readings pile up in the spool for a few seconds.
+  const auto stopped = Clock::now();
+  ASSERT_TRUE(within(std::chrono::seconds(15), [&] {
+    const auto stats = (*sink)->stats();
+    return !stats.up && stats.failures >= 2 && Clock::now() - stopped >= std::chrono::seconds(3);
+  }));
+  const sinks::SinkStats during = (*sink)->stats();
+  EXPECT_GT(during.spooled, 100u) << "readings wait in the spool";
+  std::cout << "down: " << during.spooled << " rows spooled, oldest " << during.oldest_age_s << " s, "
+            << during.failures << " failed writes (" << during.error << ")\n";
+  EXPECT_GT(during.oldest_age_s, 1.0);
+  ASSERT_TRUE(vm.start());
+  // Back up, and the backlog drained: what waited at the restart went out.
+  const std::uint64_t due = during.written + during.spooled;
+  ASSERT_TRUE(within(std::chrono::seconds(15),
+                     [&] {
+                       const auto stats = (*sink)->stats();
+                       return stats.up && stats.written >= due;
+                     }))
+      << "written " << (*sink)->stats().written << " of " << due;
+  (*sink)->stop();
+  hub->stop();
+  const sinks::SinkStats stats = (*sink)->stats();
+  EXPECT_EQ(stats.dropped, 0u);
+  EXPECT_EQ(stats.rejected, 0u);
+  expect_all_there_once(vm, stats.written);
+}
+
+}  // namespace
