@@ -122,7 +122,10 @@ void Sink::Impl::run_intake() {
 }
 
 std::optional<std::size_t> Sink::Impl::drain_once(std::chrono::milliseconds& backoff) {
-  auto rows = spool->oldest(options.batch_rows);
+  // A batch is at most what drain_rate allows in one batch_time, so the pace holds within a second too.
+  const auto per_batch = static_cast<std::size_t>(static_cast<double>(options.config.drain_rate) *
+                                                  std::chrono::duration<double>(options.batch_time).count());
+  auto rows = spool->oldest(std::clamp<std::size_t>(per_batch, 1, options.batch_rows));
   if (!rows || rows->empty()) {
     const std::lock_guard lock(mutex);
     if (!rows) error = rows.error().message;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <filesystem>
 #include <functional>
 #include <iostream>
 
@@ -105,6 +106,88 @@ TEST(SinkVictoriaMetrics, AStoppedHistorianLosesNothing) {
   EXPECT_EQ(stats.dropped, 0u);
   EXPECT_EQ(stats.rejected, 0u);
   expect_all_there_once(vm, stats.written);
+}
+
+}  // namespace
+
+namespace {
+
+// A sink stopped while the historian is away keeps its rows on disk; the next one on the same
+// spool sends them first, and each sensor's seq goes on where it was.
+TEST(SinkVictoriaMetrics, TheNextStartSendsTheSpoolFirstAndSeqGoesOn) {
+  sinks_test::VictoriaMetrics vm;
+  ASSERT_GT(vm.pid, 0);
+  vm.stop();
+  hub_test::Site site;
+  auto hub = hub::Hub::start(site.config);
+  ls5_driver_test::TempDir spool;
+  std::uint64_t waiting = 0;
+  {
+    auto sink = sinks::Sink::start(*hub, options_for(vm, spool));
+    ASSERT_TRUE(sink.ok()) << sink.error().message;
+    ASSERT_TRUE(within(std::chrono::seconds(15), [&] {
+      const auto stats = (*sink)->stats();
+      return stats.failures >= 1 && stats.spooled >= 100;
+    }));
+    (*sink)->stop();
+    waiting = (*sink)->stats().spooled;
+    EXPECT_EQ((*sink)->stats().written, 0u);
+  }
+  ASSERT_TRUE(vm.start());
+  auto sink = sinks::Sink::start(*hub, options_for(vm, spool));
+  ASSERT_TRUE(sink.ok()) << sink.error().message;
+  EXPECT_GE((*sink)->stats().spooled, waiting) << "the earlier run's rows are in the reopened spool";
+  ASSERT_TRUE(within(std::chrono::seconds(15), [&] { return (*sink)->stats().written >= waiting + 100; }));
+  (*sink)->stop();
+  hub->stop();
+  std::cout << "spooled by the first run " << waiting << "\n";
+  expect_all_there_once(vm, (*sink)->stats().written);
+}
+
+}  // namespace
+
+namespace {
+
+// A backlog drains at most drain_rate rows a second: 3000 spooled rows at 1000 rows/s take
+// about 3 s, not the one write they would fit in.
+TEST(SinkVictoriaMetrics, ABacklogDrainsAtDrainRate) {
+  sinks_test::VictoriaMetrics vm;
+  ASSERT_GT(vm.pid, 0);
+  ls5_driver_test::TempDir spool;
+  auto options = options_for(vm, spool);
+  options.config.drain_rate = 1000;
+  {
+    std::filesystem::create_directories(options.spool_dir);
+    auto backlog = sinks::Spool::open(
+        (std::filesystem::path(options.spool_dir) / sinks::spool_file_name(options.config)).string(), 1 << 26);
+    ASSERT_TRUE(backlog.ok()) << backlog.error().message;
+    std::vector<sinks::SpoolRow> rows;
+    const auto now =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+            .count();
+    for (std::int64_t i = 0; i < 3000; ++i) {
+      sinks::SpoolRow row;
+      row.sensor = "belt";
+      row.seq = (*backlog)->next_seq("belt");
+      row.time_ns = now - 10'000'000'000 + i * 1'000'000;
+      row.line = "rangekit,family=ls5,sensor=belt,unit=mm value=20,suspect=false,seq=" + std::to_string(row.seq) +
+                 "i " + std::to_string(row.time_ns) + "\n";
+      rows.push_back(std::move(row));
+    }
+    ASSERT_TRUE((*backlog)->append(rows).ok());
+  }
+  hub::SiteConfig no_sensors;
+  auto hub = hub::Hub::start(no_sensors);
+  const auto started = Clock::now();
+  auto sink = sinks::Sink::start(*hub, options);
+  ASSERT_TRUE(sink.ok()) << sink.error().message;
+  ASSERT_TRUE(within(std::chrono::seconds(15), [&] { return (*sink)->stats().written >= 3000; }));
+  const double took = std::chrono::duration<double>(Clock::now() - started).count();
+  std::cout << "3000 rows at drain_rate 1000 took " << took << " s\n";
+  EXPECT_GE(took, 2.5);
+  EXPECT_LE(took, 6.0);
+  (*sink)->stop();
+  expect_all_there_once(vm, (*sink)->stats().written);
 }
 
 }  // namespace
