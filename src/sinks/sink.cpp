@@ -19,17 +19,26 @@ namespace rangekit::sinks {
 
 using Clock = std::chrono::steady_clock;
 
+// The hub's news for the intake. Shared with the subscriptions' listeners, which the hub may
+// still be calling a moment after the sink is gone.
+struct ItemsSignal {
+  std::mutex mutex;
+  std::condition_variable wake;
+  bool ready = false;
+  bool stopping = false;
+};
+
 struct Sink::Impl {
   SinkOptions options;
   hub::HttpUrl url;
   std::string spool_path;
   std::unique_ptr<Spool> spool;
   std::vector<hub::SubscriptionPtr> subscriptions;
+  std::shared_ptr<ItemsSignal> items = std::make_shared<ItemsSignal>();
 
   std::mutex mutex;  // guards the flags and counters below
   std::condition_variable wake;
   bool stopping = false;
-  bool items_ready = false;
   bool rows_ready = true;  // rows of an earlier run may wait
   bool up = false;
   std::string error;
@@ -41,6 +50,13 @@ struct Sink::Impl {
 
   std::thread intake;
   std::thread drain;
+
+  Impl() = default;
+  ~Impl() {
+    for (const hub::SubscriptionPtr& subscription : subscriptions) subscription->close();
+  }
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
 
   void log(const std::string& line) const {
     if (options.log) options.log("sink " + options.config.url + ": " + line);
@@ -78,9 +94,9 @@ std::string spool_file_name(const hub::SinkConfig& config) {
 
 void Sink::Impl::take_once(ReadingRows& rows, std::chrono::milliseconds wait) {
   {
-    std::unique_lock lock(mutex);
-    wake.wait_for(lock, wait, [&] { return items_ready || stopping; });
-    items_ready = false;
+    std::unique_lock lock(items->mutex);
+    items->wake.wait_for(lock, wait, [&] { return items->ready || items->stopping; });
+    items->ready = false;
   }
   std::vector<SpoolRow> batch;
   for (const hub::SubscriptionPtr& subscription : subscriptions) {
@@ -110,11 +126,10 @@ void Sink::Impl::take_once(ReadingRows& rows, std::chrono::milliseconds wait) {
 void Sink::Impl::run_intake() {
   ReadingRows rows(options.config.max_rate_hz);
   for (;;) {
-    {
-      const std::lock_guard lock(mutex);
-      if (stopping) break;
-    }
     take_once(rows, options.batch_time);
+    // Readings gathered for a while go to disk in one transaction, not one each (1 kHz sensors).
+    std::unique_lock lock(items->mutex);
+    if (items->wake.wait_for(lock, options.intake_gather, [&] { return items->stopping; })) break;
   }
   // What the hub queued until now goes to the spool too, for the next start.
   for (const hub::SubscriptionPtr& subscription : subscriptions) subscription->close();
@@ -212,11 +227,10 @@ Result<std::unique_ptr<Sink>> Sink::start(hub::Hub& hub, SinkOptions options) {
   for (const std::string& sensor : filters) {
     auto subscription = hub.subscribe(sensor, options.queue, hub::OverflowPolicy::drop_oldest);
     if (!subscription) return std::move(subscription).error();
-    Impl* raw = impl.get();
-    (*subscription)->set_listener([raw] {
-      const std::lock_guard lock(raw->mutex);
-      raw->items_ready = true;
-      raw->wake.notify_all();
+    (*subscription)->set_listener([items = impl->items] {
+      const std::lock_guard lock(items->mutex);
+      items->ready = true;
+      items->wake.notify_all();
     });
     impl->subscriptions.push_back(std::move(*subscription));
   }
@@ -248,6 +262,11 @@ void Sink::stop() {
     const std::lock_guard lock(impl_->mutex);
     impl_->stopping = true;
     impl_->wake.notify_all();
+  }
+  {
+    const std::lock_guard lock(impl_->items->mutex);
+    impl_->items->stopping = true;
+    impl_->items->wake.notify_all();
   }
   if (impl_->intake.joinable()) impl_->intake.join();
   if (impl_->drain.joinable()) impl_->drain.join();
