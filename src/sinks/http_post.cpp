@@ -121,12 +121,7 @@ Result<HttpAnswer> http_post(const hub::HttpUrl& url, std::string_view content_t
   std::string answer;
   std::array<char, 65536> buffer{};
   for (;;) {
-    const auto head_end = answer.find("\r\n\r\n");
-    if (head_end != std::string::npos) {
-      const auto length = content_length(std::string_view(answer).substr(0, head_end + 2));
-      if (length && answer.size() >= head_end + 4 + std::min(*length, max_answer)) break;
-    }
-    if (answer.size() >= max_answer) break;
+    if (answer_complete(answer, max_answer)) break;
     const ssize_t got = ::recv(socket.fd(), buffer.data(), buffer.size(), 0);
     if (got > 0) {
       answer.append(buffer.data(), static_cast<std::size_t>(got));
@@ -138,15 +133,31 @@ Result<HttpAnswer> http_post(const hub::HttpUrl& url, std::string_view content_t
       return make_error(Errc::io, std::string("recv: ") + std::system_category().message(errno));
     }
   }
+  return parse_http_answer(answer);
+}
+
+bool answer_complete(std::string_view answer, std::size_t max_answer) {
+  if (answer.size() >= max_answer) return true;
+  const auto head_end = answer.find("\r\n\r\n");
+  if (head_end == std::string_view::npos) return false;
+  const auto length = content_length(answer.substr(0, head_end + 2));
+  return length && answer.size() >= head_end + 4 + std::min(*length, max_answer);
+}
+
+Result<HttpAnswer> parse_http_answer(std::string_view answer) {
   // "HTTP/1.1 204 No Content"
   if (answer.rfind("HTTP/1.", 0) != 0 || answer.size() < 12) {
     return make_error(Errc::invalid_frame, "not an HTTP answer");
   }
+  // Three digits (RFC 9112 status-code), so "-12" or "+20" is no status.
+  const std::string_view code = answer.substr(9, 3);
+  if (!std::all_of(code.begin(), code.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    return make_error(Errc::invalid_frame, "no status in the HTTP answer");
+  }
   HttpAnswer result;
-  const auto [end, error] = std::from_chars(answer.data() + 9, answer.data() + 12, result.status);
-  if (error != std::errc{}) return make_error(Errc::invalid_frame, "no status in the HTTP answer");
+  result.status = (code[0] - '0') * 100 + (code[1] - '0') * 10 + (code[2] - '0');
   const auto head_end = answer.find("\r\n\r\n");
-  if (head_end != std::string::npos) result.body = answer.substr(head_end + 4);
+  if (head_end != std::string_view::npos) result.body = std::string(answer.substr(head_end + 4));
   return result;
 }
 

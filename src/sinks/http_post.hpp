@@ -21,4 +21,10 @@ struct HttpAnswer {
 Result<HttpAnswer> http_post(const hub::HttpUrl& url, std::string_view content_type, std::string_view body,
                              std::chrono::milliseconds timeout, std::size_t max_answer = 65536);
 
+// Whether the bytes read so far are the whole answer: its head and Content-Length's body, or
+// max_answer bytes (a longer body is cut there).
+bool answer_complete(std::string_view answer, std::size_t max_answer);
+// The status and body of a whole answer; Errc::invalid_frame for bytes that are no HTTP answer.
+Result<HttpAnswer> parse_http_answer(std::string_view answer);
+
 }  // namespace rangekit::sinks
