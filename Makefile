@@ -88,7 +88,7 @@ asan-build:
 # has nothing to look at: uls, ls5, ls5_emulator, docs, architecture, alloc, hardware.
 # -O1, the least ThreadSanitizer's manual asks for: g++ compiled src/hub/hub.cpp in 24 %
 # less time than at -O2.
-TSAN_TESTS = cli core hub ls5_driver modbus mqtt record sim uls_driver uls_emulator web
+TSAN_TESTS = cli core hub ls5_driver modbus mqtt record sim sinks uls_driver uls_emulator web
 empty :=
 TSAN_LABELS = $(subst $(empty) $(empty),|,$(strip $(TSAN_TESTS)))
 tsan: tsan-build
