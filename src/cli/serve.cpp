@@ -192,16 +192,23 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
         site->sensors.size(), mqtt_config.broker, mqtt_config.base_topic, address->host, address->port,
         mqtt_config.base_topic);
   }
-  auto modbus_face = start_modbus(*hub, *site, options);
-  if (!modbus_face) {
-    fmt::print(stderr, "rangekit serve: {}\n", modbus_face.error().message);
+  std::unique_ptr<modbus::Face> modbus_face;
+  // A part that cannot start ends the service: what started before it is stopped, the hub last.
+  const auto stop_started = [&] {
+    if (modbus_face) modbus_face->stop();
     if (bridge) bridge->stop();
     hub->stop();
+  };
+  auto started_modbus = start_modbus(*hub, *site, options);
+  if (!started_modbus) {
+    fmt::print(stderr, "rangekit serve: {}\n", started_modbus.error().message);
+    stop_started();
     // A setting the face refuses is a mistake of the site file or --modbus, like one --check finds.
-    return modbus_face.error().code == Errc::io ? exit_code_for(modbus_face.error()) : exit_bad_input;
+    return started_modbus.error().code == Errc::io ? exit_code_for(started_modbus.error()) : exit_bad_input;
   }
-  if (*modbus_face) {
-    const Endpoint modbus_at = (*modbus_face)->local_endpoint();
+  modbus_face = std::move(*started_modbus);
+  if (modbus_face) {
+    const Endpoint modbus_at = modbus_face->local_endpoint();
     fmt::print(
         "rangekit serve: Modbus TCP on {}:{}, units {} (docs/modbus.md; try: mbpoll -m tcp -p {} -a 1 -t 3 -r 1 "
         "-c 10 -1 {})\n",
@@ -211,9 +218,7 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   auto sink_list = start_sinks(*hub, *site, state_path("spool", site->file));
   if (!sink_list) {
     fmt::print(stderr, "rangekit serve: {}\n", sink_list.error().message);
-    if (*modbus_face) (*modbus_face)->stop();
-    if (bridge) bridge->stop();
-    hub->stop();
+    stop_started();
     return exit_code_for(sink_list.error());
   }
   // The other faces' health on /healthz.
@@ -226,9 +231,9 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
                        {"reconnects", stats.reconnects}, {"commands", stats.commands}, {"refusals", stats.refusals}};
       faces.push_back(std::move(face));
     }
-    if (*modbus_face) {
-      const modbus::FaceStats stats = (*modbus_face)->stats();
-      web::FaceHealth face{"modbus", true, "", true, (*modbus_face)->local_endpoint().to_string(), {}};
+    if (modbus_face) {
+      const modbus::FaceStats stats = modbus_face->stats();
+      web::FaceHealth face{"modbus", true, "", true, modbus_face->local_endpoint().to_string(), {}};
       face.counters = {{"clients", stats.clients}, {"requests", stats.requests},   {"exceptions", stats.exceptions},
                        {"refused", stats.refused}, {"malformed", stats.malformed}, {"commands", stats.commands}};
       faces.push_back(std::move(face));
@@ -245,9 +250,7 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   auto server = web::Server::start(*hub, server_options);
   if (!server) {
     fmt::print(stderr, "rangekit serve: {}\n", server.error().message);
-    if (*modbus_face) (*modbus_face)->stop();
-    if (bridge) bridge->stop();
-    hub->stop();
+    stop_started();
     return exit_code_for(server.error());
   }
   std::vector<std::string> capture_at_start;
@@ -286,7 +289,7 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   }
   systemd.stopping();
   (*server)->stop();  // no new requests; streams closed
-  if (*modbus_face) (*modbus_face)->stop();
+  if (modbus_face) modbus_face->stop();
   if (bridge) bridge->stop();                  // every sensor marked offline on the broker, then a clean disconnect
   captures.stop_all();                         // every capture committed and closed
   for (auto& sink : *sink_list) sink->stop();  // queued readings spooled for the next start
@@ -297,8 +300,8 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   for (const hub::SensorSnapshot& sensor : hub->sensors()) fmt::print("{}\n", summary_line(sensor));
   if (bridge) fmt::print("{}\n", mqtt_summary(bridge->stats()));
   for (const auto& sink : *sink_list) fmt::print("{}\n", sink_summary(sink->stats()));
-  if (*modbus_face) {
-    const modbus::FaceStats stats = (*modbus_face)->stats();
+  if (modbus_face) {
+    const modbus::FaceStats stats = modbus_face->stats();
     fmt::print("modbus: requests {}, exceptions {}, refused {}, malformed {}, commands {}\n", stats.requests,
                stats.exceptions, stats.refused, stats.malformed, stats.commands);
   }

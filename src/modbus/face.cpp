@@ -9,8 +9,6 @@
 namespace rangekit::modbus {
 namespace {
 
-bool loopback(const std::string& host) { return host == "localhost" || host.rfind("127.", 0) == 0 || host == "::1"; }
-
 // Unit ids in 1-247, each once, each naming a sensor the hub has.
 Status check_units(const hub::Hub& hub, const std::vector<std::pair<std::uint8_t, std::string>>& units) {
   const auto names = hub.sensor_names();
@@ -67,12 +65,6 @@ Result<std::unique_ptr<Face>> Face::start(hub::Hub& hub, FaceOptions options) {
     auto range = parse_address_range(text);
     if (!range) return make_error(Errc::out_of_range, "modbus allow " + range.error().message);
     settings.allow.push_back(*range);
-  }
-  // Modbus has no authentication: beyond loopback the site file names who may connect.
-  if (!loopback(listen->host) && settings.allow.empty()) {
-    return make_error(Errc::out_of_range, "modbus listen " + options.listen +
-                                              " is beyond loopback: name who may connect with [modbus] allow = "
-                                              "[\"10.0.0.0/8\"] (Modbus has no authentication)");
   }
   if (auto checked = check_units(hub, options.units); !checked) return std::move(checked).error();
   settings.max_clients = options.max_clients;

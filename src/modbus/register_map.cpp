@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <cctype>
 
+#include "rangekit/hub/site_config.hpp"
+
 namespace rangekit::modbus {
 namespace {
 
-constexpr std::array word_order_names{std::string_view("ABCD"), std::string_view("CDAB"), std::string_view("BADC"),
-                                      std::string_view("DCBA")};
+// The site file's table of word orders, in WordOrder's order.
+constexpr const auto& word_order_names = hub::modbus_word_orders;
+static_assert(word_order_names[static_cast<std::size_t>(WordOrder::dcba)] == "DCBA");
 
 // The rows before the targets; the targets' rows are made from max_targets.
 constexpr std::array<RegisterRow, 10> fixed_input_rows{{

@@ -183,6 +183,12 @@ Result<std::unique_ptr<Server>> Server::bind(ServerSettings settings, UnitTable&
   const std::string host = impl->settings.listen.host == "localhost" ? "127.0.0.1" : impl->settings.listen.host;
   const auto address = net::ip::make_address(host, error);
   if (error) return make_error(Errc::out_of_range, "modbus listen '" + host + "' is not an IP address");
+  // Modbus has no authentication: beyond loopback the site file names who may connect.
+  if (!address.is_loopback() && impl->settings.allow.empty()) {
+    return make_error(Errc::out_of_range, "modbus listen " + impl->settings.listen.to_string() +
+                                              " is beyond loopback: name who may connect with [modbus] allow = "
+                                              "[\"10.0.0.0/8\"] (Modbus has no authentication)");
+  }
   const tcp::endpoint endpoint(address, impl->settings.listen.port);
   impl->acceptor.open(endpoint.protocol(), error);
   if (!error) impl->acceptor.set_option(tcp::acceptor::reuse_address(true), error);

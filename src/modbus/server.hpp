@@ -33,7 +33,7 @@ struct ServerSettings {
 
 class Server {
  public:
-  // Binds; serving begins with run().
+  // Binds; serving begins with run(). An address beyond loopback without an allow list is refused.
   static Result<std::unique_ptr<Server>> bind(ServerSettings settings, UnitTable& units, ServerCounters& counters);
   ~Server();
   Server(const Server&) = delete;
