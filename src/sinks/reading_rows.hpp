@@ -8,9 +8,13 @@
 #include <string>
 
 #include "rangekit/hub/fanout.hpp"
-#include "rangekit/sinks/spool.hpp"
+#include "rangekit/record/spool.hpp"
 
 namespace rangekit::sinks {
+
+using record::Spool;
+using record::SpoolRow;
+using record::SpoolStats;
 
 class ReadingRows {
  public:

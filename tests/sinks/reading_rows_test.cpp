@@ -28,7 +28,7 @@ hub::HubItem ls5_item(const std::string& sensor, std::optional<double> distance_
 
 TEST(ReadingRows, AReadingIsALineWithTheSensorsNextSeq) {
   ls5_driver_test::TempDir dir;
-  auto spool = sinks::Spool::open((dir.path / "s.spool").string(), 1 << 20);
+  auto spool = record::Spool::open((dir.path / "s.spool").string(), 1 << 20);
   ASSERT_TRUE(spool.ok());
   sinks::ReadingRows rows(0);
   const std::chrono::system_clock::time_point at{std::chrono::nanoseconds(1765098000123456789)};
@@ -53,7 +53,7 @@ TEST(ReadingRows, AReadingIsALineWithTheSensorsNextSeq) {
 
 TEST(ReadingRows, AtMostMaxRateHzPerSensor) {
   ls5_driver_test::TempDir dir;
-  auto spool = sinks::Spool::open((dir.path / "s.spool").string(), 1 << 20);
+  auto spool = record::Spool::open((dir.path / "s.spool").string(), 1 << 20);
   ASSERT_TRUE(spool.ok());
   sinks::ReadingRows rows(10);  // one per 100 ms
   const auto start = std::chrono::system_clock::now();

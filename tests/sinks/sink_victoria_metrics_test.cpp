@@ -158,15 +158,15 @@ TEST(SinkVictoriaMetrics, ABacklogDrainsAtDrainRate) {
   options.config.drain_rate = 1000;
   {
     std::filesystem::create_directories(options.spool_dir);
-    auto backlog = sinks::Spool::open(
+    auto backlog = record::Spool::open(
         (std::filesystem::path(options.spool_dir) / sinks::spool_file_name(options.config)).string(), 1 << 26);
     ASSERT_TRUE(backlog.ok()) << backlog.error().message;
-    std::vector<sinks::SpoolRow> rows;
+    std::vector<record::SpoolRow> rows;
     const auto now =
         std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
             .count();
     for (std::int64_t i = 0; i < 3000; ++i) {
-      sinks::SpoolRow row;
+      record::SpoolRow row;
       row.sensor = "belt";
       row.seq = (*backlog)->next_seq("belt");
       row.time_ns = now - 10'000'000'000 + i * 1'000'000;

@@ -1,4 +1,4 @@
-// A sink's store-and-forward spool: readings wait here, on disk, until the historian has
+// A store-and-forward spool: readings wait here, on disk, until a historian or a broker has
 // confirmed them. SQLite in WAL mode, one row per reading; it also keeps each sensor's last
 // sequence, so sequences go on rising across restarts.
 #pragma once
@@ -14,7 +14,7 @@
 
 struct sqlite3;
 
-namespace rangekit::sinks {
+namespace rangekit::record {
 
 // One spooled reading: its sensor, its sequence, its time and the line the historian takes.
 struct SpoolRow {
@@ -67,4 +67,4 @@ class Spool {
   SpoolStats stats_;
 };
 
-}  // namespace rangekit::sinks
+}  // namespace rangekit::record

@@ -1,18 +1,18 @@
 // The spool on disk: bounded (the oldest dropped and counted), and what it holds, with each
 // sensor's last sequence, survives closing and reopening.
-#include "rangekit/sinks/spool.hpp"
+#include "rangekit/record/spool.hpp"
 
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
-#include "ls5_driver/cli_process.hpp"
+#include "record/temp_dir.hpp"
 
 namespace {
 
-using namespace rangekit::sinks;
-using ls5_driver_test::TempDir;
+using namespace rangekit::record;
+using rangekit::record::testing::TempDir;
 
 std::vector<SpoolRow> rows_of(Spool& spool, const std::string& sensor, int count) {
   std::vector<SpoolRow> rows;
@@ -33,7 +33,7 @@ TEST(Spool, AtItsCapDropsTheOldestAndCountsThem) {
   sample.sensor = "belt";
   sample.line = "rangekit,sensor=belt seq=10i\n";  // every row below is this long (seq 10..34)
   const std::uint64_t cap = Spool::row_bytes(sample) * 10;
-  auto spool = Spool::open((dir.path / "s.spool").string(), cap);
+  auto spool = Spool::open(dir.file("s.spool"), cap);
   ASSERT_TRUE(spool.ok()) << spool.error().message;
   for (int i = 0; i < 9; ++i) (void)(*spool)->next_seq("belt");  // sequences from 10: equal lengths
   auto dropped = (*spool)->append(rows_of(**spool, "belt", 25));
@@ -53,7 +53,7 @@ TEST(Spool, AtItsCapDropsTheOldestAndCountsThem) {
 
 TEST(Spool, SurvivesReopeningWithItsRowsAndSequences) {
   TempDir dir;
-  const std::string path = (dir.path / "s.spool").string();
+  const std::string path = dir.file("s.spool");
   {
     auto spool = Spool::open(path, 1 << 20);
     ASSERT_TRUE(spool.ok()) << spool.error().message;
@@ -85,7 +85,7 @@ TEST(Spool, SurvivesReopeningWithItsRowsAndSequences) {
 
 TEST(Spool, RemovesOnlyWhatWasConfirmed) {
   TempDir dir;
-  auto spool = Spool::open((dir.path / "s.spool").string(), 1 << 20);
+  auto spool = Spool::open(dir.file("s.spool"), 1 << 20);
   ASSERT_TRUE(spool.ok());
   ASSERT_TRUE((*spool)->append(rows_of(**spool, "belt", 5)).ok());
   auto first = (*spool)->oldest(2);

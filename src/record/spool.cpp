@@ -1,13 +1,13 @@
 // The spool's SQLite file. WAL with synchronous=NORMAL: a committed row survives the
 // service's crash (kill -9); only a power loss may take the last commits.
-#include "rangekit/sinks/spool.hpp"
+#include "rangekit/record/spool.hpp"
 
 #include <sqlite3.h>
 
 #include <algorithm>
 #include <utility>
 
-namespace rangekit::sinks {
+namespace rangekit::record {
 namespace {
 
 // What SQLite keeps per row besides the text (rowid, seq, time, record header), roughly.
@@ -237,4 +237,4 @@ SpoolStats Spool::stats() const {
   return stats_;
 }
 
-}  // namespace rangekit::sinks
+}  // namespace rangekit::record
