@@ -37,7 +37,7 @@ std::string escape_measurement(std::string_view text) { return escaped(text, ", 
 std::string escape_tag(std::string_view text) { return escaped(text, ",= "); }
 std::string escape_field_string(std::string_view text) { return escaped(text, "\"\\"); }
 
-void append_line(std::string& out, const LineReading& reading) {
+void append_line(std::string& out, const SinkReading& reading) {
   out += "rangekit";
   // Tags in key order (family, sensor, unit): the order the reference asks for, for speed.
   if (!reading.family.empty()) out += ",family=" + escape_tag(reading.family);
@@ -46,12 +46,19 @@ void append_line(std::string& out, const LineReading& reading) {
   out += " value=";
   append_double(out, reading.value);
   out += reading.suspect ? ",suspect=true" : ",suspect=false";
-  out += ",seq=" + std::to_string(reading.seq) + "i ";
+  out += ",seq=" + std::to_string(reading.seq) + "i";
+  if (reading.count > 0) {
+    out += ",count=" + std::to_string(reading.count) + "i,min=";
+    append_double(out, reading.min);
+    out += ",max=";
+    append_double(out, reading.max);
+  }
+  out += ' ';
   out += std::to_string(reading.time_ns);
   out += '\n';
 }
 
-std::string encode_line(const LineReading& reading) {
+std::string encode_line(const SinkReading& reading) {
   std::string out;
   append_line(out, reading);
   return out;

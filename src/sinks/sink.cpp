@@ -12,8 +12,8 @@
 #include <thread>
 #include <vector>
 
-#include "sinks/http_post.hpp"
 #include "sinks/reading_rows.hpp"
+#include "sinks/writer.hpp"
 
 namespace rangekit::sinks {
 
@@ -30,7 +30,8 @@ struct ItemsSignal {
 
 struct Sink::Impl {
   SinkOptions options;
-  hub::HttpUrl url;
+  const SinkKind* kind = nullptr;
+  std::unique_ptr<Writer> writer;
   std::string spool_path;
   std::unique_ptr<Spool> spool;
   std::vector<hub::SubscriptionPtr> subscriptions;
@@ -68,7 +69,8 @@ struct Sink::Impl {
   }
 
   void run_intake();
-  void take_once(ReadingRows& rows, std::chrono::milliseconds wait);
+  // Takes what the hub queued into the spool; `closing`: every open window too (at stop).
+  void take_once(ReadingRows& rows, std::chrono::milliseconds wait, bool closing);
   void run_drain();
   // One write of the oldest rows: how many left the spool (0: none waited), none when the
   // write failed and waits to be retried.
@@ -92,7 +94,7 @@ std::string spool_file_name(const hub::SinkConfig& config) {
   return name + ".spool";
 }
 
-void Sink::Impl::take_once(ReadingRows& rows, std::chrono::milliseconds wait) {
+void Sink::Impl::take_once(ReadingRows& rows, std::chrono::milliseconds wait, bool closing) {
   {
     std::unique_lock lock(items->mutex);
     items->wake.wait_for(lock, wait, [&] { return items->ready || items->stopping; });
@@ -101,8 +103,13 @@ void Sink::Impl::take_once(ReadingRows& rows, std::chrono::milliseconds wait) {
   std::vector<SpoolRow> batch;
   for (const hub::SubscriptionPtr& subscription : subscriptions) {
     for (const hub::HubItemPtr& item : subscription->take(options.batch_rows, std::chrono::milliseconds(0))) {
-      if (auto row = rows.row_of(*item, *spool)) batch.push_back(std::move(*row));
+      rows.add(*item, *spool, batch);
     }
+  }
+  if (closing) {
+    rows.close_all(*spool, batch);
+  } else {
+    rows.close_windows(std::chrono::system_clock::now(), *spool, batch);
   }
   if (batch.empty()) return;
   auto dropped = spool->append(batch);
@@ -124,16 +131,16 @@ void Sink::Impl::take_once(ReadingRows& rows, std::chrono::milliseconds wait) {
 }
 
 void Sink::Impl::run_intake() {
-  ReadingRows rows(options.config.max_rate_hz);
+  ReadingRows rows(options.config.max_rate_hz, kind->encode);
   for (;;) {
-    take_once(rows, options.batch_time);
+    take_once(rows, options.batch_time, false);
     // Readings gathered for a while go to disk in one transaction, not one each (1 kHz sensors).
     std::unique_lock lock(items->mutex);
     if (items->wake.wait_for(lock, options.intake_gather, [&] { return items->stopping; })) break;
   }
   // What the hub queued until now goes to the spool too, for the next start.
   for (const hub::SubscriptionPtr& subscription : subscriptions) subscription->close();
-  take_once(rows, std::chrono::milliseconds(0));
+  take_once(rows, std::chrono::milliseconds(0), true);
 }
 
 std::optional<std::size_t> Sink::Impl::drain_once(std::chrono::milliseconds& backoff) {
@@ -147,12 +154,9 @@ std::optional<std::size_t> Sink::Impl::drain_once(std::chrono::milliseconds& bac
     rows_ready = false;
     return 0;
   }
-  std::string body;
-  for (const SpoolRow& row : *rows) body += row.line;
-  auto answer = http_post(url, "text/plain; charset=utf-8", body, options.timeout);
-  const bool confirmed = answer && (answer->status == 204 || answer->status == 200);
-  // A 400 names lines the historian will never take: kept, they would block every row behind them.
-  const bool refused = answer && answer->status == 400;
+  const WriteOutcome outcome = writer->write(*rows);
+  const bool confirmed = outcome.kind == WriteOutcome::Kind::confirmed;
+  const bool refused = outcome.kind == WriteOutcome::Kind::refused;
   if (confirmed || refused) {
     if (auto removed = spool->remove_through(rows->back().id); !removed) {
       const std::lock_guard lock(mutex);
@@ -171,14 +175,13 @@ std::optional<std::size_t> Sink::Impl::drain_once(std::chrono::milliseconds& bac
   }
   if (refused) {
     rejected += rows->size();
-    log("refused " + std::to_string(rows->size()) + " rows (HTTP 400): " + answer->body.substr(0, 200));
+    log("refused " + std::to_string(rows->size()) + " rows (" + outcome.why + ")");
     return rows->size();
   }
   ++failures;
-  const std::string why = answer ? "HTTP " + std::to_string(answer->status) : answer.error().message;
-  if (up || error.empty()) log("down (" + why + "): readings wait in the spool");
+  if (up || error.empty()) log("down (" + outcome.why + "): readings wait in the spool");
   up = false;
-  error = why;
+  error = outcome.why;
   return std::nullopt;
 }
 
@@ -208,13 +211,16 @@ void Sink::Impl::run_drain() {
 }
 
 Result<std::unique_ptr<Sink>> Sink::start(hub::Hub& hub, SinkOptions options) {
-  if (options.config.kind != "influx") {
-    return make_error(Errc::unsupported, "sink kind '" + options.config.kind + "' is not built (accepted: influx)");
+  const SinkKind* kind = find_sink_kind(options.config.kind);
+  if (kind == nullptr) {
+    return make_error(Errc::unsupported,
+                      "sink kind '" + options.config.kind + "' is not built (accepted: " + sink_kind_names() + ")");
   }
-  auto url = hub::parse_http_url(options.config.url);
-  if (!url) return std::move(url).error();
+  auto writer = kind->open(options);
+  if (!writer) return std::move(writer).error();
   auto impl = std::make_unique<Impl>();
-  impl->url = *url;
+  impl->kind = kind;
+  impl->writer = std::move(*writer);
   std::error_code made;
   std::filesystem::create_directories(options.spool_dir, made);
   if (made) return make_error(Errc::io, "spool folder " + options.spool_dir + ": " + made.message());

@@ -32,7 +32,7 @@ TEST(LineProtocol, EscapesStringFieldValues) {
 }
 
 TEST(LineProtocol, WritesOneReadingALine) {
-  LineReading reading;
+  SinkReading reading;
   reading.sensor = "bay A,1=x";
   reading.family = "uls";
   reading.unit = "m";
@@ -45,7 +45,7 @@ TEST(LineProtocol, WritesOneReadingALine) {
 }
 
 TEST(LineProtocol, LeavesAnEmptyUnitOutAndKeepsEveryDigit) {
-  LineReading reading;
+  SinkReading reading;
   reading.sensor = "belt";
   reading.family = "ls5";
   reading.value = 15.718792959999998;
@@ -55,7 +55,7 @@ TEST(LineProtocol, LeavesAnEmptyUnitOutAndKeepsEveryDigit) {
 }
 
 TEST(LineProtocol, NeverWritesALineBreakInsideALine) {
-  LineReading reading;
+  SinkReading reading;
   reading.sensor = "two\nlines";
   reading.family = "uls";
   const std::string line = encode_line(reading);

@@ -6,19 +6,9 @@
 #include <string>
 #include <string_view>
 
-namespace rangekit::sinks {
+#include "rangekit/sinks/sink_reading.hpp"
 
-// What one line carries (docs/sinks.md): measurement `rangekit`, tags sensor/family/unit,
-// fields value/suspect/seq, and the reading's time in ns since the Unix epoch.
-struct LineReading {
-  std::string_view sensor;
-  std::string_view family;
-  std::string_view unit;  // "m", "mm"; empty: no unit tag (line protocol has no empty tag value)
-  double value = 0;
-  bool suspect = false;
-  std::uint64_t seq = 0;
-  std::int64_t time_ns = 0;
-};
+namespace rangekit::sinks {
 
 // Measurement names: comma and space escaped with a backslash.
 std::string escape_measurement(std::string_view text);
@@ -27,9 +17,11 @@ std::string escape_tag(std::string_view text);
 // String field values, without their double quotes: double quote and backslash escaped.
 std::string escape_field_string(std::string_view text);
 
-// Appends the reading's line, ending in '\n'. A line break in a name cannot be written
-// (the protocol has no escape for it): it becomes an escaped space.
-void append_line(std::string& out, const LineReading& reading);
-std::string encode_line(const LineReading& reading);
+// Appends the reading's line (docs/sinks.md), ending in '\n': measurement `rangekit`, tags
+// family/sensor/unit, fields value/suspect/seq (and count/min/max of a window), its time in ns.
+// A line break in a name cannot be written (the protocol has no escape for it): it becomes an
+// escaped space.
+void append_line(std::string& out, const SinkReading& reading);
+std::string encode_line(const SinkReading& reading);
 
 }  // namespace rangekit::sinks
