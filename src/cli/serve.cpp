@@ -104,10 +104,12 @@ int check_site(const std::string& path) {
   }
   if (!site->mqtt.broker.empty()) {
     const hub::MqttConfig& mqtt = site->mqtt;
-    fmt::print("  mqtt {} as {}: {}/<sensor>/..., {}, discovery {}\n", mqtt.broker, mqtt.client_id, mqtt.base_topic,
+    fmt::print("  mqtt {} as {}: {}/<sensor>/..., {}, discovery {}{}\n", mqtt.broker, mqtt.client_id, mqtt.base_topic,
                mqtt.max_rate_hz > 0 ? fmt::format("at most {} readings/s per sensor", mqtt.max_rate_hz)
                                     : std::string("every reading"),
-               mqtt.discovery ? "under " + mqtt.discovery_prefix + "/" : std::string("off"));
+               mqtt.discovery ? "under " + mqtt.discovery_prefix + "/" : std::string("off"),
+               mqtt.spool ? fmt::format(", readings spooled on disk up to {} MB per sensor", mqtt.spool_max_mb)
+                          : std::string());
   }
   if (!site->modbus.listen.empty()) {
     fmt::print("  modbus {}: units {}, word order {}, {}\n", site->modbus.listen, modbus_unit_list(*site),
@@ -175,6 +177,7 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   if (!mqtt_config.broker.empty()) {
     mqtt::BridgeOptions bridge_options;
     bridge_options.config = mqtt_config;
+    bridge_options.spool_dir = state_path("spool", site->file);  // [mqtt] spool, beside the sinks' spools
     bridge_options.log = [](const std::string& line) {
       fmt::print("{}\n", line);
       std::fflush(stdout);
@@ -228,7 +231,8 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
       const mqtt::BridgeStats stats = bridge->stats();
       web::FaceHealth face{"mqtt", stats.error.empty(), stats.error, stats.connected, stats.broker, {}};
       face.counters = {{"published", stats.published},   {"queued", stats.queued},     {"dropped", stats.dropped},
-                       {"reconnects", stats.reconnects}, {"commands", stats.commands}, {"refusals", stats.refusals}};
+                       {"reconnects", stats.reconnects}, {"commands", stats.commands}, {"refusals", stats.refusals},
+                       {"spooled", stats.spooled}};
       faces.push_back(std::move(face));
     }
     if (modbus_face) {

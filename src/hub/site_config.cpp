@@ -338,10 +338,10 @@ bool valid_topic_base(std::string_view base) {
 
 Status check_mqtt(std::string_view file, const toml::table& table, MqttConfig& mqtt) {
   mqtt.line = table.source().begin.line;
-  if (auto checked =
-          only_keys(file, table, "[mqtt]",
-                    {"broker", "client_id", "base_topic", "username", "password", "ca_file", "qos_reading", "qos_state",
-                     "qos_command", "max_rate_hz", "discovery", "discovery_prefix", "queue_limit", "reconnect_max_s"});
+  if (auto checked = only_keys(file, table, "[mqtt]",
+                               {"broker", "client_id", "base_topic", "username", "password", "ca_file", "qos_reading",
+                                "qos_state", "qos_command", "max_rate_hz", "discovery", "discovery_prefix",
+                                "queue_limit", "reconnect_max_s", "spool", "spool_max_mb"});
       !checked) {
     return checked;
   }
@@ -354,10 +354,14 @@ Status check_mqtt(std::string_view file, const toml::table& table, MqttConfig& m
       checked = check_qos(file, node, k, mqtt.qos_state);
     } else if (k == "qos_command") {
       checked = check_qos(file, node, k, mqtt.qos_command);
-    } else if (k == "discovery") {
+    } else if (k == "discovery" || k == "spool") {
       auto flag = flag_of(file, node, k);
       if (!flag) return std::move(flag).error();
-      mqtt.discovery = *flag;
+      (k == "spool" ? mqtt.spool : mqtt.discovery) = *flag;
+    } else if (k == "spool_max_mb") {
+      auto value = integer_in(file, node, k, 1, 1048576, "1 to 1048576 MB (1 TB)");
+      if (!value) return std::move(value).error();
+      mqtt.spool_max_mb = static_cast<std::size_t>(*value);
     } else if (k == "max_rate_hz") {
       const double* rate = nullptr;
       double value = 0;
@@ -418,6 +422,11 @@ Status check_mqtt(std::string_view file, const toml::table& table, MqttConfig& m
   }
   if (!mqtt.ca_file.empty() && !mqtt.broker.empty() && !parse_broker_url(mqtt.broker)->tls) {
     return at(file, table, Errc::invalid_frame, "[mqtt] ca_file needs an mqtts:// broker");
+  }
+  if (mqtt.spool && mqtt.qos_reading == 0) {
+    return at(file, table, Errc::invalid_frame,
+              "[mqtt] spool = true keeps each reading until the broker acknowledges it: it needs qos_reading = 1 "
+              "or 2 (QoS 0 has no acknowledgement)");
   }
   return ok_status();
 }

@@ -5,6 +5,7 @@
 #include <mosquitto.h>
 #include <mqtt_protocol.h>
 
+#include <filesystem>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -43,6 +44,13 @@ Result<std::unique_ptr<Bridge>> Bridge::start(hub::Hub& hub, BridgeOptions optio
   impl->address = *address;
   if (impl->waker->fd < 0) return make_error(Errc::io, "mqtt: cannot make an eventfd for the network thread");
   const hub::MqttConfig& config = impl->options.config;
+  if (config.spool) {
+    if (impl->options.spool_dir.empty())
+      return make_error(Errc::unsupported, "mqtt: spool = true needs a spool folder");
+    std::error_code made;
+    std::filesystem::create_directories(impl->options.spool_dir, made);
+    if (made) return make_error(Errc::io, "mqtt: spool folder " + impl->options.spool_dir + ": " + made.message());
+  }
   for (const hub::SensorSnapshot& sensor : hub.sensors()) {
     impl->links.push_back(std::make_unique<Link>(*impl, sensor.config));
     Link& link = *impl->links.back();
@@ -60,6 +68,14 @@ Result<std::unique_ptr<Bridge>> Bridge::start(hub::Hub& hub, BridgeOptions optio
                   mosquitto_validate_utf8(link.reading_topic.c_str(), static_cast<int>(link.reading_topic.size())) ==
                       MOSQ_ERR_SUCCESS &&
                   mosquitto_pub_topic_check2(link.reading_topic.c_str(), link.reading_topic.size()) == MOSQ_ERR_SUCCESS;
+    if (config.spool) {
+      const auto path =
+          std::filesystem::path(impl->options.spool_dir) / reading_spool_name(config.client_id, link.config.name);
+      auto spool = ReadingSpool::open(path.string(), static_cast<std::uint64_t>(config.spool_max_mb) * 1024 * 1024,
+                                      link.config.name);
+      if (!spool) return std::move(spool).error();
+      link.spool = std::move(*spool);
+    }
     const std::string availability = link.topic + "/availability";
     mosquitto_will_set_v5(link.client, availability.c_str(), 7, "offline", config.qos_state, true, nullptr);
     if (!config.username.empty()) {
@@ -111,6 +127,11 @@ BridgeStats Bridge::stats() const {
     stats.dropped += link->dropped.load();
     stats.queued += link->queued.load();
     stats.reconnects += link->reconnects.load();
+    if (link->spool) {
+      const record::SpoolStats spooled = link->spool->stats();
+      stats.spooled += spooled.rows;
+      stats.spool_bytes += spooled.bytes;
+    }
   }
   return stats;
 }

@@ -47,6 +47,7 @@ void on_subscribe(mosquitto* /*client*/, void* user, int mid, int count, const i
 void on_publish(mosquitto* /*client*/, void* user, int mid, int /*reason*/, const mosquitto_property* /*props*/) {
   auto* link = static_cast<Link*>(user);
   if (mid == link->offline_mid) link->offline_acked = true;
+  if (link->spool) link->spool->acknowledged(mid);
 }
 
 void on_message(mosquitto* /*client*/, void* user, const mosquitto_message* message, const mosquitto_property* props) {
@@ -84,6 +85,11 @@ void Bridge::Impl::on_connected(Link& link, int reason) {
     return;
   }
   link.backoff_s = std::max(options.reconnect_min_s, 1);
+  if (link.spool) {
+    // A fresh session: what was in flight and not acknowledged goes again from the spool.
+    link.forget_acknowledged();
+    link.spool->resend_in_flight();
+  }
   subscribe_commands(link);
   if (link.ever_connected) ++link.reconnects;
   link.ever_connected = true;

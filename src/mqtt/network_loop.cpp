@@ -134,6 +134,7 @@ void Bridge::Impl::poll_sensors(std::chrono::steady_clock::time_point now) {
   const hub::MqttConfig& config = options.config;
   for (const auto& link : links) {
     keep_connected(*link, now);
+    link->forget_acknowledged();
     auto snapshot = hub.sensor(link->config.name);
     if (!snapshot) continue;
     const bool republish = std::exchange(link->republish, false);
@@ -249,6 +250,8 @@ void Bridge::Impl::run_network() {
     for (const auto& link : links) {
       if (auto message = link->window.flush_due(now))
         link->send_reading(std::move(*message), options.config.qos_reading);
+      link->store_staged();
+      link->publish_spooled();
       link->write_out();  // the drain's fast-path readings, in one send() per session
     }
     if (now < next_poll) continue;
@@ -258,6 +261,11 @@ void Bridge::Impl::run_network() {
   if (subscription) (*subscription)->close();
   send_replies();
   say_offline_and_disconnect();
+  // What the broker acknowledged by now leaves the spools; the rest goes at the next start.
+  for (const auto& link : links) {
+    link->store_staged();
+    link->forget_acknowledged();
+  }
 }
 
 }  // namespace rangekit::mqtt

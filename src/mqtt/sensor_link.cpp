@@ -37,8 +37,56 @@ Link::Publish Link::try_publish(const Message& message, int* mid) {
 }
 
 void Link::send_reading(std::string payload, int qos) {
+  if (spool && qos >= 1) {
+    staged.push_back(std::move(payload));
+    return;
+  }
   if (direct && qos == 0 && connected && queue.empty() && out.add(reading_topic, payload, max_packet)) return;
   send(Message{reading_topic, std::move(payload), qos, false});
+}
+
+void Link::store_staged() {
+  if (!spool || staged.empty()) return;
+  auto lost = spool->store(staged, std::chrono::system_clock::now());
+  if (!lost) {
+    dropped += staged.size();  // the disk refused them
+    if (!std::exchange(told_spool_error, true)) {
+      bridge.log("mqtt: " + config.name + ": readings not spooled (" + lost.error().message +
+                 "); dropped and counted, and so are the next ones, unsaid");
+    }
+  } else if (*lost > 0) {
+    dropped += *lost;
+    if (!std::exchange(told_spool_full, true)) {
+      bridge.log("mqtt: " + config.name +
+                 ": spool above spool_max_mb = " + std::to_string(bridge.options.config.spool_max_mb) +
+                 ": dropping the oldest readings (counted in dropped)");
+    }
+  }
+  staged.clear();
+}
+
+void Link::publish_spooled() {
+  if (!spool || !connected || out.mid_packet()) return;
+  auto rows = spool->next(spool_window - std::min(spool->in_flight(), spool_window));
+  if (!rows) return;  // read again at the next turn
+  for (const record::SpoolRow& row : *rows) {
+    int mid = 0;
+    const Publish published_now =
+        try_publish(Message{reading_topic, row.line, bridge.options.config.qos_reading, false}, &mid);
+    if (published_now == Publish::later) break;
+    if (published_now == Publish::sent) {
+      spool->sent(mid, row.id);
+    } else {
+      spool->give_up(row.id);  // counted in dropped by try_publish
+    }
+  }
+}
+
+void Link::forget_acknowledged() {
+  if (!spool) return;
+  if (auto forgotten = spool->forget_acknowledged(); !forgotten && !std::exchange(told_spool_error, true)) {
+    bridge.log("mqtt: " + config.name + ": " + forgotten.error().message);
+  }
 }
 
 void Link::write_out() {

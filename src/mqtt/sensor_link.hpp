@@ -12,9 +12,11 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "mqtt/bridge_impl.hpp"
 #include "mqtt/packet_outbox.hpp"
+#include "mqtt/reading_spool.hpp"
 #include "mqtt/reading_window.hpp"
 #include "rangekit/hub/site_config.hpp"
 
@@ -78,6 +80,14 @@ struct Link {
   std::uint32_t max_packet = 0;  // the broker's Maximum Packet Size (CONNACK, MQTT 5), 0: none
   PacketOutbox out;
 
+  // [mqtt] spool: QoS >= 1 readings are staged here, stored on disk once per turn of the
+  // network loop, and published from the spool with at most spool_window in flight.
+  std::unique_ptr<ReadingSpool> spool;
+  std::vector<std::string> staged;
+  static constexpr std::size_t spool_window = 100;
+  bool told_spool_full = false;
+  bool told_spool_error = false;
+
   Link(Bridge::Impl& b, hub::SensorConfig c)
       : bridge(b),
         config(std::move(c)),
@@ -102,6 +112,12 @@ struct Link {
   // A reading: by the fast path when it can (QoS 0, connected, nothing queued before it),
   // else as any message.
   void send_reading(std::string payload, int qos);
+
+  // [mqtt] spool: the staged readings to disk, then as many spooled readings out as the window allows.
+  void store_staged();
+  void publish_spooled();
+  // The acknowledged readings leave the disk.
+  void forget_acknowledged();
 
   // Writes out as far as the socket takes it (nonblocking), after anything libmosquitto has pending.
   void write_out();

@@ -190,11 +190,12 @@ Status Spool::drop_over_cap(std::uint64_t& dropped) {
   return ok_status();
 }
 
-Result<std::vector<SpoolRow>> Spool::oldest(std::size_t max) {
+Result<std::vector<SpoolRow>> Spool::oldest(std::size_t max, std::int64_t after) {
   const std::lock_guard lock(mutex_);
-  Statement select(db_, "SELECT id, sensor, seq, time_ns, line FROM spool ORDER BY id LIMIT ?");
+  Statement select(db_, "SELECT id, sensor, seq, time_ns, line FROM spool WHERE id > ? ORDER BY id LIMIT ?");
   if (!select) return sqlite_error(db_, "prepare read");
-  sqlite3_bind_int64(select.get(), 1, static_cast<sqlite3_int64>(max));
+  sqlite3_bind_int64(select.get(), 1, after);
+  sqlite3_bind_int64(select.get(), 2, static_cast<sqlite3_int64>(max));
   std::vector<SpoolRow> rows;
   int step = SQLITE_ROW;
   while ((step = sqlite3_step(select.get())) == SQLITE_ROW) {

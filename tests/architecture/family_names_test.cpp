@@ -27,8 +27,8 @@ const std::string registration_list = "families.cmake";
 // (the CLI has no public headers), the registrations' src/families, the Python and web folders and
 // the CMake files. In a folder, a family's own part beside the shared one (a folder or a Python
 // module named after it, web/src/uls/, python/rangekit/uls.py) is not generic.
-const std::vector<std::string> generic_libraries = {"core",  "record",  "hub", "web", "mqtt",
-                                                      "modbus", "sinks", "sim", "cli", "families"};
+const std::vector<std::string> generic_libraries = {"core",   "record", "hub", "web", "mqtt",
+                                                    "modbus", "sinks",  "sim", "cli", "families"};
 const std::vector<std::string> generic_folders = {"python/src", "python/rangekit", "web/src"};
 const std::vector<std::string> generic_files = {"CMakeLists.txt", "python/CMakeLists.txt",
                                                 registration_list};  // and cmake/*.cmake

@@ -62,11 +62,17 @@ struct Broker {
 
 class Subscriber {
  public:
-  Subscriber(std::uint16_t port, const std::vector<std::string>& topics) : topics_(topics) {
+  // `persistent_id` set: an MQTT 3.1.1 session that the broker keeps while the subscriber is
+  // away (clean session off), so it queues QoS 1 messages for it.
+  Subscriber(std::uint16_t port, const std::vector<std::string>& topics, const std::string& persistent_id = {})
+      : topics_(topics) {
     mosquitto_lib_init();
-    const std::string id = "rangekit-test-" + std::to_string(::getpid()) + "-" + std::to_string(++instances());
-    client_ = mosquitto_new(id.c_str(), true, this);
-    mosquitto_int_option(client_, MOSQ_OPT_PROTOCOL_VERSION, MQTT_PROTOCOL_V5);
+    const std::string id = persistent_id.empty()
+                               ? "rangekit-test-" + std::to_string(::getpid()) + "-" + std::to_string(++instances())
+                               : persistent_id;
+    client_ = mosquitto_new(id.c_str(), persistent_id.empty(), this);
+    mosquitto_int_option(client_, MOSQ_OPT_PROTOCOL_VERSION,
+                         persistent_id.empty() ? MQTT_PROTOCOL_V5 : MQTT_PROTOCOL_V311);
     mosquitto_connect_v5_callback_set(client_,
                                       [](mosquitto* client, void* self, int rc, int, const mosquitto_property*) {
                                         if (rc != 0) return;

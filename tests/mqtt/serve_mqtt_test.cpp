@@ -56,6 +56,11 @@ TEST(ServeMqtt, CheckValidatesTheMqttTableWithClearErrors) {
   refused("password = \"x\"\n", "[mqtt] password needs a username");
   refused("brokr = \"mqtt://h\"\n", "unknown key 'brokr' in [mqtt]");
   refused("ca_file = \"ca.pem\"\nbroker = \"mqtt://h\"\n", "ca_file needs an mqtts:// broker");
+  refused("spool = true\n",
+          "[mqtt] spool = true keeps each reading until the broker acknowledges it: it needs "
+          "qos_reading = 1 or 2");
+  refused("spool = \"yes\"\nqos_reading = 1\n", "spool");
+  refused("spool = true\nqos_reading = 1\nspool_max_mb = 0\n", "spool_max_mb = 0: 1 to 1048576 MB");
   // --mqtt is checked like the file's broker.
   const auto bad_flag =
       run_cli(dir.path, {"serve", "--config", write_site(dir, sensor), "--mqtt", "http://h", "--duration", "1"});

@@ -98,6 +98,11 @@ TEST(Spool, RemovesOnlyWhatWasConfirmed) {
   EXPECT_EQ(rest->front().seq, 3u);
   EXPECT_EQ(rest->back().seq, 6u);
   EXPECT_EQ((*spool)->stats().rows, 4u);
+  // Rows after those already handed out (in flight, not yet confirmed).
+  auto after = (*spool)->oldest(10, rest->front().id);
+  ASSERT_TRUE(after.ok());
+  ASSERT_EQ(after->size(), 3u);
+  EXPECT_EQ(after->front().seq, 4u);
 }
 
 }  // namespace

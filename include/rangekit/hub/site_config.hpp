@@ -62,7 +62,11 @@ struct MqttConfig {
   std::string discovery_prefix = "homeassistant";
   std::size_t queue_limit = 10000;  // messages held per sensor while the broker is away; the oldest go first
   int reconnect_max_s = 30;         // reconnect backoff doubles from 1 s up to this; also the retry after a refusal
-  std::size_t line = 0;             // where [mqtt] was declared
+  // QoS >= 1 readings wait on disk until the broker acknowledged them, instead of queue_limit
+  // in memory (docs/mqtt.md, "Store and forward"); the oldest go past spool_max_mb per sensor.
+  bool spool = false;
+  std::size_t spool_max_mb = 1024;
+  std::size_t line = 0;  // where [mqtt] was declared
 };
 
 // The `[modbus]` table: the Modbus TCP face (docs/modbus.md). Only settings live here.

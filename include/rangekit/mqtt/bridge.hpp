@@ -26,17 +26,21 @@ struct BridgeOptions {
   std::chrono::microseconds drain_gather{3000};
   // Commands waiting to run, at most: one more is answered `busy` at once and not run.
   std::size_t max_queued_commands = 64;
+  // [mqtt] spool: each sensor's spool file goes here (created if missing).
+  std::string spool_dir;
   // One line per event worth telling (connected, lost, refused credentials); the service prints them.
   std::function<void(const std::string&)> log;
 };
 
 struct BridgeStats {
-  bool connected = false;        // every sensor's session is connected, its set and action subscribed (SUBACK)
-  std::string error;             // a refusal that retrying will not fix (credentials), until a connect succeeds
-  std::string broker;            // as configured
-  std::uint64_t published = 0;   // messages handed to the broker's connection
-  std::uint64_t dropped = 0;     // dropped from full queues, cut off by a lost connection, or fallen behind on
-  std::uint64_t queued = 0;      // messages waiting for the broker now
+  bool connected = false;       // every sensor's session is connected, its set and action subscribed (SUBACK)
+  std::string error;            // a refusal that retrying will not fix (credentials), until a connect succeeds
+  std::string broker;           // as configured
+  std::uint64_t published = 0;  // messages handed to the broker's connection
+  std::uint64_t dropped = 0;    // dropped from full queues, cut off by a lost connection, or fallen behind on
+  std::uint64_t queued = 0;     // messages waiting for the broker now, in memory
+  std::uint64_t spooled = 0;    // readings waiting on disk for the broker's acknowledgement ([mqtt] spool)
+  std::uint64_t spool_bytes = 0;
   std::uint64_t reconnects = 0;  // sessions that came back after a loss
   std::uint64_t commands = 0;    // set/action requests handled
   std::uint64_t busy = 0;        // set/action requests answered `busy`: max_queued_commands were waiting

@@ -46,8 +46,8 @@ class Spool {
   // Stores the rows in one transaction, with each sensor's last sequence; then drops the
   // oldest rows while the spool is above its cap. Returns how many were dropped.
   Result<std::uint64_t> append(const std::vector<SpoolRow>& rows);
-  // The oldest `max` rows, oldest first.
-  Result<std::vector<SpoolRow>> oldest(std::size_t max);
+  // The oldest `max` rows after the row `after` (0: from the first), oldest first.
+  Result<std::vector<SpoolRow>> oldest(std::size_t max, std::int64_t after = 0);
   // The historian confirmed every row up to and including `id`.
   Status remove_through(std::int64_t id);
   [[nodiscard]] SpoolStats stats() const;
