@@ -22,6 +22,7 @@ test_packages=(
   openssl  # the TLS test makes its own certificate
   libmodbus-dev mbpoll  # the Modbus tests ask with libmodbus's client and mbpoll (docs/modbus.md)
   victoria-metrics  # the sink tests write Influx line protocol to a loopback VictoriaMetrics (docs/sinks.md)
+  tshark  # serial recordings (pcapng) are read back by tshark and capinfos (docs/capture.md)
   mosquitto mosquitto-clients  # the MQTT tests start a loopback broker and subscribe (docs/mqtt.md)
   python3-numpy python3-pytest python3-serial  # the Python package's tests and benchmark (/usr/bin/python3)
   python3-pandas  # Capture.dataframe() is tested, not skipped
