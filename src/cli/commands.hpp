@@ -47,6 +47,8 @@ inline CLI::Validator range_millimetres() { return in_range(0, max_range_mm, "mm
 
 void add_tables_command(CLI::App& app, int& exit_code);
 void add_decode_command(CLI::App& app, int& exit_code);
+// Between a host and a sensor: forward, decode and record (docs/tap.md).
+void add_tap_command(CLI::App& app, int& exit_code);
 void add_demo_command(CLI::App& app, int& exit_code);
 // Host side: each family's own subcommand (cli_family.hpp), plus replay of captures.
 void add_replay_command(CLI::App& app, int& exit_code);

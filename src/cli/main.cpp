@@ -81,6 +81,7 @@ int run(int argc, char** argv) {
   int exit_code = rangekit::cli::exit_ok;
   rangekit::cli::add_demo_command(app, exit_code);
   rangekit::cli::add_decode_command(app, exit_code);
+  rangekit::cli::add_tap_command(app, exit_code);
   rangekit::cli::add_tables_command(app, exit_code);
   rangekit::cli::add_sim_command(app, exit_code);
   for (const rangekit::cli::CliFamily* family : rangekit::cli::cli_families()) family->add_command(app, exit_code);

@@ -1,0 +1,124 @@
+// `rangekit tap` between a host program and the ULS emulator, both on this machine: every
+// byte forwarded both ways (the host's `get` succeeds through it), each reply paired with its
+// request and a round trip, bytes that are no frame shown as hex with the reason without
+// stopping the line, and the session recorded as pcapng.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <thread>
+
+#include "ls5_driver/cli_process.hpp"
+#include "rangekit/core/serial_port.hpp"
+#include "rangekit/record/pcapng.hpp"
+
+namespace {
+
+using namespace rangekit;
+using ls5_driver_test::Child;
+using ls5_driver_test::TempDir;
+
+// Waits for the tap's pty to appear (it makes it once both ports are open).
+bool appears(const std::filesystem::path& path) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (!std::filesystem::exists(path)) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));  // polling the file system, nothing to wait on
+  }
+  return true;
+}
+
+struct Tapped {
+  TempDir dir;
+  std::string sensor = (dir.path / "uls").string();
+  std::string host = (dir.path / "host").string();
+  std::string recording = (dir.path / "session.pcapng").string();
+  Child sim{{"sim", "uls", "--port", sensor}};
+  std::unique_ptr<Child> tap;
+  Tapped() {
+    EXPECT_NE(sim.read_line().find("ready"), std::string::npos);
+    tap =
+        std::make_unique<Child>(std::vector<std::string>{"tap", "uls", "--host-pty", host, "--sensor", sensor, "--baud",
+                                                         "115200", "--format", "jsonl", "--out", recording});
+    EXPECT_TRUE(appears(host));
+  }
+  // Ends the tap (as Ctrl-C would) and gives its records.
+  std::vector<nlohmann::json> finish(int& exit_code) {
+    tap->terminate();
+    std::vector<nlohmann::json> records;
+    for (std::string line = tap->read_line(); !line.empty(); line = tap->read_line()) {
+      records.push_back(nlohmann::json::parse(line, nullptr, false));
+    }
+    exit_code = tap->wait();
+    return records;
+  }
+};
+
+TEST(Tap, ForwardsBothWaysPairsEachReplyAndRecordsTheSession) {
+  Tapped line;
+  const auto get = ls5_driver_test::run_cli(line.dir.path, {"uls", "get", "--port", line.host});
+  ASSERT_EQ(get.exit_code, 0) << get.err;
+  EXPECT_NE(get.out.find("version=ULS emulator"), std::string::npos) << get.out;
+  int exit_code = -1;
+  const auto records = line.finish(exit_code);
+  EXPECT_EQ(exit_code, 130);  // ended by a signal, files closed
+  int requests = 0;
+  int replies = 0;
+  bool units = false;
+  for (const auto& record : records) {
+    ASSERT_TRUE(record.is_object());
+    if (record["direction"] == "host") ++requests;
+    if (record["direction"] == "sensor" && record.contains("rtt_ms")) {
+      ++replies;
+      EXPECT_GE(record["rtt_ms"].get<double>(), 0.0) << record.dump();
+    }
+    if (record["raw"] == "$MU,1") {
+      units = true;
+      EXPECT_EQ(record["decoded"], "Measurement Units = 1 (metres)");
+    }
+  }
+  EXPECT_GT(requests, 10);
+  EXPECT_EQ(replies, requests);  // `get` asks one thing at a time and hears each answer
+  EXPECT_TRUE(units);
+
+  auto recording = record::read_serial_pcapng(ls5_driver_test::read_file(line.recording));
+  ASSERT_TRUE(recording.ok()) << recording.error().message;
+  EXPECT_NE(std::find(recording->comments.begin(), recording->comments.end(), "family uls"), recording->comments.end());
+  EXPECT_NE(std::find(recording->comments.begin(), recording->comments.end(), "line 115200 8N1"),
+            recording->comments.end());
+  std::string from_host;
+  std::string from_sensor;
+  for (const auto& chunk : recording->chunks)
+    (chunk.sender == record::Sender::host ? from_host : from_sensor) += chunk.bytes;
+  EXPECT_NE(from_host.find("$MU\r"), std::string::npos);
+  EXPECT_NE(from_sensor.find("$MU,1"), std::string::npos);
+}
+
+TEST(Tap, BytesThatAreNoFrameAreShownAndTheLineGoesOn) {
+  Tapped line;
+  auto port = open_serial_link(line.host, SerialSettings{115200, Parity::none, 1});
+  ASSERT_TRUE(port.ok()) << port.error().message;
+  ASSERT_TRUE((*port)->write_all(as_bytes("xyz\r$MU\r")).ok());
+  std::string heard;
+  std::array<std::uint8_t, 256> buffer{};
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (heard.find("$MU,1") == std::string::npos && std::chrono::steady_clock::now() < deadline) {
+    auto read = (*port)->read_some(buffer, std::chrono::milliseconds(200));
+    if (read && *read > 0) heard.append(reinterpret_cast<const char*>(buffer.data()), *read);
+  }
+  EXPECT_NE(heard.find("$MU,1"), std::string::npos) << "the sensor's reply never came through: " << heard;
+  int exit_code = -1;
+  const auto records = line.finish(exit_code);
+  bool shown = false;
+  for (const auto& record : records) {
+    if (record.contains("rejected")) {
+      shown = true;
+      EXPECT_EQ(record["direction"], "host");
+      EXPECT_EQ(record["hex"], "78 79 7a 0d") << record.dump();  // the CR ends the garbage
+    }
+  }
+  EXPECT_TRUE(shown) << "the garbage was not reported";
+}
+
+}  // namespace
