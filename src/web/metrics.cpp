@@ -1,5 +1,7 @@
 #include "web/metrics.hpp"
 
+#include "web/sink_views.hpp"
+
 namespace rangekit::web {
 namespace {
 
@@ -20,7 +22,7 @@ std::string count(std::uint64_t value) { return std::to_string(value); }
 
 }  // namespace
 
-std::string prometheus_text(const hub::Hub& hub, const ServerStats& server) {
+std::string prometheus_text(const hub::Hub& hub, const ServerStats& server, const std::vector<SinkHealth>& sinks) {
   const auto sensors = hub.sensors();
   std::string out;
   using S = const hub::SensorSnapshot&;
@@ -61,10 +63,12 @@ std::string prometheus_text(const hub::Hub& hub, const ServerStats& server) {
   server_metric("rangekit_http_refused_total", "counter", "Connections refused over the limit.", server.refused);
   server_metric("rangekit_http_streams_cut_off_total", "counter", "Stream clients cut off for falling behind.",
                 server.streams_cut_off);
+  append_sink_metrics(out, sinks);
   return out;
 }
 
-nlohmann::json health_json(const hub::Hub& hub, const std::vector<FaceHealth>& faces) {
+nlohmann::json health_json(const hub::Hub& hub, const std::vector<FaceHealth>& faces,
+                           const std::vector<SinkHealth>& sinks) {
   const auto sensors = hub.sensors();
   nlohmann::json down = nlohmann::json::array();
   for (const auto& sensor : sensors) {
@@ -77,6 +81,14 @@ nlohmann::json health_json(const hub::Hub& hub, const std::vector<FaceHealth>& f
     for (const auto& [key, value] : face.counters) entry[key] = value;
     out[face.name] = entry;
     faces_ok = faces_ok && face.ok;
+  }
+  if (!sinks.empty()) {
+    nlohmann::json listed = nlohmann::json::array();
+    for (const SinkHealth& sink : sinks) {
+      listed.push_back(sink_json(sink));
+      faces_ok = faces_ok && !sink_down(sink);
+    }
+    out["sinks"] = listed;
   }
   out["status"] = down.empty() && faces_ok ? "ok" : "degraded";
   return out;

@@ -10,9 +10,11 @@
 
 namespace rangekit::web {
 
-std::string prometheus_text(const hub::Hub& hub, const ServerStats& server);
+std::string prometheus_text(const hub::Hub& hub, const ServerStats& server, const std::vector<SinkHealth>& sinks = {});
 // {"status":"ok"|"degraded","sensors":N,"connected":M,"disconnected":[names]}: degraded
-// while any sensor is disconnected or another face (MQTT) is not ok; each face under its name.
-nlohmann::json health_json(const hub::Hub& hub, const std::vector<FaceHealth>& faces = {});
+// while any sensor is disconnected, another face (MQTT) is not ok or a sink is down; each
+// face under its name, the sinks (when there are any) under "sinks".
+nlohmann::json health_json(const hub::Hub& hub, const std::vector<FaceHealth>& faces = {},
+                           const std::vector<SinkHealth>& sinks = {});
 
 }  // namespace rangekit::web

@@ -8,9 +8,10 @@
 
 namespace rangekit::web {
 
-// GET /healthz, GET /metrics.
+// GET /healthz, GET /metrics, GET /api/sinks.
 void get_health(Exchange& exchange, const Matched& matched);
 void get_metrics(Exchange& exchange, const Matched& matched);
+void list_sinks(Exchange& exchange, const Matched& matched);
 
 // GET /api/families: the registered families' descriptors.
 void list_families(Exchange& exchange, const Matched& matched);

@@ -36,6 +36,7 @@ constexpr std::array kRoutes{
     Route{http::verb::post, "/api/captures/{id}/stop", stop_capture},
     Route{http::verb::get, "/api/captures/{id}/download", download_capture, "format"},
     Route{http::verb::get, "/api/families", list_families},
+    Route{http::verb::get, "/api/sinks", list_sinks},
     Route{http::verb::get, "/api/sensors", list_sensors},
     Route{http::verb::get, "/api/sensors/{name}", get_sensor},
     Route{http::verb::get, "/api/sensors/{name}/settings", get_settings},

@@ -40,6 +40,22 @@ struct FaceHealth {
   std::map<std::string, std::uint64_t> counters;  // "published", "dropped", ...
 };
 
+// A historian sink of the same service (docs/sinks.md), as GET /api/sinks, GET /metrics and
+// GET /healthz report it. The service fills it in; the server knows no historian.
+struct SinkHealth {
+  std::string kind;               // "influx"
+  std::string url;                // as it may be shown: any password already replaced by ***
+  bool up = false;                // the historian confirmed the last write
+  std::string error;              // why the last write failed; not empty: /healthz says "degraded"
+  std::uint64_t written = 0;      // rows confirmed, since the start
+  std::uint64_t spooled = 0;      // rows waiting in the spool now
+  std::uint64_t spool_bytes = 0;  // their size
+  std::uint64_t dropped = 0;      // rows lost past the spool's cap or the intake's queue
+  std::uint64_t rejected = 0;     // rows the historian refused as malformed
+  std::uint64_t failures = 0;     // writes that failed, to be retried
+  double oldest_age_s = 0;        // of the oldest spooled row; 0 when none waits
+};
+
 struct ServerOptions {
   std::string listen = "127.0.0.1:8080";  // HOST:PORT; port 0 picks a free one
   // Required (Authorization: Bearer, or ?token= for EventSource) on every write and
@@ -71,6 +87,9 @@ struct ServerOptions {
   std::span<const StaticAsset> assets;
   // The other faces' health, asked on each GET /healthz (called on the event loop: keep it quick).
   std::function<std::vector<FaceHealth>()> faces;
+  // The historian sinks, asked on each GET /api/sinks, /metrics and /healthz (on the event
+  // loop too). None: /api/sinks answers [].
+  std::function<std::vector<SinkHealth>()> sinks;
 };
 
 struct ServerStats {
