@@ -14,6 +14,7 @@
 #include "cli/demo_site.hpp"
 #include "cli/serve_monitor.hpp"
 #include "cli/serve_sinks.hpp"
+#include "cli/sink_url.hpp"
 #include "cli/stop_signals.hpp"
 #include "cli/systemd_notify.hpp"
 #include "rangekit/core/descriptor_limit.hpp"
@@ -31,12 +32,13 @@ struct ServeOptions {
   std::string config;
   std::string check;
   bool demo = false;
-  std::string listen;       // overrides [service] listen
-  std::string mqtt;         // overrides [mqtt] broker
-  std::string modbus;       // overrides [modbus] listen
-  bool modbus_map = false;  // print the register map of --config, --demo or --check's site and end
-  double duration_s = 0;    // 0: until Ctrl-C or SIGTERM
-  bool table = false;       // redraw the table each second even when stdout is no terminal
+  std::string listen;              // overrides [service] listen
+  std::string mqtt;                // overrides [mqtt] broker
+  std::string modbus;              // overrides [modbus] listen
+  std::vector<std::string> sinks;  // --sink URLs: sinks of every sensor besides the [[sink]] tables
+  bool modbus_map = false;         // print the register map of --config, --demo or --check's site and end
+  double duration_s = 0;           // 0: until Ctrl-C or SIGTERM
+  bool table = false;              // redraw the table each second even when stdout is no terminal
 };
 
 // One line per mistake, all of them (the site file's reader gathers every one).
@@ -89,9 +91,14 @@ Result<std::unique_ptr<modbus::Face>> start_modbus(hub::Hub& hub, const hub::Sit
   return modbus::Face::start(hub, face_options);
 }
 
-int check_site(const std::string& path) {
+int check_site(const std::string& path, const std::vector<std::string>& sink_urls) {
   auto site = hub::load_site_config(path);
   if (!site) return site_refused(path, site.error());
+  auto sinks = sink_configs(*site, sink_urls);
+  if (!sinks) {
+    fmt::print(stderr, "rangekit serve: {}\n", sinks.error().message);
+    return exit_bad_input;
+  }
   fmt::print("{}: {} sensors on {} ports, listen {}\n", path, site->sensors.size(), hub::port_groups(*site).size(),
              site->service.listen);
   for (const hub::PortGroup& group : hub::port_groups(*site)) {
@@ -115,7 +122,7 @@ int check_site(const std::string& path) {
     fmt::print("  modbus {}: units {}, word order {}, {}\n", site->modbus.listen, modbus_unit_list(*site),
                site->modbus.word_order, site->modbus.writable ? "writable" : "read only");
   }
-  for (const hub::SinkConfig& sink : site->sinks) fmt::print("  {}\n", sink_check_line(sink));
+  for (const hub::SinkConfig& sink : *sinks) fmt::print("  {}\n", sink_check_line(sink));
   return exit_ok;
 }
 
@@ -171,6 +178,11 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
     fmt::print(stderr, "rangekit serve: --mqtt: {}\n", broker.error().message);
     return exit_bad_input;
   }
+  auto sink_list_configs = sink_configs(*site, options.sinks);
+  if (!sink_list_configs) {
+    fmt::print(stderr, "rangekit serve: {}\n", sink_list_configs.error().message);
+    return exit_bad_input;
+  }
   auto hub = hub::Hub::start(*site);
   // The MQTT face: another face on the same hub, with its health on /healthz.
   std::unique_ptr<mqtt::Bridge> bridge;
@@ -218,7 +230,7 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
         modbus_at.host, modbus_at.port, modbus_unit_list(*site), modbus_at.port, modbus_at.host);
   }
   // The historian sinks: their spools in the service's state folder, beside the captures.
-  auto sink_list = start_sinks(*hub, *site, state_path("spool", site->file));
+  auto sink_list = start_sinks(*hub, *sink_list_configs, state_path("spool", site->file));
   if (!sink_list) {
     fmt::print(stderr, "rangekit serve: {}\n", sink_list.error().message);
     stop_started();
@@ -244,6 +256,7 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
     }
     return faces;
   };
+  server_options.sinks = [&sink_list] { return sinks_health(*sink_list); };
   // Captures go where [service] capture_dir says; relative: in systemd's state folder, else beside the site file.
   const std::filesystem::path capture_dir = state_path(site->service.capture_dir, site->file);
   hub::CaptureLimits capture_limits;
@@ -294,16 +307,16 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   systemd.stopping();
   (*server)->stop();  // no new requests; streams closed
   if (modbus_face) modbus_face->stop();
-  if (bridge) bridge->stop();                  // every sensor marked offline on the broker, then a clean disconnect
-  captures.stop_all();                         // every capture committed and closed
-  for (auto& sink : *sink_list) sink->stop();  // queued readings spooled for the next start
-  hub->stop();                                 // streams ended as found, ports released
+  if (bridge) bridge->stop();  // every sensor marked offline on the broker, then a clean disconnect
+  captures.stop_all();         // every capture committed and closed
+  for (auto& each : *sink_list) each.sink->stop();  // queued readings spooled for the next start
+  hub->stop();                                      // streams ended as found, ports released
   for (const hub::CaptureInfo& capture : captures.list()) {
     fmt::print("capture {}: {} samples, {} lost → {}\n", capture.id, capture.samples, capture.lost, capture.path);
   }
   for (const hub::SensorSnapshot& sensor : hub->sensors()) fmt::print("{}\n", summary_line(sensor));
   if (bridge) fmt::print("{}\n", mqtt_summary(bridge->stats()));
-  for (const auto& sink : *sink_list) fmt::print("{}\n", sink_summary(sink->stats()));
+  for (const auto& each : *sink_list) fmt::print("{}\n", sink_summary(each.sink->stats()));
   if (modbus_face) {
     const modbus::FaceStats stats = modbus_face->stats();
     fmt::print("modbus: requests {}, exceptions {}, refused {}, malformed {}, commands {}\n", stats.requests,
@@ -397,6 +410,10 @@ void add_serve_command(CLI::App& app, int& exit_code) {
   serve_app->add_option("--mqtt", options->mqtt,
                         "broker URL mqtt://HOST[:PORT] or mqtts://HOST[:PORT]: publish every sensor there (overrides "
                         "[mqtt] broker; --demo without it starts a local mosquitto when one is installed)");
+  serve_app->add_option("--sink", options->sinks,
+                        "URL: write every reading to a historian, as a [[sink]] table with its defaults would "
+                        "(repeatable; docs/sinks.md): " +
+                            std::string(sink_option_forms));
   serve_app->add_option("--modbus", options->modbus,
                         "HOST:PORT: answer Modbus TCP there, each sensor a unit (overrides [modbus] listen; "
                         "docs/modbus.md)");
@@ -407,13 +424,18 @@ void add_serve_command(CLI::App& app, int& exit_code) {
   serve_app->add_option("--duration", options->duration_s, "stop after S seconds (default: until Ctrl-C)")
       ->check(duration_seconds());
   serve_app->callback([options, &exit_code] {
+    const auto given = sink_configs(hub::SiteConfig{}, options->sinks);
     if (static_cast<int>(!options->check.empty()) + static_cast<int>(!options->config.empty()) +
             static_cast<int>(options->demo) >
         1) {
       fmt::print(stderr, "rangekit serve: give one of --config, --check and --demo\n");
       exit_code = exit_usage;
+    } else if (!given) {
+      // A --sink that cannot be one is refused before anything starts (the demo's emulators too).
+      fmt::print(stderr, "rangekit serve: {}\n", given.error().message);
+      exit_code = exit_bad_input;
     } else if (!options->check.empty()) {
-      exit_code = options->modbus_map ? modbus_map_of(options->check) : check_site(options->check);
+      exit_code = options->modbus_map ? modbus_map_of(options->check) : check_site(options->check, options->sinks);
     } else if (options->demo) {
       exit_code = serve_demo(*options);
     } else if (!options->config.empty()) {

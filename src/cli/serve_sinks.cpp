@@ -3,28 +3,79 @@
 #include <fmt/core.h>
 
 #include <cstdio>
+#include <filesystem>
+
+#include "cli/sink_url.hpp"
 
 namespace rangekit::cli {
+namespace {
 
-Result<SinkList> start_sinks(hub::Hub& hub, const hub::SiteConfig& site, const std::string& spool_dir) {
+// The spool's file is named after the URL as given (sinks::spool_file_name), so a URL that
+// holds a password has it in the name too: then its folder alone is shown.
+std::string shown_spool_path(const hub::SinkConfig& config, const std::string& path) {
+  if (redacted_url(config.url) == config.url) return path;
+  return (std::filesystem::path(path).parent_path() / "").string() + " (its file named after the URL: not shown)";
+}
+
+}  // namespace
+
+Result<std::vector<hub::SinkConfig>> sink_configs(const hub::SiteConfig& site, const std::vector<std::string>& given) {
+  std::vector<hub::SinkConfig> configs = site.sinks;
+  for (const std::string& url : given) {
+    auto sink = parse_sink_option(url);
+    if (!sink) return std::move(sink).error();
+    // Checked as a [[sink]] url is: the influx sink writes to an http:// URL.
+    if (sink->kind == "influx") {
+      if (auto checked = hub::parse_http_url(sink->url); !checked) {
+        return make_error(Errc::invalid_frame, "--sink: " + redacted_text(checked.error().message));
+      }
+    }
+    for (const hub::SinkConfig& other : configs) {
+      if (sinks::spool_file_name(other) == sinks::spool_file_name(*sink)) {
+        return make_error(Errc::invalid_frame, "--sink '" + redacted_url(url) + "': another sink writes to " +
+                                                   redacted_url(other.url) + " already (they would share a spool)");
+      }
+    }
+    configs.push_back(std::move(*sink));
+  }
+  return configs;
+}
+
+Result<SinkList> start_sinks(hub::Hub& hub, const std::vector<hub::SinkConfig>& configs, const std::string& spool_dir) {
   SinkList started;
-  for (const hub::SinkConfig& config : site.sinks) {
+  for (const hub::SinkConfig& config : configs) {
     sinks::SinkOptions options;
     options.config = config;
     options.spool_dir = spool_dir;
+    // A sink's lines name its URL as given: printed without its password.
     options.log = [](const std::string& line) {
-      fmt::print("{}\n", line);
+      fmt::print("{}\n", redacted_text(line));
       std::fflush(stdout);
     };
     auto sink = sinks::Sink::start(hub, options);
-    if (!sink) return std::move(sink).error();
+    if (!sink) {
+      Error error = std::move(sink).error();
+      error.message = "sink " + redacted_url(config.url) + ": " + redacted_text(error.message);
+      return error;
+    }
     const std::string sensors =
         config.sensors.empty() ? "every sensor" : fmt::format("{} sensors", config.sensors.size());
-    fmt::print("rangekit serve: sink {} ({}): {}, spool {} (docs/sinks.md)\n", config.url, config.kind, sensors,
-               (*sink)->spool_path());
-    started.push_back(std::move(*sink));
+    fmt::print("rangekit serve: sink {} ({}): {}, spool {} (docs/sinks.md)\n", redacted_url(config.url), config.kind,
+               sensors, shown_spool_path(config, (*sink)->spool_path()));
+    started.push_back({config, std::move(*sink)});
   }
   return started;
+}
+
+std::vector<web::SinkHealth> sinks_health(const SinkList& list) {
+  std::vector<web::SinkHealth> health;
+  for (const StartedSink& each : list) {
+    const sinks::SinkStats stats = each.sink->stats();
+    health.push_back({each.config.kind, redacted_url(each.config.url), stats.up, redacted_text(stats.error),
+                      stats.written, stats.spooled, stats.spool_bytes, stats.dropped, stats.rejected, stats.failures,
+                      stats.oldest_age_s});
+  }
+  return health;
 }
 
 std::string sink_check_line(const hub::SinkConfig& sink) {
@@ -33,16 +84,18 @@ std::string sink_check_line(const hub::SinkConfig& sink) {
     sensors.clear();
     for (const std::string& name : sink.sensors) sensors += (sensors.empty() ? "" : ", ") + name;
   }
-  return fmt::format("sink {} ({}): {}, {}, spool up to {} MB, drain {} rows/s", sink.url, sink.kind, sensors,
+  return fmt::format("sink {} ({}): {}, {}, spool up to {} MB, drain {} rows/s", redacted_url(sink.url), sink.kind,
+                     sensors,
                      sink.max_rate_hz > 0 ? fmt::format("at most {} readings/s per sensor", sink.max_rate_hz)
                                           : std::string("every reading"),
                      sink.spool_max_mb, sink.drain_rate);
 }
 
 std::string sink_summary(const sinks::SinkStats& stats) {
-  return fmt::format("sink {}: written {}, spooled {}, dropped {}, rejected {}, spool {} B, {}", stats.url,
-                     stats.written, stats.spooled, stats.dropped, stats.rejected, stats.spool_bytes,
-                     stats.up ? "up" : "down" + (stats.error.empty() ? std::string() : " (" + stats.error + ")"));
+  return fmt::format(
+      "sink {}: written {}, spooled {}, dropped {}, rejected {}, spool {} B, {}", redacted_url(stats.url),
+      stats.written, stats.spooled, stats.dropped, stats.rejected, stats.spool_bytes,
+      stats.up ? "up" : "down" + (stats.error.empty() ? std::string() : " (" + redacted_text(stats.error) + ")"));
 }
 
 }  // namespace rangekit::cli
