@@ -1,5 +1,6 @@
 // The service's API as the page uses it (docs/api.md): the families' descriptors, the sensor
-// list and the one Server-Sent Events stream of every sensor, merged to max_rate points a second.
+// list, the historian sinks and the one Server-Sent Events stream of every sensor, merged to
+// max_rate points a second.
 
 export interface Health {
   connected: boolean;
@@ -125,6 +126,27 @@ export async function listSensors(): Promise<Sensor[]> {
   if (!response.ok) throw new ReadError(response.status, `GET /api/sensors: ${response.status} ${response.statusText}`);
   const body = (await response.json()) as { sensors: Sensor[] };
   return body.sensors;
+}
+
+// GET /api/sinks: a historian the service writes every reading to (docs/sinks.md).
+export interface Sink {
+  kind: string;   // 'influx'
+  url: string;    // without its password
+  up: boolean;    // the historian confirmed the last write
+  error: string;  // why the last write failed; '' when none did
+  written: number;
+  spooled: number;  // rows waiting in the spool
+  spool_bytes: number;
+  dropped: number;
+  rejected: number;
+  failures: number;
+  oldest_age_s: number;  // of the oldest row waiting; 0 when none waits
+}
+
+export async function listSinks(): Promise<Sink[]> {
+  const response = await authorisedFetch('/api/sinks');
+  if (!response.ok) throw new ReadError(response.status, `GET /api/sinks: ${response.status} ${response.statusText}`);
+  return (await response.json()) as Sink[];
 }
 
 export async function listFamilies(): Promise<Family[]> {

@@ -1,14 +1,16 @@
 // The overview: a card per sensor, live from one Server-Sent Events stream at MAX_RATE points
-// a second each (the service merges samples, so a 1 kHz sensor costs 4 points a second), and the
-// counters from GET /api/sensors every POLL_MS. A sensor's page is its family's (families.ts).
+// a second each (the service merges samples, so a 1 kHz sensor costs 4 points a second), the
+// counters from GET /api/sensors and the historians from GET /api/sinks every POLL_MS. A
+// sensor's page is its family's (families.ts).
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
-import { eventsUrl, listSensors, ReadError, setToken, streamRefusal, token } from './api';
+import { eventsUrl, listSensors, listSinks, ReadError, setToken, streamRefusal, token } from './api';
 import type { Aggregate, Item, LinkEvent, Sensor } from './api';
 import { Card } from './card';
 import { loadFamilies } from './descriptors';
 import { familyView } from './families';
 import type { SensorPage } from './family_view';
+import { SinksPanel, sinksDown } from './sinks_panel';
 
 const MAX_RATE = 4;
 const POLL_MS = 2000;
@@ -19,6 +21,7 @@ const summary = document.getElementById('summary') as HTMLElement;
 const notice = document.getElementById('notice') as HTMLElement;
 const filter = document.getElementById('filter') as HTMLInputElement;
 const problemsOnly = document.getElementById('problems') as HTMLInputElement;
+const sinksPanel = new SinksPanel(document.getElementById('sinks') as HTMLElement);
 
 const overview = document.getElementById('overview') as HTMLElement;
 const sensorView = document.getElementById('sensor-view') as HTMLElement;
@@ -27,6 +30,7 @@ const cards = new Map<string, Card>();
 let families = new Map<string, string>();
 let sensorPage: SensorPage | null = null;
 let streamState: 'connecting' | 'live' | 'interrupted' = 'connecting';
+let historiansDown = 0;
 // The service's clock, advanced by ours between items, so the sparklines slide smoothly.
 let serverTime = Date.now() / 1000;
 let serverTimeAt = performance.now();
@@ -73,6 +77,7 @@ function updateSummary(): void {
   const parts = [`${cards.size} sensors`, `${connected} connected`];
   if (disconnected > 0) parts.push(`${disconnected} disconnected`);
   if (shown !== cards.size) parts.push(`${shown} shown`);
+  if (historiansDown > 0) parts.push(`${historiansDown} ${historiansDown === 1 ? 'historian' : 'historians'} down`);
   parts.push(streamState === 'live' ? 'live' : streamState === 'connecting' ? 'connecting…' : 'live stream interrupted');
   summary.textContent = parts.join(' · ');
   summary.dataset.stream = streamState;
@@ -91,9 +96,11 @@ function cardFor(sensor: Pick<Sensor, 'name' | 'family'>): Card {
 async function poll(): Promise<void> {
   try {
     const requestedAt = performance.now();
-    const [sensors] = await Promise.all([listSensors(), loadFamilies()]);
+    const [sensors, , sinks] = await Promise.all([listSensors(), loadFamilies(), listSinks()]);
     families = new Map(sensors.map((sensor) => [sensor.name, sensor.family]));
     for (const sensor of sensors) cardFor(sensor).update(sensor);
+    sinksPanel.update(sinks);
+    historiansDown = sinksDown(sinks);
     const shown = sensorPage && sensors.find((sensor) => sensor.name === sensorPage!.name);
     if (shown) sensorPage!.update(shown, requestedAt);
     if (streamState !== 'interrupted') showNotice(null);

@@ -53,6 +53,9 @@ test('the page lists every sensor of the demo, each with its family', async () =
     ['belt', 'LS5'], ['belt-udp', 'LS5'], ['silo', 'ULS'],
     ['bay-A', 'ULS'], ['bay-B', 'ULS'], ['bay-C', 'ULS'], ['bay-D', 'ULS'],
   ]);
+  // The demo writes to no historian: the cards' poll found no sink, and nothing of them shows.
+  assert.equal(await page.isHidden('#sinks'), true);
+  assert.equal(await page.$$eval('.sink', (found) => found.length), 0);
 });
 
 test('the live value updates on a card (bay-C: a level rising and falling)', async () => {
