@@ -256,7 +256,9 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
     }
     return faces;
   };
-  server_options.sinks = [&sink_list] { return sinks_health(*sink_list); };
+  SinksHealth sinks_now;
+  sinks_now.refresh(*sink_list);
+  server_options.sinks = [&sinks_now] { return sinks_now.get(); };
   // Captures go where [service] capture_dir says; relative: in systemd's state folder, else beside the site file.
   const std::filesystem::path capture_dir = state_path(site->service.capture_dir, site->file);
   hub::CaptureLimits capture_limits;
@@ -300,6 +302,7 @@ int serve_site(const hub::SiteConfig& site_config, const ServeOptions& options, 
   while (!signals.stopped() && (options.duration_s <= 0 || std::chrono::steady_clock::now() - started < limit)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));  // polls the stop flag; not a synchronisation
     systemd.keep_alive([&] { return states_line(hub->sensors()); });
+    if (!sink_list->empty()) sinks_now.refresh(*sink_list);  // what the HTTP face shows, 50 ms old at most
     if (std::chrono::steady_clock::now() < next_summary) continue;
     next_summary += std::chrono::seconds(1);
     monitor.tick(hub->sensors());

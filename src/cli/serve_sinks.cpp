@@ -78,6 +78,17 @@ std::vector<web::SinkHealth> sinks_health(const SinkList& list) {
   return health;
 }
 
+void SinksHealth::refresh(const SinkList& list) {
+  auto taken = sinks_health(list);
+  const std::lock_guard lock(mutex_);
+  health_ = std::move(taken);
+}
+
+std::vector<web::SinkHealth> SinksHealth::get() const {
+  const std::lock_guard lock(mutex_);
+  return health_;
+}
+
 std::string sink_check_line(const hub::SinkConfig& sink) {
   std::string sensors = "every sensor";
   if (!sink.sensors.empty()) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,19 @@ Result<std::vector<hub::SinkConfig>> sink_configs(const hub::SiteConfig& site, c
 Result<SinkList> start_sinks(hub::Hub& hub, const std::vector<hub::SinkConfig>& configs, const std::string& spool_dir);
 // Each sink as /api/sinks, /metrics and /healthz show it, its URL without a password.
 std::vector<web::SinkHealth> sinks_health(const SinkList& list);
+
+// sinks_health as the HTTP face reads it: taken by the service's own loop, since a sink's
+// stats wait for its spool's transaction (a WAL checkpoint's fsync on a slow card), which the
+// event loop of every stream must not.
+class SinksHealth {
+ public:
+  void refresh(const SinkList& list);
+  [[nodiscard]] std::vector<web::SinkHealth> get() const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::vector<web::SinkHealth> health_;
+};
 // "sink http://…/write (influx): every sensor, every reading, spool up to 1024 MB, drain 20000 rows/s".
 std::string sink_check_line(const hub::SinkConfig& sink);
 // "sink http://…/write: written 5000, spooled 0, dropped 0, spool 0 B, up".
