@@ -14,12 +14,12 @@
 #include "cli/demo_site.hpp"
 #include "cli/serve_monitor.hpp"
 #include "cli/serve_sinks.hpp"
-#include "cli/sink_url.hpp"
 #include "cli/stop_signals.hpp"
 #include "cli/systemd_notify.hpp"
 #include "rangekit/core/descriptor_limit.hpp"
 #include "rangekit/hub/captures.hpp"
 #include "rangekit/hub/hub.hpp"
+#include "rangekit/hub/sink_url.hpp"
 #include "rangekit/modbus/face.hpp"
 #include "rangekit/mqtt/bridge.hpp"
 #include "rangekit/mqtt/local_broker.hpp"
@@ -416,7 +416,7 @@ void add_serve_command(CLI::App& app, int& exit_code) {
   serve_app->add_option("--sink", options->sinks,
                         "URL: write every reading to a historian, as a [[sink]] table with its defaults would "
                         "(repeatable; docs/sinks.md): " +
-                            std::string(sink_option_forms));
+                            std::string(hub::sink_option_forms));
   serve_app->add_option("--modbus", options->modbus,
                         "HOST:PORT: answer Modbus TCP there, each sensor a unit (overrides [modbus] listen; "
                         "docs/modbus.md)");

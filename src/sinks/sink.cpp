@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "rangekit/hub/sink_url.hpp"
 #include "sinks/reading_rows.hpp"
 #include "sinks/writer.hpp"
 
@@ -60,7 +61,7 @@ struct Sink::Impl {
   Impl& operator=(const Impl&) = delete;
 
   void log(const std::string& line) const {
-    if (options.log) options.log("sink " + options.config.url + ": " + line);
+    if (options.log) options.log("sink " + hub::redacted_url(options.config.url) + ": " + line);
   }
   // Waits until `until`, or until stopping; true when stopping.
   bool wait_stopping(Clock::time_point until) {
@@ -80,7 +81,9 @@ struct Sink::Impl {
 
 std::string spool_file_name(const hub::SinkConfig& config) {
   std::string name = config.kind + "-";
-  std::string_view url = config.url;
+  // Without a password, so that none is on disk and a new password keeps the same spool.
+  const std::string shown = hub::redacted_url(config.url);
+  std::string_view url = shown;
   if (const auto scheme = url.find("://"); scheme != std::string_view::npos) url.remove_prefix(scheme + 3);
   for (const char c : url) {
     const bool plain = std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '.' || c == '_';

@@ -1,19 +1,19 @@
 // `rangekit serve --sink URL` (docs/sinks.md): the URL forms it takes, the kind each makes, the
-// refusal of the others, and a sink URL's password never printed (cli/sink_url.hpp).
+// refusal of the others, and a sink URL's password never printed (hub/sink_url.hpp).
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <string>
 
 #include "cli/commands.hpp"
-#include "cli/sink_url.hpp"
 #include "ls5_driver/cli_process.hpp"
+#include "rangekit/hub/sink_url.hpp"
 
 namespace {
 
-using rangekit::cli::parse_sink_option;
-using rangekit::cli::redacted_text;
-using rangekit::cli::redacted_url;
+using rangekit::hub::parse_sink_option;
+using rangekit::hub::redacted_text;
+using rangekit::hub::redacted_url;
 
 TEST(SinkUrl, APasswordIsReplacedWhereverTheUrlCarriesOne) {
   EXPECT_EQ(redacted_url("postgresql://u:secret@h/db"), "postgresql://u:***@h/db");

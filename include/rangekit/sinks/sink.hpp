@@ -45,8 +45,8 @@ struct SinkStats {
   double oldest_age_s = 0;        // of the oldest spooled row; 0 when none waits
 };
 
-// "influx-127.0.0.1-8428-write.spool": the spool of a sink, from its kind and URL, so a
-// restart with the same [[sink]] finds its rows again.
+// "influx-127.0.0.1-8428-write.spool": the spool of a sink, from its kind and URL without its
+// password (hub::redacted_url), so a restart with the same [[sink]] finds its rows again.
 std::string spool_file_name(const hub::SinkConfig& config);
 
 class Sink {

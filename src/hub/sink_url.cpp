@@ -1,40 +1,28 @@
-// A sink's URL as the service shows it (start line, --check, summary, /api/sinks, /metrics:
-// never a password) and as `rangekit serve --sink URL` gives one. Inline, so the tests of
-// tests/cli call it as it is.
-#pragma once
+#include "rangekit/hub/sink_url.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <string>
-#include <string_view>
 
-#include "rangekit/core/result.hpp"
-#include "rangekit/hub/site_config.hpp"
+namespace rangekit::hub {
 
-namespace rangekit::cli {
+namespace {
 
-namespace sink_url_detail {
-
-inline bool same_letters(std::string_view a, std::string_view b) {
+bool same_letters(std::string_view a, std::string_view b) {
   return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
            return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
          });
 }
 
 // Query keys whose value is a secret: libpq's password, InfluxDB 1.x's p, a token.
-inline bool secret_key(std::string_view key) {
+bool secret_key(std::string_view key) {
   constexpr std::array<std::string_view, 3> keys{"password", "p", "token"};
   return std::any_of(keys.begin(), keys.end(), [&](std::string_view each) { return same_letters(key, each); });
 }
 
-}  // namespace sink_url_detail
+}  // namespace
 
-// "postgresql://u:***@h/db": the password of the user part and the value of a query key that
-// holds one (password=, p=, token=) replaced by ***; a URL without one as it is. The user part
-// ends at the last '@', since a password may hold '/', '?' or '@' unescaped: more is hidden
-// when the query holds an '@' too, never less.
-inline std::string redacted_url(std::string_view url) {
+std::string redacted_url(std::string_view url) {
   std::string out(url);
   const auto scheme = out.find("://");
   std::size_t query_from = scheme == std::string::npos ? 0 : scheme + 3;
@@ -52,7 +40,7 @@ inline std::string redacted_url(std::string_view url) {
   for (std::size_t at = query + 1; at < out.size();) {
     const std::size_t end = std::min(out.find('&', at), out.size());
     const std::size_t equals = out.find('=', at);
-    if (equals < end && sink_url_detail::secret_key(std::string_view(out).substr(at, equals - at))) {
+    if (equals < end && secret_key(std::string_view(out).substr(at, equals - at))) {
       out.replace(equals + 1, end - equals - 1, "***");
       at = equals + 5;
     } else {
@@ -62,9 +50,7 @@ inline std::string redacted_url(std::string_view url) {
   return out;
 }
 
-// A message with every URL in it (each word holding "://") as redacted_url shows it: what a
-// sink logs or a refusal quotes. Punctuation after a URL ("URL: down", "'URL':") stays.
-inline std::string redacted_text(std::string_view text) {
+std::string redacted_text(std::string_view text) {
   std::string out;
   for (std::size_t at = 0; at < text.size();) {
     const auto space = std::find_if(text.begin() + static_cast<std::ptrdiff_t>(at), text.end(),
@@ -86,19 +72,11 @@ inline std::string redacted_text(std::string_view text) {
   return out;
 }
 
-// The forms --sink takes, for its refusal and its help.
-inline constexpr std::string_view sink_option_forms =
-    "postgresql://[USER[:PASSWORD]@]HOST[:PORT]/DB (or postgres://), influx+http://HOST[:PORT]/PATH or "
-    "influx+https://HOST[:PORT]/PATH";
-
-// `--sink URL` as a [[sink]] table of every sensor with the table's defaults: postgresql:// or
-// postgres:// a sink of kind postgres with the URL as given, influx+http(s):// one of kind
-// influx writing to the URL without "influx+". Anything else is refused, naming the forms.
-inline Result<hub::SinkConfig> parse_sink_option(std::string_view url) {
+Result<SinkConfig> parse_sink_option(std::string_view url) {
   const auto scheme_is = [&](std::string_view scheme) {
-    return url.size() >= scheme.size() && sink_url_detail::same_letters(url.substr(0, scheme.size()), scheme);
+    return url.size() >= scheme.size() && same_letters(url.substr(0, scheme.size()), scheme);
   };
-  hub::SinkConfig sink;
+  SinkConfig sink;
   if (scheme_is("postgresql://") || scheme_is("postgres://")) {
     sink.kind = "postgres";
     sink.url = std::string(url);
@@ -115,4 +93,4 @@ inline Result<hub::SinkConfig> parse_sink_option(std::string_view url) {
   return sink;
 }
 
-}  // namespace rangekit::cli
+}  // namespace rangekit::hub
