@@ -188,6 +188,10 @@ Result<SerialRecording> read_serial_pcapng(std::string_view file) {
       const std::string_view data = body.substr(20, captured);
       SerialChunk chunk;
       const std::uint64_t stamp = (static_cast<std::uint64_t>(get32(body, 4)) << 32) | get32(body, 8);
+      // The clock counts in ns from 1970 in 64 bits: µs past 2262 cannot be held.
+      constexpr auto latest = static_cast<std::uint64_t>(
+          std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::duration::max()).count());
+      if (stamp > latest) return damaged(offset, "a timestamp past the year 2262");
       chunk.time = std::chrono::system_clock::time_point(std::chrono::microseconds(stamp));
       const auto event = static_cast<std::uint8_t>(data[8]);
       if (event != data_tx_start && event != data_rx_start) {

@@ -145,6 +145,10 @@ TEST(Pcapng, ADamagedFileIsRefusedWithWhereAndWhy) {
   std::string ethernet = file;
   ethernet[section.size() + 8] = 1;  // the interface's link type: Ethernet
   refused(ethernet, "block at byte " + std::to_string(section.size()) + ": link type 1, not RTAC serial (250)");
+  std::string future = file;
+  const std::size_t packet = section.size() + pcapng_serial_interface("tap").size();
+  future[packet + 12 + 3] = static_cast<char>(0xFF);  // the timestamp's high word: 0xFF000000 << 32 µs
+  refused(future, "block at byte " + std::to_string(packet) + ": a timestamp past the year 2262");
   refused("", "empty file");
 }
 
