@@ -25,6 +25,13 @@ std::string joined(std::string_view separator, Field field) {
 }  // namespace
 
 void register_cli_family(const CliFamily& family) { registry().add(family); }
+
+FrameDecoder default_decoder(const CliFamily& family, Direction sender) {
+  CLI::App scratch;
+  const DecoderFactory factory = family.add_decode_options(scratch);
+  scratch.parse(std::vector<std::string>{});  // every option at its default
+  return factory(sender);
+}
 std::span<const CliFamily* const> cli_families() noexcept { return registry().all(); }
 const CliFamily* find_cli_family(std::string_view name) noexcept { return registry().find(name); }
 

@@ -95,6 +95,10 @@ struct CliFamily {
   CliDemoSite demo_site;
 };
 
+// The family's decoder with its decode options at their defaults, for a command that reads
+// frames without offering those options (sim replay).
+FrameDecoder default_decoder(const CliFamily& family, Direction sender);
+
 // Adds a family (a second of the same name replaces the first); from the registration list.
 void register_cli_family(const CliFamily& family);
 // The registered families, in registration order: the order of the subcommands and of help texts.

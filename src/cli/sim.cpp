@@ -136,6 +136,7 @@ void add_sim_command(CLI::App& app, int& exit_code) {
   auto* sim = app.add_subcommand("sim", "Run an emulated sensor on pseudo-terminals (no hardware needed)");
   sim->require_subcommand(1);
   for (const CliFamily* family : cli_families()) family->add_sim_command(*sim, exit_code);
+  add_sim_replay_command(*sim, exit_code);
 }
 
 }  // namespace rangekit::cli

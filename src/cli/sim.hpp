@@ -36,5 +36,7 @@ int scene_exit_code(const Error& error);
 
 // Each family adds its own subcommand of `sim` (cli_family.hpp).
 void add_sim_command(CLI::App& app, int& exit_code);
+// `sim replay`: a recorded sensor (sim_replay.cpp).
+void add_sim_replay_command(CLI::App& sim, int& exit_code);
 
 }  // namespace rangekit::cli

@@ -121,4 +121,26 @@ TEST(Tap, BytesThatAreNoFrameAreShownAndTheLineGoesOn) {
   EXPECT_TRUE(shown) << "the garbage was not reported";
 }
 
+// The recording played back as the sensor: the same host program, through the same requests,
+// prints the same settings as it did against the emulator.
+TEST(SimReplay, TheRecordedSensorAnswersTheHostAsTheEmulatorDid) {
+  Tapped line;
+  const auto live = ls5_driver_test::run_cli(line.dir.path, {"uls", "get", "--port", line.host});
+  ASSERT_EQ(live.exit_code, 0) << live.err;
+  int exit_code = -1;
+  (void)line.finish(exit_code);
+  line.sim.terminate();
+  (void)line.sim.wait();
+  const std::string port = (line.dir.path / "replayed").string();
+  Child replay{{"sim", "replay", line.recording, "--port", port}};
+  const std::string ready = replay.read_line();
+  ASSERT_NE(ready.find("rangekit sim replay ready: " + port), std::string::npos) << ready;
+  const auto replayed = ls5_driver_test::run_cli(line.dir.path, {"uls", "get", "--port", port});
+  EXPECT_EQ(replayed.exit_code, 0) << replayed.err;
+  EXPECT_EQ(replayed.out, live.out);
+  // A request the recording never heard gets no answer, and a note on the replay's stderr.
+  const auto unknown = ls5_driver_test::run_cli(line.dir.path, {"uls", "set", "--port", port, "units=feet"});
+  EXPECT_NE(unknown.exit_code, 0);
+}
+
 }  // namespace

@@ -1,0 +1,141 @@
+// `rangekit sim replay FILE --port PATH`: the recorded sensor on a pty. Each request the host
+// sends is answered with what the sensor said after it in the recording, at the recorded
+// pace, so a problem seen on site reproduces at a desk with the host software.
+#include <fmt/core.h>
+
+#include <deque>
+#include <fstream>
+#include <iterator>
+#include <thread>
+
+#include "cli/cli_family.hpp"
+#include "cli/commands.hpp"
+#include "cli/describe.hpp"
+#include "cli/replay_script.hpp"
+#include "cli/sim.hpp"
+#include "cli/stop_signals.hpp"
+#include "rangekit/record/pcapng.hpp"
+#include "rangekit/sim/pty.hpp"
+
+namespace rangekit::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct ReplayOptions {
+  std::string file;
+  std::string port;
+  std::string family;  // empty: the recording's `family NAME` comment
+};
+
+// The family the recording names in its section comments ("family uls").
+std::string recorded_family(const record::SerialRecording& recording) {
+  for (const std::string& comment : recording.comments) {
+    if (comment.rfind("family ", 0) == 0) return comment.substr(7);
+  }
+  return {};
+}
+
+int run_replay(const ReplayOptions& options) {
+  std::ifstream in(options.file, std::ios::binary);
+  if (!in) {
+    fmt::print(stderr, "rangekit sim replay: cannot open {}\n", options.file);
+    return exit_io;
+  }
+  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  auto recording = record::read_serial_pcapng(bytes);
+  if (!recording) {
+    fmt::print(stderr, "rangekit sim replay: {}: {}\n", options.file, recording.error().message);
+    return exit_bad_input;
+  }
+  const std::string name = options.family.empty() ? recorded_family(*recording) : options.family;
+  const CliFamily* family = find_cli_family(name);
+  if (family == nullptr) {
+    fmt::print(stderr, "rangekit sim replay: {}: {}; give --family {}\n", options.file,
+               name.empty() ? "the recording names no family" : "no family '" + name + "' in this build",
+               cli_family_names("|"));
+    return exit_usage;
+  }
+  const FrameDecoder host_decoder = default_decoder(*family, Direction::to_device);
+  ReplayScript script = ReplayScript::from_recording(*recording, host_decoder.scan);
+  auto pty = PseudoTerminal::open(options.port);
+  if (!pty) {
+    fmt::print(stderr, "rangekit sim replay: {}\n", pty.error().message);
+    return exit_io;
+  }
+  // A host that closes the port and opens it again finds the same recorded sensor.
+  if (auto held = (*pty)->hold_slave_open(); !held) {
+    fmt::print(stderr, "rangekit sim replay: {}\n", held.error().message);
+    return exit_io;
+  }
+  StopSignals signals;
+  fmt::print("rangekit sim replay ready: {} ({}, {} requests recorded)\n", (*pty)->public_path(), family->label,
+             script.requests());
+  std::fflush(stdout);
+  // What is due to be said, and when: a new request cuts what was left of the last answer.
+  std::deque<std::pair<Clock::time_point, std::string>> due;
+  const auto schedule = [&](const Answer& answer, Clock::time_point from) {
+    due.clear();
+    for (const TimedBytes& part : answer) due.emplace_back(from + part.after, part.bytes);
+  };
+  schedule(script.opening(), Clock::now());
+  FrameAssembler host(host_decoder.scan, 4096);
+  std::array<std::uint8_t, 4096> buffer{};
+  std::uint64_t answered = 0;
+  std::uint64_t unknown = 0;
+  while (!signals.stopped()) {
+    const auto now = Clock::now();
+    while (!due.empty() && due.front().first <= now) {
+      if (auto written = (*pty)->write_all(as_bytes(due.front().second)); !written) {
+        fmt::print(stderr, "rangekit sim replay: {}\n", written.error().message);
+        return exit_io;
+      }
+      due.pop_front();
+    }
+    auto wait = std::chrono::milliseconds(100);
+    if (!due.empty()) {
+      wait = std::clamp(std::chrono::duration_cast<std::chrono::milliseconds>(due.front().first - now),
+                        std::chrono::milliseconds(0), wait);
+    }
+    auto read = (*pty)->read_some(buffer, wait);
+    if (!read) {
+      if (read.error().code == Errc::timeout) continue;
+      fmt::print(stderr, "rangekit sim replay: {}\n", read.error().message);
+      return exit_io;
+    }
+    const auto heard = Clock::now();
+    FrameAssembler::Event event;
+    feed_all(host, Bytes(buffer.data(), *read), [&] {
+      while (host.next(event)) {
+        if (event.kind != FrameAssembler::Event::Kind::frame) continue;
+        if (const Answer* answer = script.answer(std::string(as_text(event.frame)))) {
+          ++answered;
+          schedule(*answer, heard);
+        } else {
+          ++unknown;
+          due.clear();
+          fmt::print(stderr, "rangekit sim replay: not in the recording, no answer: {}\n", printable(event.frame));
+        }
+      }
+    });
+  }
+  fmt::print(stderr, "rangekit sim replay: {} requests answered from the recording, {} not in it\n", answered, unknown);
+  return exit_interrupted;
+}
+
+}  // namespace
+
+void add_sim_replay_command(CLI::App& sim, int& exit_code) {
+  auto options = std::make_shared<ReplayOptions>();
+  auto* replay = sim.add_subcommand(
+      "replay",
+      "Act as a recorded sensor (a `rangekit tap --out` pcapng) on a pty: each request gets its recorded answer");
+  replay->add_option("file", options->file, "the recording (.pcapng)")->required();
+  replay->add_option("--port", options->port, "symlink to the pty the host opens")->required();
+  replay->add_option("--family", options->family,
+                     "the family, when the recording does not name it: " + cli_family_names(" | "));
+  replay->footer("Exit codes: 130 after Ctrl-C, 3 a damaged recording, 4 the file or pty cannot be opened.");
+  replay->callback([options, &exit_code] { exit_code = run_replay(*options); });
+}
+
+}  // namespace rangekit::cli
