@@ -502,6 +502,24 @@ void add_modbus_rows(GoalTable& table, const char* name, const std::string& path
              text_of("without the face %.1f %%", *base), *added / 20.0, "<= 20 us", *base > 0 && *added <= 20.0});
 }
 
+// The tap in a line: a chunk's p99 from one end to the other through it, each way, against
+// the same chunk across one pty without it, same run; goal: it adds at most 1 ms.
+void add_tap_rows(GoalTable& table, const char* name) {
+  const auto direct = table.value(name, "direct_p99_ms");
+  const auto direct_p50 = table.value(name, "direct_p50_ms");
+  const auto to_host = table.value(name, "to_host_p99_ms");
+  const auto to_host_p50 = table.value(name, "to_host_p50_ms");
+  const auto to_sensor = table.value(name, "to_sensor_p99_ms");
+  const auto cpu = table.value(name, "tap_cpu_pct");
+  if (!direct || !direct_p50 || !to_host || !to_host_p50 || !to_sensor || !cpu) return;
+  const double added = std::max(*to_host, *to_sensor) - *direct;
+  table.add({"tap: a 7-byte chunk at 500 Hz through rangekit tap, each way",
+             text_of("p99 %.2f ms to the host", *to_host) + text_of(", %.2f ms to the sensor", *to_sensor) +
+                 text_of(" (p50 %.2f; ", *to_host_p50) + text_of("tap %.1f %% of a core)", *cpu),
+             text_of("one pty without it: p99 %.2f ms", *direct) + text_of(" (p50 %.2f)", *direct_p50), added,
+             "adds <= 1 ms", added <= 1.0});
+}
+
 // Emulator pacing (L78): against a minimal absolute-deadline writer, and its CPU against the
 // baseline loop of bench/filed_emulator_loop.hpp (no more), same run; the present loop
 // rounded to whole milliseconds is shown beside it (bench/emulator_pacing_bench.cpp).
@@ -576,6 +594,7 @@ int main(int argc, char** argv) {
                   "modbus: serve --demo, 10 clients at 100 Hz", true);
   add_modbus_rows(table, "BM_ModbusClientsAt100Hz/32/iterations:1/real_time",
                   "modbus: serve --demo, 32 clients at 100 Hz", false);
+  add_tap_rows(table, "BM_TapAddedLatency/iterations:1/real_time");
   table.print();
   benchmark::Shutdown();
   return 0;
