@@ -123,4 +123,10 @@ Result<Database> open_database(const std::string& path, bool writable, bool may_
   return database;
 }
 
+std::string column_text(sqlite3_stmt* statement, int column) {
+  const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(statement, column));
+  return text != nullptr ? std::string(text, static_cast<std::size_t>(sqlite3_column_bytes(statement, column)))
+                         : std::string();
+}
+
 }  // namespace rangekit::record

@@ -27,6 +27,9 @@ Error sqlite_error(const std::string& path, sqlite3* database, int code, const s
 Status execute(const std::string& path, sqlite3* database, const char* sql);
 Result<Statement> prepare(const std::string& path, sqlite3* database, const char* sql);
 
+// A text column of the current row ("" for NULL), read whole, NUL bytes included.
+std::string column_text(sqlite3_stmt* statement, int column);
+
 // Whether `table` has a column named `column`.
 Result<bool> has_column(const std::string& path, sqlite3* database, const char* table, const char* column);
 
