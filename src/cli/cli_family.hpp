@@ -27,6 +27,9 @@ namespace rangekit::cli {
 struct FrameDecoder {
   ScanFunction scan = nullptr;
   std::function<std::string(Bytes frame)> describe;
+  // Whether a frame's values come from the target (a distance) rather than the unit's state
+  // (a setting, an error number): `tap compare` compares those by shape only. None: never.
+  std::function<bool(Bytes frame)> measured;
 };
 // Built once the command line is parsed, for the side that sent the bytes.
 using DecoderFactory = std::function<FrameDecoder(Direction sender)>;

@@ -230,6 +230,7 @@ void add_tap_command(CLI::App& app, int& exit_code) {
       exit_code = run_tap(*options, *family, decoder_of);
     });
   }
+  add_tap_compare_command(*command, exit_code);
 }
 
 }  // namespace rangekit::cli

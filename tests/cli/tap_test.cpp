@@ -36,8 +36,14 @@ struct Tapped {
   std::string recording = (dir.path / "session.pcapng").string();
   Child sim{{"sim", "uls", "--port", sensor}};
   std::unique_ptr<Child> tap;
-  Tapped() {
+  // `before` runs on the sensor's own port, before the tap opens it.
+  explicit Tapped(const std::vector<std::string>& before = {}) {
     EXPECT_NE(sim.read_line().find("ready"), std::string::npos);
+    if (!before.empty()) {
+      std::vector<std::string> command = before;
+      command.insert(command.begin() + 2, {"--port", sensor});
+      EXPECT_EQ(ls5_driver_test::run_cli(dir.path, command).exit_code, 0);
+    }
     tap =
         std::make_unique<Child>(std::vector<std::string>{"tap", "uls", "--host-pty", host, "--sensor", sensor, "--baud",
                                                          "115200", "--format", "jsonl", "--out", recording});
@@ -141,6 +147,26 @@ TEST(SimReplay, TheRecordedSensorAnswersTheHostAsTheEmulatorDid) {
   // A request the recording never heard gets no answer, and a note on the replay's stderr.
   const auto unknown = ls5_driver_test::run_cli(line.dir.path, {"uls", "set", "--port", port, "units=feet"});
   EXPECT_NE(unknown.exit_code, 0);
+}
+
+// The recording compared with a fresh emulator: a session against the emulator itself agrees;
+// one where the unit had another setting shows where, exchange by exchange.
+TEST(TapCompare, AgreesWithTheEmulatorItRecordedAndNamesASettingThatDiffers) {
+  Tapped line;
+  ASSERT_EQ(ls5_driver_test::run_cli(line.dir.path, {"uls", "get", "--port", line.host}).exit_code, 0);
+  int exit_code = -1;
+  (void)line.finish(exit_code);
+  const auto same = ls5_driver_test::run_cli(line.dir.path, {"tap", "compare", line.recording});
+  EXPECT_EQ(same.exit_code, 0) << same.out << same.err;
+  EXPECT_NE(same.out.find("0 of "), std::string::npos) << same.out;
+
+  Tapped other({"uls", "set", "units=feet"});  // the unit was set up before the session
+  ASSERT_EQ(ls5_driver_test::run_cli(other.dir.path, {"uls", "get", "--port", other.host}).exit_code, 0);
+  (void)other.finish(exit_code);
+  const auto differ = ls5_driver_test::run_cli(other.dir.path, {"tap", "compare", other.recording});
+  EXPECT_EQ(differ.exit_code, 3) << differ.out << differ.err;
+  // The units read back: feet on the recorded unit, metres on a fresh emulator.
+  EXPECT_NE(differ.out.find("$MU: frame 1: recorded $MU,0"), std::string::npos) << differ.out;
 }
 
 }  // namespace

@@ -58,7 +58,13 @@ DecoderFactory add_uls_decode_options(CLI::App& decode) {
   return [options](Direction sender) {
     const auto context = context_of(*options);
     return FrameDecoder{&uls::scan_frame,
-                        [sender, context](Bytes frame) { return describe_uls_frame(frame, sender, context); }};
+                        [sender, context](Bytes frame) { return describe_uls_frame(frame, sender, context); },
+                        [sender](Bytes frame) {
+                          // A measurement line (BM, §9) or a time between events carries what the target made.
+                          const auto view = uls::parse_frame(frame);
+                          return sender == Direction::from_device && view.ok() &&
+                                 (view->kind == uls::FrameKind::time_between_events || view->is("BM"));
+                        }};
   };
 }
 
