@@ -52,6 +52,12 @@ if(TARGET rangekit)
     file(INSTALL ${RANGEKIT_PACKAGING_SOURCE}/site.toml DESTINATION ${rangekit_config_dir})
   ]] COMPONENT runtime)
 endif()
+# The Wireshark dissector (docs/tap.md): Debian's Wireshark 4.0 loads every .lua in its global
+# Lua plugin folder, /usr/lib/<multiarch>/wireshark/plugins (`tshark -G folders`), of any version.
+if(TARGET rangekit)
+  install(FILES ${PROJECT_SOURCE_DIR}/packaging/wireshark/rangekit.lua
+    DESTINATION lib/${CMAKE_LIBRARY_ARCHITECTURE}/wireshark/plugins COMPONENT runtime)
+endif()
 file(GLOB RANGEKIT_DOCS ${PROJECT_SOURCE_DIR}/docs/*.md)
 install(FILES ${PROJECT_SOURCE_DIR}/README.md ${RANGEKIT_DOCS} DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT runtime)
 

@@ -40,6 +40,12 @@ for file in /usr/share/man/man1/rangekit.1 /usr/share/bash-completion/completion
   test -e "$file" || { echo "check-package: $file is not installed" >&2; exit 1; }
 done
 grep -q "^\.TH RANGEKIT" /usr/share/man/man1/rangekit.1
+# The Wireshark dissector, where tshark itself finds it (its global Lua plugin folder).
+dissector=/usr/lib/$(dpkg-architecture -qDEB_HOST_MULTIARCH)/wireshark/plugins/rangekit.lua
+test -e "$dissector" || fail "$dissector is not installed"
+plugins=$(tshark -G plugins 2>/dev/null)  # whole, not piped: grep -q would cut tshark short (pipefail)
+grep -q "^rangekit\.lua.*$dissector" <<<"$plugins" || fail "tshark does not load $dissector"
+echo "wireshark: $dissector"
 # The gateway service: the user postinst made, the conffile as dpkg knows it, the sample site
 # file as the service's user reads it, and the installed unit as systemd reads it.
 IFS=: read -r _ _ _ _ _ home shell <<<"$(getent passwd rangekit)" || fail "postinst made no user rangekit"
