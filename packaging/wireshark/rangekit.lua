@@ -689,9 +689,19 @@ function rangekit.dissector(tvb, pinfo, tree)
     end
     if #text > 0 then
       local summary
-      if f.family == "ls5" then summary = dissect_ls5(ftvb, pinfo, root, sender); protocol = "LS5"
-      elseif f.family == "uls" then summary = dissect_uls(ftvb, pinfo, root, sender); protocol = "ULS"
+      -- A frame the document does not allow (a letter where a number belongs) is marked, not
+      -- left to end the packet's dissection with a Lua error.
+      local ok = true
+      if f.family == "ls5" then
+        ok, summary = pcall(dissect_ls5, ftvb, pinfo, root, sender)
+        protocol = "LS5"
+        if not ok then root:add_proto_expert_info(ef_ls5_malformed, "malformed: " .. tostring(summary)) end
+      elseif f.family == "uls" then
+        ok, summary = pcall(dissect_uls, ftvb, pinfo, root, sender)
+        protocol = "ULS"
+        if not ok then root:add_proto_expert_info(ef_uls_malformed, "malformed: " .. tostring(summary)) end
       end
+      if not ok then summary = "malformed " .. text end
       table.insert(infos, (summary or text))
     end
   end
