@@ -33,9 +33,9 @@ const Answer* ReplayScript::answer(const std::string& request) {
   std::deque<Answer>& answers = found->second;
   if (answers.size() > 1) {
     // Each recorded answer once, in order (a setting read before and after a change).
-    last_.assign(1, std::move(answers.front()));
+    last_ = std::move(answers.front());
     answers.pop_front();
-    return &last_.front();
+    return &last_;
   }
   return &answers.front();
 }

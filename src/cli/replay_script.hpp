@@ -36,7 +36,7 @@ class ReplayScript {
   Answer opening_;
   std::map<std::string, std::deque<Answer>, std::less<>> answers_;
   std::size_t requests_ = 0;
-  std::vector<Answer> last_;  // the answer handed out last, once taken from its queue
+  Answer last_;  // the answer handed out last, once taken from its queue
 };
 
 }  // namespace rangekit::cli
