@@ -73,7 +73,7 @@ set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION electronics)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "nlohmann-json3-dev, libtomlplusplus-dev, libsqlite3-dev, libboost1.81-dev, libssl-dev, libmosquitto-dev")
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "nlohmann-json3-dev, libtomlplusplus-dev, libsqlite3-dev, libboost1.81-dev, libssl-dev, libmosquitto-dev, libpq-dev")
 if(TARGET _rangekit)
   # The Python package: built for this interpreter's version, and it hands out NumPy arrays.
   math(EXPR next_minor "${Python3_VERSION_MINOR} + 1")

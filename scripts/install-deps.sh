@@ -11,6 +11,7 @@ build_packages=(
   libfmt-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev libsqlite3-dev
   libboost1.81-dev libssl-dev  # Beast + asio (+ OpenSSL for HTTPS): the service's HTTP/SSE face (docs/api.md)
   libmosquitto-dev  # the service's MQTT face (docs/mqtt.md)
+  libpq-dev  # the postgres sink writes through libpq (docs/sinks.md)
   libsystemd-dev  # sd_notify: rangekit serve as a Type=notify service with a watchdog (docs/deploy.md)
   pybind11-dev python3-dev  # the Python package (python/, docs/python.md)
 )
@@ -21,6 +22,7 @@ test_packages=(
   systemd  # systemd-analyze verify of the packaged unit (tests/cli/gateway_service_test.cpp)
   openssl  # the TLS test makes its own certificate
   libmodbus-dev mbpoll  # the Modbus tests ask with libmodbus's client and mbpoll (docs/modbus.md)
+  postgresql-15  # the postgres sink tests start a loopback cluster of their own (docs/sinks.md)
   victoria-metrics  # the sink tests write Influx line protocol to a loopback VictoriaMetrics (docs/sinks.md)
   tshark  # serial recordings (pcapng) are read back by tshark and capinfos (docs/capture.md)
   mosquitto mosquitto-clients  # the MQTT tests start a loopback broker and subscribe (docs/mqtt.md)

@@ -12,6 +12,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 
 #include "core/toml.hpp"  // private: toml++ is no part of the public API
@@ -19,6 +20,7 @@
 #include "rangekit/core/text.hpp"
 #include "rangekit/core/udp.hpp"
 #include "rangekit/hub/service_family.hpp"
+#include "rangekit/hub/sink_url.hpp"
 
 namespace rangekit::hub {
 namespace {
@@ -452,12 +454,16 @@ std::string sink_kind_list() {
 Status check_sink(std::string_view file, const toml::table& table, const std::vector<SensorConfig>& site_sensors,
                   SinkConfig& sink) {
   sink.line = table.source().begin.line;
-  if (auto checked =
-          only_keys(file, table, "[[sink]]", {"kind", "url", "sensors", "max_rate_hz", "spool_max_mb", "drain_rate"});
+  if (auto checked = only_keys(file, table, "[[sink]]",
+                               {"kind", "url", "sensors", "max_rate_hz", "spool_max_mb", "drain_rate", "table",
+                                "password_file", "password_env"});
       !checked) {
     return checked;
   }
   Mistakes mistakes;
+  // Checked once the kind is known, whatever the order of the keys.
+  const toml::node* url_node = nullptr;
+  std::vector<const toml::node*> postgres_only;
   for (const auto& [key, node] : table) {
     const std::string_view k = key.str();
     if (k == "kind" || k == "url") {
@@ -471,9 +477,29 @@ Status check_sink(std::string_view file, const toml::table& table, const std::ve
         }
         sink.kind = *text;
       } else {
-        if (auto url = parse_http_url(*text); !url)
-          mistakes.add(at(file, node, Errc::out_of_range, url.error().message));
+        url_node = &node;
         sink.url = *text;
+      }
+    } else if (k == "table" || k == "password_file" || k == "password_env") {
+      postgres_only.push_back(&node);
+      auto text = text_of(file, node, k);
+      if (!text) {
+        mistakes.add(std::move(text).error());
+      } else if (k == "table") {
+        if (!valid_sql_identifier(*text)) {
+          mistakes.add(at(
+              file, node, Errc::out_of_range,
+              "table '" + *text + "': a letter or '_', then letters, digits or '_', at most 63 (an SQL identifier)"));
+        }
+        sink.table = *text;
+      } else if (text->empty()) {
+        mistakes.add(at(file, node, Errc::out_of_range, std::string(k) + " is empty"));
+      } else if (k == "password_env") {
+        sink.password_env = *text;
+      } else {
+        // Beside the site file, as the service's other files.
+        const std::filesystem::path path(*text);
+        sink.password_file = path.is_absolute() ? *text : (std::filesystem::path(file).parent_path() / path).string();
       }
     } else if (k == "sensors") {
       const auto* list = node.as_array();
@@ -515,6 +541,23 @@ Status check_sink(std::string_view file, const toml::table& table, const std::ve
   if (sink.kind.empty())
     mistakes.add(at(file, table, Errc::invalid_frame, "[[sink]] needs a kind (" + sink_kind_list() + ")"));
   if (sink.url.empty()) mistakes.add(at(file, table, Errc::invalid_frame, "[[sink]] needs a url"));
+  const bool postgres = sink.kind == "postgres";
+  if (url_node != nullptr) {
+    if (postgres) {
+      if (auto url = check_postgres_url(sink.url); !url)
+        mistakes.add(at(file, *url_node, Errc::out_of_range, url.error().message));
+    } else if (auto url = parse_http_url(sink.url); !url) {
+      mistakes.add(at(file, *url_node, Errc::out_of_range, url.error().message));
+    }
+  }
+  if (!postgres && !sink.kind.empty()) {
+    for (const toml::node* node : postgres_only) {
+      mistakes.add(at(file, *node, Errc::invalid_frame, "table, password_file and password_env are for kind postgres"));
+    }
+  }
+  if (!sink.password_file.empty() && !sink.password_env.empty()) {
+    mistakes.add(at(file, table, Errc::invalid_frame, "[[sink]]: password_file or password_env, not both"));
+  }
   return mistakes.status();
 }
 
@@ -623,6 +666,40 @@ Result<HttpUrl> parse_http_url(std::string_view url) {
   }
   parsed.host = std::string(host);
   return parsed;
+}
+
+bool valid_sql_identifier(std::string_view name) {
+  const auto word = [](char c) { return c == '_' || std::isalnum(static_cast<unsigned char>(c)) != 0; };
+  return !name.empty() && name.size() <= 63 && std::isdigit(static_cast<unsigned char>(name[0])) == 0 &&
+         std::all_of(name.begin(), name.end(), [&](char c) { return static_cast<unsigned char>(c) < 0x80 && word(c); });
+}
+
+Status check_postgres_url(std::string_view url) {
+  const std::string shown = redacted_url(url);
+  std::string_view rest;
+  if (url.rfind("postgresql://", 0) == 0) {
+    rest = url.substr(13);
+  } else if (url.rfind("postgres://", 0) == 0) {
+    rest = url.substr(11);
+  } else {
+    return make_error(Errc::out_of_range, "url '" + shown + "': give postgresql://USER@HOST[:PORT]/DATABASE");
+  }
+  rest = rest.substr(0, std::min(rest.find_first_of("/?"), rest.size()));
+  if (const auto at = rest.rfind('@'); at != std::string_view::npos) rest.remove_prefix(at + 1);
+  const auto colon = rest.rfind(':');
+  const bool bracketed = !rest.empty() && rest.front() == '[';  // [::1]:5432
+  const std::string_view host =
+      colon != std::string_view::npos && (!bracketed || colon > rest.find(']')) ? rest.substr(0, colon) : rest;
+  if (host.empty()) return make_error(Errc::out_of_range, "url '" + shown + "': no host name in it");
+  if (host.size() < rest.size()) {
+    const std::string_view port = rest.substr(host.size() + 1);
+    unsigned value = 0;
+    const auto [end, error] = std::from_chars(port.data(), port.data() + port.size(), value);
+    if (port.empty() || error != std::errc{} || end != port.data() + port.size() || value == 0 || value > 65535) {
+      return make_error(Errc::out_of_range, "url '" + shown + "': the port '" + std::string(port) + "' is not 1-65535");
+    }
+  }
+  return ok_status();
 }
 
 Result<BrokerAddress> parse_broker_url(std::string_view url) {

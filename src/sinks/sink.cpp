@@ -85,7 +85,10 @@ std::string spool_file_name(const hub::SinkConfig& config) {
   const std::string shown = hub::redacted_url(config.url);
   std::string_view url = shown;
   if (const auto scheme = url.find("://"); scheme != std::string_view::npos) url.remove_prefix(scheme + 3);
-  for (const char c : url) {
+  std::string named(url);
+  // Two tables of one database: two spools (the default table's is named after the URL alone).
+  if (config.kind == "postgres" && config.table != "readings") named += "/" + config.table;
+  for (const char c : named) {
     const bool plain = std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '.' || c == '_';
     if (plain) {
       name += c;

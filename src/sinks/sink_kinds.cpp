@@ -2,7 +2,9 @@
 #include <array>
 
 #include "rangekit/sinks/line_protocol.hpp"
+#include "sinks/copy_text.hpp"
 #include "sinks/influx_writer.hpp"
+#include "sinks/postgres_writer.hpp"
 #include "sinks/writer.hpp"
 
 namespace rangekit::sinks {
@@ -10,6 +12,7 @@ namespace {
 
 const std::array kinds{
     SinkKind{"influx", encode_line, open_influx_writer},
+    SinkKind{"postgres", encode_copy_row, open_postgres_writer},
 };
 
 }  // namespace

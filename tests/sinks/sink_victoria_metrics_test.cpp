@@ -10,6 +10,7 @@
 
 #include "hub/site_fixture.hpp"
 #include "rangekit/hub/hub.hpp"
+#include "rangekit/record/spool.hpp"
 #include "rangekit/sinks/sink.hpp"
 #include "sinks/victoria_metrics.hpp"
 

@@ -85,15 +85,26 @@ inline constexpr std::array<std::string_view, 4> modbus_word_orders{"ABCD", "CDA
 // (docs/sinks.md). Only settings live here; the hub speaks no historian's protocol.
 struct SinkConfig {
   std::string kind;                  // one of sink_kinds
-  std::string url;                   // influx: http://HOST:PORT/PATH
+  std::string url;                   // influx: http://HOST:PORT/PATH; postgres: postgresql://USER@HOST:PORT/DB
   std::vector<std::string> sensors;  // names of the site's sensors; empty: all
   double max_rate_hz = 0;            // readings a second per sensor; 0: every sample
   std::size_t spool_max_mb = 1024;   // past it the oldest spooled readings are dropped
   std::size_t drain_rate = 20000;    // spooled rows sent a second, at most
-  std::size_t line = 0;              // where [[sink]] was declared
+  std::string table = "readings";    // postgres: the table the rows go to (valid_sql_identifier)
+  // postgres: where the password is; never in the spool's name or a message. The file's path
+  // is made absolute from the site file's folder when read.
+  std::string password_file;
+  std::string password_env;  // the name of an environment variable holding it
+  std::size_t line = 0;      // where [[sink]] was declared
 };
 // The kinds of [[sink]] kind, for the check and its message.
-inline constexpr std::array<std::string_view, 1> sink_kinds{"influx"};
+inline constexpr std::array<std::string_view, 2> sink_kinds{"influx", "postgres"};
+
+// A table name the postgres sink can use as it is: a letter or underscore, then letters,
+// digits or underscores, at most 63 bytes (PostgreSQL's NAMEDATALEN - 1). Always quoted in SQL.
+bool valid_sql_identifier(std::string_view name);
+// A postgresql:// or postgres:// URL that names a host; the error's message shows no password.
+Status check_postgres_url(std::string_view url);
 
 // An http:// URL taken apart (no TLS, no credentials in it).
 struct HttpUrl {

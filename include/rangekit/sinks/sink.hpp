@@ -1,7 +1,6 @@
 // A historian sink of the sensor hub (docs/sinks.md): every reading of its sensors, as Influx
-// line protocol over HTTP, through a spool on disk. Readings go to the spool first and leave
-// it only when the historian confirmed them, so an outage of the historian loses nothing
-// until the spool reaches its cap. It reaches the sensors only through hub::Hub.
+// line protocol over HTTP or COPY rows into PostgreSQL, through a spool on disk that a reading
+// leaves only once the historian confirmed it. It reaches the sensors only through hub::Hub.
 #pragma once
 
 #include <chrono>
@@ -46,7 +45,8 @@ struct SinkStats {
 };
 
 // "influx-127.0.0.1-8428-write.spool": the spool of a sink, from its kind and URL without its
-// password (hub::redacted_url), so a restart with the same [[sink]] finds its rows again.
+// password (hub::redacted_url) and a postgres sink's table, so a restart with the same
+// [[sink]] finds its rows again.
 std::string spool_file_name(const hub::SinkConfig& config);
 
 class Sink {

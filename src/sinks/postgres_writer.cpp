@@ -1,0 +1,221 @@
+// libpq, blocking, on the sink's drain thread only. A failure that leaves the connection
+// unusable (or whose state is unknown) drops it; the next write connects anew.
+#include "sinks/postgres_writer.hpp"
+
+#include <libpq-fe.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "rangekit/hub/sink_url.hpp"
+#include "sinks/postgres_sql.hpp"
+
+namespace rangekit::sinks {
+namespace {
+
+struct ResultFree {
+  void operator()(PGresult* result) const { PQclear(result); }
+};
+using PgResult = std::unique_ptr<PGresult, ResultFree>;
+
+// libpq's message in one line: its lines joined with "; ", spaces squeezed.
+std::string one_line(const char* message) {
+  std::string line;
+  for (const char* at = message; at != nullptr && *at != '\0'; ++at) {
+    const char c = *at == '\n' || *at == '\t' ? ' ' : *at;
+    if (c == ' ' && (line.empty() || line.back() == ' ')) continue;
+    if (*at == '\n' && at[1] != '\0') {
+      line += "; ";
+      continue;
+    }
+    line += c;
+  }
+  while (!line.empty() && (line.back() == ' ' || line.back() == ';')) line.pop_back();
+  return line.empty() ? "no message from libpq" : line;
+}
+
+Result<std::string> read_password(const hub::SinkConfig& config) {
+  if (!config.password_env.empty()) {
+    const char* value = std::getenv(config.password_env.c_str());
+    if (value == nullptr) return make_error(Errc::io, "password_env: " + config.password_env + " is not set");
+    return std::string(value);
+  }
+  if (config.password_file.empty()) return std::string();
+  std::ifstream file(config.password_file, std::ios::binary);
+  std::stringstream text;
+  text << file.rdbuf();
+  if (!file) return make_error(Errc::io, "password_file " + config.password_file + ": cannot be read");
+  std::string password = text.str();
+  if (!password.empty() && password.back() == '\n') password.pop_back();
+  if (!password.empty() && password.back() == '\r') password.pop_back();
+  if (password.empty()) return make_error(Errc::io, "password_file " + config.password_file + " is empty");
+  return password;
+}
+
+class PostgresWriter final : public Writer {
+ public:
+  PostgresWriter(std::string url, std::string password, std::string table, std::chrono::milliseconds timeout)
+      : url_(std::move(url)), password_(std::move(password)), table_(std::move(table)), timeout_(timeout) {}
+  ~PostgresWriter() override { disconnect(); }
+  PostgresWriter(const PostgresWriter&) = delete;
+  PostgresWriter& operator=(const PostgresWriter&) = delete;
+
+  WriteOutcome write(const std::vector<record::SpoolRow>& rows) override {
+    if (connection_ == nullptr || PQstatus(connection_) != CONNECTION_OK) {
+      if (auto ready = connect(); !ready) return failed(ready.error().message);
+    }
+    if (auto begun = run("BEGIN"); !begun) return begun.error();
+    PgResult copy(PQexec(connection_, copy_into_staging_sql().c_str()));
+    if (PQresultStatus(copy.get()) != PGRES_COPY_IN) return outcome_of(copy.get());
+    for (const record::SpoolRow& row : rows) {
+      if (PQputCopyData(connection_, row.line.data(), static_cast<int>(row.line.size())) != 1) break;
+    }
+    // The end is sent even after a refused PQputCopyData: its result then says why.
+    PQputCopyEnd(connection_, nullptr);
+    WriteOutcome copied{WriteOutcome::Kind::confirmed, ""};
+    while (PGresult* each = PQgetResult(connection_)) {
+      const PgResult result(each);
+      const ExecStatusType status = PQresultStatus(each);
+      if (status == PGRES_COPY_IN || status == PGRES_COPY_OUT || status == PGRES_COPY_BOTH) {
+        // The end did not get through: libpq would answer COPY_IN for ever.
+        return failed("COPY did not end: " + one_line(PQerrorMessage(connection_)));
+      }
+      if (status != PGRES_COMMAND_OK && copied.kind == WriteOutcome::Kind::confirmed) copied = outcome_of(each);
+    }
+    if (copied.kind != WriteOutcome::Kind::confirmed) return copied;
+    if (auto moved = run(insert_from_staging_sql(table_)); !moved) return moved.error();
+    // Confirmed only once COMMIT succeeded; a COMMIT whose answer is lost is a failed write,
+    // sent again and absorbed by the table's key.
+    if (auto committed = run("COMMIT"); !committed) return committed.error();
+    return {WriteOutcome::Kind::confirmed, ""};
+  }
+
+ private:
+  // A statement's failure as an outcome: not a Result, so that write() can return it.
+  struct Failure {
+    WriteOutcome outcome;
+    [[nodiscard]] WriteOutcome error() const { return outcome; }
+    explicit operator bool() const { return outcome.kind == WriteOutcome::Kind::confirmed; }
+  };
+
+  WriteOutcome failed(std::string why) {
+    disconnect();
+    return {WriteOutcome::Kind::failed, std::move(why)};
+  }
+
+  // SQLSTATE class 22 (data exception: a value PostgreSQL will never take) refuses the batch
+  // for good; anything else fails it, and the connection is dropped unless it is known good.
+  WriteOutcome outcome_of(const PGresult* result) {
+    const char* state = PQresultErrorField(result, PG_DIAG_SQLSTATE);
+    const std::string why =
+        one_line(PQresultErrorMessage(result)[0] != '\0' ? PQresultErrorMessage(result) : PQerrorMessage(connection_));
+    if (state != nullptr && std::string_view(state).substr(0, 2) == "22" && PQstatus(connection_) == CONNECTION_OK) {
+      PgResult rolled_back(PQexec(connection_, "ROLLBACK"));
+      if (PQresultStatus(rolled_back.get()) != PGRES_COMMAND_OK) disconnect();
+      return {WriteOutcome::Kind::refused, why};
+    }
+    return failed(state != nullptr ? why + " (SQLSTATE " + state + ")" : why);
+  }
+
+  Failure run(const std::string& sql) {
+    const PgResult result(PQexec(connection_, sql.c_str()));
+    const ExecStatusType status = PQresultStatus(result.get());
+    if (status == PGRES_COMMAND_OK || status == PGRES_TUPLES_OK) return {{WriteOutcome::Kind::confirmed, ""}};
+    return {outcome_of(result.get())};
+  }
+
+  // One row's first column of a query, or empty; the error's outcome on failure.
+  Result<std::string> first_value(const std::string& sql) {
+    const PgResult result(PQexec(connection_, sql.c_str()));
+    if (PQresultStatus(result.get()) != PGRES_TUPLES_OK) {
+      return make_error(Errc::io, outcome_of(result.get()).why);
+    }
+    if (PQntuples(result.get()) == 0 || PQgetisnull(result.get(), 0, 0) != 0) return std::string();
+    return std::string(PQgetvalue(result.get(), 0, 0));
+  }
+
+  Status connect() {
+    disconnect();
+    const std::string connect_timeout = std::to_string(std::max<long long>(2, (timeout_.count() + 999) / 1000));
+    const std::string user_timeout = std::to_string(timeout_.count());
+    // The URL first, expanded (expand_dbname): what follows overrides it.
+    std::vector<const char*> keys{"dbname", "application_name", "connect_timeout", "tcp_user_timeout"};
+    std::vector<const char*> values{url_.c_str(), "rangekit", connect_timeout.c_str(), user_timeout.c_str()};
+    if (!password_.empty()) {
+      keys.push_back("password");
+      values.push_back(password_.c_str());
+    }
+    keys.push_back(nullptr);
+    values.push_back(nullptr);
+    connection_ = PQconnectdbParams(keys.data(), values.data(), 1);
+    if (connection_ == nullptr) return make_error(Errc::io, "libpq could not allocate a connection");
+    if (PQstatus(connection_) != CONNECTION_OK) {
+      const std::string why = one_line(PQerrorMessage(connection_));
+      disconnect();
+      return make_error(Errc::io, why);
+    }
+    return prepare();
+  }
+
+  // The table (created when missing, a hypertable where TimescaleDB is installed) and the
+  // session's staging table. A statement that runs away is ended by the server.
+  Status prepare() {
+    const auto step = [&](const std::string& sql) -> Status {
+      if (auto done = run(sql); !done) return make_error(Errc::io, done.outcome.why);
+      return ok_status();
+    };
+    if (auto set = step("SET statement_timeout = " + std::to_string(statement_timeout_ms)); !set) return set;
+    auto timescale = first_value("SELECT 1 FROM pg_extension WHERE extname = 'timescaledb'");
+    if (!timescale) return std::move(timescale).error();
+    auto missing = first_value("SELECT to_regclass('" + quote_identifier(table_) + "') IS NULL");
+    if (!missing) return std::move(missing).error();
+    if (*missing == "t") {
+      const bool hypertable = !timescale->empty();
+      if (auto begun = step("BEGIN"); !begun) return begun;
+      if (auto made = step(create_table_sql(table_, hypertable)); !made) return made;
+      if (hypertable) {
+        if (auto made = first_value(create_hypertable_sql(table_)); !made) return std::move(made).error();
+      }
+      if (auto committed = step("COMMIT"); !committed) return committed;
+    }
+    return step(create_staging_sql());
+  }
+
+  void disconnect() {
+    if (connection_ != nullptr) PQfinish(connection_);
+    connection_ = nullptr;
+  }
+
+  static constexpr long long statement_timeout_ms = 60000;
+  std::string url_;
+  std::string password_;
+  std::string table_;
+  std::chrono::milliseconds timeout_;
+  PGconn* connection_ = nullptr;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<Writer>> open_postgres_writer(const SinkOptions& options) {
+  const hub::SinkConfig& config = options.config;
+  if (auto checked = hub::check_postgres_url(config.url); !checked) return std::move(checked).error();
+  char* why = nullptr;
+  PQconninfoOption* parsed = PQconninfoParse(config.url.c_str(), &why);
+  if (parsed == nullptr) {
+    const std::string message = why != nullptr ? one_line(why) : "out of memory";
+    PQfreemem(why);
+    return make_error(Errc::out_of_range, "url '" + hub::redacted_url(config.url) + "': " + message);
+  }
+  PQconninfoFree(parsed);
+  if (!hub::valid_sql_identifier(config.table)) {
+    return make_error(Errc::out_of_range, "table '" + config.table + "' is not an SQL identifier");
+  }
+  auto password = read_password(config);
+  if (!password) return std::move(password).error();
+  return std::unique_ptr<Writer>(
+      std::make_unique<PostgresWriter>(config.url, std::move(*password), config.table, options.timeout));
+}
+
+}  // namespace rangekit::sinks
