@@ -38,6 +38,10 @@ std::string create_staging_sql() {
          "sample jsonb, count integer, min double precision, max double precision) ON COMMIT DELETE ROWS";
 }
 
+std::string copy_into_table_sql(std::string_view table) {
+  return "COPY " + quote_identifier(table) + " (" + std::string(copy_columns) + ") FROM STDIN";
+}
+
 std::string copy_into_staging_sql() {
   return "COPY " + std::string(staging) + " (" + std::string(copy_columns) + ") FROM STDIN";
 }

@@ -1,5 +1,5 @@
-// The SQL the postgres sink sends: its table, the session's staging table, and the move from
-// one to the other that skips rows the table has (a replay after a crash).
+// The SQL the postgres sink sends: its table, COPY into it, and for a batch sent again after a
+// crash the session's staging table and the move from it that skips rows the table has.
 #pragma once
 
 #include <string>
@@ -14,6 +14,8 @@ std::string quote_identifier(std::string_view name);
 std::string create_table_sql(std::string_view table, bool hypertable);
 // SELECT create_hypertable(table, 'time', if_not_exists => TRUE).
 std::string create_hypertable_sql(std::string_view table);
+// COPY straight into the table: a batch never sent before.
+std::string copy_into_table_sql(std::string_view table);
 // The session's staging table: COPY lands here, emptied at each COMMIT.
 std::string create_staging_sql();
 std::string copy_into_staging_sql();

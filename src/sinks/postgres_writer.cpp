@@ -66,39 +66,58 @@ class PostgresWriter final : public Writer {
     if (connection_ == nullptr || PQstatus(connection_) != CONNECTION_OK) {
       if (auto ready = connect(); !ready) return failed(ready.error().message);
     }
-    if (auto begun = run("BEGIN"); !begun) return begun.error();
-    PgResult copy(PQexec(connection_, copy_into_staging_sql().c_str()));
+    if (!staging_) {
+      // A batch never sent before goes straight into the table, as fast as psql's \copy.
+      WriteOutcome direct = transaction(copy_into_table_sql(table_), "", rows, nullptr);
+      if (ran(direct) || state_ != "23505") return direct;
+      staging_ = true;  // the table has some of these rows (a crash replay): they are skipped
+    }
+    std::size_t inserted = 0;
+    WriteOutcome staged = transaction(copy_into_staging_sql(), insert_from_staging_sql(table_), rows, &inserted);
+    if (ran(staged) && inserted == rows.size()) staging_ = false;  // past the repeats
+    return staged;
+  }
+
+ private:
+  static bool ran(const WriteOutcome& outcome) { return outcome.kind == WriteOutcome::Kind::confirmed; }
+
+  // One transaction: the rows COPYed by `copy_sql`, then `then` (when given; its row count in
+  // `inserted`). Confirmed only once COMMIT succeeded; a COMMIT whose answer is lost is a
+  // failed write, sent again and absorbed by the table's key.
+  WriteOutcome transaction(const std::string& copy_sql, const std::string& then,
+                           const std::vector<record::SpoolRow>& rows, std::size_t* inserted) {
+    state_.clear();
+    auto begun = run("BEGIN");
+    if (!ran(begun)) {
+      // An idle session the server ended (a restart) shows only now: once more, connected anew.
+      if (auto ready = connect(); !ready) return failed(ready.error().message);
+      if (begun = run("BEGIN"); !ran(begun)) return begun;
+    }
+    const PgResult copy(PQexec(connection_, copy_sql.c_str()));
     if (PQresultStatus(copy.get()) != PGRES_COPY_IN) return outcome_of(copy.get());
     for (const record::SpoolRow& row : rows) {
       if (PQputCopyData(connection_, row.line.data(), static_cast<int>(row.line.size())) != 1) break;
     }
     // The end is sent even after a refused PQputCopyData: its result then says why.
     PQputCopyEnd(connection_, nullptr);
-    WriteOutcome copied{WriteOutcome::Kind::confirmed, ""};
+    PgResult refusal;  // the first result that is no success; every result is read before the next command
     while (PGresult* each = PQgetResult(connection_)) {
-      const PgResult result(each);
+      PgResult result(each);
       const ExecStatusType status = PQresultStatus(each);
       if (status == PGRES_COPY_IN || status == PGRES_COPY_OUT || status == PGRES_COPY_BOTH) {
         // The end did not get through: libpq would answer COPY_IN for ever.
         return failed("COPY did not end: " + one_line(PQerrorMessage(connection_)));
       }
-      if (status != PGRES_COMMAND_OK && copied.kind == WriteOutcome::Kind::confirmed) copied = outcome_of(each);
+      if (status != PGRES_COMMAND_OK && !refusal) refusal = std::move(result);
     }
-    if (copied.kind != WriteOutcome::Kind::confirmed) return copied;
-    if (auto moved = run(insert_from_staging_sql(table_)); !moved) return moved.error();
-    // Confirmed only once COMMIT succeeded; a COMMIT whose answer is lost is a failed write,
-    // sent again and absorbed by the table's key.
-    if (auto committed = run("COMMIT"); !committed) return committed.error();
-    return {WriteOutcome::Kind::confirmed, ""};
+    if (refusal) return outcome_of(refusal.get());
+    if (!then.empty()) {
+      const PgResult moved(PQexec(connection_, then.c_str()));
+      if (PQresultStatus(moved.get()) != PGRES_COMMAND_OK) return outcome_of(moved.get());
+      if (inserted != nullptr) *inserted = std::strtoull(PQcmdTuples(moved.get()), nullptr, 10);
+    }
+    return run("COMMIT");
   }
-
- private:
-  // A statement's failure as an outcome: not a Result, so that write() can return it.
-  struct Failure {
-    WriteOutcome outcome;
-    [[nodiscard]] WriteOutcome error() const { return outcome; }
-    explicit operator bool() const { return outcome.kind == WriteOutcome::Kind::confirmed; }
-  };
 
   WriteOutcome failed(std::string why) {
     disconnect();
@@ -106,24 +125,28 @@ class PostgresWriter final : public Writer {
   }
 
   // SQLSTATE class 22 (data exception: a value PostgreSQL will never take) refuses the batch
-  // for good; anything else fails it, and the connection is dropped unless it is known good.
+  // for good; anything else fails it. The session is kept after those and after a repeated
+  // key (23505, which write() answers), dropped after the rest: its state is not known.
   WriteOutcome outcome_of(const PGresult* result) {
     const char* state = PQresultErrorField(result, PG_DIAG_SQLSTATE);
+    state_ = state != nullptr ? state : "";
     const std::string why =
         one_line(PQresultErrorMessage(result)[0] != '\0' ? PQresultErrorMessage(result) : PQerrorMessage(connection_));
-    if (state != nullptr && std::string_view(state).substr(0, 2) == "22" && PQstatus(connection_) == CONNECTION_OK) {
-      PgResult rolled_back(PQexec(connection_, "ROLLBACK"));
+    const bool data = state_.rfind("22", 0) == 0;
+    if ((data || state_ == "23505") && PQstatus(connection_) == CONNECTION_OK) {
+      const PgResult rolled_back(PQexec(connection_, "ROLLBACK"));
       if (PQresultStatus(rolled_back.get()) != PGRES_COMMAND_OK) disconnect();
-      return {WriteOutcome::Kind::refused, why};
+      return {data ? WriteOutcome::Kind::refused : WriteOutcome::Kind::failed, why};
     }
-    return failed(state != nullptr ? why + " (SQLSTATE " + state + ")" : why);
+    return failed(state_.empty() ? why : why + " (SQLSTATE " + state_ + ")");
   }
 
-  Failure run(const std::string& sql) {
+  // One statement: confirmed when it ran, else what its error means.
+  WriteOutcome run(const std::string& sql) {
     const PgResult result(PQexec(connection_, sql.c_str()));
     const ExecStatusType status = PQresultStatus(result.get());
-    if (status == PGRES_COMMAND_OK || status == PGRES_TUPLES_OK) return {{WriteOutcome::Kind::confirmed, ""}};
-    return {outcome_of(result.get())};
+    if (status == PGRES_COMMAND_OK || status == PGRES_TUPLES_OK) return {WriteOutcome::Kind::confirmed, ""};
+    return outcome_of(result.get());
   }
 
   // One row's first column of a query, or empty; the error's outcome on failure.
@@ -156,14 +179,18 @@ class PostgresWriter final : public Writer {
       disconnect();
       return make_error(Errc::io, why);
     }
-    return prepare();
+    if (auto prepared = prepare(); !prepared) {
+      disconnect();  // the next write makes sure of the tables again
+      return prepared;
+    }
+    return ok_status();
   }
 
   // The table (created when missing, a hypertable where TimescaleDB is installed) and the
   // session's staging table. A statement that runs away is ended by the server.
   Status prepare() {
     const auto step = [&](const std::string& sql) -> Status {
-      if (auto done = run(sql); !done) return make_error(Errc::io, done.outcome.why);
+      if (auto done = run(sql); !ran(done)) return make_error(Errc::io, done.why);
       return ok_status();
     };
     if (auto set = step("SET statement_timeout = " + std::to_string(statement_timeout_ms)); !set) return set;
@@ -189,6 +216,8 @@ class PostgresWriter final : public Writer {
   }
 
   static constexpr long long statement_timeout_ms = 60000;
+  bool staging_ = false;  // batches go through the staging table while they repeat rows
+  std::string state_;     // the SQLSTATE of the last error
   std::string url_;
   std::string password_;
   std::string table_;

@@ -73,6 +73,12 @@ struct Sink::Impl {
   // Takes what the hub queued into the spool; `closing`: every open window too (at stop).
   void take_once(ReadingRows& rows, std::chrono::milliseconds wait, bool closing);
   void run_drain();
+  // A batch is at most what drain_rate allows in one batch_time, so the pace holds within a second too.
+  [[nodiscard]] std::size_t batch_limit() const {
+    const auto per_batch = static_cast<std::size_t>(static_cast<double>(options.config.drain_rate) *
+                                                    std::chrono::duration<double>(options.batch_time).count());
+    return std::clamp<std::size_t>(per_batch, 1, options.batch_rows);
+  }
   // One write of the oldest rows: how many left the spool (0: none waited), none when the
   // write failed and waits to be retried.
   std::optional<std::size_t> drain_once(std::chrono::milliseconds& backoff);
@@ -150,10 +156,7 @@ void Sink::Impl::run_intake() {
 }
 
 std::optional<std::size_t> Sink::Impl::drain_once(std::chrono::milliseconds& backoff) {
-  // A batch is at most what drain_rate allows in one batch_time, so the pace holds within a second too.
-  const auto per_batch = static_cast<std::size_t>(static_cast<double>(options.config.drain_rate) *
-                                                  std::chrono::duration<double>(options.batch_time).count());
-  auto rows = spool->oldest(std::clamp<std::size_t>(per_batch, 1, options.batch_rows));
+  auto rows = spool->oldest(batch_limit());
   if (!rows || rows->empty()) {
     const std::lock_guard lock(mutex);
     if (!rows) error = rows.error().message;
@@ -208,8 +211,11 @@ void Sink::Impl::run_drain() {
     }
     if (*sent == 0) continue;
     // At most drain_rate rows a second, so a long backlog does not starve the historian's other writers.
-    const auto pace = std::chrono::duration_cast<Clock::duration>(
+    auto pace = std::chrono::duration_cast<Clock::duration>(
         std::chrono::duration<double>(static_cast<double>(*sent) / static_cast<double>(options.config.drain_rate)));
+    // A batch short of full: no backlog, live readings. They gather for batch_time rather than
+    // go at each of the intake's 20 ms transactions: five times fewer writes at the same rate.
+    if (*sent < batch_limit()) pace = std::max<Clock::duration>(pace, options.batch_time);
     if (wait_stopping(started + pace)) return;
     const std::lock_guard lock(mutex);
     rows_ready = true;  // more may wait behind this batch
@@ -241,6 +247,9 @@ Result<std::unique_ptr<Sink>> Sink::start(hub::Hub& hub, SinkOptions options) {
     if (!subscription) return std::move(subscription).error();
     (*subscription)->set_listener([items = impl->items] {
       const std::lock_guard lock(items->mutex);
+      // Only the first item since the intake looked wakes it: at 2000 readings/s a wake-up
+      // each cost more CPU than spooling them.
+      if (items->ready) return;
       items->ready = true;
       items->wake.notify_all();
     });

@@ -100,6 +100,8 @@ TEST(PostgresSql, QuotesTheTableAndSkipsKeysItHolds) {
   EXPECT_NE(create_table_sql("t", false).find("PRIMARY KEY (sensor, seq))"), std::string::npos);
   EXPECT_NE(create_table_sql("t", true).find("PRIMARY KEY (sensor, seq, time))"), std::string::npos);
   EXPECT_EQ(create_hypertable_sql("t"), "SELECT create_hypertable('\"t\"', 'time', if_not_exists => TRUE)");
+  EXPECT_EQ(copy_into_table_sql("t"),
+            "COPY \"t\" (time, sensor, seq, value, unit, suspect, sample, count, min, max) FROM STDIN");
   EXPECT_EQ(insert_from_staging_sql("t"),
             "INSERT INTO \"t\" (time, sensor, seq, value, unit, suspect, sample, count, min, max) SELECT time, sensor, "
             "seq, value, unit, suspect, sample, count, min, max FROM rangekit_incoming ON CONFLICT DO NOTHING");

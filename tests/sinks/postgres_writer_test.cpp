@@ -60,9 +60,14 @@ TEST(PostgresWriter, ABatchSentAgainIsNotDoubled) {
   // A crash after COMMIT, before the spool forgot the rows: they come again, with new ones.
   const auto again = writer->write(rows_of("belt", 500, 1500));
   ASSERT_EQ(again.kind, Kind::confirmed) << again.why;
+  // And the batches after it, which repeat nothing.
+  const auto next = writer->write(rows_of("belt", 1501, 2000));
+  ASSERT_EQ(next.kind, Kind::confirmed) << next.why;
+  const auto last = writer->write(rows_of("belt", 2001, 2500));
+  ASSERT_EQ(last.kind, Kind::confirmed) << last.why;
   std::string problem;
-  EXPECT_EQ(sinks_test::complete_total(cluster.sequences(), problem), 1500) << problem;
-  EXPECT_EQ(cluster.value("SELECT count(*) FROM readings"), "1500");
+  EXPECT_EQ(sinks_test::complete_total(cluster.sequences(), problem), 2500) << problem;
+  EXPECT_EQ(cluster.value("SELECT count(*) FROM readings"), "2500");
   EXPECT_EQ(cluster.value("SELECT value FROM readings WHERE seq = 8"), "21");
   // The session says who it is, to the server's views and logs.
   EXPECT_EQ(cluster.value("SELECT count(*) FROM pg_stat_activity WHERE application_name = 'rangekit'"), "1");

@@ -18,8 +18,9 @@ namespace rangekit::sinks {
 struct SinkOptions {
   hub::SinkConfig config;  // kind, url, sensors, max_rate_hz, spool_max_mb, drain_rate
   std::string spool_dir;   // the spool file goes here (spool_file_name), created if missing
-  // Hub items go to the spool at most this often, each time in one transaction.
-  std::chrono::milliseconds intake_gather{20};
+  // Hub items go to the spool at most this often, each time in one transaction: at 2000
+  // readings/s the sink took 3.3 % of a core at 20 ms, 2.3 % at 100 ms (WAL page writes).
+  std::chrono::milliseconds intake_gather{100};
   std::size_t queue = 65536;                // hub items held between the hub and the spool; the oldest go first
   std::chrono::milliseconds timeout{5000};  // one HTTP exchange, at most
   // After a failed write the batch is retried after a wait doubling from min to max.
