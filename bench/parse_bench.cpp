@@ -552,6 +552,33 @@ void add_pacing_rows(GoalTable& table, const char* name) {
              *filed_cpu > 0 ? *cpu / *filed_cpu : 0, "<= 1x", *cpu <= *filed_cpu && *filed_cpu > 0});
 }
 
+// The postgres sink (bench/postgres_sink_bench.cpp): the drain of a 60 s backlog against psql
+// \copy of as many of the same rows, same run and cluster (>= 0.8x); the service's CPU with
+// the sink against without it (<= 2x); the drain after the 60 s outage within 30 s.
+void add_postgres_rows(GoalTable& table, const char* name) {
+  const auto drain = table.value(name, "drain_rows_per_s");
+  const auto copy = table.value(name, "copy_rows_per_s");
+  const auto rows = table.value(name, "drain_rows");
+  const auto ratio = table.value(name, "cpu_ratio");
+  const auto sink_cpu = table.value(name, "sink_cpu_pct");
+  const auto plain_cpu = table.value(name, "plain_cpu_pct");
+  const auto drain_s = table.value(name, "drain_s");
+  const auto backlog = table.value(name, "backlog_rows");
+  const auto low = table.value(name, "cpu_ratio_low");
+  const auto high = table.value(name, "cpu_ratio_high");
+  if (!drain || !copy || !rows || !ratio || !sink_cpu || !plain_cpu || !drain_s || !backlog || !low || !high) return;
+  const std::string path = "postgres sink: 2 LS5 1 kHz, every sample";
+  table.add({path + ", drain of a 60 s backlog", text_of("%.0f rows/s", *drain),
+             text_of("psql \\copy %.0f rows/s (", *copy) + text_of("%.0f rows)", *rows), *copy > 0 ? *drain / *copy : 0,
+             ">= 0.8x", *copy > 0 && *drain >= 0.8 * *copy});
+  table.add({path + ", service CPU (median of 3 pairs)", text_of("%.1f %% of a core", *sink_cpu),
+             text_of("without the sink %.1f %% (", *plain_cpu) + text_of("pair ratios %.2f to ", *low) +
+                 text_of("%.2f)", *high),
+             *ratio, "<= 2x", *plain_cpu > 0 && *ratio <= 2.0});
+  table.add({path + ", drain after a 60 s outage", text_of("%.1f s", *drain_s), text_of("%.0f rows waited", *backlog),
+             *drain_s / 30.0, "<= 30 s", *backlog > 0 && *drain_s <= 30.0});
+}
+
 // Capture of ULS binning bursts: against raw sqlite3 C, same schema and batching.
 void add_capture_row(GoalTable& table, const char* name) {
   const auto ours = table.value(name, "capture_samples_per_s");
@@ -595,6 +622,7 @@ int main(int argc, char** argv) {
   add_modbus_rows(table, "BM_ModbusClientsAt100Hz/32/iterations:1/real_time",
                   "modbus: serve --demo, 32 clients at 100 Hz", false);
   add_tap_rows(table, "BM_TapAddedLatency/iterations:1/real_time");
+  add_postgres_rows(table, "BM_PostgresSinkTwoLs5At1kHz/iterations:1/real_time");
   table.print();
   benchmark::Shutdown();
   return 0;
