@@ -172,7 +172,7 @@ void BM_PostgresSinkTwoLs5At1kHz(benchmark::State& state) {
       const Service service(sink_site);
       if (!service.up) return state.SkipWithError("the service with the sink did not start again");
       std::this_thread::sleep_for(settle);
-      if (!cluster.stop()) return state.SkipWithError("pg_ctl stop failed");
+      if (!cluster.stop()) return state.SkipWithError("the database did not stop");
       std::this_thread::sleep_for(outage);  // the outage itself
       backlog = spooled_rows(spool);
       if (!cluster.start()) return state.SkipWithError(cluster.failure.c_str());

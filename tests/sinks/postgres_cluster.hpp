@@ -1,14 +1,17 @@
 // A real PostgreSQL 15 cluster (Debian's postgresql-15) in a temp folder, on a free loopback
-// port, for the postgres sink's tests: initdb'd and started by the test, stopped and removed
-// with it. As root it runs as the `postgres` user (runuser); otherwise as the test's own.
+// port, for the postgres sink's tests: initdb'd, run as the test's child and removed with it.
+// As root it runs as the `postgres` user; otherwise as the test's own.
 #pragma once
 
+#include <fcntl.h>
 #include <libpq-fe.h>
 #include <pwd.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <csignal>
 #include <fstream>
 #include <map>
 #include <set>
@@ -22,11 +25,13 @@
 namespace sinks_test {
 
 inline constexpr const char* postgres_bin = "/usr/lib/postgresql/15/bin/";
+inline constexpr const char* postgres_server = "/usr/lib/postgresql/15/bin/postgres";
 
 struct PostgresCluster {
   ls5_driver_test::TempDir dir;
   std::uint16_t port = free_port();
   bool running = false;
+  pid_t server = -1;    // the postmaster, a child of the test
   std::string failure;  // why set-up failed, for the test's message
 
   // `durable`: fsync on, as a plant's server (the bench); the tests run without it.
@@ -58,19 +63,52 @@ struct PostgresCluster {
   [[nodiscard]] std::string data() const { return (dir.path / "data").string(); }
   [[nodiscard]] std::string url() const { return "postgresql://rangekit@127.0.0.1:" + std::to_string(port) + "/plant"; }
 
+  // The server itself as the test's child (not pg_ctl's), so that a test killed or crashed
+  // takes it along; ready once it answers a login.
   bool start() {
-    const std::string options = "-p " + std::to_string(port) + " -k " + dir.path.string() +
-                                " -c listen_addresses=127.0.0.1" + (durable_ ? "" : " -c fsync=off");
-    running = run(
-        {"pg_ctl", "-D", data(), "-l", (dir.path / "server.log").string(), "-o", options, "-w", "-t", "30", "start"});
-    if (!running) failure = "pg_ctl start failed: " + ls5_driver_test::read_file(dir.path / "server.log");
-    return running;
+    const pid_t test = ::getpid();
+    server = rangekit::test::fork_child();
+    if (server == 0) {
+      const int log = ::open((dir.path / "server.log").c_str(), O_WRONLY | O_CREAT | O_APPEND, 0666);
+      ::dup2(log, 1);
+      ::dup2(log, 2);
+      ::chdir(dir.path.c_str());
+      if (::geteuid() == 0) {
+        const passwd* user = ::getpwnam("postgres");
+        if (user == nullptr || ::setgid(user->pw_gid) != 0 || ::setuid(user->pw_uid) != 0) ::_exit(126);
+      }
+      ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // again: a change of user clears it
+      if (::getppid() != test) ::_exit(127);
+      const std::string port_text = std::to_string(port);
+      const std::string socket_dir = dir.path.string();
+      const std::string data_dir = data();
+      ::execl(postgres_server, "postgres", "-D", data_dir.c_str(), "-p", port_text.c_str(), "-k", socket_dir.c_str(),
+              "-c", "listen_addresses=127.0.0.1", "-c", durable_ ? "fsync=on" : "fsync=off", nullptr);
+      ::_exit(127);
+    }
+    const std::string info = "host=" + dir.path.string() + " port=" + std::to_string(port) +
+                             " dbname=postgres user=postgres connect_timeout=2";
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (PQping(info.c_str()) == PQPING_OK) {
+        running = true;
+        return true;
+      }
+      if (rangekit::test::waited_within(server, std::chrono::milliseconds(50))) break;  // it ended
+    }
+    failure = "the server did not start: " + ls5_driver_test::read_file(dir.path / "server.log");
+    stop();
+    return false;
   }
-  // As an outage: fast shutdown, every session ended.
+  // As an outage: fast shutdown (SIGINT, as pg_ctl stop -m fast), every session ended.
   bool stop() {
-    if (!running) return true;
-    running = !run({"pg_ctl", "-D", data(), "-m", "fast", "-w", "-t", "30", "stop"});
-    return !running;
+    if (server > 0) {
+      ::kill(server, SIGINT);
+      if (!rangekit::test::waited_within(server, std::chrono::seconds(30))) rangekit::test::end_child(server);
+    }
+    server = -1;
+    running = false;
+    return true;
   }
 
   // Logins over TCP need the password from now on (scram-sha-256); the tests' own
@@ -135,7 +173,7 @@ struct PostgresCluster {
   }
 
  public:
-  // One of the server's programs (initdb, pg_ctl, psql) to its end (at most 60 s), as the
+  // One of the server's programs (initdb, psql) to its end (at most 60 s), as the
   // postgres user under root; its output in command.log.
   bool run(const std::vector<std::string>& arguments) {
     const std::string program = postgres_bin + arguments[0];
