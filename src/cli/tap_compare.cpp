@@ -30,7 +30,8 @@ void frames_of(ScanFunction scan, std::string& pending, std::string_view bytes, 
   while (at < pending.size()) {
     const FrameScan found = scan(as_bytes(std::string_view(pending).substr(at)));
     if (found.status == FrameStatus::need_more) break;
-    if (found.status == FrameStatus::complete) take(as_text(found.frame), std::string_view(pending).substr(at, found.consumed));
+    if (found.status == FrameStatus::complete)
+      take(as_text(found.frame), std::string_view(pending).substr(at, found.consumed));
     at += found.consumed;
   }
   pending.erase(0, at);
@@ -67,10 +68,10 @@ std::vector<std::string> differences(const Exchange& recorded, const std::vector
   const std::string asked = printable(as_bytes(recorded.request));
   const bool stream = recorded.answer.size() > compared_frames;
   if (stream ? emulated.empty() : emulated.size() != recorded.answer.size()) {
-    found.push_back(fmt::format("{}: {} frame(s) recorded, the emulator answered {}", asked,
-                                stream ? fmt::format("a stream of {}", recorded.answer.size())
-                                       : std::to_string(recorded.answer.size()),
-                                emulated.size()));
+    found.push_back(fmt::format(
+        "{}: {} frame(s) recorded, the emulator answered {}", asked,
+        stream ? fmt::format("a stream of {}", recorded.answer.size()) : std::to_string(recorded.answer.size()),
+        emulated.size()));
   }
   const std::size_t count = std::min({recorded.answer.size(), emulated.size(), compared_frames});
   for (std::size_t i = 0; i < count; ++i) {

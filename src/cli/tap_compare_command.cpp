@@ -40,8 +40,7 @@ std::vector<TimedFrame> ask(Transport& port, const Exchange& exchange, const Fra
     // what an earlier answer left (a stream) is not this one's
   }
   const std::size_t wanted = std::min(exchange.answer.size(), compared_frames + 1);
-  const auto recorded_span =
-      exchange.answer.empty() ? std::chrono::microseconds(0) : exchange.answer[wanted - 1].after;
+  const auto recorded_span = exchange.answer.empty() ? std::chrono::microseconds(0) : exchange.answer[wanted - 1].after;
   const auto patience = std::max<Clock::duration>(recorded_span * 2, std::chrono::milliseconds(300));
   std::vector<TimedFrame> frames;
   const auto sent = Clock::now();
@@ -54,7 +53,8 @@ std::vector<TimedFrame> ask(Transport& port, const Exchange& exchange, const Fra
     FrameAssembler::Event event;
     feed_all(assembler, Bytes(buffer.data(), *read), [&] {
       while (assembler.next(event)) {
-        if (event.kind == FrameAssembler::Event::Kind::frame) frames.push_back({after, std::string(as_text(event.frame))});
+        if (event.kind == FrameAssembler::Event::Kind::frame)
+          frames.push_back({after, std::string(as_text(event.frame))});
       }
     });
   }
@@ -140,8 +140,9 @@ void add_tap_compare_command(CLI::App& tap, int& exit_code) {
       "compare", "Send a recording's requests to the family's emulator and show where its answers differ");
   compare->add_option("file", options->file, "the recording (.pcapng, as tap --out writes it)")->required();
   compare->add_option("--family", options->family, "when the recording does not name it: " + cli_family_names(" | "));
-  compare->footer("Exit codes: 0 no difference, 3 some exchanges differ or the recording is damaged, 4 the file "
-                  "cannot be read or the emulator not started.");
+  compare->footer(
+      "Exit codes: 0 no difference, 3 some exchanges differ or the recording is damaged, 4 the file "
+      "cannot be read or the emulator not started.");
   compare->callback([options, &exit_code] { exit_code = run_compare(*options); });
 }
 
