@@ -4,17 +4,14 @@
 #include <fmt/core.h>
 
 #include <deque>
-#include <fstream>
-#include <iterator>
-#include <thread>
 
 #include "cli/cli_family.hpp"
 #include "cli/commands.hpp"
 #include "cli/describe.hpp"
+#include "cli/recording_file.hpp"
 #include "cli/replay_script.hpp"
 #include "cli/sim.hpp"
 #include "cli/stop_signals.hpp"
-#include "rangekit/record/pcapng.hpp"
 #include "rangekit/sim/pty.hpp"
 
 namespace rangekit::cli {
@@ -28,36 +25,13 @@ struct ReplayOptions {
   std::string family;  // empty: the recording's `family NAME` comment
 };
 
-// The family the recording names in its section comments ("family uls").
-std::string recorded_family(const record::SerialRecording& recording) {
-  for (const std::string& comment : recording.comments) {
-    if (comment.rfind("family ", 0) == 0) return comment.substr(7);
-  }
-  return {};
-}
-
 int run_replay(const ReplayOptions& options) {
-  std::ifstream in(options.file, std::ios::binary);
-  if (!in) {
-    fmt::print(stderr, "rangekit sim replay: cannot open {}\n", options.file);
-    return exit_io;
-  }
-  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  auto recording = record::read_serial_pcapng(bytes);
-  if (!recording) {
-    fmt::print(stderr, "rangekit sim replay: {}: {}\n", options.file, recording.error().message);
-    return exit_bad_input;
-  }
-  const std::string name = options.family.empty() ? recorded_family(*recording) : options.family;
-  const CliFamily* family = find_cli_family(name);
-  if (family == nullptr) {
-    fmt::print(stderr, "rangekit sim replay: {}: {}; give --family {}\n", options.file,
-               name.empty() ? "the recording names no family" : "no family '" + name + "' in this build",
-               cli_family_names("|"));
-    return exit_usage;
-  }
+  int code = exit_ok;
+  auto file = read_recording("rangekit sim replay", options.file, options.family, code);
+  if (!file) return code;
+  const CliFamily* family = file->family;
   const FrameDecoder host_decoder = default_decoder(*family, Direction::to_device);
-  ReplayScript script = ReplayScript::from_recording(*recording, host_decoder.scan);
+  ReplayScript script = ReplayScript::from_recording(file->recording, host_decoder.scan);
   auto pty = PseudoTerminal::open(options.port);
   if (!pty) {
     fmt::print(stderr, "rangekit sim replay: {}\n", pty.error().message);

@@ -5,12 +5,11 @@
 #include <stdlib.h>
 
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 
 #include "cli/cli_family.hpp"
 #include "cli/commands.hpp"
 #include "cli/host_sources.hpp"
+#include "cli/recording_file.hpp"
 #include "cli/sim_process.hpp"
 #include "cli/tap_compare.hpp"
 
@@ -23,14 +22,6 @@ struct CompareOptions {
   std::string file;
   std::string family;
 };
-
-// The value of the first section comment "<key> <value>".
-std::string comment_value(const record::SerialRecording& recording, const std::string& key) {
-  for (const std::string& comment : recording.comments) {
-    if (comment.rfind(key + " ", 0) == 0) return comment.substr(key.size() + 1);
-  }
-  return {};
-}
 
 // The emulator's answer to one request: its frames until as many as were recorded came (a
 // stream: compared_frames + 1), or nothing more came for a while.
@@ -62,27 +53,13 @@ std::vector<TimedFrame> ask(Transport& port, const Exchange& exchange, const Fra
 }
 
 int run_compare(const CompareOptions& options) {
-  std::ifstream in(options.file, std::ios::binary);
-  if (!in) {
-    fmt::print(stderr, "rangekit tap compare: cannot open {}\n", options.file);
-    return exit_io;
-  }
-  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  auto recording = record::read_serial_pcapng(bytes);
-  if (!recording) {
-    fmt::print(stderr, "rangekit tap compare: {}: {}\n", options.file, recording.error().message);
-    return exit_bad_input;
-  }
-  const std::string name = options.family.empty() ? comment_value(*recording, "family") : options.family;
-  const CliFamily* family = find_cli_family(name);
-  if (family == nullptr) {
-    fmt::print(stderr, "rangekit tap compare: {}: {}; give --family {}\n", options.file,
-               name.empty() ? "the recording names no family" : "no family '" + name + "' in this build",
-               cli_family_names("|"));
-    return exit_usage;
-  }
+  int code = exit_ok;
+  auto file = read_recording("rangekit tap compare", options.file, options.family, code);
+  if (!file) return code;
+  const CliFamily* family = file->family;
+  const record::SerialRecording& recording = file->recording;
   // "115200 8N1", as the tap wrote it; 115200 8N1 when the recording does not say.
-  const std::string line = comment_value(*recording, "line");
+  const std::string line = comment_value(recording, "line");
   const auto space = line.find(' ');
   std::uint32_t baud = 115200;
   if (space != std::string::npos) baud = static_cast<std::uint32_t>(std::strtoul(line.c_str(), nullptr, 10));
@@ -93,7 +70,7 @@ int run_compare(const CompareOptions& options) {
   }
   const FrameDecoder host = default_decoder(*family, Direction::to_device);
   const FrameDecoder sensor = default_decoder(*family, Direction::from_device);
-  const std::vector<Exchange> exchanges = exchanges_of(*recording, host, sensor);
+  const std::vector<Exchange> exchanges = exchanges_of(recording, host, sensor);
   std::string pattern = (std::filesystem::temp_directory_path() / "rangekit-compare-XXXXXX").string();
   if (::mkdtemp(pattern.data()) == nullptr) {
     fmt::print(stderr, "rangekit tap compare: cannot make a folder for the emulator\n");
@@ -101,7 +78,6 @@ int run_compare(const CompareOptions& options) {
   }
   const std::filesystem::path dir = pattern;
   const std::string port_path = (dir / std::string(family->name)).string();
-  int code = exit_ok;
   {
     auto sim = SimProcess::start({std::string(family->name), "--port", port_path}, (dir / "sim.log").string(),
                                  std::chrono::seconds(20));
