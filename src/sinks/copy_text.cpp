@@ -12,7 +12,7 @@
 namespace rangekit::sinks {
 namespace {
 
-void append_double(std::string& out, double value) {
+void append_copy_double(std::string& out, double value) {
   if (std::isnan(value)) {
     out += "NaN";
     return;
@@ -93,7 +93,7 @@ std::string encode_copy_row(const SinkReading& reading) {
   out += '\t';
   append_digits(out, static_cast<long long>(reading.seq), 1);
   out += '\t';
-  append_double(out, reading.value);
+  append_copy_double(out, reading.value);
   out += '\t';
   if (reading.unit.empty()) {
     out += "\\N";
@@ -116,9 +116,9 @@ std::string encode_copy_row(const SinkReading& reading) {
   out += '\t';
   append_digits(out, static_cast<long long>(reading.count), 1);
   out += '\t';
-  append_double(out, reading.min);
+  append_copy_double(out, reading.min);
   out += '\t';
-  append_double(out, reading.max);
+  append_copy_double(out, reading.max);
   out += '\n';
   return out;
 }

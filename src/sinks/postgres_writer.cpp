@@ -38,7 +38,7 @@ std::string one_line(const char* message) {
 
 Result<std::string> read_password(const hub::SinkConfig& config) {
   if (!config.password_env.empty()) {
-    const char* value = std::getenv(config.password_env.c_str());
+    const char* value = std::getenv(config.password_env.c_str());  // NOLINT(concurrency-mt-unsafe): nothing sets it
     if (value == nullptr) return make_error(Errc::io, "password_env: " + config.password_env + " is not set");
     return std::string(value);
   }

@@ -26,7 +26,7 @@ void family(std::string& out, const char* name, const char* type, const char* he
   }
 }
 
-std::string count(std::uint64_t value) { return std::to_string(value); }
+std::string sink_count(std::uint64_t value) { return std::to_string(value); }
 
 std::string seconds(double value) {
   char text[32];
@@ -56,22 +56,22 @@ void append_sink_metrics(std::string& out, const std::vector<SinkHealth>& sinks)
   if (sinks.empty()) return;
   using S = const SinkHealth&;
   family(out, "rangekit_sink_up", "gauge", "1 while the historian confirmed the sink's last write.", sinks,
-         [](S s) { return count(s.up ? 1 : 0); });
+         [](S s) { return sink_count(s.up ? 1 : 0); });
   family(out, "rangekit_sink_rows_written_total", "counter", "Rows the historian confirmed.", sinks,
-         [](S s) { return count(s.written); });
+         [](S s) { return sink_count(s.written); });
   family(out, "rangekit_sink_rows_spooled", "gauge", "Rows waiting in the spool.", sinks,
-         [](S s) { return count(s.spooled); });
+         [](S s) { return sink_count(s.spooled); });
   family(out, "rangekit_sink_spool_bytes", "gauge", "Size of the rows waiting in the spool.", sinks,
-         [](S s) { return count(s.spool_bytes); });
+         [](S s) { return sink_count(s.spool_bytes); });
   family(out, "rangekit_sink_oldest_spooled_age_seconds", "gauge",
          "Age of the oldest row waiting in the spool; 0 when none waits.", sinks,
          [](S s) { return seconds(s.oldest_age_s); });
   family(out, "rangekit_sink_rows_dropped_total", "counter", "Rows lost past the spool's cap or the intake's queue.",
-         sinks, [](S s) { return count(s.dropped); });
+         sinks, [](S s) { return sink_count(s.dropped); });
   family(out, "rangekit_sink_rows_rejected_total", "counter", "Rows the historian refused as malformed (HTTP 400).",
-         sinks, [](S s) { return count(s.rejected); });
+         sinks, [](S s) { return sink_count(s.rejected); });
   family(out, "rangekit_sink_write_failures_total", "counter", "Writes that failed and were retried.", sinks,
-         [](S s) { return count(s.failures); });
+         [](S s) { return sink_count(s.failures); });
 }
 
 }  // namespace rangekit::web
