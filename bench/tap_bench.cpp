@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "ls5_driver/cli_process.hpp"
+#include "poll_until.hpp"
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/sim/pty.hpp"
 #include "service_rig.hpp"
@@ -20,6 +21,7 @@ using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 using ls5_driver_test::Child;
 using rangekit::bench::percentile;
+using rangekit::test::path_appears;
 
 constexpr int chunks = 1000;
 constexpr auto period = 2ms;
@@ -44,15 +46,6 @@ std::vector<double> crossing_ms(rangekit::Transport& from, rangekit::Transport& 
     times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - sent).count());
   }
   return times;
-}
-
-bool appears(const std::string& path) {
-  const auto deadline = Clock::now() + 20s;
-  while (!std::filesystem::exists(path)) {
-    if (Clock::now() > deadline) return false;
-    std::this_thread::sleep_for(20ms);  // the tap makes its pty once both ports are open
-  }
-  return true;
 }
 
 void BM_TapAddedLatency(benchmark::State& state) {
@@ -80,7 +73,7 @@ void BM_TapAddedLatency(benchmark::State& state) {
     });
     std::vector<double> to_host;
     std::vector<double> to_sensor;
-    if (appears(host_path)) {
+    if (path_appears(host_path)) {
       auto host = rangekit::open_serial_link(host_path, line);
       if (host) {
         const double cpu_before = rangekit::bench::cpu_seconds(tap.pid());

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "ls5_driver/cli_process.hpp"
+#include "poll_until.hpp"
 #include "rangekit/core/serial_port.hpp"
 #include "rangekit/record/pcapng.hpp"
 
@@ -18,16 +19,7 @@ namespace {
 using namespace rangekit;
 using ls5_driver_test::Child;
 using ls5_driver_test::TempDir;
-
-// Waits for the tap's pty to appear (it makes it once both ports are open).
-bool appears(const std::filesystem::path& path) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (!std::filesystem::exists(path)) {
-    if (std::chrono::steady_clock::now() > deadline) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));  // polling the file system, nothing to wait on
-  }
-  return true;
-}
+using rangekit::test::path_appears;
 
 struct Tapped {
   TempDir dir;
@@ -47,7 +39,7 @@ struct Tapped {
     tap =
         std::make_unique<Child>(std::vector<std::string>{"tap", "uls", "--host-pty", host, "--sensor", sensor, "--baud",
                                                          "115200", "--format", "jsonl", "--out", recording});
-    EXPECT_TRUE(appears(host));
+    EXPECT_TRUE(path_appears(host));
   }
   // Ends the tap (as Ctrl-C would) and gives its records.
   std::vector<nlohmann::json> finish(int& exit_code) {

@@ -12,6 +12,7 @@
 #include <mutex>
 
 #include "hub/site_fixture.hpp"
+#include "poll_until.hpp"
 #include "rangekit/hub/hub.hpp"
 #include "rangekit/sinks/sink.hpp"
 #include "sinks/copy_text.hpp"
@@ -23,16 +24,7 @@ namespace {
 
 using namespace rangekit;
 using Clock = std::chrono::steady_clock;
-
-// Polls `done` until it holds or `limit` passes.
-bool within(std::chrono::seconds limit, const std::function<bool()>& done) {
-  const auto deadline = Clock::now() + limit;
-  while (!done()) {
-    if (Clock::now() >= deadline) return false;
-    ::poll(nullptr, 0, 50);  // between looks at the sink's counters, not a synchronisation
-  }
-  return true;
-}
+using rangekit::test::poll_until;
 
 sinks::SinkOptions options_for(const sinks_test::PostgresCluster& cluster, const ls5_driver_test::TempDir& spool) {
   sinks::SinkOptions options;
@@ -64,9 +56,9 @@ TEST(SinkPostgres, EveryReadingOfARunArrivesOnce) {
   auto sink = sinks::Sink::start(*hub, options_for(cluster, spool));
   ASSERT_TRUE(sink.ok()) << sink.error().message;
   const auto started = Clock::now();
-  ASSERT_TRUE(
-      within(std::chrono::seconds(60),
-             [&] { return Clock::now() - started >= std::chrono::seconds(30) && (*sink)->stats().written >= 1000; }))
+  ASSERT_TRUE(poll_until(
+      std::chrono::seconds(60),
+      [&] { return Clock::now() - started >= std::chrono::seconds(30) && (*sink)->stats().written >= 1000; }))
       << "written " << (*sink)->stats().written;
   (*sink)->stop();
   hub->stop();
@@ -93,10 +85,10 @@ TEST(SinkPostgres, TheDatabaseStoppedFor20SecondsLosesNothing) {
   ls5_driver_test::TempDir spool;
   auto sink = sinks::Sink::start(*hub, options_for(cluster, spool));
   ASSERT_TRUE(sink.ok()) << sink.error().message;
-  ASSERT_TRUE(within(std::chrono::seconds(15), [&] { return (*sink)->stats().written >= 100; }));
+  ASSERT_TRUE(poll_until(std::chrono::seconds(15), [&] { return (*sink)->stats().written >= 100; }));
   ASSERT_TRUE(cluster.stop());
   const auto stopped = Clock::now();
-  ASSERT_TRUE(within(std::chrono::seconds(40), [&] {
+  ASSERT_TRUE(poll_until(std::chrono::seconds(40), [&] {
     const auto stats = (*sink)->stats();
     return !stats.up && stats.failures >= 2 && Clock::now() - stopped >= std::chrono::seconds(20);
   }));
@@ -107,11 +99,11 @@ TEST(SinkPostgres, TheDatabaseStoppedFor20SecondsLosesNothing) {
   EXPECT_GT(during.oldest_age_s, 15.0);
   ASSERT_TRUE(cluster.start());
   const std::uint64_t due = during.written + during.spooled;
-  ASSERT_TRUE(within(std::chrono::seconds(20),
-                     [&] {
-                       const auto stats = (*sink)->stats();
-                       return stats.up && stats.written >= due;
-                     }))
+  ASSERT_TRUE(poll_until(std::chrono::seconds(20),
+                         [&] {
+                           const auto stats = (*sink)->stats();
+                           return stats.up && stats.written >= due;
+                         }))
       << "written " << (*sink)->stats().written << " of " << due << ": " << (*sink)->stats().error;
   (*sink)->stop();
   hub->stop();
@@ -161,7 +153,7 @@ TEST(SinkPostgres, ASpoolOfRowsTheTableHasDoublesNone) {
   auto hub = hub::Hub::start(no_sensors);
   auto sink = sinks::Sink::start(*hub, options);
   ASSERT_TRUE(sink.ok()) << sink.error().message;
-  ASSERT_TRUE(within(std::chrono::seconds(20), [&] { return (*sink)->stats().written >= 2000; }))
+  ASSERT_TRUE(poll_until(std::chrono::seconds(20), [&] { return (*sink)->stats().written >= 2000; }))
       << (*sink)->stats().error;
   (*sink)->stop();
   const auto stats = (*sink)->stats();
@@ -192,7 +184,7 @@ TEST(SinkPostgres, AWrongPasswordIsAClearErrorAndReadingsWait) {
   {
     auto sink = sinks::Sink::start(*hub, options);
     ASSERT_TRUE(sink.ok()) << sink.error().message;
-    ASSERT_TRUE(within(std::chrono::seconds(20), [&] {
+    ASSERT_TRUE(poll_until(std::chrono::seconds(20), [&] {
       const auto stats = (*sink)->stats();
       return stats.failures >= 2 && stats.spooled >= 200;
     })) << (*sink)->stats().error;
@@ -212,7 +204,7 @@ TEST(SinkPostgres, AWrongPasswordIsAClearErrorAndReadingsWait) {
   std::ofstream(options.config.password_file, std::ios::trunc) << "secret\n";
   auto sink = sinks::Sink::start(*hub, options);
   ASSERT_TRUE(sink.ok()) << sink.error().message;
-  ASSERT_TRUE(within(std::chrono::seconds(20), [&] { return (*sink)->stats().written >= waited + 50; }))
+  ASSERT_TRUE(poll_until(std::chrono::seconds(20), [&] { return (*sink)->stats().written >= waited + 50; }))
       << (*sink)->stats().error;
   (*sink)->stop();
   hub->stop();
@@ -232,7 +224,7 @@ TEST(SinkPostgres, WindowRowsCarryCountMinAndMax) {
   options.config.table = "windows";
   auto sink = sinks::Sink::start(*hub, options);
   ASSERT_TRUE(sink.ok()) << sink.error().message;
-  ASSERT_TRUE(within(std::chrono::seconds(20), [&] { return (*sink)->stats().written >= 30; }));
+  ASSERT_TRUE(poll_until(std::chrono::seconds(20), [&] { return (*sink)->stats().written >= 30; }));
   (*sink)->stop();
   hub->stop();
   const auto written = (*sink)->stats().written;

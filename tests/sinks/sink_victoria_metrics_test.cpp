@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "hub/site_fixture.hpp"
+#include "poll_until.hpp"
 #include "rangekit/hub/hub.hpp"
 #include "rangekit/record/spool.hpp"
 #include "rangekit/sinks/sink.hpp"
@@ -18,16 +19,7 @@ namespace {
 
 using namespace rangekit;
 using Clock = std::chrono::steady_clock;
-
-// Polls `done` until it holds or `limit` passes.
-bool within(std::chrono::seconds limit, const std::function<bool()>& done) {
-  const auto deadline = Clock::now() + limit;
-  while (!done()) {
-    if (Clock::now() >= deadline) return false;
-    ::poll(nullptr, 0, 50);  // between looks at the sink's counters, not a synchronisation
-  }
-  return true;
-}
+using rangekit::test::poll_until;
 
 sinks::SinkOptions options_for(const sinks_test::VictoriaMetrics& vm, const ls5_driver_test::TempDir& spool) {
   sinks::SinkOptions options;
@@ -58,8 +50,8 @@ TEST(SinkVictoriaMetrics, EveryWrittenReadingArrivesOnce) {
   const auto started = Clock::now();
   // About 5 s of every sensor's readings, and some of each of the site's seven.
   ASSERT_TRUE(
-      within(std::chrono::seconds(15),
-             [&] { return Clock::now() - started >= std::chrono::seconds(5) && (*sink)->stats().written >= 200; }))
+      poll_until(std::chrono::seconds(15),
+                 [&] { return Clock::now() - started >= std::chrono::seconds(5) && (*sink)->stats().written >= 200; }))
       << "written " << (*sink)->stats().written;
   (*sink)->stop();
   hub->stop();
@@ -79,11 +71,11 @@ TEST(SinkVictoriaMetrics, AStoppedHistorianLosesNothing) {
   ls5_driver_test::TempDir spool;
   auto sink = sinks::Sink::start(*hub, options_for(vm, spool));
   ASSERT_TRUE(sink.ok()) << sink.error().message;
-  ASSERT_TRUE(within(std::chrono::seconds(15), [&] { return (*sink)->stats().written >= 100; }));
+  ASSERT_TRUE(poll_until(std::chrono::seconds(15), [&] { return (*sink)->stats().written >= 100; }));
   vm.stop();
   // Down, and readings pile up in the spool for a few seconds.
   const auto stopped = Clock::now();
-  ASSERT_TRUE(within(std::chrono::seconds(15), [&] {
+  ASSERT_TRUE(poll_until(std::chrono::seconds(15), [&] {
     const auto stats = (*sink)->stats();
     return !stats.up && stats.failures >= 2 && Clock::now() - stopped >= std::chrono::seconds(3);
   }));
@@ -95,11 +87,11 @@ TEST(SinkVictoriaMetrics, AStoppedHistorianLosesNothing) {
   ASSERT_TRUE(vm.start());
   // Back up, and the backlog drained: what waited at the restart went out.
   const std::uint64_t due = during.written + during.spooled;
-  ASSERT_TRUE(within(std::chrono::seconds(15),
-                     [&] {
-                       const auto stats = (*sink)->stats();
-                       return stats.up && stats.written >= due;
-                     }))
+  ASSERT_TRUE(poll_until(std::chrono::seconds(15),
+                         [&] {
+                           const auto stats = (*sink)->stats();
+                           return stats.up && stats.written >= due;
+                         }))
       << "written " << (*sink)->stats().written << " of " << due;
   (*sink)->stop();
   hub->stop();
@@ -126,7 +118,7 @@ TEST(SinkVictoriaMetrics, TheNextStartSendsTheSpoolFirstAndSeqGoesOn) {
   {
     auto sink = sinks::Sink::start(*hub, options_for(vm, spool));
     ASSERT_TRUE(sink.ok()) << sink.error().message;
-    ASSERT_TRUE(within(std::chrono::seconds(15), [&] {
+    ASSERT_TRUE(poll_until(std::chrono::seconds(15), [&] {
       const auto stats = (*sink)->stats();
       return stats.failures >= 1 && stats.spooled >= 100;
     }));
@@ -138,7 +130,7 @@ TEST(SinkVictoriaMetrics, TheNextStartSendsTheSpoolFirstAndSeqGoesOn) {
   auto sink = sinks::Sink::start(*hub, options_for(vm, spool));
   ASSERT_TRUE(sink.ok()) << sink.error().message;
   EXPECT_GE((*sink)->stats().spooled, waiting) << "the earlier run's rows are in the reopened spool";
-  ASSERT_TRUE(within(std::chrono::seconds(15), [&] { return (*sink)->stats().written >= waiting + 100; }));
+  ASSERT_TRUE(poll_until(std::chrono::seconds(15), [&] { return (*sink)->stats().written >= waiting + 100; }));
   (*sink)->stop();
   hub->stop();
   std::cout << "spooled by the first run " << waiting << "\n";
@@ -182,7 +174,7 @@ TEST(SinkVictoriaMetrics, ABacklogDrainsAtDrainRate) {
   const auto started = Clock::now();
   auto sink = sinks::Sink::start(*hub, options);
   ASSERT_TRUE(sink.ok()) << sink.error().message;
-  ASSERT_TRUE(within(std::chrono::seconds(15), [&] { return (*sink)->stats().written >= 3000; }));
+  ASSERT_TRUE(poll_until(std::chrono::seconds(15), [&] { return (*sink)->stats().written >= 3000; }));
   const double took = std::chrono::duration<double>(Clock::now() - started).count();
   std::cout << "3000 rows at drain_rate 1000 took " << took << " s\n";
   EXPECT_GE(took, 2.5);

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "ls5_driver/cli_process.hpp"
+#include "poll_until.hpp"
 #include "rangekit/record/pcapng.hpp"
 
 namespace {
@@ -18,6 +19,7 @@ namespace {
 using namespace rangekit;
 using ls5_driver_test::Child;
 using ls5_driver_test::TempDir;
+using rangekit::test::path_appears;
 
 std::string script() { return std::string(test::source_dir()) + "/packaging/wireshark/rangekit.lua"; }
 
@@ -294,16 +296,6 @@ TEST(Wireshark, Ls5UdpPacketAndItsChecksum) {
             (std::vector<std::string>{"Good"}));
 }
 
-// Waits for the tap's pty to appear (it makes it once both ports are open).
-bool appears(const std::filesystem::path& path) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (!std::filesystem::exists(path)) {
-    if (std::chrono::steady_clock::now() > deadline) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));  // polling the file system, nothing to wait on
-  }
-  return true;
-}
-
 // The emulator of `family`, the tap in front of it recording, and `host_arguments` run against
 // the tap's pty; gives the recording once the tap has closed it.
 std::filesystem::path tapped_session(const TempDir& dir, const std::string& family,
@@ -315,7 +307,7 @@ std::filesystem::path tapped_session(const TempDir& dir, const std::string& fami
   EXPECT_NE(sim.read_line().find("ready"), std::string::npos);
   Child tap{{"tap", family, "--host-pty", host_port, "--sensor", sensor_port, "--baud", "115200", "--format", "jsonl",
              "--out", recording.string()}};
-  EXPECT_TRUE(appears(host_port));
+  EXPECT_TRUE(path_appears(host_port));
   host_arguments.push_back("--port");
   host_arguments.push_back(host_port);
   const auto run = ls5_driver_test::run_cli(dir.path, host_arguments);
