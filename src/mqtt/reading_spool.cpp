@@ -33,12 +33,18 @@ Result<std::uint64_t> ReadingSpool::store(const std::vector<std::string>& readin
     }
     rows.push_back(std::move(row));
   }
+  maybe_unsent_ = true;
   return spool_->append(rows);
 }
 
 Result<std::vector<record::SpoolRow>> ReadingSpool::next(std::size_t room) {
-  if (room == 0) return std::vector<record::SpoolRow>{};
-  return spool_->oldest(room, last_sent_);
+  // Nothing new stored, and every row handed out went: no query.
+  if (room == 0 || (!maybe_unsent_ && last_sent_ >= handed_out_)) return std::vector<record::SpoolRow>{};
+  auto rows = spool_->oldest(room, last_sent_);
+  if (!rows) return rows;
+  if (!rows->empty()) handed_out_ = rows->back().id;
+  maybe_unsent_ = rows->size() == room;  // a full answer: more may wait behind it
+  return rows;
 }
 
 void ReadingSpool::sent(int mid, std::int64_t id) {
@@ -84,6 +90,7 @@ void ReadingSpool::resend_in_flight() {
     it = it->first > before ? in_flight_.erase(it) : std::next(it);
   mids_.clear();
   last_sent_ = before;
+  maybe_unsent_ = true;
 }
 
 std::string reading_spool_name(const std::string& client_id, const std::string& sensor) {

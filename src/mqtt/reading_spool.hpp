@@ -44,7 +44,11 @@ class ReadingSpool {
       : spool_(std::move(spool)), sensor_(std::move(sensor)) {}
   std::unique_ptr<record::Spool> spool_;
   std::string sensor_;
-  std::int64_t last_sent_ = 0;                  // the newest row handed to the broker's session
+  std::int64_t last_sent_ = 0;  // the newest row handed to the broker's session
+  // Whether rows past the last next() handed out may wait on disk, and the newest it handed out:
+  // the network loop asks next() every turn, and a caught-up spool answers without a query.
+  bool maybe_unsent_ = true;
+  std::int64_t handed_out_ = 0;
   std::map<std::int64_t, bool> in_flight_;      // rows sent, oldest first: acknowledged yet?
   std::unordered_map<int, std::int64_t> mids_;  // message id -> row
 };

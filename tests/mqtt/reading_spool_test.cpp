@@ -54,6 +54,29 @@ TEST(ReadingSpool, ForgetsOnlyTheAcknowledgedPrefix) {
   EXPECT_EQ(spool->in_flight(), 1u);
 }
 
+TEST(ReadingSpool, RowsHandedOutButNotSentComeAgainAndNewOnesAfterThem) {
+  ls5_driver_test::TempDir dir;
+  auto spool = open_spool(dir);
+  ASSERT_TRUE(spool);
+  ASSERT_TRUE(spool->store({"{}", "{}"}, std::chrono::system_clock::now()).ok());
+  auto rows = spool->next(10);
+  ASSERT_TRUE(rows.ok() && rows->size() == 2);
+  spool->sent(1, rows->front().id);  // the session took only the first
+  auto again = spool->next(10);
+  ASSERT_TRUE(again.ok());
+  ASSERT_EQ(again->size(), 1u);
+  EXPECT_EQ(again->front().line, R"({"seq":2})");
+  spool->sent(2, again->front().id);
+  auto none = spool->next(10);
+  ASSERT_TRUE(none.ok());
+  EXPECT_TRUE(none->empty());
+  ASSERT_TRUE(spool->store({"{}"}, std::chrono::system_clock::now()).ok());
+  auto fresh = spool->next(10);
+  ASSERT_TRUE(fresh.ok());
+  ASSERT_EQ(fresh->size(), 1u);
+  EXPECT_EQ(fresh->front().line, R"({"seq":3})");
+}
+
 TEST(ReadingSpool, ANewSessionSendsAgainWhatWasNotAcknowledged) {
   ls5_driver_test::TempDir dir;
   auto spool = open_spool(dir);
