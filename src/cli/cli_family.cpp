@@ -26,12 +26,13 @@ std::string joined(std::string_view separator, Field field) {
 
 void register_cli_family(const CliFamily& family) { registry().add(family); }
 
-FrameDecoder default_decoder(const CliFamily& family, Direction sender) {
+DecoderFactory default_decoders(const CliFamily& family) {
   CLI::App scratch;
-  const DecoderFactory factory = family.add_decode_options(scratch);
+  DecoderFactory factory = family.add_decode_options(scratch);
   scratch.parse(std::vector<std::string>{});  // every option at its default
-  return factory(sender);
+  return factory;
 }
+FrameDecoder default_decoder(const CliFamily& family, Direction sender) { return default_decoders(family)(sender); }
 std::span<const CliFamily* const> cli_families() noexcept { return registry().all(); }
 const CliFamily* find_cli_family(std::string_view name) noexcept { return registry().find(name); }
 

@@ -30,6 +30,9 @@ struct FrameDecoder {
   // Whether a frame's values come from the target (a distance) rather than the unit's state
   // (a setting, an error number): `tap compare` compares those by shape only. None: never.
   std::function<bool(Bytes frame)> measured;
+  // Whether the frame is a message of this family (a known command, reply or record), not only
+  // bytes its framer delimits: how `tap` tells the family from the traffic.
+  std::function<bool(Bytes frame)> known;
 };
 // Built once the command line is parsed, for the side that sent the bytes.
 using DecoderFactory = std::function<FrameDecoder(Direction sender)>;

@@ -118,6 +118,15 @@ TEST(Cli, DecodeUlsTakesTheUnitsSettingsOwnValueNames) {
   EXPECT_NE(refused.output.find("feet"), std::string::npos) << refused.output;
 }
 
+// The settings a unit reads back (§8 MU 0 feet, DM 2 range and intensity) change how its next
+// BM lines read, without options: what a tap needs, which sees the host read them.
+TEST(Cli, DecodeUlsReadsMeasurementsAsTheSettingsReadBackSay) {
+  const auto run = run_cli("decode uls", "$BM,50.000\r$MU,0\r$DM,2\r$BM,164.04,33238\r");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("averaging: 50.000 m"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("averaging: 49.999 m pulse width 33.238 ns"), std::string::npos) << run.output;
+}
+
 TEST(Cli, DecodeLs5RequestsFromTheHost) {
   const auto run = run_cli("decode ls5 --from host", "#01ON\r#02W0B01\r");  // §9.4
   EXPECT_EQ(run.exit_code, 0) << run.output;

@@ -1,13 +1,16 @@
 // The ULS's options of `rangekit decode`: how the BM lines were configured, since a
 // measurement line reads differently in each mode (§8).
+#include <charconv>
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "rangekit/uls/commands.hpp"
 #include "rangekit/uls/frame.hpp"
+#include "rangekit/uls/reply.hpp"
 #include "uls/cli/uls_cli.hpp"
 
 namespace rangekit::cli {
@@ -44,6 +47,34 @@ uls::MeasurementContext context_of(const UlsDecodeOptions& options) {
                                  static_cast<uls::Units>(units.at(options.units)), options.time_between_events};
 }
 
+// How each unit's measurement lines read, from the options and then from what the traffic
+// says: a set (host) or a value reply (sensor) of MM, DM, MU or TB changes it for that unit,
+// so a tap or a decoded log reads a BM line as the unit was configured to send it.
+class LearnedContexts {
+ public:
+  explicit LearnedContexts(const uls::MeasurementContext& given) : given_(given) {}
+  const uls::MeasurementContext& of(const uls::FrameView& frame) {
+    const auto found = units_.find(key(frame));
+    return found == units_.end() ? given_ : found->second;
+  }
+  void learn(const uls::FrameView& frame) {
+    if (frame.kind != uls::FrameKind::message || frame.field_count != 1) return;
+    std::uint32_t code = 0;
+    const std::string_view field = frame.fields()[0];
+    if (std::from_chars(field.data(), field.data() + field.size(), code).ec != std::errc()) return;
+    uls::MeasurementContext& context = units_.try_emplace(key(frame), given_).first->second;
+    if (frame.is("MM")) context.mode = static_cast<uls::Mode>(code);
+    if (frame.is("DM")) context.display = static_cast<uls::DisplayMode>(code);
+    if (frame.is("MU")) context.units = static_cast<uls::Units>(code);
+    if (frame.is("TB")) context.time_between_events = code != 0;
+  }
+
+ private:
+  static int key(const uls::FrameView& frame) { return frame.address.addressed ? frame.address.byte : -1; }
+  uls::MeasurementContext given_;
+  std::map<int, uls::MeasurementContext> units_;
+};
+
 }  // namespace
 
 DecoderFactory add_uls_decode_options(CLI::App& decode) {
@@ -55,15 +86,29 @@ DecoderFactory add_uls_decode_options(CLI::App& decode) {
   decode.add_option("--units", options->units, "ULS measurement units (MU)")
       ->check(CLI::IsMember(names_of(uls::CommandId::units)));
   decode.add_flag("--time-between-events", options->time_between_events, "ULS look down with TB on");
-  return [options](Direction sender) {
-    const auto context = context_of(*options);
+  // Both sides' decoders share what the traffic taught, as a reply follows its request.
+  auto learned = std::make_shared<std::optional<LearnedContexts>>();
+  return [options, learned](Direction sender) {
+    if (!*learned) learned->emplace(context_of(*options));
     return FrameDecoder{&uls::scan_frame,
-                        [sender, context](Bytes frame) { return describe_uls_frame(frame, sender, context); },
+                        [sender, learned](Bytes frame) {
+                          const auto view = uls::parse_frame(frame);
+                          if (!view) return describe_uls_frame(frame, sender, {});
+                          (*learned)->learn(*view);
+                          return describe_uls_frame(frame, sender, (*learned)->of(*view));
+                        },
                         [sender](Bytes frame) {
                           // A measurement line (BM, §9) or a time between events carries what the target made.
                           const auto view = uls::parse_frame(frame);
                           return sender == Direction::from_device && view.ok() &&
                                  (view->kind == uls::FrameKind::time_between_events || view->is("BM"));
+                        },
+                        [sender, units = context_of(*options).units](Bytes frame) {
+                          const auto view = uls::parse_frame(frame);
+                          if (!view) return false;
+                          if (sender == Direction::to_device) return uls::find_command(view->mnemonic) != nullptr;
+                          return view->kind == uls::FrameKind::time_between_events || view->is("BM") ||
+                                 uls::decode_reply(*view, units).ok();
                         }};
   };
 }
