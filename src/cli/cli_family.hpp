@@ -101,8 +101,10 @@ struct CliFamily {
   CliDemoSite demo_site;
 };
 
-// The family's decoder with its decode options at their defaults, for a command that reads
-// frames without offering those options (sim replay).
+// The family's decoders with its decode options at their defaults, for a command that reads
+// frames without offering those options (sim replay, tap): one factory makes both sides', so
+// that they share what the traffic teaches them (a setting read back).
+DecoderFactory default_decoders(const CliFamily& family);
 FrameDecoder default_decoder(const CliFamily& family, Direction sender);
 
 // Adds a family (a second of the same name replaces the first); from the registration list.

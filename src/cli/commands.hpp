@@ -49,7 +49,7 @@ void add_tables_command(CLI::App& app, int& exit_code);
 void add_decode_command(CLI::App& app, int& exit_code);
 // Between a host and a sensor: forward, decode and record (docs/tap.md).
 void add_tap_command(CLI::App& app, int& exit_code);
-void add_tap_compare_command(CLI::App& tap, int& exit_code);  // `tap compare` (tap_compare_command.cpp)
+CLI::App* add_tap_compare_command(CLI::App& tap, int& exit_code);  // `tap compare` (tap_compare_command.cpp)
 void add_demo_command(CLI::App& app, int& exit_code);
 // Host side: each family's own subcommand (cli_family.hpp), plus replay of captures.
 void add_replay_command(CLI::App& app, int& exit_code);

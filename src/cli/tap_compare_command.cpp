@@ -68,8 +68,9 @@ int run_compare(const CompareOptions& options) {
     fmt::print(stderr, "rangekit tap compare: {}: line '{}': {}\n", options.file, line, settings.error().message);
     return exit_bad_input;
   }
-  const FrameDecoder host = default_decoder(*family, Direction::to_device);
-  const FrameDecoder sensor = default_decoder(*family, Direction::from_device);
+  const DecoderFactory decoders = default_decoders(*family);
+  const FrameDecoder host = decoders(Direction::to_device);
+  const FrameDecoder sensor = decoders(Direction::from_device);
   const std::vector<Exchange> exchanges = exchanges_of(recording, host, sensor);
   std::string pattern = (std::filesystem::temp_directory_path() / "rangekit-compare-XXXXXX").string();
   if (::mkdtemp(pattern.data()) == nullptr) {
@@ -110,7 +111,7 @@ int run_compare(const CompareOptions& options) {
 
 }  // namespace
 
-void add_tap_compare_command(CLI::App& tap, int& exit_code) {
+CLI::App* add_tap_compare_command(CLI::App& tap, int& exit_code) {
   auto options = std::make_shared<CompareOptions>();
   auto* compare = tap.add_subcommand(
       "compare", "Send a recording's requests to the family's emulator and show where its answers differ");
@@ -120,6 +121,7 @@ void add_tap_compare_command(CLI::App& tap, int& exit_code) {
       "Exit codes: 0 no difference, 3 some exchanges differ or the recording is damaged, 4 the file "
       "cannot be read or the emulator not started.");
   compare->callback([options, &exit_code] { exit_code = run_compare(*options); });
+  return compare;
 }
 
 }  // namespace rangekit::cli

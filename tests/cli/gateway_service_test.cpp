@@ -34,11 +34,11 @@ using ls5_driver_test::read_file;
 using ls5_driver_test::TempDir;
 using Clock = std::chrono::steady_clock;
 
-const std::string root = rangekit::test::source_dir();
+const std::string source_root = rangekit::test::source_dir();
 const std::string packaged_binary = "/usr/bin/rangekit";
 const std::string packaged_site = "/etc/rangekit/site.toml";
 
-std::string unit_text() { return read_file(root + "/packaging/systemd/rangekit.service"); }
+std::string unit_text() { return read_file(source_root + "/packaging/systemd/rangekit.service"); }
 
 // The values of the unit's `KEY=` lines, in order.
 std::vector<std::string> unit_values(const std::string& key) {
@@ -201,7 +201,7 @@ class NotifySocket {
 TEST(ServiceUnit, SystemdAnalyzeVerifiesTheUnitWithoutAWarning) {
   TempDir dir;
   const auto site = dir.path / "site.toml";
-  std::filesystem::copy_file(root + "/packaging/site.toml", site);
+  std::filesystem::copy_file(source_root + "/packaging/site.toml", site);
   // verify needs ExecStart's binary to exist: this build's stands in for /usr/bin/rangekit.
   const std::string unit =
       replaced(replaced(unit_text(), packaged_binary, rangekit::test::cli_path()), packaged_site, site.string());
@@ -246,7 +246,7 @@ TEST(ServiceUnit, ExecStartPreAcceptsTheSampleSiteFileAndItsExamples) {
   const auto pre = unit_values("ExecStartPre");
   ASSERT_EQ(pre.size(), 1U);
   TempDir dir;
-  const auto shipped = root + "/packaging/site.toml";
+  const auto shipped = source_root + "/packaging/site.toml";
   auto quoted = [](const std::vector<std::string>& argv) {
     std::string line;
     for (const auto& word : argv) line += "'" + word + "' ";
