@@ -16,10 +16,12 @@
 
 #include "cli/demo_site.hpp"
 #include "cli/describe.hpp"
+#include "rangekit/core/channel.hpp"
 #include "rangekit/core/framer.hpp"
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/sample.hpp"
 #include "rangekit/core/transport.hpp"
+#include "rangekit/sim/motion.hpp"
 
 namespace rangekit::cli {
 
@@ -87,6 +89,17 @@ struct CliDemo {
   int (*walkthrough)() = nullptr;
 };
 
+// A sensor's readings out of a capture, for `sim replay` to have the emulator follow them.
+struct CapturedReadings {
+  const ChannelDescriptor* channel = nullptr;  // the readings' channel (its key and unit)
+  std::vector<PathPoint> points;               // seconds from the first reading, the reading
+};
+// The family's emulator set up so that its target follows captured readings.
+struct CaptureScene {
+  std::vector<std::string> sim_arguments;  // after `sim <name>`, besides --port and --scene
+  std::string scene;                       // the emulator's TOML scene
+};
+
 struct CliFamily {
   std::string_view name;   // its subcommand and its samples' `device`: the folder src/<name>
   std::string_view label;  // how help and messages name it
@@ -99,6 +112,8 @@ struct CliFamily {
   SourceStarter (*add_capture_options)(CLI::App& capture) = nullptr;  // --<name> PORT and its settings
   CliDemo demo;
   CliDemoSite demo_site;
+  // An error naming why when the emulator cannot follow these readings (another channel).
+  Result<CaptureScene> (*capture_scene)(const CapturedReadings& readings) = nullptr;
 };
 
 // The family's decoders with its decode options at their defaults, for a command that reads

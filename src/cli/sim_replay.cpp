@@ -5,6 +5,7 @@
 
 #include <deque>
 
+#include "cli/capture_replay.hpp"
 #include "cli/cli_family.hpp"
 #include "cli/commands.hpp"
 #include "cli/describe.hpp"
@@ -23,9 +24,13 @@ struct ReplayOptions {
   std::string file;
   std::string port;
   std::string family;  // empty: the recording's `family NAME` comment
+  std::string source;  // a capture's sensor; empty: its first
 };
 
 int run_replay(const ReplayOptions& options) {
+  if (is_capture_file(options.file)) {
+    return run_capture_replay({options.file, options.port, options.family, options.source});
+  }
   int code = exit_ok;
   auto file = read_recording("rangekit sim replay", options.file, options.family, code);
   if (!file) return code;
@@ -103,11 +108,14 @@ void add_sim_replay_command(CLI::App& sim, int& exit_code) {
   auto options = std::make_shared<ReplayOptions>();
   auto* replay = sim.add_subcommand(
       "replay",
-      "Act as a recorded sensor (a `rangekit tap --out` pcapng) on a pty: each request gets its recorded answer");
-  replay->add_option("file", options->file, "the recording (.pcapng)")->required();
+      "Act as a recorded sensor on a pty: each request of a `tap --out` recording gets its recorded answer; a "
+      "`capture` file's readings are streamed by the family's emulator");
+  replay->add_option("file", options->file, "the recording (.pcapng) or capture (.sqlite)")->required();
   replay->add_option("--port", options->port, "symlink to the pty the host opens")->required();
   replay->add_option("--family", options->family,
-                     "the family, when the recording does not name it: " + cli_family_names(" | "));
+                     "the family, when the recording does not name it, or a capture's: " + cli_family_names(" | "));
+  replay->add_option("--source", options->source,
+                     "a capture's sensor: its port or endpoint, and ' address N' on a bus (default: its first)");
   replay->footer("Exit codes: 130 after Ctrl-C, 3 a damaged recording, 4 the file or pty cannot be opened.");
   replay->callback([options, &exit_code] { exit_code = run_replay(*options); });
 }

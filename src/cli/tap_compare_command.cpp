@@ -6,6 +6,7 @@
 
 #include <filesystem>
 
+#include "cli/capture_replay.hpp"
 #include "cli/cli_family.hpp"
 #include "cli/commands.hpp"
 #include "cli/host_sources.hpp"
@@ -53,6 +54,13 @@ std::vector<TimedFrame> ask(Transport& port, const Exchange& exchange, const Fra
 }
 
 int run_compare(const CompareOptions& options) {
+  if (is_capture_file(options.file)) {
+    fmt::print(stderr,
+               "rangekit tap compare: {} is a capture: it keeps the readings, not the host's requests to compare "
+               "answers to; record the conversation with `rangekit tap --out FILE.pcapng`\n",
+               options.file);
+    return exit_bad_input;
+  }
   int code = exit_ok;
   auto file = read_recording("rangekit tap compare", options.file, options.family, code);
   if (!file) return code;

@@ -26,6 +26,7 @@ const cli::CliFamily& cli_family() noexcept {
       .add_capture_options = cli::add_ls5_capture_options,
       .demo = cli::ls5_demo,
       .demo_site = cli::ls5_demo_site,
+      .capture_scene = cli::ls5_capture_scene,
   };
   return descriptor;
 }

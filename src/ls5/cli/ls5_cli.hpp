@@ -60,6 +60,7 @@ Result<SampleSourcePtr> start_ls5_source(const Ls5SourceOptions& options);
 void add_ls5_command(CLI::App& app, int& exit_code);
 void add_sim_ls5(CLI::App& sim, int& exit_code);
 DecoderFactory add_ls5_decode_options(CLI::App& decode);
+Result<CaptureScene> ls5_capture_scene(const CapturedReadings& readings);  // sim replay CAPTURE
 SourceStarter add_ls5_capture_options(CLI::App& capture);
 DetectProbe add_ls5_detect_options(CLI::App& detect);
 extern const std::span<const CliTable> ls5_tables;

@@ -25,6 +25,7 @@ const cli::CliFamily& cli_family() noexcept {
       .add_capture_options = cli::add_uls_capture_options,
       .demo = cli::uls_demo,
       .demo_site = cli::uls_demo_site,
+      .capture_scene = cli::uls_capture_scene,
   };
   return descriptor;
 }

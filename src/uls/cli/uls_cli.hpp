@@ -28,6 +28,7 @@ Result<SampleSourcePtr> start_uls_source(const UlsSourceOptions& options);
 void add_uls_command(CLI::App& app, int& exit_code);
 void add_sim_uls(CLI::App& sim, int& exit_code);
 DecoderFactory add_uls_decode_options(CLI::App& decode);
+Result<CaptureScene> uls_capture_scene(const CapturedReadings& readings);  // sim replay CAPTURE
 SourceStarter add_uls_capture_options(CLI::App& capture);
 DetectProbe add_uls_detect_options(CLI::App& detect);
 extern const std::span<const CliTable> uls_tables;
