@@ -520,6 +520,20 @@ void add_tap_rows(GoalTable& table, const char* name) {
              "adds <= 1 ms", added <= 1.0});
 }
 
+// The tap's throughput one way, against one pty without it, same run; goal: ten times the
+// fastest line either document lists (the LS5's 921600 baud, 92 kB/s), so it never limits a line.
+void add_tap_throughput_row(GoalTable& table, const char* name) {
+  const auto direct = table.value(name, "direct_MBps");
+  const auto tapped = table.value(name, "tapped_MBps");
+  const auto cpu = table.value(name, "tap_cpu_pct");
+  if (!direct || !tapped || !cpu) return;
+  constexpr double goal_mbps = 0.92;
+  table.add({"tap: 16 MB of ULS replies through rangekit tap, one way",
+             text_of("%.1f MB/s", *tapped) + text_of(" (tap %.0f %% of a core)", *cpu),
+             text_of("one pty without it: %.1f MB/s", *direct), goal_mbps / *tapped, ">= 0.92 MB/s (10x 921600 baud)",
+             *tapped >= goal_mbps});
+}
+
 // Emulator pacing (L78): against a minimal absolute-deadline writer, and its CPU against the
 // baseline loop of bench/filed_emulator_loop.hpp (no more), same run; the present loop
 // rounded to whole milliseconds is shown beside it (bench/emulator_pacing_bench.cpp).
@@ -622,6 +636,7 @@ int main(int argc, char** argv) {
   add_modbus_rows(table, "BM_ModbusClientsAt100Hz/32/iterations:1/real_time",
                   "modbus: serve --demo, 32 clients at 100 Hz", false);
   add_tap_rows(table, "BM_TapAddedLatency/iterations:1/real_time");
+  add_tap_throughput_row(table, "BM_TapThroughput/iterations:1/real_time");
   add_postgres_rows(table, "BM_PostgresSinkTwoLs5At1kHz/iterations:1/real_time");
   table.print();
   benchmark::Shutdown();
