@@ -59,11 +59,19 @@ TEST_P(TapLine, PassesEveryByteUnchangedBothWaysAtOnce) {
   const std::string host_path = (dir.path / "host").string();
   auto sensor = PseudoTerminal::open(sensor_path);
   ASSERT_TRUE(sensor.ok()) << sensor.error().message;
-  std::vector<std::string> arguments{"tap",    "--host-pty",          host_path,
-                                     "--sensor", sensor_path,         "--baud",
-                                     std::to_string(line.baud),       "--byte-format",
-                                     line.byte_format,                "--format",
-                                     "jsonl",  "--out",               (dir.path / "line.pcapng").string()};
+  std::vector<std::string> arguments{"tap",
+                                     "--host-pty",
+                                     host_path,
+                                     "--sensor",
+                                     sensor_path,
+                                     "--baud",
+                                     std::to_string(line.baud),
+                                     "--byte-format",
+                                     line.byte_format,
+                                     "--format",
+                                     "jsonl",
+                                     "--out",
+                                     (dir.path / "line.pcapng").string()};
   if (line.family != "auto") arguments.insert(arguments.end(), {"--family", line.family});
   Child tap(arguments);
   std::thread reader([&] {  // the jsonl records, read so the tap never blocks on its stdout
@@ -71,7 +79,7 @@ TEST_P(TapLine, PassesEveryByteUnchangedBothWaysAtOnce) {
     }
   });
   ASSERT_TRUE(path_appears(host_path));
-  const Parity parity = line.byte_format[1] == 'N' ? Parity::none
+  const Parity parity = line.byte_format[1] == 'N'   ? Parity::none
                         : line.byte_format[1] == 'E' ? Parity::even
                                                      : Parity::odd;
   auto host = open_serial_link(host_path, SerialSettings{line.baud, parity, line.byte_format[2] - '0'});
@@ -106,8 +114,7 @@ TEST_P(TapLine, PassesEveryByteUnchangedBothWaysAtOnce) {
   EXPECT_TRUE(recorded_host == from_host);
   EXPECT_TRUE(recorded_sensor == from_sensor);
   const std::string line_comment = "line " + std::to_string(line.baud) + " " + line.byte_format;
-  EXPECT_NE(std::find(recording->comments.begin(), recording->comments.end(), line_comment),
-            recording->comments.end());
+  EXPECT_NE(std::find(recording->comments.begin(), recording->comments.end(), line_comment), recording->comments.end());
 }
 
 INSTANTIATE_TEST_SUITE_P(FamiliesAndLines, TapLine,
@@ -138,8 +145,8 @@ TEST_P(TapFamily, IsToldFromTheTraffic) {
   const std::string recording = (dir.path / "session.pcapng").string();
   Child sim({"sim", conversation.family, "--port", sensor});
   ASSERT_NE(sim.read_line().find("ready"), std::string::npos);
-  Child tap({"tap", "--host-pty", host, "--sensor", sensor, "--baud", "115200", "--format", "jsonl", "--out",
-             recording});
+  Child tap(
+      {"tap", "--host-pty", host, "--sensor", sensor, "--baud", "115200", "--format", "jsonl", "--out", recording});
   ASSERT_TRUE(path_appears(host));
   std::vector<std::string> command = conversation.host_command;
   command.insert(command.begin() + 2, {"--port", host, "--baud", "115200"});
@@ -166,10 +173,74 @@ TEST_P(TapFamily, IsToldFromTheTraffic) {
   EXPECT_EQ(file->comments.front(), "family " + conversation.family);
 }
 
-INSTANTIATE_TEST_SUITE_P(BothFamilies, TapFamily,
-                         ::testing::Values(TappedSession{"uls", {"uls", "get"}, "$MU,1", "Measurement Units = 1 (metres)"},
-                                           TappedSession{"ls5", {"ls5", "get"}, "#01R01",
-                                                        "sensor 01: Read the parameter 01 (Network address)"}),
-                         [](const auto& test) { return test.param.family; });
+INSTANTIATE_TEST_SUITE_P(
+    BothFamilies, TapFamily,
+    ::testing::Values(TappedSession{"uls", {"uls", "get"}, "$MU,1", "Measurement Units = 1 (metres)"},
+                      TappedSession{
+                          "ls5", {"ls5", "get"}, "#01R01", "sensor 01: Read the parameter 01 (Network address)"}),
+    [](const auto& test) { return test.param.family; });
+
+// The documents' own example exchanges, typed in: the host's request and the sensor's reply
+// through the tap, each decoded with the document's words and the reply paired with it.
+struct DocumentExchange {
+  std::string family;
+  std::string request;  // without its CR
+  std::string reply;
+  std::string request_decoded;
+  std::string reply_decoded;
+};
+void PrintTo(const DocumentExchange& exchange, std::ostream* out) { *out << exchange.request; }
+
+class TapDecode : public ::testing::TestWithParam<DocumentExchange> {};
+
+TEST_P(TapDecode, ReadsTheDocumentsExamplesAsTheyDo) {
+  const DocumentExchange& exchange = GetParam();
+  TempDir dir;
+  const std::string sensor_path = (dir.path / "sensor").string();
+  const std::string host_path = (dir.path / "host").string();
+  auto sensor = PseudoTerminal::open(sensor_path);
+  ASSERT_TRUE(sensor.ok()) << sensor.error().message;
+  Child tap(
+      {"tap", "--family", exchange.family, "--host-pty", host_path, "--sensor", sensor_path, "--format", "jsonl"});
+  ASSERT_TRUE(path_appears(host_path));
+  auto host = open_serial_link(host_path, SerialSettings{9600, Parity::none, 1});
+  ASSERT_TRUE(host.ok()) << host.error().message;
+  ASSERT_TRUE((*host)->write_all(as_bytes(exchange.request + "\r")).ok());
+  EXPECT_EQ(read_count(**sensor, exchange.request.size() + 1), exchange.request + "\r");
+  ASSERT_TRUE((*sensor)->write_all(as_bytes(exchange.reply + "\r")).ok());
+  EXPECT_EQ(read_count(**host, exchange.reply.size() + 1), exchange.reply + "\r");
+  tap.terminate();
+  std::vector<nlohmann::json> records;
+  for (std::string line = tap.read_line(); !line.empty(); line = tap.read_line()) {
+    records.push_back(nlohmann::json::parse(line, nullptr, false));
+  }
+  EXPECT_EQ(tap.wait(), 130);
+  ASSERT_EQ(records.size(), 2u);
+  EXPECT_EQ(records[0]["direction"], "host");
+  EXPECT_EQ(records[0]["raw"], exchange.request);
+  EXPECT_EQ(records[0]["decoded"], exchange.request_decoded);
+  EXPECT_EQ(records[1]["direction"], "sensor");
+  EXPECT_EQ(records[1]["raw"], exchange.reply);
+  EXPECT_EQ(records[1]["decoded"], exchange.reply_decoded);
+  EXPECT_TRUE(records[1].contains("rtt_ms")) << records[1].dump();
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Documents, TapDecode,
+    ::testing::Values(
+        // ULS §8: "ex. $MM  Get Measurement Mode", "ex. $MM,1" the reply; $ER,n and §10's error 4.
+        DocumentExchange{"uls", "$MM", "$MM,1", "get Measurement Mode", "Measurement Mode = 1 (averaging)"},
+        DocumentExchange{"uls", "$BM", "$ER,4", "get Measurement",
+                         "error 4: Lock Not Found (display \"Target Not Found\")"},
+        // LS5 §9.4: "Turn on the sensor with address 01" and "Set the median filtering for the
+        // sensor with address 02", each request with its response.
+        DocumentExchange{"ls5", "#01ON", "!01ON", "sensor 01: Turn on the sensor",
+                         "sensor 01: done: Turn on the sensor"},
+        DocumentExchange{"ls5", "#02W0B01", "!02W0B01",
+                         "sensor 02: Write the parameter: parameter 0B (Data pre-filtering type) = 01 (median "
+                         "filtering)",
+                         "sensor 02: done: Write the parameter: parameter 0B (Data pre-filtering type) = 01 (median "
+                         "filtering)"}),
+    [](const auto& test) { return test.param.family + "_" + std::to_string(test.index); });
 
 }  // namespace

@@ -69,8 +69,13 @@ std::string describe_ls5_frame(Bytes frame, Direction direction, double range_mm
                          sensor(reply->address), std::string_view(id.version_text.view()), id.lower_boundary_mm,
                          id.range_mm, id.serial_number);
     }
-    case ls5::ReplyKind::echo:
-      return sensor(reply->address) + "done: " + std::string(ls5::command_info(reply->command).name);
+    case ls5::ReplyKind::echo: {
+      std::string text = sensor(reply->address) + "done: " + std::string(ls5::command_info(reply->command).name);
+      // A write's echo repeats what was written (§9.4): said again, so a reply reads alone.
+      if (reply->command == ls5::CommandId::write_parameter)
+        text += ": " + parameter_text(reply->parameter, reply->value);
+      return text;
+    }
   }
   return "";
 }
