@@ -318,6 +318,50 @@ TEST(UlsDriver, MeasureCollectsAWholeBinningArray) {
   EXPECT_EQ(sample->device, "uls");
 }
 
+// A bus poll measures each unit in turn: the settings a BM line reads by (MM, DM, MU, TB)
+// are read from each unit once, kept across set_address, and read again after a set of one.
+TEST(UlsDriver, MeasureReadsEachUnitsSettingsOnceUntilASetChangesThem) {
+  std::mutex mutex;
+  std::map<std::string, int> asked;
+  Rig rig([&](const std::string& request) -> std::string {
+    {
+      const std::lock_guard lock(mutex);
+      ++asked[request];
+    }
+    if (request.size() < 3 || request[0] != '#') return "";
+    const std::string unit = request.substr(0, 2);  // "#A"
+    const std::string mnemonic = request.substr(2);
+    if (mnemonic == "BM") return unit + "BM,7.000,12345\r";
+    if (mnemonic == "MU,0") return unit + "OK\r";
+    const std::string reply = typical_reply("$" + mnemonic);
+    return reply.empty() ? "" : unit + reply.substr(1);
+  });
+  const auto asked_for = [&](const std::string& request) {
+    const std::lock_guard lock(mutex);
+    return asked[request];
+  };
+  for (int round = 0; round < 3; ++round) {
+    for (const char unit : {'A', 'B'}) {
+      ASSERT_TRUE(rig.driver->set_address(static_cast<std::uint8_t>(unit)));
+      auto sample = rig.driver->measure();
+      ASSERT_TRUE(sample) << sample.error().message;
+      EXPECT_DOUBLE_EQ(sample->get(channel::distance_m).value_or(0), 7.0);
+    }
+  }
+  EXPECT_EQ(asked_for("#ABM"), 3);
+  for (const char* setting : {"#AMM", "#ADM", "#AMU", "#ATB", "#BMM", "#BDM", "#BMU", "#BTB"}) {
+    EXPECT_EQ(asked_for(setting), 1) << setting;
+  }
+  // A set of one of them through the driver: that unit is read again, the other is not.
+  ASSERT_TRUE(rig.driver->set_address(static_cast<std::uint8_t>('A')));
+  ASSERT_TRUE(rig.driver->set("MU", "0"));
+  ASSERT_TRUE(rig.driver->measure());
+  ASSERT_TRUE(rig.driver->set_address(static_cast<std::uint8_t>('B')));
+  ASSERT_TRUE(rig.driver->measure());
+  EXPECT_EQ(asked_for("#AMM"), 2);
+  EXPECT_EQ(asked_for("#BMM"), 1);
+}
+
 std::vector<StreamItem> take(SampleSource& source, std::size_t samples) {
   std::vector<StreamItem> items;
   std::size_t seen = 0;

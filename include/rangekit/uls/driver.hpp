@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -293,6 +294,9 @@ class Driver final {
   DriverCounters counters_;
   MeasurementContext context_;
   bool context_known_ = false;  // context_ was read from this unit and no set has changed it since
+  // The same for each unit this driver has read (key: its address, -1 for '$'), kept across
+  // set_address, so a bus poll reads MM/DM/MU/TB once per unit rather than before every BM.
+  std::map<int, MeasurementContext> unit_contexts_;
   std::optional<Units> units_;
   std::vector<TargetHit> partial_targets_;  // one binning array being collected; storage reused
   std::deque<std::string> recent_sent_;     // the last few requests without CR, to recognise echoes (U67)

@@ -138,7 +138,10 @@ Status Driver::set_address(std::optional<std::uint8_t> address) {
   if (streaming_) return make_error(Errc::unsupported, "cannot change the address while streaming");
   options_.address = address;
   units_.reset();
-  context_known_ = false;  // another unit
+  // Another unit: known when this driver has read it and changed nothing of it since.
+  const auto known = unit_contexts_.find(address ? *address : -1);
+  context_known_ = known != unit_contexts_.end();
+  if (context_known_) context_ = known->second;
   return ok_status();
 }
 
@@ -162,6 +165,7 @@ Status Driver::replace_transport(TransportPtr transport) {
   {
     std::lock_guard lock(state_mutex_);
     context_known_ = false;  // perhaps another unit, or the same one reconfigured
+    unit_contexts_.clear();
   }
   std::lock_guard lock(transport_mutex_);
   transport_ = std::move(transport);
@@ -466,6 +470,7 @@ Status Driver::set(std::string_view mnemonic, std::span<const std::string_view> 
   if (changes_context(command->mnemonic)) {
     std::lock_guard lock(state_mutex_);
     context_known_ = false;  // read again before the next line is decoded (U85)
+    unit_contexts_.erase(options_.address ? *options_.address : -1);
   }
   return ok_status();
 }
@@ -506,6 +511,7 @@ Status Driver::broadcast(std::string_view mnemonic, std::span<const std::string_
   if (written && changes_context(command->mnemonic)) {
     std::lock_guard lock(state_mutex_);
     context_known_ = false;  // read again before the next line is decoded (U85)
+    unit_contexts_.clear();  // every unit heard it
   }
   return written;
 }

@@ -96,8 +96,15 @@ Status Driver::save() { return action("SU"); }
 
 Result<Sample> Driver::measure() {
   if (streaming_) return make_error(Errc::unsupported, "measure() while streaming: read the stream instead");
-  auto context = read_context();
-  if (!context) return context.error();
+  bool known = false;
+  {
+    std::lock_guard lock(state_mutex_);
+    known = context_known_;
+  }
+  // The settings a BM line reads by, from the unit once; a set through this driver forgets them.
+  if (!known) {
+    if (auto context = read_context(); !context) return context.error();
+  }
   Sample sample;
   auto done = transact(*find_command("BM"), {}, Expect::measurement, 1, options_.measure_timeout, &sample);
   if (!done) return done.error();
@@ -264,6 +271,7 @@ Result<MeasurementContext> Driver::read_context() {
   std::lock_guard lock(state_mutex_);
   context_ = context;
   context_known_ = true;
+  unit_contexts_[options_.address ? *options_.address : -1] = context;
   return context;
 }
 
