@@ -157,7 +157,7 @@ TEST(UlsFirmware, BaudChangeTakesEffectAfterTheOk) {
   unit.send(universal_port, "$BR,1,9600\r");
   // The $OK still leaves at 115200 ...
   EXPECT_EQ(unit.firmware->port_settings(universal_port).baud, 115200U);
-  unit.run(1ms);
+  unit.run(3ms);  // 11 request bytes at 115200, the 1 ms turnaround, "$OK\r"
   EXPECT_EQ(unit.text(universal_port), "$OK\r");
   // ... and the port runs at 9600 from then on.
   EXPECT_EQ(unit.firmware->port_settings(universal_port).baud, 9600U);
@@ -166,8 +166,11 @@ TEST(UlsFirmware, BaudChangeTakesEffectAfterTheOk) {
   const Nanos sent = unit.now;
   unit.run(20ms);
   const auto bytes = unit.take(universal_port);
-  ASSERT_EQ(bytes.size(), 6U);  // "$MM,1\r": 6 characters at 1.2 ms each (U19)
-  EXPECT_EQ(bytes.back().done - sent, 6 * 1200us);
+  ASSERT_EQ(bytes.size(), 6U);
+  // "$MM\r" crosses the line (4 bytes of 10 bits at 9600), the unit turns round (1 ms, U133),
+  // then "$MM,1\r" leaves at 1.2 ms a character (U19).
+  const Nanos request = 4 * Nanos(10'000'000'000LL / 9600);
+  EXPECT_EQ(bytes.back().done - sent, request + 1ms + 6 * 1200us);
   EXPECT_EQ(unit.ask("$BR,1"), "$BR,1,9600");
 }
 

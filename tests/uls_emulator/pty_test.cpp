@@ -44,7 +44,8 @@ struct Bus {
     EXPECT_TRUE(host->write_all(as_bytes(command)));
     EXPECT_TRUE(host->write_all(as_bytes("\r")));
     EXPECT_TRUE(runtime->step(0ns));
-    EXPECT_TRUE(runtime->advance_to(runtime->now() + 20ms));
+    // At 9600 baud a 6-byte request, the 1 ms turnaround and an 11-byte reply take 20.5 ms (U19, U133).
+    EXPECT_TRUE(runtime->advance_to(runtime->now() + 40ms));
     return read_lines(*host, lines, lines == 0 ? 50ms : 500ms);
   }
 };

@@ -22,6 +22,7 @@ struct SimUlsOptions {
   std::string config_port;  // configuration port symlink
   std::string bus;          // RS-485 bus symlink
   std::vector<std::string> addresses;
+  double turnaround_ms = 1.0;
 };
 
 // "Z", "0x5A" or "unassigned" (factory address 0, U3).
@@ -108,6 +109,8 @@ int run(const SimUlsOptions& options) {
     unit_options.seed = seed;
     unit_options.address = address;
     unit_options.scene = scene;
+    unit_options.turnaround =
+        std::chrono::duration_cast<Nanos>(std::chrono::duration<double, std::milli>(options.turnaround_ms));
     units.push_back(std::make_unique<Firmware>(std::move(unit_options)));
   };
   std::vector<LineConfig> lines;
@@ -166,6 +169,10 @@ void add_sim_uls(CLI::App& sim, int& exit_code) {
   command->add_option("--bus", options->bus, "symlink to one RS-485 pty shared by the --address units");
   command->add_option("--address", options->addresses,
                       "unit address: one character 0x30-0xEF, 0xNN, or 'unassigned' (repeat for a --bus)");
+  command
+      ->add_option("--turnaround-ms", options->turnaround_ms,
+                   "from a request's last byte to the reply's first (default 1; the document states none)")
+      ->check(CLI::Range(0.0, 100.0));
   add_common_sim_options(*command, options->common);
   command->callback([options, &exit_code] { exit_code = run(*options); });
 }

@@ -51,6 +51,9 @@ void Firmware::take_line_output(std::size_t port, Nanos now, std::vector<LineByt
 void Firmware::receive(std::size_t port, std::uint8_t byte, Nanos now) {
   if (port >= ports_.size()) return;
   advance(now);
+  // 10 bits a byte (a host's 8N1) at the port's baud, one byte after the other.
+  const Nanos byte_time(10'000'000'000LL / settings_.baud[port]);
+  ports_[port].received_at = std::max(now, ports_[port].received_at) + byte_time;
   if (ports_[port].overrun && continue_overrun(port, byte, now)) return;
   auto& input = ports_[port].input;
   input.push_back(byte);
@@ -106,7 +109,8 @@ bool Firmware::continue_overrun(std::size_t port, std::uint8_t byte, Nanos now) 
 
 void Firmware::reply(std::size_t port, bool silent, const Result<FrameText>& frame, Nanos now) {
   if (silent || !frame) return;
-  ports_[port].pacer.send(frame->bytes(), now);
+  // A reply starts once the request has crossed the line and the unit has turned round (U133).
+  ports_[port].pacer.send(frame->bytes(), std::max(now, ports_[port].received_at + options_.turnaround));
 }
 
 void Firmware::reply_values(std::size_t port, Address to, bool silent, std::string_view mnemonic,

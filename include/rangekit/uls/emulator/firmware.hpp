@@ -68,6 +68,9 @@ struct FirmwareOptions {
   std::uint32_t seed = 1;               // noise of this unit
   std::optional<std::uint8_t> address;  // installed address (factory default otherwise 0)
   Scene scene = default_scene();
+  // From a request's last byte on the wire to its reply's first: the document states none,
+  // so the emulator takes 1 ms, as RS-485 units typically answer (docs/conformance.md U133).
+  Nanos turnaround{1'000'000};
 };
 
 // What the control socket reads as the unit's outputs (docs/emulator-uls.md).
@@ -126,6 +129,9 @@ class Firmware final : public DeviceModel {
     // A line that overran the 64-byte receive buffer (U78), lost up to its CR: the start
     // byte and, for '#', the address byte, which decide who answers error 25.
     std::optional<std::array<std::uint8_t, 2>> overrun;
+    // When the last byte read would have finished arriving on a real line: a pty hands a
+    // request over at once, the line takes 10 bits a byte at its baud (U133).
+    Nanos received_at{0};
   };
   struct PulseReturn {
     double distance_m = 0;
