@@ -534,6 +534,23 @@ void add_tap_throughput_row(GoalTable& table, const char* name) {
              *tapped >= goal_mbps});
 }
 
+// RS-485 polling (bench/uls_bus_bench.cpp): unit polls (US and BM) a second against the wire's
+// minimum for the same bytes and turnarounds, same run; goal: at least 85 % of it.
+void add_bus_poll_row(GoalTable& table, int units, int baud) {
+  const std::string name =
+      "BM_UlsBusPoll/" + std::to_string(units) + "/" + std::to_string(baud) + "/iterations:1/real_time";
+  const auto polls = table.value(name.c_str(), "unit_polls_per_s");
+  const auto wire = table.value(name.c_str(), "wire_polls_per_s");
+  const auto efficiency = table.value(name.c_str(), "efficiency");
+  const auto failed = table.value(name.c_str(), "failed");
+  if (!polls || !wire || !efficiency || !failed) return;
+  table.add({"RS-485 poll: " + std::to_string(units) + " ULS at " + std::to_string(baud) + " baud, US+BM each",
+             text_of("%.1f unit polls/s", *polls) + text_of(" (%.0f %% of the wire", 100.0 * *efficiency) +
+                 text_of(", %.0f failed)", *failed),
+             text_of("wire minimum: %.1f/s", *wire), 0.85 / *efficiency, ">= 85 % of the wire",
+             *efficiency >= 0.85 && *failed == 0});
+}
+
 // Emulator pacing (L78): against a minimal absolute-deadline writer, and its CPU against the
 // baseline loop of bench/filed_emulator_loop.hpp (no more), same run; the present loop
 // rounded to whole milliseconds is shown beside it (bench/emulator_pacing_bench.cpp).
@@ -637,6 +654,9 @@ int main(int argc, char** argv) {
                   "modbus: serve --demo, 32 clients at 100 Hz", false);
   add_tap_rows(table, "BM_TapAddedLatency/iterations:1/real_time");
   add_tap_throughput_row(table, "BM_TapThroughput/iterations:1/real_time");
+  for (const int baud : {9600, 115200}) {
+    for (const int units : {16, 32}) add_bus_poll_row(table, units, baud);
+  }
   add_postgres_rows(table, "BM_PostgresSinkTwoLs5At1kHz/iterations:1/real_time");
   table.print();
   benchmark::Shutdown();
