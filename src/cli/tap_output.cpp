@@ -52,7 +52,7 @@ std::vector<std::string> TapOutput::add(const record::SerialChunk& chunk) {
   }
   std::vector<std::string> out;
   const CliFamily* found = guess_->add(chunk);
-  if (recording_started_) {
+  if (waited_too_long_) {
     record(chunk);  // past the limit: the recording goes on without waiting
   } else {
     pending_bytes_ += chunk.bytes.size();
@@ -61,10 +61,12 @@ std::vector<std::string> TapOutput::add(const record::SerialChunk& chunk) {
   if (found != nullptr) {
     note_(fmt::format("the traffic is {}", found->label));
     decided(*found, nullptr, out);
-  } else if (!recording_started_ && pending_bytes_ > pending_limit) {
-    note_(fmt::format("no family told apart in the first {} bytes ({}); recording on without decoding, "
-                      "or give --family",
-                      pending_bytes_, guess_->summary()));
+  } else if (!waited_too_long_ && pending_bytes_ > pending_limit) {
+    waited_too_long_ = true;
+    note_(
+        fmt::format("no family told apart in the first {} bytes ({}); forwarding and recording them "
+                    "undecoded, still listening (--family names it)",
+                    pending_bytes_, guess_->summary()));
     start_recording(nullptr);
     for (const record::SerialChunk& waiting : pending_) record(waiting);
     pending_.clear();

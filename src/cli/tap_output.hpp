@@ -48,6 +48,7 @@ class TapOutput {
   TapOutputSettings settings_;
   std::ostream* recording_;
   bool recording_started_ = false;
+  bool waited_too_long_ = false;  // past pending_limit undecided: chunks no longer wait
   const CliFamily* family_ = nullptr;
   std::optional<TapReport> report_;
   std::optional<FamilyGuess> guess_;
