@@ -167,7 +167,7 @@ std::optional<std::size_t> Sink::Impl::drain_once(std::chrono::milliseconds& bac
   const bool confirmed = outcome.kind == WriteOutcome::Kind::confirmed;
   const bool refused = outcome.kind == WriteOutcome::Kind::refused;
   if (confirmed || refused) {
-    if (auto removed = spool->remove_through(rows->back().id); !removed) {
+    if (auto removed = spool->remove(*rows); !removed) {
       const std::lock_guard lock(mutex);
       error = removed.error().message;
       return std::nullopt;

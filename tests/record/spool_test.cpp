@@ -105,4 +105,53 @@ TEST(Spool, RemovesOnlyWhatWasConfirmed) {
   EXPECT_EQ(after->front().seq, 4u);
 }
 
+// remove() counts off the sizes of the rows it is given instead of reading them back; what it
+// leaves is what a count of the file says, also when the cap dropped some of those rows
+// between the read and the removal.
+TEST(Spool, RemovingTheRowsReadLeavesTheCountsOfTheFile) {
+  TempDir dir;
+  const std::string path = dir.file("s.spool");
+  SpoolRow sample;
+  sample.sensor = "belt";
+  sample.line = "rangekit,sensor=belt seq=10i\n";
+  auto spool = Spool::open(path, Spool::row_bytes(sample) * 20);
+  ASSERT_TRUE(spool.ok()) << spool.error().message;
+  for (int i = 0; i < 9; ++i) (void)(*spool)->next_seq("belt");  // sequences from 10: equal lengths
+  const auto counted = [&] {
+    auto reopened = Spool::open(path, 1 << 20);
+    EXPECT_TRUE(reopened.ok());
+    return reopened ? (*reopened)->stats() : SpoolStats{};
+  };
+  ASSERT_TRUE((*spool)->append(rows_of(**spool, "belt", 12)).ok());
+  auto first = (*spool)->oldest(5);
+  ASSERT_TRUE(first.ok() && first->size() == 5);
+  ASSERT_TRUE((*spool)->remove(*first).ok());
+  SpoolStats stats = (*spool)->stats();
+  EXPECT_EQ(stats.rows, 7u);
+  EXPECT_EQ(stats.bytes, counted().bytes);
+  EXPECT_EQ(stats.oldest_time_ns, 1015);
+
+  // Read while the cap drops the oldest: 7 + 16 rows over a cap of 20 drop 3 of the 5 read.
+  auto second = (*spool)->oldest(5);
+  ASSERT_TRUE(second.ok() && second->size() == 5);
+  auto dropped = (*spool)->append(rows_of(**spool, "belt", 16));
+  ASSERT_TRUE(dropped.ok());
+  EXPECT_EQ(*dropped, 3u);
+  ASSERT_TRUE((*spool)->remove(*second).ok());
+  stats = (*spool)->stats();
+  const SpoolStats file = counted();
+  EXPECT_EQ(stats.rows, 18u);
+  EXPECT_EQ(stats.rows, file.rows);
+  EXPECT_EQ(stats.bytes, file.bytes);
+  EXPECT_EQ(stats.oldest_time_ns, file.oldest_time_ns);
+  EXPECT_EQ(stats.oldest_time_ns, 1020);
+
+  // Rows the spool holds before those given go too, as remove_through would; counted from the file.
+  auto rest = (*spool)->oldest(10, (*spool)->oldest(1)->front().id);
+  ASSERT_TRUE(rest.ok() && rest->size() == 10);
+  ASSERT_TRUE((*spool)->remove(*rest).ok());
+  EXPECT_EQ((*spool)->stats().rows, 7u);
+  EXPECT_EQ((*spool)->stats().bytes, counted().bytes);
+}
+
 }  // namespace

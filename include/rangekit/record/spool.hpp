@@ -50,19 +50,31 @@ class Spool {
   Result<std::vector<SpoolRow>> oldest(std::size_t max, std::int64_t after = 0);
   // The historian confirmed every row up to and including `id`.
   Status remove_through(std::int64_t id);
+  // The historian confirmed `rows`, the oldest waiting as oldest() gave them: as
+  // remove_through(rows.back().id), but their sizes come from `rows`, not from a read of the file.
+  Status remove(const std::vector<SpoolRow>& rows);
   [[nodiscard]] SpoolStats stats() const;
 
   // What one row counts toward the cap: its line and sensor plus SQLite's overhead.
   static std::uint64_t row_bytes(const SpoolRow& row) noexcept;
 
  private:
+  struct Statements;  // prepared once at open, reused by every call (spool.cpp)
+
   Spool(sqlite3* db, std::uint64_t max_bytes);
+  Status prepare();
   Status load();
   Status drop_over_cap(std::uint64_t& dropped);
+  Status count_rows();
+  // Inside a transaction: deletes the rows through `id`; `count` and `bytes` are what they
+  // are expected to free, counted again from the file when the deletion freed another number.
+  Status delete_through(std::int64_t id, std::uint64_t count, std::uint64_t bytes);
 
   mutable std::mutex mutex_;
   sqlite3* db_;
+  std::unique_ptr<Statements> statements_;
   std::uint64_t max_bytes_;
+  std::int64_t dropped_through_ = 0;  // the cap dropped every row up to this id
   std::map<std::string, std::uint64_t, std::less<>> last_seq_;
   SpoolStats stats_;
 };
