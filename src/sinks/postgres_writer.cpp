@@ -67,13 +67,14 @@ class PostgresWriter final : public Writer {
       if (auto ready = connect(); !ready) return failed(ready.error().message);
     }
     if (!staging_) {
-      // A batch never sent before goes straight into the table, as fast as psql's \copy.
-      WriteOutcome direct = transaction(copy_into_table_sql(table_), "", rows, nullptr);
+      // A batch never sent before goes straight into the table, as psql's \copy does: a COPY
+      // outside BEGIN is its own transaction, committed before it answers (no two more trips).
+      WriteOutcome direct = copy_alone(rows);
       if (ran(direct) || state_ != "23505") return direct;
       staging_ = true;  // the table has some of these rows (a crash replay): they are skipped
     }
     std::size_t inserted = 0;
-    WriteOutcome staged = transaction(copy_into_staging_sql(), insert_from_staging_sql(table_), rows, &inserted);
+    WriteOutcome staged = transaction(rows, &inserted);
     if (ran(staged) && inserted == rows.size()) staging_ = false;  // past the repeats
     return staged;
   }
@@ -81,23 +82,56 @@ class PostgresWriter final : public Writer {
  private:
   static bool ran(const WriteOutcome& outcome) { return outcome.kind == WriteOutcome::Kind::confirmed; }
 
-  // One transaction: the rows COPYed by `copy_sql`, then `then` (when given; its row count in
-  // `inserted`). Confirmed only once COMMIT succeeded; a COMMIT whose answer is lost is a
-  // failed write, sent again and absorbed by the table's key.
-  WriteOutcome transaction(const std::string& copy_sql, const std::string& then,
-                           const std::vector<record::SpoolRow>& rows, std::size_t* inserted) {
+  // The rows by one COPY into the table, committed before it answers. An answer that is lost
+  // is a failed write: the batch goes again and the table's key absorbs it.
+  WriteOutcome copy_alone(const std::vector<record::SpoolRow>& rows) {
+    state_.clear();
+    const std::string sql = copy_into_table_sql(table_);
+    PgResult copy(PQexec(connection_, sql.c_str()));
+    if (PQresultStatus(copy.get()) != PGRES_COPY_IN && PQstatus(connection_) != CONNECTION_OK) {
+      // An idle session the server ended (a restart) shows only now: once more, connected anew.
+      if (auto ready = connect(); !ready) return failed(ready.error().message);
+      copy.reset(PQexec(connection_, sql.c_str()));
+    }
+    if (PQresultStatus(copy.get()) != PGRES_COPY_IN) return outcome_of(copy.get());
+    return send_copy(rows);
+  }
+
+  // One transaction: the rows COPYed into the session's staging table, then moved into the
+  // table skipping the keys it has (their count in `inserted`); confirmed once COMMIT succeeded.
+  WriteOutcome transaction(const std::vector<record::SpoolRow>& rows, std::size_t* inserted) {
     state_.clear();
     auto begun = run("BEGIN");
     if (!ran(begun)) {
-      // An idle session the server ended (a restart) shows only now: once more, connected anew.
+      // As in copy_alone: a session the server ended shows only now.
       if (auto ready = connect(); !ready) return failed(ready.error().message);
       if (begun = run("BEGIN"); !ran(begun)) return begun;
     }
-    const PgResult copy(PQexec(connection_, copy_sql.c_str()));
+    const PgResult copy(PQexec(connection_, copy_into_staging_sql().c_str()));
     if (PQresultStatus(copy.get()) != PGRES_COPY_IN) return outcome_of(copy.get());
+    if (auto copied = send_copy(rows); !ran(copied)) return copied;
+    const PgResult moved(PQexec(connection_, insert_from_staging_sql(table_).c_str()));
+    if (PQresultStatus(moved.get()) != PGRES_COMMAND_OK) return outcome_of(moved.get());
+    *inserted = std::strtoull(PQcmdTuples(moved.get()), nullptr, 10);
+    return run("COMMIT");
+  }
+
+  // The COPY's data, in messages of copy_chunk_bytes rather than one per row (as psql sends
+  // a file), its end, and its result.
+  WriteOutcome send_copy(const std::vector<record::SpoolRow>& rows) {
+    const auto put = [&] {
+      const bool sent = PQputCopyData(connection_, chunk_.data(), static_cast<int>(chunk_.size())) == 1;
+      chunk_.clear();
+      return sent;
+    };
+    chunk_.clear();
+    bool sending = true;
     for (const record::SpoolRow& row : rows) {
-      if (PQputCopyData(connection_, row.line.data(), static_cast<int>(row.line.size())) != 1) break;
+      chunk_ += row.line;
+      if (chunk_.size() >= copy_chunk_bytes && !(sending = put())) break;
     }
+    if (sending && !chunk_.empty()) put();
+    chunk_.clear();
     // The end is sent even after a refused PQputCopyData: its result then says why.
     PQputCopyEnd(connection_, nullptr);
     PgResult refusal;  // the first result that is no success; every result is read before the next command
@@ -111,12 +145,7 @@ class PostgresWriter final : public Writer {
       if (status != PGRES_COMMAND_OK && !refusal) refusal = std::move(result);
     }
     if (refusal) return outcome_of(refusal.get());
-    if (!then.empty()) {
-      const PgResult moved(PQexec(connection_, then.c_str()));
-      if (PQresultStatus(moved.get()) != PGRES_COMMAND_OK) return outcome_of(moved.get());
-      if (inserted != nullptr) *inserted = std::strtoull(PQcmdTuples(moved.get()), nullptr, 10);
-    }
-    return run("COMMIT");
+    return {WriteOutcome::Kind::confirmed, ""};
   }
 
   WriteOutcome failed(std::string why) {
@@ -134,8 +163,11 @@ class PostgresWriter final : public Writer {
         one_line(PQresultErrorMessage(result)[0] != '\0' ? PQresultErrorMessage(result) : PQerrorMessage(connection_));
     const bool data = state_.rfind("22", 0) == 0;
     if ((data || state_ == "23505") && PQstatus(connection_) == CONNECTION_OK) {
-      const PgResult rolled_back(PQexec(connection_, "ROLLBACK"));
-      if (PQresultStatus(rolled_back.get()) != PGRES_COMMAND_OK) disconnect();
+      // A COPY alone ended its own transaction; one in BEGIN is rolled back.
+      if (PQtransactionStatus(connection_) != PQTRANS_IDLE) {
+        const PgResult rolled_back(PQexec(connection_, "ROLLBACK"));
+        if (PQresultStatus(rolled_back.get()) != PGRES_COMMAND_OK) disconnect();
+      }
       return {data ? WriteOutcome::Kind::refused : WriteOutcome::Kind::failed, why};
     }
     return failed(state_.empty() ? why : why + " (SQLSTATE " + state_ + ")");
@@ -216,6 +248,8 @@ class PostgresWriter final : public Writer {
   }
 
   static constexpr long long statement_timeout_ms = 60000;
+  static constexpr std::size_t copy_chunk_bytes = std::size_t{64} * 1024;
+  std::string chunk_;     // the COPY data message being filled
   bool staging_ = false;  // batches go through the staging table while they repeat rows
   std::string state_;     // the SQLSTATE of the last error
   std::string url_;
