@@ -7,6 +7,7 @@
 #include <cctype>
 #include <condition_variable>
 #include <filesystem>
+#include <future>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -50,6 +51,11 @@ struct Sink::Impl {
   std::uint64_t spool_dropped = 0;
   bool told_full = false;  // the spool's cap is logged once
 
+  // The drain thread's batches between two writes. A batch that filled its limit (a backlog)
+  // has the next one read while it is written, and leaves the spool while that next one is.
+  std::optional<std::vector<SpoolRow>> ahead;  // read after the last batch written
+  std::vector<SpoolRow> unremoved;             // confirmed (or refused), still in the spool
+
   std::thread intake;
   std::thread drain;
 
@@ -79,9 +85,12 @@ struct Sink::Impl {
                                                     std::chrono::duration<double>(options.batch_time).count());
     return std::clamp<std::size_t>(per_batch, 1, options.batch_rows);
   }
-  // One write of the oldest rows: how many left the spool (0: none waited), none when the
-  // write failed and waits to be retried.
+  // One write of the oldest rows: how many the historian confirmed or refused (0: none
+  // waited), none when the write failed and waits to be retried.
   std::optional<std::size_t> drain_once(std::chrono::milliseconds& backoff);
+  // Removes `unremoved` now; false (the error kept) when the spool failed, and then every row
+  // still in it is read again from the oldest.
+  bool remove_unremoved();
   SinkStats stats();
 };
 
@@ -155,22 +164,73 @@ void Sink::Impl::run_intake() {
   take_once(rows, std::chrono::milliseconds(0), true);
 }
 
+bool Sink::Impl::remove_unremoved() {
+  if (unremoved.empty()) return true;
+  auto removed = spool->remove(unremoved);
+  unremoved.clear();
+  if (removed) return true;
+  ahead.reset();
+  const std::lock_guard lock(mutex);
+  error = removed.error().message;
+  return false;
+}
+
 std::optional<std::size_t> Sink::Impl::drain_once(std::chrono::milliseconds& backoff) {
-  auto rows = spool->oldest(batch_limit());
-  if (!rows || rows->empty()) {
-    const std::lock_guard lock(mutex);
-    if (!rows) error = rows.error().message;
-    rows_ready = false;
-    return 0;
+  std::vector<SpoolRow> rows;
+  if (ahead) {
+    rows = std::move(*ahead);
+    ahead.reset();
+  } else {
+    auto read = spool->oldest(batch_limit(), unremoved.empty() ? 0 : unremoved.back().id);
+    if (read) rows = std::move(*read);
+    if (!read || rows.empty()) {
+      const bool removed = remove_unremoved();
+      const std::lock_guard lock(mutex);
+      if (!read) error = read.error().message;
+      rows_ready = false;
+      return removed ? std::optional<std::size_t>(0) : std::nullopt;
+    }
   }
-  const WriteOutcome outcome = writer->write(*rows);
+  // While the historian takes this batch, on another thread: the batch before leaves the spool
+  // and, behind a full batch, the next is read. A row still leaves only after its confirmation.
+  struct Overlap {
+    Status removed = ok_status();
+    std::optional<Result<std::vector<SpoolRow>>> next;
+  };
+  std::future<Overlap> overlap;
+  bool full = rows.size() >= batch_limit();
+  {
+    const std::lock_guard lock(mutex);
+    full = full && up;  // not while the historian is away: a failed write would discard it
+  }
+  if (full || !unremoved.empty()) {
+    overlap =
+        std::async(std::launch::async, [this, confirmed = std::move(unremoved), after = full ? rows.back().id : 0] {
+          Overlap done;
+          done.removed = spool->remove(confirmed);
+          if (after > 0) done.next = spool->oldest(batch_limit(), after);
+          return done;
+        });
+    unremoved.clear();
+  }
+  const WriteOutcome outcome = writer->write(rows);
+  std::optional<Overlap> overlapped;
+  if (overlap.valid()) overlapped = overlap.get();
+  if (overlapped && !overlapped->removed) {
+    const std::lock_guard lock(mutex);
+    error = overlapped->removed.error().message;  // those rows are read again, with this batch
+    return std::nullopt;
+  }
   const bool confirmed = outcome.kind == WriteOutcome::Kind::confirmed;
   const bool refused = outcome.kind == WriteOutcome::Kind::refused;
+  const std::size_t count = rows.size();
   if (confirmed || refused) {
-    if (auto removed = spool->remove(*rows); !removed) {
-      const std::lock_guard lock(mutex);
-      error = removed.error().message;
-      return std::nullopt;
+    if (overlapped && overlapped->next && *overlapped->next && !(*overlapped->next)->empty()) {
+      ahead = std::move(**overlapped->next);
+      unremoved = std::move(rows);  // removed while `ahead` is written, or before the drain waits
+    } else {
+      unremoved = std::move(rows);
+      if (!remove_unremoved()) return std::nullopt;
     }
   }
   const std::lock_guard lock(mutex);
@@ -178,14 +238,14 @@ std::optional<std::size_t> Sink::Impl::drain_once(std::chrono::milliseconds& bac
     if (!up) log(written == 0 && failures == 0 ? "up" : "up again, sending the spooled readings");
     up = true;
     error.clear();
-    written += rows->size();
+    written += count;
     backoff = options.backoff_min;
-    return rows->size();
+    return count;
   }
   if (refused) {
-    rejected += rows->size();
-    log("refused " + std::to_string(rows->size()) + " rows (" + outcome.why + ")");
-    return rows->size();
+    rejected += count;
+    log("refused " + std::to_string(count) + " rows (" + outcome.why + ")");
+    return count;
   }
   ++failures;
   if (up || error.empty()) log("down (" + outcome.why + "): readings wait in the spool");
@@ -196,16 +256,22 @@ std::optional<std::size_t> Sink::Impl::drain_once(std::chrono::milliseconds& bac
 
 void Sink::Impl::run_drain() {
   std::chrono::milliseconds backoff = options.backoff_min;
+  // Before any wait, rows confirmed but kept to be removed beside the next write leave the
+  // spool now; true when stopping.
+  const auto wait_for_pace = [&](Clock::time_point until) {
+    if (Clock::now() < until) remove_unremoved();
+    return wait_stopping(until);
+  };
   for (;;) {
     {
       std::unique_lock lock(mutex);
       wake.wait_for(lock, options.batch_time, [&] { return rows_ready || stopping; });
-      if (stopping) return;
+      if (stopping) break;
     }
     const auto started = Clock::now();
     const auto sent = drain_once(backoff);
     if (!sent) {
-      if (wait_stopping(Clock::now() + backoff)) return;
+      if (wait_for_pace(Clock::now() + backoff)) break;
       backoff = std::min(backoff * 2, options.backoff_max);
       continue;
     }
@@ -216,10 +282,11 @@ void Sink::Impl::run_drain() {
     // A batch short of full: no backlog, live readings. They gather for batch_time rather than
     // go at each of the intake's 20 ms transactions: five times fewer writes at the same rate.
     if (*sent < batch_limit()) pace = std::max<Clock::duration>(pace, options.batch_time);
-    if (wait_stopping(started + pace)) return;
+    if (wait_for_pace(started + pace)) break;
     const std::lock_guard lock(mutex);
     rows_ready = true;  // more may wait behind this batch
   }
+  remove_unremoved();  // confirmed rows do not wait for the next start
 }
 
 Result<std::unique_ptr<Sink>> Sink::start(hub::Hub& hub, SinkOptions options) {

@@ -1,7 +1,9 @@
 // A postgres sink on a live hub of emulators (hub/site_fixture.hpp) into a real PostgreSQL 15
 // on loopback: every reading arrives once, each sensor's seq complete; the database stopped
-// for 20 s mid-run loses nothing; a spool holding rows the table has already doubles none; a
-// wrong password is a clear error while readings wait; max_rate_hz rows carry their figures.
+// for 20 s mid-run loses nothing; a spool holding rows the table has already doubles none, of
+// one batch or two; a batch whose COPY failed stays in the spool, the batches before it gone,
+// and goes again; a wrong password is a clear error while readings wait; max_rate_hz rows
+// carry their figures.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -17,6 +19,7 @@
 #include "rangekit/sinks/sink.hpp"
 #include "sinks/copy_text.hpp"
 #include "sinks/postgres_cluster.hpp"
+#include "sinks/postgres_sql.hpp"
 #include "sinks/postgres_writer.hpp"
 #include "sinks/writer.hpp"
 
@@ -43,6 +46,33 @@ void expect_all_there_once(const sinks_test::PostgresCluster& cluster, std::uint
   EXPECT_TRUE(problem.empty()) << problem;
   EXPECT_EQ(total, static_cast<long long>(written));
   std::cout << "written " << written << ", in PostgreSQL " << total << "\n";
+}
+
+// A spool of `count` readings of "belt" (seq 1..count) where `options` will find it, as a
+// run with the database away would have left it.
+std::vector<record::SpoolRow> spool_backlog(const sinks::SinkOptions& options, int count) {
+  std::filesystem::create_directories(options.spool_dir);
+  auto backlog = record::Spool::open(
+      (std::filesystem::path(options.spool_dir) / sinks::spool_file_name(options.config)).string(), 1 << 28);
+  EXPECT_TRUE(backlog.ok()) << backlog.error().message;
+  if (!backlog) return {};
+  std::vector<record::SpoolRow> rows;
+  for (int i = 0; i < count; ++i) {
+    sinks::SinkReading reading;
+    reading.sensor = "belt";
+    reading.unit = "mm";
+    reading.value = 20 + i / 16.0;
+    reading.seq = (*backlog)->next_seq("belt");
+    reading.time_ns = 1'765'000'000'000'000'000 + static_cast<std::int64_t>(reading.seq) * 1'000'000;
+    record::SpoolRow row;
+    row.sensor = "belt";
+    row.seq = reading.seq;
+    row.time_ns = reading.time_ns;
+    row.line = sinks::encode_copy_row(reading);
+    rows.push_back(std::move(row));
+  }
+  EXPECT_TRUE((*backlog)->append(rows).ok());
+  return rows;
 }
 
 // A 30 s run, as the issue asks: the site's seven emulated sensors give about 100 readings a
@@ -120,28 +150,8 @@ TEST(SinkPostgres, ASpoolOfRowsTheTableHasDoublesNone) {
   ASSERT_TRUE(cluster.ready()) << cluster.failure;
   ls5_driver_test::TempDir spool;
   const auto options = options_for(cluster, spool);
-  std::filesystem::create_directories(options.spool_dir);
-  std::vector<record::SpoolRow> rows;
-  {
-    auto backlog = record::Spool::open(
-        (std::filesystem::path(options.spool_dir) / sinks::spool_file_name(options.config)).string(), 1 << 26);
-    ASSERT_TRUE(backlog.ok()) << backlog.error().message;
-    for (int i = 0; i < 2000; ++i) {
-      sinks::SinkReading reading;
-      reading.sensor = "belt";
-      reading.unit = "mm";
-      reading.value = 20 + i / 16.0;
-      reading.seq = (*backlog)->next_seq("belt");
-      reading.time_ns = 1'765'000'000'000'000'000 + static_cast<std::int64_t>(reading.seq) * 1'000'000;
-      record::SpoolRow row;
-      row.sensor = "belt";
-      row.seq = reading.seq;
-      row.time_ns = reading.time_ns;
-      row.line = sinks::encode_copy_row(reading);
-      rows.push_back(std::move(row));
-    }
-    ASSERT_TRUE((*backlog)->append(rows).ok());
-  }
+  const std::vector<record::SpoolRow> rows = spool_backlog(options, 2000);
+  ASSERT_EQ(rows.size(), 2000u);
   {
     // The first 1000 in the table, as the crashed run's last write left them.
     auto writer = sinks::open_postgres_writer(options);
@@ -160,6 +170,82 @@ TEST(SinkPostgres, ASpoolOfRowsTheTableHasDoublesNone) {
   EXPECT_EQ(stats.rejected, 0u);
   EXPECT_EQ(stats.spooled, 0u);
   expect_all_there_once(cluster, 2000);
+}
+
+// A backlog drains in full batches back to back: each batch is read while the one before is
+// written and leaves the spool while the one after is. A batch whose COPY fails (a trigger
+// refuses one of its rows, as a failing disk or a lock timeout would) stays in the spool
+// whole while the batches before it are gone, and goes again until it is taken.
+TEST(SinkPostgres, ABatchWhoseCopyFailedStaysInTheSpoolAndGoesAgain) {
+  sinks_test::PostgresCluster cluster;
+  ASSERT_TRUE(cluster.ready()) << cluster.failure;
+  ASSERT_TRUE(
+      cluster.admin("plant", sinks::create_table_sql("readings", false) +
+                                 "; ALTER TABLE readings OWNER TO rangekit"
+                                 "; CREATE TABLE held (seq bigint PRIMARY KEY); GRANT SELECT ON held TO rangekit"
+                                 "; INSERT INTO held VALUES (12345)"
+                                 "; CREATE FUNCTION hold_back() RETURNS trigger LANGUAGE plpgsql AS $$ BEGIN "
+                                 "IF EXISTS (SELECT 1 FROM held WHERE seq = NEW.seq) THEN "
+                                 "RAISE EXCEPTION 'seq % held back', NEW.seq; END IF; RETURN NEW; END $$"
+                                 "; CREATE TRIGGER hold_back BEFORE INSERT ON readings FOR EACH ROW "
+                                 "EXECUTE FUNCTION hold_back()"))
+      << cluster.failure;
+  ls5_driver_test::TempDir spool;
+  auto options = options_for(cluster, spool);
+  options.config.drain_rate = 1'000'000;  // batches of batch_rows (5000), back to back
+  ASSERT_EQ(spool_backlog(options, 30000).size(), 30000u);
+  hub::SiteConfig no_sensors;
+  auto hub = hub::Hub::start(no_sensors);
+  auto sink = sinks::Sink::start(*hub, options);
+  ASSERT_TRUE(sink.ok()) << sink.error().message;
+  // Seq 12345 is in the third batch (10001-15000): it fails, again and again.
+  ASSERT_TRUE(poll_until(std::chrono::seconds(30), [&] { return (*sink)->stats().failures >= 2; }))
+      << (*sink)->stats().error;
+  sinks::SinkStats stats = (*sink)->stats();
+  EXPECT_NE(stats.error.find("seq 12345 held back"), std::string::npos) << stats.error;
+  EXPECT_EQ(stats.written, 10000u);
+  EXPECT_EQ(stats.spooled, 20000u) << "the first two batches left the spool, the third and the rest wait";
+  EXPECT_EQ(cluster.value("SELECT count(*) FROM readings"), "10000");
+  ASSERT_TRUE(cluster.admin("plant", "DELETE FROM held")) << cluster.failure;
+  ASSERT_TRUE(poll_until(std::chrono::seconds(30), [&] { return (*sink)->stats().written >= 30000; }))
+      << (*sink)->stats().error;
+  (*sink)->stop();
+  stats = (*sink)->stats();
+  EXPECT_TRUE(stats.up) << stats.error;
+  EXPECT_EQ(stats.spooled, 0u);
+  EXPECT_EQ(stats.rejected, 0u);
+  expect_all_there_once(cluster, 30000);
+}
+
+// A run killed while a backlog drained: the batch it was writing and the one before it, both
+// committed, were still in the spool. Sent again, neither is doubled.
+TEST(SinkPostgres, ASpoolOfTwoBatchesTheTableHasDoublesNone) {
+  sinks_test::PostgresCluster cluster;
+  ASSERT_TRUE(cluster.ready()) << cluster.failure;
+  ls5_driver_test::TempDir spool;
+  auto options = options_for(cluster, spool);
+  options.config.drain_rate = 1'000'000;
+  const std::vector<record::SpoolRow> rows = spool_backlog(options, 12000);
+  ASSERT_EQ(rows.size(), 12000u);
+  {
+    auto writer = sinks::open_postgres_writer(options);
+    ASSERT_TRUE(writer.ok()) << writer.error().message;
+    for (const std::ptrdiff_t first : {0, 5000}) {
+      const auto written = (*writer)->write({rows.begin() + first, rows.begin() + first + 5000});
+      ASSERT_EQ(written.kind, sinks::WriteOutcome::Kind::confirmed) << written.why;
+    }
+  }
+  hub::SiteConfig no_sensors;
+  auto hub = hub::Hub::start(no_sensors);
+  auto sink = sinks::Sink::start(*hub, options);
+  ASSERT_TRUE(sink.ok()) << sink.error().message;
+  ASSERT_TRUE(poll_until(std::chrono::seconds(20), [&] { return (*sink)->stats().written >= 12000; }))
+      << (*sink)->stats().error;
+  (*sink)->stop();
+  const auto stats = (*sink)->stats();
+  EXPECT_EQ(stats.rejected, 0u);
+  EXPECT_EQ(stats.spooled, 0u);
+  expect_all_there_once(cluster, 12000);
 }
 
 // A wrong password: each write fails with libpq's own words, the readings wait in the spool,
