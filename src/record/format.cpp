@@ -1,6 +1,8 @@
 #include "rangekit/record/format.hpp"
 
 #include <algorithm>
+#include <array>
+#include <charconv>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -39,8 +41,36 @@ CivilTime civil_utc(system_clock::time_point time) {
 
 using text::append_printf;
 
-void append_unsigned(std::string& out, std::uint64_t value) { append_printf(out, "%" PRIu64, value); }
-void append_signed(std::string& out, std::int64_t value) { append_printf(out, "%" PRId64, value); }
+// Numbers by to_chars, the bytes printf writes without its format parsing: a sink formats
+// every reading of its sensors.
+template <class Integer>
+void append_integer(std::string& out, Integer value) {
+  std::array<char, 24> buffer{};
+  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  out.append(buffer.data(), end);
+}
+void append_unsigned(std::string& out, std::uint64_t value) { append_integer(out, value); }
+void append_signed(std::string& out, std::int64_t value) { append_integer(out, value); }
+
+// printf's %0*d for a value of at least 0.
+void append_zero_padded(std::string& out, int value, int width) {
+  std::array<char, 16> buffer{};
+  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  for (auto length = end - buffer.data(); length < width; ++length) out += '0';
+  out.append(buffer.data(), end);
+}
+
+// printf's %.*f: to_chars with a precision writes what printf does in the C locale.
+void append_fixed(std::string& out, double value, int decimals) {
+  std::array<char, 64> buffer{};
+  const auto [end, error] =
+      std::to_chars(buffer.data(), buffer.data() + buffer.size(), value, std::chars_format::fixed, decimals);
+  if (error == std::errc{}) {
+    out.append(buffer.data(), end);
+  } else {
+    append_printf(out, "%.*f", decimals, value);  // longer than the buffer: a value far out of any range
+  }
+}
 
 void append_json_string(std::string& out, const std::string& text) {
   out += '"';
@@ -115,7 +145,7 @@ void append_value(std::string& out, const ChannelDescriptor& channel, const Samp
       break;
   }
   if (std::isfinite(value)) {
-    append_printf(out, "%.*f", channel_decimals(channel, sample), value);
+    append_fixed(out, value, channel_decimals(channel, sample));
   } else {
     out += "null";
   }
@@ -129,7 +159,7 @@ void append_json_targets(std::string& out, const TargetList& targets) {
     first = false;
     out += "{\"distance_m\":";
     if (std::isfinite(target.distance_m)) {
-      append_printf(out, "%.4f", target.distance_m);
+      append_fixed(out, target.distance_m, 4);
     } else {
       out += "null";
     }
@@ -184,6 +214,23 @@ void append_clock_time(std::string& out, std::chrono::system_clock::time_point t
 
 void append_iso_time(std::string& out, std::chrono::system_clock::time_point time) {
   const auto civil = civil_utc(time);
+  if (civil.fields.tm_year >= -1900) {
+    append_zero_padded(out, civil.fields.tm_year + 1900, 4);
+    out += '-';
+    append_zero_padded(out, civil.fields.tm_mon + 1, 2);
+    out += '-';
+    append_zero_padded(out, civil.fields.tm_mday, 2);
+    out += 'T';
+    append_zero_padded(out, civil.fields.tm_hour, 2);
+    out += ':';
+    append_zero_padded(out, civil.fields.tm_min, 2);
+    out += ':';
+    append_zero_padded(out, civil.fields.tm_sec, 2);
+    out += '.';
+    append_zero_padded(out, civil.millis, 3);
+    out += 'Z';
+    return;
+  }
   append_printf(out, "%04d-%02d-%02dT%02d:%02d:%02d.%03dZ", civil.fields.tm_year + 1900, civil.fields.tm_mon + 1,
                 civil.fields.tm_mday, civil.fields.tm_hour, civil.fields.tm_min, civil.fields.tm_sec, civil.millis);
 }

@@ -2,6 +2,7 @@
 // PostgreSQL's float8 input takes.
 #include "sinks/copy_text.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -33,11 +34,23 @@ void append_digits(std::string& out, long long value, int width) {
   out.append(buffer.data(), end);
 }
 
+// Where the next byte COPY's text format escapes is, from `from`; text.size() when none.
+std::size_t next_copy_special(std::string_view text, std::size_t from) {
+  const auto found = std::find_if(text.begin() + static_cast<std::ptrdiff_t>(from), text.end(),
+                                  [](char c) { return c == '\\' || c == '\t' || c == '\n' || c == '\r'; });
+  return static_cast<std::size_t>(found - text.begin());
+}
+
 }  // namespace
 
 void append_copy_escaped(std::string& out, std::string_view text) {
-  for (const char c : text) {
-    switch (c) {
+  // Runs of plain bytes in one append: the escaped bytes are rare (a sample's JSON has none
+  // unless a string in it holds a quote or a control character).
+  for (std::size_t at = 0; at < text.size();) {
+    const std::size_t next = next_copy_special(text, at);
+    out.append(text, at, next - at);
+    if (next == text.size()) break;
+    switch (text[next]) {
       case '\\':
         out += "\\\\";
         break;
@@ -47,12 +60,10 @@ void append_copy_escaped(std::string& out, std::string_view text) {
       case '\n':
         out += "\\n";
         break;
-      case '\r':
-        out += "\\r";
-        break;
       default:
-        out += c;
+        out += "\\r";
     }
+    at = next + 1;
   }
 }
 
@@ -104,10 +115,15 @@ std::string encode_copy_row(const SinkReading& reading) {
   if (reading.sample == nullptr) {
     out += "\\N";
   } else {
-    std::string json;
-    record::append_jsonl(json, *reading.sample);
-    if (!json.empty() && json.back() == '\n') json.pop_back();
-    append_copy_escaped(out, json);
+    // Straight into the row; escaped in a second pass only when the JSON holds a byte to escape.
+    const std::size_t json = out.size();
+    record::append_jsonl(out, *reading.sample);
+    if (out.size() > json && out.back() == '\n') out.pop_back();
+    if (next_copy_special(out, json) != out.size()) {
+      const std::string text = out.substr(json);
+      out.resize(json);
+      append_copy_escaped(out, text);
+    }
   }
   if (reading.count == 0) {
     out += "\t\\N\t\\N\t\\N\n";
