@@ -40,7 +40,8 @@ void BM_UlsBusPoll(benchmark::State& state) {
     const std::string bus_path = (dir.path() / "bus").string();
     const auto wire_log = dir.path() / "wire.log";
     std::vector<std::string> arguments{"uls", "--bus", bus_path, "--wire-log", wire_log.string()};
-    for (const std::uint8_t address : addresses) arguments.insert(arguments.end(), {"--address", std::string(1, static_cast<char>(address))});
+    for (const std::uint8_t address : addresses)
+      arguments.insert(arguments.end(), {"--address", std::string(1, static_cast<char>(address))});
     auto sim = rangekit::bench::start_emulator(arguments, (dir.path() / "sim.log").string(), std::chrono::seconds(30));
     if (!sim) return state.SkipWithError(sim.error().message.c_str());
     auto link = rangekit::SerialPort::open(bus_path, rangekit::SerialSettings{115200});

@@ -63,10 +63,10 @@ Result<CapturedSensor> read_captured_sensor(const CaptureReplayOptions& options)
     return read.error();
   }
   if (sensor.readings.points.empty()) {
-    return make_error(Errc::invalid_frame,
-                      sensor.family.empty() ? std::string("the capture holds no samples")
-                                            : fmt::format("the capture holds no readings of {} {}", sensor.family,
-                                                          sensor.source.empty() ? "" : sensor.source));
+    return make_error(Errc::invalid_frame, sensor.family.empty()
+                                               ? std::string("the capture holds no samples")
+                                               : fmt::format("the capture holds no readings of {} {}", sensor.family,
+                                                             sensor.source.empty() ? "" : sensor.source));
   }
   return sensor;
 }
@@ -105,8 +105,7 @@ int run_capture_replay(const CaptureReplayOptions& options) {
   const std::filesystem::path dir = pattern;
   const auto scene_path = dir / "scene.toml";
   std::ofstream(scene_path) << scene->scene;
-  std::vector<std::string> arguments{std::string(family->name), "--port", options.port, "--scene",
-                                     scene_path.string()};
+  std::vector<std::string> arguments{std::string(family->name), "--port", options.port, "--scene", scene_path.string()};
   arguments.insert(arguments.end(), scene->sim_arguments.begin(), scene->sim_arguments.end());
   StopSignals signals;
   int code = exit_interrupted;

@@ -15,8 +15,9 @@ Result<CaptureScene> uls_capture_scene(const CapturedReadings& readings) {
   std::string path;
   for (const PathPoint& point : readings.points) {
     if (point.position < 0 || point.position > uls::emulator::max_scene_distance_m) {
-      return make_error(Errc::out_of_range, fmt::format("a reading of {} m at {:.6f} s is beyond the emulator's {} m",
-                                                        point.position, point.time_s, uls::emulator::max_scene_distance_m));
+      return make_error(Errc::out_of_range,
+                        fmt::format("a reading of {} m at {:.6f} s is beyond the emulator's {} m", point.position,
+                                    point.time_s, uls::emulator::max_scene_distance_m));
     }
     path += fmt::format("{}[{:.6f}, {}]", path.empty() ? "" : ", ", point.time_s, point.position);
   }
