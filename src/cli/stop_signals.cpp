@@ -14,6 +14,9 @@ StopSignals::StopSignals() {
   stop_signalled.store(false);
   struct sigaction action {};
   action.sa_handler = on_stop_signal;
+  // SA_RESTART: a write to a full stdout pipe the signal interrupts goes on instead of failing
+  // with EINTR, which fmt::print would throw as an error; the commands poll the flag anyway.
+  action.sa_flags = SA_RESTART;
   sigemptyset(&action.sa_mask);
   ::sigaction(SIGINT, &action, &previous_int_);
   ::sigaction(SIGTERM, &action, &previous_term_);
