@@ -36,6 +36,12 @@ struct FrameDecoder {
   // bytes its framer delimits: how `tap` tells the family from the traffic.
   std::function<bool(Bytes frame)> known;
 };
+// One side of a conversation being read: its decoder and the bytes of its unfinished frame.
+struct DecodingSide {
+  FrameDecoder decoder;
+  FrameAssembler assembler;
+  explicit DecodingSide(FrameDecoder d) : decoder(std::move(d)), assembler(decoder.scan, 4096) {}
+};
 // Built once the command line is parsed, for the side that sent the bytes.
 using DecoderFactory = std::function<FrameDecoder(Direction sender)>;
 

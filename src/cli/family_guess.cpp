@@ -9,14 +9,15 @@ namespace rangekit::cli {
 FamilyGuess::FamilyGuess(std::span<const CliFamily* const> families) {
   candidates_.reserve(families.size());
   for (const CliFamily* family : families) {
-    candidates_.push_back(Candidate{family, Side(default_decoder(*family, Direction::to_device)),
-                                    Side(default_decoder(*family, Direction::from_device))});
+    const DecoderFactory decoders = default_decoders(*family);
+    candidates_.push_back(Candidate{family, DecodingSide(decoders(Direction::to_device)),
+                                    DecodingSide(decoders(Direction::from_device))});
   }
 }
 
 const CliFamily* FamilyGuess::add(const record::SerialChunk& chunk) {
   for (Candidate& candidate : candidates_) {
-    Side& side = chunk.sender == record::Sender::host ? candidate.host : candidate.sensor;
+    DecodingSide& side = chunk.sender == record::Sender::host ? candidate.host : candidate.sensor;
     FrameAssembler::Event event;
     feed_all(side.assembler, as_bytes(chunk.bytes), [&] {
       while (side.assembler.next(event)) {

@@ -27,15 +27,10 @@ class FamilyGuess {
   [[nodiscard]] std::string summary() const;
 
  private:
-  struct Side {
-    FrameDecoder decoder;
-    FrameAssembler assembler;
-    explicit Side(FrameDecoder d) : decoder(std::move(d)), assembler(decoder.scan, 4096) {}
-  };
   struct Candidate {
     const CliFamily* family;
-    Side host;
-    Side sensor;
+    DecodingSide host;
+    DecodingSide sensor;
     int understood = 0;
     int failed = 0;  // frames not understood and runs of bytes its framer rejected
     [[nodiscard]] int score() const noexcept { return understood - 2 * failed; }

@@ -123,7 +123,7 @@ void TapReport::rejected(record::Sender sender, std::chrono::system_clock::time_
 
 std::vector<std::string> TapReport::add(const record::SerialChunk& chunk) {
   std::vector<std::string> out;
-  Side& side = chunk.sender == record::Sender::host ? host_ : sensor_;
+  DecodingSide& side = chunk.sender == record::Sender::host ? host_ : sensor_;
   FrameAssembler::Event event;
   feed_all(side.assembler, as_bytes(chunk.bytes), [&] {
     for (;;) {
@@ -149,7 +149,7 @@ std::vector<std::string> TapReport::finish() {
   std::vector<std::string> out;
   if (stream_since_) stream_summary(std::chrono::system_clock::now(), true, out);
   for (const auto sender : {record::Sender::host, record::Sender::sensor}) {
-    Side& side = sender == record::Sender::host ? host_ : sensor_;
+    DecodingSide& side = sender == record::Sender::host ? host_ : sensor_;
     if (side.assembler.buffered() > 0) {
       rejected(sender, std::chrono::system_clock::now(), side.assembler.buffered(), "the frame never ended",
                as_text(side.assembler.pending()), out);

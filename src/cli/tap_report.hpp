@@ -36,11 +36,6 @@ class TapReport {
   [[nodiscard]] const TapCounts& counts() const noexcept { return counts_; }
 
  private:
-  struct Side {
-    FrameDecoder decoder;
-    FrameAssembler assembler;
-    explicit Side(FrameDecoder d) : decoder(std::move(d)), assembler(decoder.scan, 4096) {}
-  };
   void frame(record::Sender sender, std::chrono::system_clock::time_point time, Bytes bytes,
              std::vector<std::string>& out);
   void rejected(record::Sender sender, std::chrono::system_clock::time_point time, std::size_t count,
@@ -48,8 +43,8 @@ class TapReport {
   void stream_summary(std::chrono::system_clock::time_point now, bool last, std::vector<std::string>& out);
   [[nodiscard]] std::string prefix(record::Sender sender, std::chrono::system_clock::time_point time) const;
 
-  Side host_;
-  Side sensor_;
+  DecodingSide host_;
+  DecodingSide sensor_;
   TapFormat format_;
   std::uint64_t every_;
   bool colour_;

@@ -7,13 +7,15 @@
 #include <array>
 
 #include "ls5/cli/ls5_cli.hpp"
+#include "rangekit/ls5/emulator/firmware.hpp"
 
 namespace rangekit::cli {
 namespace {
 
-constexpr double lower_boundary_mm = 8.1234;  // the emulator's own default
+const double lower_boundary_mm = ls5::emulator::FirmwareConfig{}.lower_boundary_mm;  // the emulator's own
 // The emulator's default range first (the demos'), then the catalogue's.
-constexpr std::array ranges_mm{40.001, 2.0, 5.0, 10.0, 25.0, 50.0, 100.0, 250.0, 500.0, 1000.0, 2000.0};
+const std::array ranges_mm{
+    ls5::emulator::FirmwareConfig{}.range_mm, 2.0, 5.0, 10.0, 25.0, 50.0, 100.0, 250.0, 500.0, 1000.0, 2000.0};
 
 }  // namespace
 
