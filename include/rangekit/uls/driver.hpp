@@ -297,6 +297,7 @@ class Driver final {
   // The same for each unit this driver has read (key: its address, -1 for '$'), kept across
   // set_address, so a bus poll reads MM/DM/MU/TB once per unit rather than before every BM.
   std::map<int, MeasurementContext> unit_contexts_;
+  static int context_key(std::optional<std::uint8_t> address) noexcept { return address ? *address : -1; }
   std::optional<Units> units_;
   std::vector<TargetHit> partial_targets_;  // one binning array being collected; storage reused
   std::deque<std::string> recent_sent_;     // the last few requests without CR, to recognise echoes (U67)

@@ -139,7 +139,7 @@ Status Driver::set_address(std::optional<std::uint8_t> address) {
   options_.address = address;
   units_.reset();
   // Another unit: known when this driver has read it and changed nothing of it since.
-  const auto known = unit_contexts_.find(address ? *address : -1);
+  const auto known = unit_contexts_.find(context_key(address));
   context_known_ = known != unit_contexts_.end();
   if (context_known_) context_ = known->second;
   return ok_status();
@@ -470,7 +470,7 @@ Status Driver::set(std::string_view mnemonic, std::span<const std::string_view> 
   if (changes_context(command->mnemonic)) {
     std::lock_guard lock(state_mutex_);
     context_known_ = false;  // read again before the next line is decoded (U85)
-    unit_contexts_.erase(options_.address ? *options_.address : -1);
+    unit_contexts_.erase(context_key(options_.address));
   }
   return ok_status();
 }

@@ -271,7 +271,7 @@ Result<MeasurementContext> Driver::read_context() {
   std::lock_guard lock(state_mutex_);
   context_ = context;
   context_known_ = true;
-  unit_contexts_[options_.address ? *options_.address : -1] = context;
+  unit_contexts_[context_key(options_.address)] = context;
   return context;
 }
 
