@@ -35,11 +35,9 @@ double median_of(std::array<double, SpikeCheck::window>& values, std::size_t siz
 }  // namespace
 
 double SpikeCheck::Level::median() const {
-  if (!median_) {
-    std::array<double, window> copy = values;
-    median_ = median_of(copy, size);
-  }
-  return *median_;
+  if (size == 0) return 0;
+  const std::size_t middle = size / 2;
+  return size % 2 == 1 ? sorted[middle] : (sorted[middle] + sorted[middle - 1]) / 2;
 }
 
 void SpikeCheck::Level::push(double value) {
@@ -49,10 +47,19 @@ void SpikeCheck::Level::push(double value) {
     mean_deviation += (std::abs(value - values[(next + window - 1) % window]) / std::sqrt(2.0) - mean_deviation) /
                       static_cast<double>(size + 1);  // until the level is known: from successive readings
   }
+  // The sorted copy follows the window: the oldest value out, the new one in at its place.
+  auto end = sorted.begin() + static_cast<std::ptrdiff_t>(size);
+  if (size == window) {
+    const auto oldest = std::lower_bound(sorted.begin(), end, values[next]);
+    std::move(oldest + 1, end, oldest);
+    --end;
+  }
+  const auto at = std::upper_bound(sorted.begin(), end, value);
+  std::move_backward(at, end, end + 1);
+  *at = value;
   values[next] = value;
   next = (next + 1) % window;
   size = std::min(size + 1, window);
-  median_.reset();
 }
 
 // `held` is a spike when it is further than the allowance from the level of the readings

@@ -54,12 +54,11 @@ class SpikeCheck {
     // The readings' spread: an exponential mean of their distance from the level, over about
     // 128 readings (a spread taken from the window alone is too often far too small).
     double mean_deviation = 0;
+    // The window's values in order, kept as each reading comes (a shift of at most 101
+    // doubles): the median is read off, where sorting the window cost a microsecond a reading.
+    std::array<double, window> sorted{};
     void push(double value);
-    // The median of the window: judging a reading and pushing it both need it, once a reading.
     [[nodiscard]] double median() const;
-
-   private:
-    mutable std::optional<double> median_;  // until the next push
   };
   struct Stream {
     Level level;
