@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -62,17 +63,27 @@ const char* unit_symbol(Unit unit) noexcept {
 
 int decimals_of_step(double step) noexcept {
   if (!std::isfinite(step) || step <= 0) return -1;
+  // Every reading of a stream asks with its sensor's one step: the last answer is kept per
+  // thread, as a log10 a reading for each client was a visible part of a busy service.
+  thread_local double last_step = 0;
+  thread_local int last_decimals = -1;
+  if (step == last_step) return last_decimals;
   const double digits = std::ceil(-std::log10(step) - 1e-9);
-  return std::clamp(static_cast<int>(digits), 0, 9);
+  last_step = step;
+  last_decimals = std::clamp(static_cast<int>(digits), 0, 9);
+  return last_decimals;
 }
 
 // Through the text a stream prints ("%.4f"), so a figure and a sample of the same value
 // read the same: 24.845 with 2 decimals is 24.84 in both (it is 24.84499... in binary).
 double rounded_to(double value, int decimals) noexcept {
   if (decimals < 0 || !std::isfinite(value)) return value;
-  std::array<char, 64> text{};
-  std::snprintf(text.data(), text.size(), "%.*f", decimals, value);
-  return std::strtod(text.data(), nullptr);
+  std::array<char, 352> text{};  // the longest fixed text of a double, 9 decimals
+  const auto written = std::to_chars(text.data(), text.data() + text.size(), value, std::chars_format::fixed, decimals);
+  if (written.ec != std::errc{}) return value;
+  double rounded = value;
+  std::from_chars(text.data(), written.ptr, rounded);
+  return rounded;
 }
 
 std::optional<double> metres_per(Unit unit) noexcept {
