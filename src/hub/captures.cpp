@@ -25,32 +25,25 @@ namespace rangekit::hub {
 struct CaptureManager::Running {
   mutable std::mutex mutex;  // guards info
   CaptureInfo info;
-  std::vector<SubscriptionPtr> subscriptions;
+  SubscriptionPtr subscription;  // its sensors' items, or every sensor's
   std::unique_ptr<record::CaptureSink> sink;
   std::atomic<bool> stopping{false};
   std::thread writer;
   std::array<std::mutex, 4> converting;  // per DownloadFormat: one conversion of a stopped capture at a time
 
   void run() {
-    // One subscription per sensor (or one for all); each drained in turn.
     while (!stopping.load()) {
-      bool wrote = false;
-      for (const SubscriptionPtr& subscription : subscriptions) {
-        const auto batch = subscription->take(4096, std::chrono::milliseconds(subscriptions.size() == 1 ? 100 : 20));
-        wrote = write(batch) || wrote;
-      }
+      const bool wrote = write(subscription->take(4096, std::chrono::milliseconds(100)));
       if (!wrote && failed()) break;
     }
-    for (const SubscriptionPtr& subscription : subscriptions) {
-      subscription->close();
-      write(subscription->take(SIZE_MAX, std::chrono::milliseconds(0)));  // what was queued still goes in
-    }
+    subscription->close();
+    write(subscription->take(SIZE_MAX, std::chrono::milliseconds(0)));  // what was queued still goes in
     Status flushed = sink->flush();
     // Closed here, not at the service's exit: closing folds SQLite's write-ahead log into the
     // .sqlite file and marks the session ended, so a download of the stopped capture is whole.
     sink.reset();
     std::lock_guard lock(mutex);
-    for (const SubscriptionPtr& subscription : subscriptions) info.lost = subscription->lost();
+    info.lost = subscription->lost();
     if (!flushed && info.error.empty()) info.error = flushed.error().message;
   }
 
@@ -90,9 +83,7 @@ struct CaptureManager::Running {
   CaptureInfo snapshot() const {
     std::lock_guard lock(mutex);
     CaptureInfo copy = info;
-    std::uint64_t lost = 0;
-    for (const SubscriptionPtr& subscription : subscriptions) lost += subscription->lost();
-    copy.lost = std::max(copy.lost, lost);
+    copy.lost = std::max(copy.lost, subscription->lost());
     return copy;
   }
 };
@@ -270,13 +261,8 @@ Result<CaptureInfo> CaptureManager::start(const std::vector<std::string>& sensor
   running->sink = std::move(*sink);
   // Subscribed before the first item: a capture holds a minute at 1 kHz before it loses any.
   const std::size_t capacity = 65536;
-  if (sensors.empty()) {
-    running->subscriptions.push_back(*hub_.subscribe("", capacity, OverflowPolicy::drop_oldest));
-  } else {
-    for (const std::string& name : sensors) {
-      running->subscriptions.push_back(*hub_.subscribe(name, capacity, OverflowPolicy::drop_oldest));
-    }
-  }
+  // One queue for all its sensors: the writer waits on one queue, not on each sensor's in turn.
+  running->subscription = *hub_.subscribe(sensors, capacity, OverflowPolicy::drop_oldest);
   Running* raw = running.get();
   running->writer = std::thread([raw] { raw->run(); });
   captures_.push_back(std::move(running));

@@ -5,36 +5,55 @@
 namespace rangekit::hub {
 
 Subscription::Subscription(std::string sensor_filter, std::size_t capacity, OverflowPolicy policy)
-    : filter_(std::move(sensor_filter)), capacity_(std::max<std::size_t>(capacity, 1)), policy_(policy) {}
+    : Subscription(
+          sensor_filter.empty() ? std::vector<std::string>{} : std::vector<std::string>{std::move(sensor_filter)},
+          capacity, policy) {}
 
-bool Subscription::offer(const HubItemPtr& item) {
+Subscription::Subscription(std::vector<std::string> sensors, std::size_t capacity, OverflowPolicy policy)
+    : sensors_(std::move(sensors)), capacity_(std::max<std::size_t>(capacity, 1)), policy_(policy) {
+  std::sort(sensors_.begin(), sensors_.end());
+}
+
+bool Subscription::wants(std::string_view sensor) const noexcept {
+  return sensors_.empty() || std::binary_search(sensors_.begin(), sensors_.end(), sensor, std::less<>{});
+}
+
+bool Subscription::offer(const HubItemPtr& item) { return offer_all(std::span<const HubItemPtr>(&item, 1)); }
+
+bool Subscription::offer_all(std::span<const HubItemPtr> items) { return offer(items, true); }
+
+bool Subscription::offer_wanted(std::span<const HubItemPtr> items) { return offer(items, false); }
+
+bool Subscription::offer(std::span<const HubItemPtr> items, bool filtered) {
   bool open = true;
   bool woke = false;
   std::function<void()> listener;
   {
     std::lock_guard lock(mutex_);
     if (closed_) return false;
-    if (!filter_.empty() && item->sensor != filter_) return true;
-    woke = items_.empty();
-    if (items_.size() >= capacity_) {
-      ++lost_;
-      if (policy_ == OverflowPolicy::cut_off) {
-        closed_ = true;
-        cut_off_ = true;
-        open = false;
-      } else {
+    const bool was_empty = items_.empty();
+    for (const HubItemPtr& item : items) {
+      if (filtered && !wants(item->sensor)) continue;
+      if (items_.size() >= capacity_) {
+        ++lost_;
+        if (policy_ == OverflowPolicy::cut_off) {
+          closed_ = true;
+          cut_off_ = true;
+          open = false;
+          break;
+        }
         items_.pop_front();
-        items_.push_back(item);
       }
-    } else {
       items_.push_back(item);
     }
+    // A reader waits only for an empty queue to fill: the items after the first find it awake.
+    woke = was_empty && !items_.empty();
     if (woke || !open) listener = listener_;
   }
-  if (open) {
-    ready_.notify_one();
-  } else {
+  if (!open) {
     ready_.notify_all();  // the reader learns it was cut off
+  } else if (woke) {
+    ready_.notify_one();
   }
   if (listener) listener();
   return open;
@@ -99,11 +118,32 @@ SubscriptionPtr Fanout::subscribe(std::string sensor_filter, std::size_t capacit
   return subscription;
 }
 
-void Fanout::publish(const HubItemPtr& item) {
+SubscriptionPtr Fanout::subscribe(std::vector<std::string> sensors, std::size_t capacity, OverflowPolicy policy) {
+  auto subscription = std::make_shared<Subscription>(std::move(sensors), capacity, policy);
   std::lock_guard lock(mutex_);
-  // Subscriptions only take the item under their own short lock: no subscriber can hold this up.
+  subscriptions_.push_back(subscription);
+  return subscription;
+}
+
+void Fanout::publish(const HubItemPtr& item) { publish_all(std::span<const HubItemPtr>(&item, 1)); }
+
+void Fanout::publish_all(std::span<const HubItemPtr> items) {
+  if (items.empty()) return;
+  std::lock_guard lock(mutex_);
+  // Subscriptions only take the items under their own short lock: no subscriber can hold this up.
   auto closed = std::remove_if(subscriptions_.begin(), subscriptions_.end(), [&](const SubscriptionPtr& s) {
-    if (s->offer(item)) return false;
+    if (s->offer_all(items)) return false;
+    if (s->cut_off()) ++cut_off_;
+    return true;
+  });
+  subscriptions_.erase(closed, subscriptions_.end());
+}
+
+void Fanout::publish_run(std::string_view sensor, std::span<const HubItemPtr> items) {
+  if (items.empty()) return;
+  std::lock_guard lock(mutex_);
+  auto closed = std::remove_if(subscriptions_.begin(), subscriptions_.end(), [&](const SubscriptionPtr& s) {
+    if (!s->wants(sensor) || s->offer_wanted(items)) return false;
     if (s->cut_off()) ++cut_off_;
     return true;
   });
@@ -122,13 +162,17 @@ std::uint64_t Fanout::cut_off_count() const {
 
 SampleRing::SampleRing(std::size_t capacity) : capacity_(std::max<std::size_t>(capacity, 1)) {}
 
-void SampleRing::push(HubItemPtr item) {
+void SampleRing::push(HubItemPtr item) { push_all(std::span<const HubItemPtr>(&item, 1)); }
+
+void SampleRing::push_all(std::span<const HubItemPtr> items) {
   std::lock_guard lock(mutex_);
-  if (items_.size() >= capacity_) {
-    evicted_up_to_ = items_.front()->sequence;
-    items_.pop_front();
+  for (const HubItemPtr& item : items) {
+    if (items_.size() >= capacity_) {
+      evicted_up_to_ = items_.front()->sequence;
+      items_.pop_front();
+    }
+    items_.push_back(item);
   }
-  items_.push_back(std::move(item));
 }
 
 SampleRing::Since SampleRing::since(std::uint64_t after) const {

@@ -51,22 +51,25 @@ struct Hub::Impl final : Publisher {
   Fanout fanout;
   std::mutex publish_mutex;  // one order of sequence numbers for the ring and every subscriber
   std::uint64_t sequence = 0;
+  std::vector<HubItemPtr> numbered;  // numbered but not yet delivered; under publish_mutex
+  std::uint64_t dropped_suspects = 0;
   std::atomic<bool> stopped{false};
 
   void publish(Session& session, StreamItem item) override {
     const auto now = std::chrono::steady_clock::now();
-    // In the service a sample's source is its sensor's name (the port alone would not
-    // tell the units of a bus apart in a capture or a download).
-    auto* sample = std::get_if<Sample>(&item);
-    if (sample != nullptr) sample->source = session.source;
     std::lock_guard order(publish_mutex);
-    // Quality (docs/reliability.md): flagged here, so the ring, the streams, the captures and
-    // the health all see the same flag. A distance is held until the next reading tells
-    // whether it was a spike (core/spike_check.hpp), events keep their place behind it.
-    session.released.clear();
-    if (sample != nullptr) session.checker.check(*sample);
-    session.spikes.push(std::move(item), now, session.released);
-    for (StreamItem& released : session.released) publish_now(session, std::move(released), now);
+    admit(session, std::move(item), now);
+    deliver(session, now);
+  }
+
+  void publish_batch(Session& session, std::vector<StreamItem>& items) override {
+    const auto now = std::chrono::steady_clock::now();
+    {
+      std::lock_guard order(publish_mutex);
+      for (StreamItem& item : items) admit(session, std::move(item), now);
+      deliver(session, now);
+    }
+    items.clear();
   }
 
   void release_due(Session& session) override {
@@ -75,7 +78,8 @@ struct Hub::Impl final : Publisher {
     if (!session.spikes.holding()) return;
     session.released.clear();
     session.spikes.release_due(now, session.released);
-    for (StreamItem& released : session.released) publish_now(session, std::move(released), now);
+    for (StreamItem& released : session.released) number(session, std::move(released));
+    deliver(session, now);
   }
 
   void release_all() {
@@ -84,26 +88,48 @@ struct Hub::Impl final : Publisher {
     for (const auto& session : sessions) {
       session->released.clear();
       session->spikes.release_all(session->released);
-      for (StreamItem& released : session->released) publish_now(*session, std::move(released), now);
+      for (StreamItem& released : session->released) number(*session, std::move(released));
+      deliver(*session, now);
     }
   }
 
-  // Numbers, rings, counts and fans out one item; called under publish_mutex.
-  void publish_now(Session& session, StreamItem item, std::chrono::steady_clock::time_point now) {
+  // The quality check of one item (docs/reliability.md): flagged here, so the ring, the streams,
+  // the captures and the health all see the same flag. A distance is held until the next reading
+  // tells whether it was a spike (core/spike_check.hpp), events keep their place behind it.
+  // Called under publish_mutex.
+  void admit(Session& session, StreamItem item, std::chrono::steady_clock::time_point now) {
+    // In the service a sample's source is its sensor's name (the port alone would not
+    // tell the units of a bus apart in a capture or a download).
+    auto* sample = std::get_if<Sample>(&item);
+    if (sample != nullptr) sample->source = session.source;
+    session.released.clear();
+    if (sample != nullptr) session.checker.check(*sample);
+    session.spikes.push(std::move(item), now, session.released);
+    for (StreamItem& released : session.released) number(session, std::move(released));
+  }
+
+  // Gives an item its sequence number and keeps it for deliver(); under publish_mutex.
+  void number(Session& session, StreamItem item) {
     const auto* sample = std::get_if<Sample>(&item);
     if (sample != nullptr && sample->suspect && session.config.drop_suspect) {
-      std::lock_guard lock(session.mutex);
-      session.health.record_dropped_suspect();
+      ++dropped_suspects;
       return;
     }
-    auto shared = std::make_shared<const HubItem>(HubItem{++sequence, session.config.name, std::move(item)});
+    numbered.push_back(std::make_shared<const HubItem>(HubItem{++sequence, session.config.name, std::move(item)}));
+  }
+
+  // Counts, rings and fans out what number() kept, as one batch; under publish_mutex.
+  void deliver(Session& session, std::chrono::steady_clock::time_point now) {
+    if (numbered.empty() && dropped_suspects == 0) return;
     {
       std::lock_guard lock(session.mutex);
-      session.health.record(shared->item, now);
-      session.last_sequence = shared->sequence;
+      for (; dropped_suspects > 0; --dropped_suspects) session.health.record_dropped_suspect();
+      for (const HubItemPtr& item : numbered) session.health.record(item->item, now);
+      if (!numbered.empty()) session.last_sequence = numbered.back()->sequence;
     }
-    session.ring.push(shared);
-    fanout.publish(shared);
+    session.ring.push_all(numbered);
+    fanout.publish_run(session.config.name, numbered);
+    numbered.clear();
   }
 
   [[nodiscard]] Session* find(std::string_view name) const {
@@ -182,6 +208,13 @@ std::vector<SensorSnapshot> Hub::sensors() const {
 Result<SubscriptionPtr> Hub::subscribe(std::string_view sensor, std::size_t capacity, OverflowPolicy policy) {
   if (!sensor.empty() && impl_->find(sensor) == nullptr) return impl_->unknown(sensor);
   return impl_->fanout.subscribe(std::string(sensor), capacity, policy);
+}
+
+Result<SubscriptionPtr> Hub::subscribe(std::vector<std::string> sensors, std::size_t capacity, OverflowPolicy policy) {
+  for (const std::string& sensor : sensors) {
+    if (impl_->find(sensor) == nullptr) return impl_->unknown(sensor);
+  }
+  return impl_->fanout.subscribe(std::move(sensors), capacity, policy);
 }
 
 Result<SampleRing::Since> Hub::since(std::string_view sensor, std::uint64_t after) const {
@@ -332,15 +365,11 @@ StreamEvent make_event(StreamEventKind kind, std::string message) {
 }
 
 std::size_t drain(SampleSource& source, Session& session, Publisher& publisher, std::chrono::milliseconds wait) {
-  std::size_t count = 0;
-  auto item = source.next(wait);
-  // Everything already queued goes in one go; the first wait is the only one.
-  while (item) {
-    publisher.publish(session, std::move(*item));
-    ++count;
-    if (count >= 4096) break;
-    item = source.next(std::chrono::milliseconds(0));
-  }
+  // Everything already queued goes in one batch; the first wait is the only one.
+  thread_local std::vector<StreamItem> batch;
+  if (!source.next_batch(batch, wait)) return 0;
+  const std::size_t count = batch.size();
+  publisher.publish_batch(session, batch);
   return count;
 }
 

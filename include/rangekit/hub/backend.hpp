@@ -44,6 +44,12 @@ struct Session {
 class Publisher {
  public:
   virtual void publish(Session& session, StreamItem item) = 0;
+  // The items in order, as publish() one by one would, handed on as one batch; `items` is
+  // left empty with its storage.
+  virtual void publish_batch(Session& session, std::vector<StreamItem>& items) {
+    for (StreamItem& item : items) publish(session, std::move(item));
+    items.clear();
+  }
   // Publishes the readings the spike check has held past its limit (a stream that paused).
   virtual void release_due(Session& session) = 0;
 

@@ -12,7 +12,9 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "rangekit/core/sample.hpp"
@@ -37,7 +39,10 @@ enum class OverflowPolicy : std::uint8_t {
 
 class Subscription {
  public:
+  // `sensor_filter` empty: every sensor's items.
   Subscription(std::string sensor_filter, std::size_t capacity, OverflowPolicy policy);
+  // The items of these sensors only; none named: every sensor's.
+  Subscription(std::vector<std::string> sensors, std::size_t capacity, OverflowPolicy policy);
 
   // Waits up to `timeout` for items and takes up to `max` of them at once (one
   // wake-up per batch). Empty on timeout, or when closed and drained.
@@ -49,10 +54,16 @@ class Subscription {
   [[nodiscard]] bool cut_off() const;
   [[nodiscard]] std::uint64_t lost() const;  // items this subscriber never got
   [[nodiscard]] std::size_t queued() const;
-  [[nodiscard]] const std::string& sensor_filter() const noexcept { return filter_; }
+  // Whether items of `sensor` are for this subscription (fixed at its start: no lock).
+  [[nodiscard]] bool wants(std::string_view sensor) const noexcept;
 
   // For the fan-out: never blocks. False once the subscription is closed.
   bool offer(const HubItemPtr& item);
+  // The items in order under one lock, with at most one wake-up of the reader: a sensor's
+  // batch (an LS5 UDP packet is 168 samples) costs one hand-over, not one per sample.
+  bool offer_all(std::span<const HubItemPtr> items);
+  // offer_all of items the caller knows it wants (one sensor's run, wants() asked once).
+  bool offer_wanted(std::span<const HubItemPtr> items);
 
   // Called (on the publisher's thread, outside any lock) when an item lands in an
   // empty queue and when the subscription closes: an event loop that cannot block in
@@ -64,7 +75,8 @@ class Subscription {
   mutable std::mutex mutex_;
   std::condition_variable ready_;
   std::deque<HubItemPtr> items_;
-  std::string filter_;  // a sensor name, or empty for every sensor
+  bool offer(std::span<const HubItemPtr> items, bool filtered);
+  std::vector<std::string> sensors_;  // sorted; empty for every sensor
   std::size_t capacity_;
   OverflowPolicy policy_;
   std::uint64_t lost_ = 0;
@@ -78,8 +90,14 @@ class Fanout {
  public:
   // `sensor_filter` empty: every sensor's items.
   SubscriptionPtr subscribe(std::string sensor_filter, std::size_t capacity, OverflowPolicy policy);
+  // The items of these sensors (none named: every sensor's), in one queue.
+  SubscriptionPtr subscribe(std::vector<std::string> sensors, std::size_t capacity, OverflowPolicy policy);
   // Hands `item` to every open subscription that wants it; closed ones are forgotten.
   void publish(const HubItemPtr& item);
+  // The items in order, each subscription taking them all under one lock.
+  void publish_all(std::span<const HubItemPtr> items);
+  // publish_all of items all of `sensor`: each subscription is asked once whether it wants them.
+  void publish_run(std::string_view sensor, std::span<const HubItemPtr> items);
   [[nodiscard]] std::size_t subscribers() const;
   // Subscriptions closed because they fell behind (cut_off), since the start.
   [[nodiscard]] std::uint64_t cut_off_count() const;
@@ -96,6 +114,7 @@ class SampleRing {
  public:
   explicit SampleRing(std::size_t capacity);
   void push(HubItemPtr item);
+  void push_all(std::span<const HubItemPtr> items);
   // Items with a sequence above `after`, oldest first. `complete` is false when
   // items after `after` have already left the ring (the client missed some).
   struct Since {

@@ -122,6 +122,8 @@ class Hub {
 
   // Live items of one sensor, or of all when `sensor` is empty.
   Result<SubscriptionPtr> subscribe(std::string_view sensor, std::size_t capacity, OverflowPolicy policy);
+  // One queue for the items of several sensors (none named: every sensor's).
+  Result<SubscriptionPtr> subscribe(std::vector<std::string> sensors, std::size_t capacity, OverflowPolicy policy);
   // Items after `after` still in the ring (one sensor, or all merged in order when empty).
   Result<SampleRing::Since> since(std::string_view sensor, std::uint64_t after) const;
   Result<std::vector<HubItemPtr>> latest(std::string_view sensor, std::size_t count) const;
