@@ -16,6 +16,7 @@
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/sample.hpp"
 #include "rangekit/core/udp.hpp"
+#include "rangekit/ls5/udp_packet_reader.hpp"
 
 namespace rangekit::ls5 {
 
@@ -24,15 +25,7 @@ struct UdpReceiverOptions {
   int address = -1;  // the sensor's network address if known (Samples carry it)
 };
 
-struct UdpReceiverCounters {
-  std::uint64_t packets = 0;      // decoded
-  std::uint64_t bad_packets = 0;  // wrong size or checksum
-  // Records kept but flagged suspect (L85, L86): a state word not as documented, a code past 0x4000.
-  std::uint64_t suspect_records = 0;
-  std::uint64_t lost_packets = 0;  // counter gaps
-  std::uint64_t lost_records = 0;  // lost_packets × 168
-  std::uint64_t duplicates = 0;    // packets repeating the previous counter: dropped (L65)
-};
+using UdpReceiverCounters = UdpPacketCounters;
 
 class UdpReceiver final : public SampleSource {
  public:

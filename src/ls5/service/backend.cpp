@@ -1,11 +1,15 @@
 // An LS5 on a serial port (§8.13 stream, table 9.1/9.2 commands) or heard over UDP (§10).
+#include <algorithm>
+#include <array>
 #include <memory>
+#include <optional>
 
 #include "ls5/service/service.hpp"
+#include "rangekit/core/udp.hpp"
 #include "rangekit/ls5/driver.hpp"
 #include "rangekit/ls5/host_config.hpp"
 #include "rangekit/ls5/host_settings.hpp"
-#include "rangekit/ls5/udp_receiver.hpp"
+#include "rangekit/ls5/udp_packet_reader.hpp"
 
 namespace rangekit::ls5::service {
 namespace {
@@ -259,28 +263,47 @@ class Ls5Backend final : public Backend {
   std::optional<double> range_mm_;  // from the identification: the formulas need it
 };
 
-// An Ethernet LS5 heard over UDP only (§10): samples, no commands.
+// An Ethernet LS5 heard over UDP only (§10): samples, no commands. Its worker reads the
+// socket itself: a packet goes to the hub without a reader thread or queue in between.
 class Ls5UdpBackend final : public Backend {
  public:
-  Ls5UdpBackend(Session& session, Publisher& publisher) : session_(session), publisher_(publisher) {}
+  Ls5UdpBackend(Session& session, Publisher& publisher)
+      : session_(session), publisher_(publisher), reader_(session.config.address.value_or(-1)) {}
 
   Status connect() override {
     auto endpoint = parse_endpoint(session_.config.udp);
     if (!endpoint) return std::move(endpoint).error();
-    ls5::UdpReceiverOptions options;
-    if (session_.config.address) options.address = *session_.config.address;
-    auto receiver = ls5::UdpReceiver::start(*endpoint, options);
-    if (!receiver) return std::move(receiver).error();
-    receiver_ = std::move(receiver).value();
+    auto socket = UdpSocket::bind(*endpoint);
+    if (!socket) return std::move(socket).error();
+    socket_ = std::move(socket).value();
     std::lock_guard lock(session_.mutex);
-    session_.identity = {{"udp", receiver_->local_endpoint().to_string(), ""}};
+    session_.identity = {{"udp", socket_->local_endpoint().to_string(), ""}};
     session_.streaming = true;
     return ok_status();
   }
-  [[nodiscard]] bool connected() const override { return receiver_ != nullptr; }
+  [[nodiscard]] bool connected() const override { return socket_.has_value(); }
   bool pump(std::chrono::milliseconds wait) override {
-    if (!receiver_) return false;
-    drain(*receiver_, session_, publisher_, wait);
+    if (!socket_) return false;
+    // Nothing but `start` is asked of a listener: it may wait longer than the worker offers,
+    // up to the spike check's hold limit, so that an idle sensor wakes ten times a second.
+    auto got = socket_->receive(buffer_, std::max(wait, listen_slice));
+    if (!got) {
+      if (got.error().code == Errc::timeout) return true;
+      if (got.error().code == Errc::overlong) {  // larger than 512 bytes: not an LS5 packet
+        reader_.read_overlong(got.error().message, items_);
+      } else {
+        items_.emplace_back(make_event(StreamEventKind::disconnected, "UDP socket: " + got.error().message));
+        socket_.reset();  // the worker binds it again
+      }
+      publisher_.publish_batch(session_, items_);
+      return true;
+    }
+    if (source_.empty() || got->from.host != last_from_.host || got->from.port != last_from_.port) {
+      last_from_ = got->from;
+      source_ = got->from.to_string();
+    }
+    reader_.read(Bytes(buffer_.data(), got->size), source_, items_);
+    publisher_.publish_batch(session_, items_);
     return true;
   }
   Status set_streaming(Session& /*session*/, bool on) override {
@@ -301,10 +324,7 @@ class Ls5UdpBackend final : public Backend {
   Result<std::vector<Field>> import_config(Session& /*session*/, std::string_view /*toml*/) override {
     return no_port();
   }
-  void shutdown() override {
-    if (receiver_) receiver_->stop();
-    receiver_.reset();
-  }
+  void shutdown() override { socket_.reset(); }
 
  private:
   [[nodiscard]] Error no_port() const {
@@ -312,9 +332,15 @@ class Ls5UdpBackend final : public Backend {
         Errc::unsupported,
         "sensor '" + session_.config.name + "' is heard over UDP only: settings need its serial port in the site file");
   }
+  static constexpr std::chrono::milliseconds listen_slice{100};
   Session& session_;
   Publisher& publisher_;
-  std::unique_ptr<ls5::UdpReceiver> receiver_;
+  ls5::UdpPacketReader reader_;
+  std::optional<UdpSocket> socket_;
+  std::array<std::uint8_t, 2048> buffer_{};
+  std::vector<StreamItem> items_;  // one datagram's, storage reused
+  Endpoint last_from_;
+  SharedName source_;  // Sample::source of the records, made again only when the sender changes
 };
 
 }  // namespace
