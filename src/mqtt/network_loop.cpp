@@ -76,10 +76,17 @@ std::size_t Bridge::Impl::take_items(hub::Subscription& subscription) {
     const auto batch = subscription.take(1024, 0ms);
     taken = batch.size();
     total += taken;
+    // A sensor's items come in runs (a batch of a packet): its link is looked up once a run.
+    const std::string* run_sensor = nullptr;
+    Link* run_link = nullptr;
     for (const hub::HubItemPtr& item : batch) {
-      const auto found = by_sensor.find(item->sensor);
-      if (found == by_sensor.end()) continue;
-      Link& link = *found->second;
+      if (run_sensor == nullptr || item->sensor != *run_sensor) {
+        const auto found = by_sensor.find(item->sensor);
+        run_sensor = &item->sensor;
+        run_link = found == by_sensor.end() ? nullptr : found->second;
+      }
+      if (run_link == nullptr) continue;
+      Link& link = *run_link;
       if (const auto* sample = std::get_if<Sample>(&item->item)) {
         if (auto message = link.window.add(*sample, std::chrono::steady_clock::now())) {
           link.send_reading(std::move(*message), config.qos_reading);

@@ -13,20 +13,32 @@ ReadingWindow::ReadingWindow(double max_rate_hz) {
   }
 }
 
-std::optional<std::string> ReadingWindow::add(const Sample& sample, Clock::time_point now) {
+namespace {
+
+std::string message_of(const Sample& sample) {
   std::string own;
   record::append_jsonl(own, sample);
   if (!own.empty() && own.back() == '\n') own.pop_back();
-  if (period_ == Clock::duration::zero()) return own;
+  return own;
+}
+
+}  // namespace
+
+std::optional<std::string> ReadingWindow::add(const Sample& sample, Clock::time_point now) {
+  if (period_ == Clock::duration::zero()) return message_of(sample);
   // Under the rate: a sample goes out at once when nothing is pending and the last message is a period old.
   if (count_ == 0 && lost_ == 0 && (!last_publish_ || now - *last_publish_ >= period_)) {
     last_publish_ = now;
-    return own;
+    return message_of(sample);
   }
-  if (count_ == 0) first_time_ = sample.time;
+  // Above it, a window's first sample is kept and written only if it stays alone: a 1 kHz
+  // sensor at 10 messages a second would otherwise be formatted a thousand times for ten.
+  if (count_ == 0) {
+    first_time_ = sample.time;
+    single_ = sample;
+  }
   last_time_ = sample.time;
   ++count_;
-  single_ = std::move(own);
   const auto reading = reading_of(sample);
   if (reading && sample.suspect) {
     ++suspect_;
@@ -49,8 +61,8 @@ std::optional<std::string> ReadingWindow::flush_due(Clock::time_point now) {
 
 std::optional<std::string> ReadingWindow::close_window(Clock::time_point now) {
   std::string out;
-  if (count_ == 1 && lost_ == 0) {
-    out = std::move(single_);
+  if (count_ == 1 && lost_ == 0 && single_) {
+    out = message_of(*single_);
   } else {
     nlohmann::json window{{"window", true}, {"count", count_},   {"unit", readings_.unit()}, {"no_signal", no_signal_},
                           {"lost", lost_},  {"errors", errors_}, {"suspect", suspect_}};
@@ -77,7 +89,7 @@ std::optional<std::string> ReadingWindow::close_window(Clock::time_point now) {
   count_ = no_signal_ = lost_ = errors_ = suspect_ = 0;
   readings_.clear();
   presence_.reset();
-  single_.clear();
+  single_.reset();
   return out;
 }
 

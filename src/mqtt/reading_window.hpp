@@ -36,7 +36,7 @@ class ReadingWindow {
   ReadingStats readings_;
   std::uint64_t no_signal_ = 0, lost_ = 0, errors_ = 0, suspect_ = 0;
   std::optional<bool> presence_;
-  std::string single_;  // the only sample's own message, when the window holds one
+  std::optional<Sample> single_;  // the window's first sample: its own message when it stays alone
   std::chrono::system_clock::time_point first_time_{}, last_time_{};
 };
 
