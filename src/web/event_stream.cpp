@@ -8,6 +8,13 @@
 #include "web/sample_aggregate.hpp"
 
 namespace rangekit::web {
+namespace {
+
+constexpr std::size_t take_batch = 1024;
+constexpr std::size_t flush_text_limit = 64 * 1024;
+
+}  // namespace
+
 template <class Stream>
 EventStream<Stream>::EventStream(Stream stream, hub::SubscriptionPtr subscription, StreamStart start,
                                  EventStreamOptions options, std::shared_ptr<FlushTicker> ticker,
@@ -22,7 +29,7 @@ EventStream<Stream>::EventStream(Stream stream, hub::SubscriptionPtr subscriptio
       counters_(counters),
       cache_(cache),
       keepalive_(tcp_of(stream_).get_executor()),
-      bucket_timer_(tcp_of(stream_).get_executor()) {
+      merge_timer_(tcp_of(stream_).get_executor()) {
   ++counters_.open;
 }
 
@@ -59,7 +66,11 @@ void EventStream<Stream>::start() {
   tcp_of(stream_).expires_never();
   bound_send_buffer(tcp_of(stream_));  // a client that stops reading fills it, then its queue, and is cut off
   arm_keepalive();
-  if (options_.max_rate) arm_bucket_timer();
+  if (options_.max_rate) {
+    period_ = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(1.0 / *options_.max_rate));
+    arm_merge_timer();
+  }
   write(std::move(out));
 }
 
@@ -69,11 +80,9 @@ void EventStream<Stream>::append(std::string& out, const hub::HubItem& item) {
   last_sent_ = item.sequence;
   const auto* sample = std::get_if<Sample>(&item.item);
   if (options_.max_rate && sample != nullptr) {
-    SampleAggregate& aggregate = aggregates_[item.sensor];
-    const auto bucket = bucket_now();
-    if (!aggregate.empty() && bucket != aggregate.bucket) append_aggregates(out, true);
-    aggregate.bucket = bucket;
-    aggregate.add(*sample, item.sequence);
+    Merge& merge = merge_of(item.sensor);
+    if (merge.aggregate.empty()) holding_.emplace_back(run_sensor_, &merge);
+    merge.aggregate.add(*sample, item.sequence);
     return;
   }
   if (options_.max_rate) append_aggregates(out, true);  // a link event after the samples before it
@@ -81,19 +90,26 @@ void EventStream<Stream>::append(std::string& out, const hub::HubItem& item) {
 }
 
 template <class Stream>
-std::int64_t EventStream<Stream>::bucket_now() const {
-  const double period_ms = 1000.0 / *options_.max_rate;
-  const auto now = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch());
-  return static_cast<std::int64_t>(std::floor(now.count() / period_ms));
+typename EventStream<Stream>::Merge& EventStream<Stream>::merge_of(const std::string& sensor) {
+  if (run_sensor_ == nullptr || *run_sensor_ != sensor) {
+    const auto found = merges_.try_emplace(sensor).first;
+    run_sensor_ = &found->first;
+    run_merge_ = &found->second;
+  }
+  return *run_merge_;
 }
 
 template <class Stream>
 void EventStream<Stream>::append_aggregates(std::string& out, bool all) {
-  const std::int64_t current = bucket_now();
-  for (auto& [sensor, aggregate] : aggregates_) {
-    if (aggregate.empty() || (!all && aggregate.bucket >= current)) continue;
-    aggregate.append_event(out, sensor);
-  }
+  const auto now = std::chrono::steady_clock::now();
+  // Only the merges holding samples are looked at: a site has a hundred sensors, a flush a few.
+  std::erase_if(holding_, [&](const std::pair<const std::string*, Merge*>& held) {
+    Merge& merge = *held.second;
+    if (!all && now - merge.last_sent < period_) return false;
+    merge.aggregate.append_event(out, *held.first);
+    merge.last_sent = now;
+    return true;
+  });
 }
 
 template <class Stream>
@@ -106,11 +122,14 @@ void EventStream<Stream>::flush() {
   std::string out;
   // Merged samples may leave nothing to write yet: take on until there is, or the queue is empty
   // (the listener speaks again only when an item lands in an empty queue).
+  // What is queued is taken whole (up to 64 KiB of text), so that a burst of one sensor is
+  // merged into one event, not cut at a batch's end.
   for (;;) {
-    const auto items = subscription_->take(1024, std::chrono::milliseconds(0));
+    const auto items = subscription_->take(take_batch, std::chrono::milliseconds(0));
     for (const hub::HubItemPtr& item : items) append(out, *item);
-    if (!out.empty() || items.empty()) break;
+    if (items.size() < take_batch || out.size() >= flush_text_limit) break;
   }
+  if (options_.max_rate) append_aggregates(out, false);
   if (out.empty()) {
     if (subscription_->closed()) finish();
     return;
@@ -140,7 +159,7 @@ void EventStream<Stream>::finish() {
   if (subscription_->cut_off()) ++counters_.cut_off;
   subscription_->close();
   keepalive_.cancel();
-  bucket_timer_.cancel();
+  merge_timer_.cancel();
   beast::error_code ignored;
   tcp_of(stream_).socket().shutdown(tcp::socket::shutdown_both, ignored);
   tcp_of(stream_).socket().close(ignored);
@@ -159,17 +178,17 @@ void EventStream<Stream>::arm_keepalive() {
 }
 
 template <class Stream>
-void EventStream<Stream>::arm_bucket_timer() {
-  bucket_timer_.expires_after(std::chrono::microseconds(static_cast<std::int64_t>(1e6 / *options_.max_rate)));
-  bucket_timer_.async_wait([weak = this->weak_from_this()](beast::error_code error) {
+void EventStream<Stream>::arm_merge_timer() {
+  merge_timer_.expires_after(std::chrono::microseconds(static_cast<std::int64_t>(1e6 / *options_.max_rate)));
+  merge_timer_.async_wait([weak = this->weak_from_this()](beast::error_code error) {
     auto self = weak.lock();
     if (error || !self || self->finished_) return;
     if (!self->writing_) {
       std::string out;
-      self->append_aggregates(out, false);  // buckets that ended without a newer sample
+      self->append_aggregates(out, false);  // merges that fell due without a newer sample
       if (!out.empty()) self->write(std::move(out));
     }
-    self->arm_bucket_timer();
+    self->arm_merge_timer();
   });
 }
 

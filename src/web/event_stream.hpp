@@ -2,8 +2,10 @@
 // then every live item of its subscription, written as fast as the client reads.
 // A client that falls stream_queue items behind is cut off (counted); its
 // EventSource reconnects and resumes from the ring. With max_rate the samples of
-// each sensor are merged per 1/max_rate s into min/max/last (web/sample_aggregate.hpp; link
-// events pass unmerged), so a 1 kHz sensor stays cheap for a browser.
+// each sensor are merged into min/max/last (web/sample_aggregate.hpp; link events pass
+// unmerged), at most max_rate a second, so a 1 kHz sensor stays cheap for a browser. A
+// sensor's merge goes out once 1/max_rate s has passed since its previous one: a burst (an
+// LS5 UDP packet, 168 readings at once) is shown as it comes, not a slot later.
 #pragma once
 
 #include <atomic>
@@ -53,12 +55,18 @@ class EventStream : public std::enable_shared_from_this<EventStream<Stream>> {
  private:
   void flush();
   void append(std::string& out, const hub::HubItem& item);
+  // The merges that are due (all: every one with samples, before a link event).
   void append_aggregates(std::string& out, bool all);
-  std::int64_t bucket_now() const;  // the 1/max_rate slot of the steady clock now
+  // A sensor's merge; items come in runs of one sensor, so it is looked up once a run.
+  struct Merge {
+    SampleAggregate aggregate;
+    std::chrono::steady_clock::time_point last_sent;
+  };
+  Merge& merge_of(const std::string& sensor);
   void write(std::string text);
   void finish();
   void arm_keepalive();
-  void arm_bucket_timer();
+  void arm_merge_timer();
 
   Stream stream_;
   hub::SubscriptionPtr subscription_;
@@ -70,10 +78,14 @@ class EventStream : public std::enable_shared_from_this<EventStream<Stream>> {
   EventStreamCounters& counters_;
   EventCache& cache_;
   net::steady_timer keepalive_;
-  net::steady_timer bucket_timer_;
+  net::steady_timer merge_timer_;
   std::shared_ptr<std::atomic<bool>> wake_pending_ = std::make_shared<std::atomic<bool>>(false);
-  std::map<std::string, SampleAggregate> aggregates_;
-  std::string pending_;  // what is being written
+  std::map<std::string, Merge, std::less<>> merges_;
+  const std::string* run_sensor_ = nullptr;  // the key of run_merge_ in merges_
+  Merge* run_merge_ = nullptr;
+  std::vector<std::pair<const std::string*, Merge*>> holding_;  // the merges with samples, each once
+  std::chrono::steady_clock::duration period_{};                // 1/max_rate
+  std::string pending_;                                         // what is being written
   bool writing_ = false;
   bool finished_ = false;
 };

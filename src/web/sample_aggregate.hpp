@@ -1,4 +1,4 @@
-// One sensor's samples merged over one 1/max_rate bucket of an SSE stream (docs/api.md):
+// One sensor's samples merged for one event of an SSE stream with max_rate (docs/api.md):
 // count, min, max and last. No reading is a gap; suspect samples are counted apart and
 // kept out of min/max/last, so one corrupt record cannot stretch a plotted window.
 #pragma once
@@ -17,14 +17,12 @@ class SampleAggregate {
  public:
   void add(const Sample& sample, std::uint64_t id);
   bool empty() const { return count_ == 0; }
-  // Appends the `event: aggregate` block and starts an empty bucket.
+  // Appends the `event: aggregate` block and starts an empty merge.
   void append_event(std::string& out, std::string_view sensor);
-
-  std::int64_t bucket = -1;  // which 1/max_rate slot of the steady clock it holds
 
  private:
   std::uint64_t last_id_ = 0;
-  std::size_t count_ = 0;    // samples in the bucket
+  std::size_t count_ = 0;    // samples merged
   std::size_t gaps_ = 0;     // of which with no reading
   std::size_t suspect_ = 0;  // of which marked suspect (not in min/max/last)
   ReadingStats readings_;    // the others
