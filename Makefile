@@ -10,12 +10,12 @@ CMAKE_FLAGS ?=
 # `make build` and `make demo` need only the build dependencies and build no
 # tests; the targets below also install the test tools and build the tests.
 WITH_TESTS ?= OFF
-test bench bench-web hardware tidy lint consumer package format-check clone-check: WITH_TESTS = ON
+test bench bench-scale bench-web hardware tidy lint consumer package format-check clone-check: WITH_TESTS = ON
 DEPS_KIND = $(if $(filter ON,$(WITH_TESTS)),test,build)
 
 SOURCES := $(shell git ls-files '*.cpp' '*.hpp' 2>/dev/null)
 
-.PHONY: all deps configure build test test-quick demo asan asan-build tsan tsan-build hardware fuzz fuzz-long fuzz-build bench bench-web lint format format-check tidy \
+.PHONY: all deps configure build test test-quick demo asan asan-build tsan tsan-build hardware fuzz fuzz-long fuzz-build bench bench-scale bench-web lint format format-check tidy \
   consumer package clone-check clean
 
 all: build
@@ -122,6 +122,12 @@ fuzz-long: fuzz-build
 
 bench: build
 	@./$(BUILD)/rangekit_bench
+
+# A site on one box (bench/site_scale_bench.cpp; docs/performance.md, "A site on one box"): the
+# service with N = 1, 8, 32, 64 UDP LS5 and past them, about five minutes. SCALE_N="..." picks N.
+SCALE_N ?= 1,8,32,64,128,256
+bench-scale: build
+	@RANGEKIT_BENCH_SCALE=$(SCALE_N) ./$(BUILD)/rangekit_bench --benchmark_filter=SiteScale
 
 # The dashboard's frame-rate and heap figures: an LS5 at 1 kHz on its live plot for 60 s in
 # headless chromium (web/tests/fps.bench.mjs; docs/dashboard.md, "Benchmark"). Needs only the CLI.

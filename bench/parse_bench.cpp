@@ -551,6 +551,63 @@ void add_bus_poll_row(GoalTable& table, int units, int baud) {
              *efficiency >= 0.85 && *failed == 0});
 }
 
+// A site on one box (bench/site_scale_bench.cpp, `make bench-scale`): N UDP LS5 at 1 kHz plus
+// 8 serial LS5 and 32 bus ULS, every sample captured, 10 SSE clients, MQTT, Modbus. Goals at
+// N = 64; each N's row asks for no sample lost; past 64 the rows show where it breaks.
+void add_scale_rows(GoalTable& table) {
+  const auto name = [](int n, int same) {
+    return "BM_SiteScale/" + std::to_string(n) + "/" + std::to_string(same) + "/iterations:1/real_time";
+  };
+  const auto figure = [&](int n, const char* counter) { return table.value(name(n, 0), counter); };
+  for (const int n : {1, 8, 32, 64, 128, 192, 256}) {
+    const auto cpu = figure(n, "service_cpu_pct");
+    const auto rate = figure(n, "samples_per_s");
+    const auto rss = figure(n, "rss_MB");
+    const auto p99 = figure(n, "lat_p99_ms");
+    const auto lost = figure(n, "udp_lost");
+    const auto rows_lost = figure(n, "udp_rows_lost");
+    const auto reported = figure(n, "lost_reported");
+    const auto rig = figure(n, "pacer_cpu_pct");
+    const auto emulators = figure(n, "emulators_cpu_pct");
+    if (!cpu || !rate || !rss || !p99 || !lost || !rows_lost || !reported || !rig || !emulators) continue;
+    const double all_lost = *lost + *rows_lost + *reported;
+    const std::string path = "site: " + std::to_string(n) + " UDP LS5 + 8 serial LS5 + 32 ULS";
+    table.add({path + ", CPU, RSS, p99 packet to SSE, lost",
+               text_of("%.1f %% of a core, ", *cpu) + text_of("%.0f samples/s, ", *rate) + text_of("%.0f MB, ", *rss) +
+                   text_of("p99 %.1f ms, ", *p99) + text_of("%.0f lost", all_lost),
+               text_of("rig %.1f %% + emulators ", *rig) + text_of("%.1f %%", *emulators), *cpu / 60.0,
+               n == 64 ? "<= 60 %, 0 lost, p99 <= 20 ms, <= 256 MB" : "0 lost",
+               all_lost == 0 && (n != 64 || (*cpu <= 60 && *p99 <= 20 && *rss <= 256))});
+  }
+  const auto same = table.value(name(64, 1), "service_cpu_pct");
+  const auto same_rate = table.value(name(64, 1), "samples_per_s");
+  const auto separate = table.value("BM_SiteScaleSeparateProcesses/64/iterations:1/real_time", "cpu_pct");
+  if (same && same_rate && separate && *same_rate > 0) {
+    const double ratio = (*same / *same_rate) / (*separate / 64000.0);
+    table.add({"site: 64 UDP LS5, capture of all, CPU per sample",
+               text_of("%.1f %% of a core (", *same) + text_of("%.0f samples/s)", *same_rate),
+               text_of("64 `ls5 udp --format jsonl --capture`: %.1f %%", *separate), ratio, "<= 0.5x", ratio <= 0.5});
+  }
+  const auto cpu8 = figure(8, "service_cpu_pct");
+  const auto cpu64 = figure(64, "service_cpu_pct");
+  if (cpu8 && cpu64 && *cpu8 > 0) {
+    table.add({"site: CPU at 64 UDP LS5 against 8", text_of("%.1f %% against ", *cpu64) + text_of("%.1f %%", *cpu8), "",
+               *cpu64 / *cpu8 / 8.5, "<= 8.5x", *cpu64 / *cpu8 <= 8.5});
+  }
+  const auto rss8 = figure(8, "rss_MB");
+  const auto rss64 = figure(64, "rss_MB");
+  if (rss8 && rss64) {
+    const double per_sensor = (*rss64 - *rss8) / 56.0;
+    table.add({"site: memory per added UDP LS5 (8 to 64)", text_of("%.2f MB", per_sensor),
+               text_of("RSS %.0f MB at 8, ", *rss8) + text_of("%.0f at 64", *rss64), per_sensor, "<= 1 MB",
+               per_sensor <= 1.0});
+  }
+  if (const auto per_client = figure(64, "rss_per_client_MB")) {
+    table.add({"site: memory per SSE client (64 UDP LS5)", text_of("%.2f MB", *per_client), "11 clients", *per_client,
+               "<= 1 MB", *per_client <= 1.0});
+  }
+}
+
 // Emulator pacing (L78): against a minimal absolute-deadline writer, and its CPU against the
 // baseline loop of bench/filed_emulator_loop.hpp (no more), same run; the present loop
 // rounded to whole milliseconds is shown beside it (bench/emulator_pacing_bench.cpp).
@@ -658,6 +715,7 @@ int main(int argc, char** argv) {
     for (const int units : {16, 32}) add_bus_poll_row(table, units, baud);
   }
   add_postgres_rows(table, "BM_PostgresSinkTwoLs5At1kHz/iterations:1/real_time");
+  add_scale_rows(table);
   table.print();
   benchmark::Shutdown();
   return 0;

@@ -31,6 +31,7 @@ class SimProcess {
   ~SimProcess();
 
   [[nodiscard]] const std::string& ready_line() const { return ready_line_; }
+  [[nodiscard]] pid_t pid() const { return pid_; }
   // Sends SIGTERM and waits (SIGKILL after two seconds). Safe to call twice.
   void stop() noexcept;
 
