@@ -7,7 +7,9 @@ PortWorker::PortWorker(std::unique_ptr<Backend> backend, std::vector<Session*> s
     : backend_(std::move(backend)),
       sessions_(std::move(sessions)),
       publisher_(publisher),
-      reconnect_interval_(reconnect_interval) {}
+      reconnect_interval_(reconnect_interval) {
+  backend_->set_between_steps([this](std::chrono::nanoseconds step) { serve_between_steps(step); });
+}
 
 PortWorker::~PortWorker() { stop(); }
 
@@ -85,16 +87,37 @@ bool PortWorker::try_connect(bool& was_connected, std::string& last_failure) {
 }
 
 void PortWorker::run_jobs(bool connected) {
-  for (;;) {
+  // Only the jobs queued by now: clients that post again as soon as they are answered would
+  // otherwise keep the loop here and the poll of a bus would never run again.
+  std::size_t queued = 0;
+  {
+    std::lock_guard lock(mutex_);
+    queued = jobs_.size();
+  }
+  for (; queued > 0; --queued) {
     Job job;
     {
       std::lock_guard lock(mutex_);
-      if (jobs_.empty()) return;
+      if (jobs_.empty()) return;  // stop() took them
       job = std::move(jobs_.front());
       jobs_.pop_front();
     }
     job(connected ? backend_.get() : nullptr);
   }
+}
+
+void PortWorker::serve_between_steps(std::chrono::nanoseconds poll_for) {
+  if (between_steps_) return;  // a long job run from here goes on in one piece
+  between_steps_ = true;
+  // The loop's own turn: the jobs queued by now, then polls (each followed by the jobs queued
+  // meanwhile) for up to `poll_for`, so that a long job shares the wire with the rest.
+  const auto until = std::chrono::steady_clock::now() + poll_for;
+  run_jobs(backend_->connected());
+  while (std::chrono::steady_clock::now() < until && backend_->connected() &&
+         backend_->pump(std::chrono::milliseconds(0))) {
+    run_jobs(backend_->connected());
+  }
+  between_steps_ = false;
 }
 
 void PortWorker::loop() {

@@ -3,6 +3,7 @@
 // between two reads, so a command and the stream never share the wire.
 #pragma once
 
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -53,6 +54,8 @@ class PortWorker {
   void loop();
   bool try_connect(bool& was_connected, std::string& last_failure);
   void run_jobs(bool connected);
+  // What a long job (a bus scan) runs between two of its steps (Backend::between_steps).
+  void serve_between_steps(std::chrono::nanoseconds poll_for);
   // Who hears an announcement: every sensor of the port, or only those whose sensor answered
   // when it connected (Backend::answering: a silent unit on a bus is not "connected").
   enum class Audience : std::uint8_t { every_sensor, answering_sensors };
@@ -66,6 +69,7 @@ class PortWorker {
   std::condition_variable wake_;
   std::deque<Job> jobs_;
   bool stopping_ = false;
+  bool between_steps_ = false;  // worker thread only: inside a job's steps
   std::thread thread_;
 };
 

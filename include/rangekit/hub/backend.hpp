@@ -3,6 +3,7 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -93,6 +94,19 @@ class Backend {
   }
   // Streams ended (the unit left as found), the port closed.
   virtual void shutdown() = 0;
+
+  // Set by the port's worker: what a job that is many slow steps (a bus scan) calls between two
+  // of them, so that the commands queued meanwhile are not held up behind it; the poll then
+  // also runs for up to `poll_for` (a scan's silent address is idle wire).
+  void set_between_steps(std::function<void(std::chrono::nanoseconds)> between) { between_steps_ = std::move(between); }
+
+ protected:
+  void between_steps(std::chrono::nanoseconds poll_for) {
+    if (between_steps_) between_steps_(poll_for);
+  }
+
+ private:
+  std::function<void(std::chrono::nanoseconds)> between_steps_;
 };
 
 using PortOpener = std::function<Result<TransportPtr>(const std::string&, const SerialSettings&)>;

@@ -67,6 +67,8 @@ class Bus {
   Status assign(std::optional<std::uint8_t> from, std::uint8_t to);
   // One round of the network poll: US (and with `measure`, BM) at each address in turn.
   std::vector<PollResult> poll(const std::vector<std::uint8_t>& addresses, bool measure);
+  // The same for one unit: what the service's bus session runs, one unit between two commands.
+  PollResult poll_unit(std::uint8_t address, bool measure);
   // A command every unit acts on and none answers (0xF0-0xFF, U4).
   Status broadcast(std::string_view mnemonic, std::span<const std::string_view> values = {},
                    std::uint8_t address = first_broadcast_address);

@@ -109,35 +109,38 @@ Status Bus::assign(std::optional<std::uint8_t> from, std::uint8_t to) {
 
 std::vector<PollResult> Bus::poll(const std::vector<std::uint8_t>& addresses, bool measure) {
   std::vector<PollResult> results;
-  for (const std::uint8_t address : addresses) {
-    PollResult result;
-    result.address = address;
-    (void)driver_.set_address(address);
-    const auto before = driver_.counters();
-    auto status = driver_.status();
-    if (status) {
-      result.answered = true;
-      result.status = *status;
-      if (measure) {
-        auto sample = driver_.measure();
-        if (sample) {
-          result.sample = std::move(*sample);
-        } else {
-          result.problem = sample.error().message;
-          result.error = sample.error();
-        }
-      }
-    } else {
-      result.problem = status.error().message;
-      result.error = status.error();
-    }
-    if (driver_.counters().bad_frames > before.bad_frames) {
-      result.problem = "garbled replies (duplicate address?)";
-      result.error = make_error(Errc::invalid_frame, result.problem);
-    }
-    results.push_back(std::move(result));
-  }
+  results.reserve(addresses.size());
+  for (const std::uint8_t address : addresses) results.push_back(poll_unit(address, measure));
   return results;
+}
+
+PollResult Bus::poll_unit(std::uint8_t address, bool measure) {
+  PollResult result;
+  result.address = address;
+  (void)driver_.set_address(address);
+  const auto before = driver_.counters();
+  auto status = driver_.status();
+  if (status) {
+    result.answered = true;
+    result.status = *status;
+    if (measure) {
+      auto sample = driver_.measure();
+      if (sample) {
+        result.sample = std::move(*sample);
+      } else {
+        result.problem = sample.error().message;
+        result.error = sample.error();
+      }
+    }
+  } else {
+    result.problem = status.error().message;
+    result.error = status.error();
+  }
+  if (driver_.counters().bad_frames > before.bad_frames) {
+    result.problem = "garbled replies (duplicate address?)";
+    result.error = make_error(Errc::invalid_frame, result.problem);
+  }
+  return result;
 }
 
 Status Bus::broadcast(std::string_view mnemonic, std::span<const std::string_view> values, std::uint8_t address) {

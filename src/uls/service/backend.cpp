@@ -387,10 +387,17 @@ class UlsBusBackend final : public Backend {
     return addressed(session, [&](uls::Driver& driver) { return import_fields(driver, session, toml); });
   }
 
+  // One address at a time, the commands and the poll of the units served in between: a silent
+  // address costs scan_wait, eight of them more than a whole poll cycle.
   Result<std::vector<BusUnitFound>> scan_bus(const std::vector<std::uint8_t>& addresses) override {
     std::vector<BusUnitFound> found;
-    for (const uls::BusUnit& unit : bus_->scan(addresses, scan_wait)) {
-      found.push_back({unit.address, unit.version, unit.duplicate, unit.problem});
+    for (const std::uint8_t address : addresses) {
+      if (!bus_) return make_error(Errc::closed, "the bus went away during the scan");
+      const auto started = Clock::now();
+      for (const uls::BusUnit& unit : bus_->scan({address}, scan_wait)) {
+        found.push_back({unit.address, unit.version, unit.duplicate, unit.problem});
+      }
+      between_steps(Clock::now() - started);
     }
     return found;
   }
@@ -464,8 +471,7 @@ class UlsBusBackend final : public Backend {
     const auto address = static_cast<std::uint8_t>(*session.config.address);
     (void)bus_->driver().set_address(address);
     const uls::Driver::PollPlan plan = plan_of(index);
-    const auto results = bus_->poll({address}, true);
-    const uls::PollResult& result = results.front();
+    const uls::PollResult result = bus_->poll_unit(address, true);
     if (!result.answered) {
       if (result.error && (result.error->code == Errc::io || result.error->code == Errc::closed)) {
         bus_.reset();  // the port itself went away: the worker reconnects every unit
