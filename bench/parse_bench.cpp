@@ -608,6 +608,44 @@ void add_scale_rows(GoalTable& table) {
   }
 }
 
+// The service's bus session (bench/uls_bus_service_bench.cpp): unit polls a second of
+// `rangekit serve` against the wire's minimum (goal: 85 %), with `uls bus poll` of the same
+// bus beside it; then how long two clients' commands waited beyond their time alone on the
+// polled bus, against the poll cycle (goal: one cycle at most).
+void add_bus_service_rows(GoalTable& table, int units, int baud) {
+  const std::string name =
+      "BM_UlsBusService/" + std::to_string(units) + "/" + std::to_string(baud) + "/iterations:1/real_time";
+  const auto value = [&](const char* counter) { return table.value(name, counter); };
+  const auto polls = value("unit_polls_per_s");
+  const auto wire = value("wire_polls_per_s");
+  const auto efficiency = value("efficiency");
+  const auto library = value("library_polls_per_s");
+  const auto failed = value("failed");
+  const auto cycle = value("cycle_ms");
+  const auto wait = value("wait_p99_ms");
+  const auto p50 = value("cmd_p50_ms");
+  const auto p99 = value("cmd_p99_ms");
+  const auto max = value("cmd_max_ms");
+  const auto read = value("alone_read_p50_ms");
+  const auto single = value("alone_single_p50_ms");
+  const auto commands = value("commands");
+  if (!polls || !wire || !efficiency || !library || !failed || !cycle || !wait || !p50 || !p99 || !max || !read ||
+      !single || !commands)
+    return;
+  const std::string path = "RS-485 service: " + std::to_string(units) + " ULS at " + std::to_string(baud) + " baud";
+  table.add({path + ", poll",
+             text_of("%.1f unit polls/s", *polls) + text_of(" (%.0f %% of the wire)", 100 * *efficiency),
+             text_of("wire minimum: %.1f/s", *wire) + text_of(" (uls bus poll: %.1f/s)", *library), 0.85 / *efficiency,
+             ">= 85 % of the wire", *efficiency >= 0.85});
+  table.add({path + ", 2 clients' read and single",
+             text_of("waited p99 %.0f ms", *wait) + text_of(" (response p50 %.0f", *p50) + text_of(", p99 %.0f", *p99) +
+                 text_of(", max %.0f ms", *max) + text_of("; %.0f commands", *commands) +
+                 text_of(", %.0f failed)", *failed),
+             text_of("poll cycle %.0f ms", *cycle) + text_of(" (alone: read %.0f ms", *read) +
+                 text_of(", single %.0f ms)", *single),
+             *wait / *cycle, "waited <= 1 poll cycle", *wait <= *cycle && *failed == 0});
+}
+
 // Emulator pacing (L78): against a minimal absolute-deadline writer, and its CPU against the
 // baseline loop of bench/filed_emulator_loop.hpp (no more), same run; the present loop
 // rounded to whole milliseconds is shown beside it (bench/emulator_pacing_bench.cpp).
@@ -713,6 +751,9 @@ int main(int argc, char** argv) {
   add_tap_throughput_row(table, "BM_TapThroughput/iterations:1/real_time");
   for (const int baud : {9600, 115200}) {
     for (const int units : {16, 32}) add_bus_poll_row(table, units, baud);
+  }
+  for (const int baud : {9600, 115200}) {
+    for (const int units : {16, 32}) add_bus_service_rows(table, units, baud);
   }
   add_postgres_rows(table, "BM_PostgresSinkTwoLs5At1kHz/iterations:1/real_time");
   add_scale_rows(table);

@@ -47,13 +47,17 @@ void BM_UlsBusPoll(benchmark::State& state) {
     auto link = rangekit::SerialPort::open(bus_path, rangekit::SerialSettings{115200});
     if (!link) return state.SkipWithError(link.error().message.c_str());
     rangekit::uls::Bus bus(std::move(*link));
-    // Every unit at once, none answering (U4): stop, a reading every 2 ms, the line's baud, start.
-    const std::vector<std::string> baud_values{"1", std::to_string(baud)};
+    // Every unit at once, none answering (U4): stop, a reading every 2 ms, start; the baud below.
     bool set_up = bus.broadcast("ST") && bus.broadcast("AW", std::vector<std::string_view>{"8"}) &&
                   bus.broadcast("PO", std::vector<std::string_view>{"10", "10"}) &&
                   bus.broadcast("PF", std::vector<std::string_view>{"5000", "5000", "5000"});
     if (set_up && baud != 115200) {
-      set_up = bus.broadcast("BR", std::vector<std::string_view>{baud_values[0], baud_values[1]}).ok();
+      // Unit by unit, each answering at the old speed: after a broadcast BR no unit answered at
+      // the new speed on this emulator (every 9600 row skipped).
+      for (const std::uint8_t address : addresses) {
+        set_up =
+            set_up && bus.driver().set_address(address) && bus.driver().set_baud(rangekit::uls::BaudPort::output, baud);
+      }
       auto slower = rangekit::SerialPort::open(bus_path, rangekit::SerialSettings{baud});
       set_up = set_up && slower && bus.driver().replace_transport(std::move(*slower)).ok();
       // A unit switches once its (unsent) $OK would have left the line: ask until one answers.
