@@ -2,7 +2,7 @@
 // measuring every 2 ms, so a unit is always due): each command is answered within one poll
 // cycle (at most one poll per unit between its posting and its answer), clients that command
 // without pause do not stop the poll, and neither does a bus scan. Counted by the hub's own
-// sequence numbers (a poll publishes one sample), not timed.
+// sequence numbers (a poll publishes one sample), not timed (U134).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -97,7 +97,7 @@ struct Span {
 
 // Two clients, each at its own unit, every setting (`read`: some thirty requests) and a single
 // measurement in turn, each asking again as soon as it is answered.
-TEST(BusFairness, CommandsAreAnsweredWithinOnePollCycleAndDoNotStopThePoll) {
+TEST(BusFairness, U134_CommandsAreAnsweredWithinOnePollCycleAndDoNotStopThePoll) {
   FastBus site;
   auto hub = Hub::start(site.config);
   PollLog log(*hub);
@@ -144,7 +144,7 @@ TEST(BusFairness, CommandsAreAnsweredWithinOnePollCycleAndDoNotStopThePoll) {
 
 // A scan of every address (58 of them silent, 200 ms each) with a client commanding beside it:
 // the poll and the commands go on between two addresses asked, not only between two jobs.
-TEST(BusFairness, U105_AScanDoesNotStopThePollNorTheCommands) {
+TEST(BusFairness, U105_U134_AScanDoesNotStopThePollNorTheCommands) {
   FastBus site;
   auto hub = Hub::start(site.config);
   PollLog log(*hub);
