@@ -9,20 +9,6 @@
 namespace rangekit {
 namespace {
 
-// The distance a spike is judged on, and the sensor's stated accuracy and resolution there.
-struct JudgedDistance {
-  double value_m = 0;
-  double accuracy_m = 0;
-  double resolution_m = 0;
-};
-
-// Judged only where the sample itself shows its scale (an LS5 code 0 does not).
-std::optional<JudgedDistance> judged_distance(const Sample& sample) {
-  const auto input = quality_input_of(sample);
-  if (!input || !input->distance_m || !std::isfinite(*input->distance_m) || !input->scale) return std::nullopt;
-  return JudgedDistance{*input->distance_m, input->scale->accuracy_m, input->scale->resolution_m};
-}
-
 // The median of the first `size` values (reordered); on the stack, as it runs for every reading.
 double median_of(std::array<double, SpikeCheck::window>& values, std::size_t size) {
   const auto end = values.begin() + static_cast<std::ptrdiff_t>(size);
@@ -33,6 +19,12 @@ double median_of(std::array<double, SpikeCheck::window>& values, std::size_t siz
 }
 
 }  // namespace
+
+std::optional<SpikeCheck::Judged> SpikeCheck::judged(const Sample& sample) {
+  const auto input = quality_input_of(sample);
+  if (!input || !input->distance_m || !std::isfinite(*input->distance_m) || !input->scale) return std::nullopt;
+  return Judged{*input->distance_m, input->scale->accuracy_m, input->scale->resolution_m};
+}
 
 double SpikeCheck::Level::median() const {
   if (size == 0) return 0;
@@ -67,10 +59,11 @@ void SpikeCheck::Level::push(double value) {
 // accuracy plus three standard errors of the level (a median of up to 101 readings, their
 // spread learnt from about the last 128) plus one step of resolution: an honest reading of a
 // still target is within the accuracy of the truth, and the level within those errors of it.
-void SpikeCheck::judge(Stream& stream, Sample& held, const Sample& next) const {
-  const auto p = judged_distance(held);
-  const auto n = judged_distance(next);
-  if (!p || !n || held.kind != next.kind || stream.level.size < min_level || held.suspect) return;
+void SpikeCheck::judge(Stream& stream, Sample& held, const Sample& next,
+                       const std::optional<Judged>& next_reading) const {
+  const Judged* p = &stream.held_reading;
+  const auto& n = next_reading;
+  if (!n || held.kind != next.kind || stream.level.size < min_level || held.suspect) return;
   const std::size_t size = stream.level.size;
   const double level = stream.level.median();
   const double sigma = 1.2533 * stream.level.mean_deviation;  // a mean absolute deviation, as a standard deviation
@@ -120,11 +113,12 @@ void SpikeCheck::judge(Stream& stream, Sample& held, const Sample& next) const {
 
 void SpikeCheck::release(Stream& stream, std::vector<StreamItem>& out) {
   if (!stream.held) return;
-  if (const auto reading = judged_distance(*stream.held); reading && !stream.held->suspect) {
-    stream.level.push(reading->value_m);
-    stream.last = reading->value_m;
-  } else if (reading && stream.held->suspect_reason.rfind("spike", 0) != 0) {
-    stream.level.push(reading->value_m);  // a jump the other check flagged may be a real step: the level follows
+  // A held reading always has what it is judged on (only those are held).
+  if (const Judged& reading = stream.held_reading; !stream.held->suspect) {
+    stream.level.push(reading.value_m);
+    stream.last = reading.value_m;
+  } else if (stream.held->suspect_reason.rfind("spike", 0) != 0) {
+    stream.level.push(reading.value_m);  // a jump the other check flagged may be a real step: the level follows
   }
   out.emplace_back(std::move(*stream.held));
   stream.held.reset();
@@ -170,8 +164,9 @@ void SpikeCheck::push(StreamItem item, std::chrono::steady_clock::time_point now
 
 void SpikeCheck::push_sample(Sample sample, std::chrono::steady_clock::time_point now, std::vector<StreamItem>& out) {
   Stream& stream = streams_[Key{sample.device, sample.source, sample.address}];
+  const std::optional<Judged> reading = judged(sample);
   if (stream.held) {
-    judge(stream, *stream.held, sample);
+    judge(stream, *stream.held, sample, reading);
     release(stream, out);
   }
   if (!stream.first_arrival) stream.first_arrival = now;
@@ -180,9 +175,9 @@ void SpikeCheck::push_sample(Sample sample, std::chrono::steady_clock::time_poin
   const auto period = stream.arrivals < 3 ? std::chrono::steady_clock::duration::max()
                                           : (stream.last_arrival - *stream.first_arrival) /
                                                 static_cast<std::int64_t>(stream.arrivals - 1);
-  if (!judged_distance(sample) || period > settings_.hold_limit) {
+  if (!reading || period > settings_.hold_limit) {
     // Not held: it joins the level at once (a slow stream is never judged, but keeps a level).
-    if (const auto reading = judged_distance(sample)) {
+    if (reading) {
       stream.level.push(reading->value_m);
       if (!sample.suspect) stream.last = reading->value_m;
     }
@@ -190,6 +185,7 @@ void SpikeCheck::push_sample(Sample sample, std::chrono::steady_clock::time_poin
     return;
   }
   stream.held = std::move(sample);
+  stream.held_reading = *reading;
   stream.held_at = now;
   stream.held_order = ++order_;
   ++held_count_;

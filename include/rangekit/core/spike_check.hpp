@@ -60,10 +60,17 @@ class SpikeCheck {
     void push(double value);
     [[nodiscard]] double median() const;
   };
+  // The distance a spike is judged on, and the sensor's stated accuracy and resolution there.
+  struct Judged {
+    double value_m = 0;
+    double accuracy_m = 0;
+    double resolution_m = 0;
+  };
   struct Stream {
     Level level;
     std::optional<double> last;  // the newest reading released unflagged
     std::optional<Sample> held;
+    Judged held_reading;  // what held is judged on, worked out once as it came
     std::vector<StreamEvent> waiting;  // line events that came after the held reading
     std::chrono::steady_clock::time_point held_at;
     std::uint64_t held_order = 0;
@@ -74,7 +81,9 @@ class SpikeCheck {
   using Key = std::tuple<std::string, SharedName, int>;
 
   void push_sample(Sample sample, std::chrono::steady_clock::time_point now, std::vector<StreamItem>& out);
-  void judge(Stream& stream, Sample& held, const Sample& next) const;
+  // Judged only where the sample itself shows its scale (an LS5 code 0 does not).
+  static std::optional<Judged> judged(const Sample& sample);
+  void judge(Stream& stream, Sample& held, const Sample& next, const std::optional<Judged>& next_reading) const;
   void release(Stream& stream, std::vector<StreamItem>& out);
 
   SpikeSettings settings_;
