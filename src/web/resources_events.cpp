@@ -10,6 +10,8 @@
 namespace rangekit::web {
 namespace {
 
+constexpr std::size_t merged_queue_factor = 16;  // a max_rate stream's queue: 16 times stream_queue
+
 std::optional<std::uint64_t> number(const Target& target, const char* key, std::uint64_t fallback, std::uint64_t max) {
   const auto found = target.query.find(key);
   if (found == target.query.end()) return fallback;
@@ -53,7 +55,10 @@ void open_stream(Exchange& exchange, const Target& target, const std::string& se
         false);
   }
   // Subscribe first, then read the ring: nothing falls between them (duplicates are skipped by id).
-  auto subscription = server.hub.subscribe(sensor, server.options.stream_queue, hub::OverflowPolicy::cut_off);
+  // A merged stream's items are raw samples that leave as a few events: at a site's 100 000
+  // readings a second, 4096 of them are 40 ms, and any pause (a resume's replay) cut it off.
+  const std::size_t queue = server.options.stream_queue * (options.max_rate ? merged_queue_factor : 1);
+  auto subscription = server.hub.subscribe(sensor, queue, hub::OverflowPolicy::cut_off);
   if (!subscription) return exchange.not_found(subscription.error().message);
   StreamStart start{after, {}, {}};
   const std::uint64_t newest = server.hub.last_sequence();
