@@ -129,12 +129,16 @@ SCALE_N ?= 1,8,32,64,128,256
 bench-scale: build
 	@RANGEKIT_BENCH_SCALE=$(SCALE_N) ./$(BUILD)/rangekit_bench --benchmark_filter=SiteScale
 
-# The dashboard's frame-rate and heap figures: an LS5 at 1 kHz on its live plot for 60 s in
-# headless chromium (web/tests/fps.bench.mjs; docs/dashboard.md, "Benchmark"). Needs only the CLI.
+# The dashboard's frame-rate and heap figures in headless chromium (docs/dashboard.md,
+# "Benchmark"): an LS5 at 1 kHz on its live plot for 60 s (web/tests/fps.bench.mjs), then the
+# overview of 100 sensors fed by the UDP pacer for 10 minutes and its keystroke response
+# (web/tests/site.bench.mjs; RANGEKIT_SITE_BENCH_SECONDS=60 for a shorter run).
+BENCH_WEB_ENV = RANGEKIT_CLI=$(abspath $(BUILD))/rangekit RANGEKIT_SCREENSHOTS=$(abspath $(BUILD))/screenshots \
+  RANGEKIT_UDP_PACER=$(abspath $(BUILD))/rangekit_udp_pacer
 bench-web: configure
-	@cmake --build $(BUILD) --target rangekit -j$(JOBS)
-	@cd $(BUILD)/web && RANGEKIT_CLI=$(abspath $(BUILD))/rangekit RANGEKIT_SCREENSHOTS=$(abspath $(BUILD))/screenshots \
-	  node tests/fps.bench.mjs
+	@cmake --build $(BUILD) --target rangekit rangekit_udp_pacer -j$(JOBS)
+	@cd $(BUILD)/web && $(BENCH_WEB_ENV) node tests/fps.bench.mjs
+	@cd $(BUILD)/web && $(BENCH_WEB_ENV) node tests/site.bench.mjs
 
 # tests/consumer built against `cmake --install` of this build (find_package and
 # pkg-config) and against the source tree (add_subdirectory), then run.

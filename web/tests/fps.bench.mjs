@@ -3,66 +3,13 @@
 // under 10 MB, against an idle page's frames in the same run.
 import { spawn } from 'node:child_process';
 import path from 'node:path';
+import { api, GOAL_FPS, heapMb, printProfile, sleep, startFrames, stopFrames, verdict } from './bench_frames.mjs';
 import { cli, launch, screenshots, stopped, waitForLine } from './support.mjs';
 
 const SECONDS = Number(process.env.RANGEKIT_BENCH_SECONDS ?? 60);
 const BASELINE_S = 10;
-const GOAL_FPS = 30;
 const GOAL_HEAP_MB = 10;
 const RATE_HZ = 1000;
-const MB = 1024 * 1024;
-
-const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
-
-// Counts frames in the page: one timestamp per requestAnimationFrame callback.
-function startFrames(page) {
-  return page.evaluate(() => {
-    const frames = [];
-    window.__benchFrames = frames;
-    window.__benchCounting = true;
-    const tick = (time) => {
-      frames.push(time);
-      if (window.__benchCounting) requestAnimationFrame(tick);
-    };
-    requestAnimationFrame(tick);
-  });
-}
-
-// Mean fps over the whole span and the fewest frames in any whole 1 s window.
-async function stopFrames(page) {
-  const frames = await page.evaluate(() => {
-    window.__benchCounting = false;
-    return window.__benchFrames;
-  });
-  if (frames.length < 2) return { mean: 0, min: 0, frames: frames.length };
-  const first = frames[0];
-  const span = (frames[frames.length - 1] - first) / 1000;
-  const perSecond = new Array(Math.floor(span)).fill(0);
-  for (const time of frames) {
-    const index = Math.floor((time - first) / 1000);
-    if (index < perSecond.length) perSecond[index]++;
-  }
-  const sorted = [...perSecond].sort((a, b) => a - b);
-  return {
-    mean: (frames.length - 1) / span, min: sorted[0], median: sorted[Math.floor(sorted.length / 2)],
-    below: perSecond.filter((count) => count < GOAL_FPS).length, windows: perSecond.length, frames: frames.length,
-  };
-}
-
-async function heapMb(session) {
-  await session.send('HeapProfiler.collectGarbage');
-  const { usedSize } = await session.send('Runtime.getHeapUsage');
-  return usedSize / MB;
-}
-
-async function api(base, route, init) {
-  const response = await fetch(new URL(route, base), init);
-  const text = await response.text();
-  if (!response.ok) throw new Error(`${init?.method ?? 'GET'} ${route}: ${response.status} ${text}`);
-  return JSON.parse(text);
-}
-
-const verdict = (met) => (met ? 'met' : 'MISSED');
 
 const serve = spawn(cli, ['serve', '--demo', '--listen', '127.0.0.1:0'], { stdio: ['ignore', 'pipe', 'inherit'] });
 serve.stdout.setEncoding('utf8');
@@ -122,20 +69,7 @@ try {
     `ratio of the means ${(shown.mean / idle.mean).toFixed(2)}`);
   console.log(`  JS heap after GC: ${heapBefore.toFixed(1)} MB -> ${heapAfter.toFixed(1)} MB, growth ` +
     `${growth.toFixed(1)} MB (goal < ${GOAL_HEAP_MB} MB: ${verdict(growth < GOAL_HEAP_MB)})`);
-  if (profile) {
-    const selfTime = new Map();
-    const interval = profile.timeDeltas.length ? (profile.endTime - profile.startTime) / profile.timeDeltas.length : 0;
-    const byId = new Map(profile.nodes.map((node) => [node.id, node]));
-    for (const id of profile.samples) {
-      const frame = byId.get(id).callFrame;
-      const key = `${frame.functionName || '(anonymous)'} ${frame.url.split('/').pop()}:${frame.lineNumber}:${frame.columnNumber}`;
-      selfTime.set(key, (selfTime.get(key) ?? 0) + interval / 1000);
-    }
-    console.log('  most self time (CDP Profiler):');
-    for (const [key, ms] of [...selfTime].sort((a, b) => b[1] - a[1]).slice(0, 15)) {
-      console.log(`    ${(ms / 1000).toFixed(2)} s  ${key}`);
-    }
-  }
+  if (profile) printProfile(profile);
 } finally {
   await browser?.close();
   await stopped(serve);
