@@ -9,6 +9,9 @@ import type { FamilyView } from './family_view';
 export const WINDOW_S = 60;
 // Longer than this between two points is a silence, drawn as a gap.
 const SILENCE_S = 2;
+// A card not drawn (filtered out, off screen) drops its points older than the window as they
+// come, once they are this much older, so its arrays stay bounded; draw() trims to the window.
+const KEEP_S = WINDOW_S + 10;
 
 const numberFormat = new Intl.NumberFormat('en', { minimumFractionDigits: 3, maximumFractionDigits: 3 });
 const rateFormat = new Intl.NumberFormat('en', { maximumFractionDigits: 1, minimumFractionDigits: 1 });
@@ -45,6 +48,8 @@ export class Card {
   private readonly familyLabel: string;  // the name in capitals: the badge and the tooltip
   private valueText = '';
   private noReading: string | undefined;  // the family's words for no value, when it has some
+  // The newest aggregate not yet shown: the DOM is written once per frame (flush), not per item.
+  private pending: Aggregate | null = null;
 
   // `view`: the family's part (families.ts), if the dashboard has one for it.
   constructor(readonly name: string, private readonly familyName: string, private readonly view?: FamilyView) {
@@ -93,36 +98,56 @@ export class Card {
   }
 
   // From GET /api/sensors (every few seconds): the counters and the link state.
+  // Only what changed is written: with a hundred cards each write costs the next frame a style pass.
   update(sensor: Sensor): void {
-    this.setConnected(sensor.health.connected);
-    this.rate.textContent = `${rateFormat.format(sensor.health.rate_hz)} Hz`;
-    this.errors.textContent = String(sensor.health.errors);
-    this.lost.textContent = String(sensor.health.lost);
+    if (sensor.health.connected !== this.connected) this.setConnected(sensor.health.connected);
+    setText(this.rate, `${rateFormat.format(sensor.health.rate_hz)} Hz`);
+    setText(this.errors, String(sensor.health.errors));
+    setText(this.lost, String(sensor.health.lost));
     this.errors.classList.toggle('bad', sensor.health.errors > 0);
     this.lost.classList.toggle('bad', sensor.health.lost > 0);
     this.problem = sensor.health.errors > 0 || sensor.health.lost > 0;
     // "/dev/ttyUSB2: streaming (ST)": the port is the sensor's own, so shown once, in the tooltip.
     const prefix = sensor.port ? `${sensor.port}: ` : '';
     const event = sensor.health.last_event;
-    this.lastEvent.textContent = prefix && event.startsWith(prefix) ? event.slice(prefix.length) : event;
-    this.lastEvent.title = sensor.port ? `${sensor.port} · ${event}` : event;
+    setText(this.lastEvent, prefix && event.startsWith(prefix) ? event.slice(prefix.length) : event);
+    const title = sensor.port ? `${sensor.port} · ${event}` : event;
+    if (this.lastEvent.title !== title) this.lastEvent.title = title;
     this.noReading = this.view?.noReading?.(sensor);
   }
 
+  // An item of the stream: its point goes into the sparkline's arrays now, its value into the
+  // DOM at the next flush().
   aggregate(data: Aggregate): void {
     const time = Date.parse(data.time) / 1000;
+    this.push(time, data.last === undefined ? null : data.last);
+    this.pending = data;
+  }
+
+  // Writes the newest aggregate's value (once per frame, for the cards shown).
+  flush(): void {
+    const data = this.pending;
+    if (data === null) return;
+    this.pending = null;
     if (data.last === undefined) {
       this.showValue(this.noReading ?? 'no signal', '', 'none');
-      this.push(time, null);
     } else if (data.channel && channelOf(this.familyName, data.channel)?.quantity === 'presence') {
       // A presence reads 1 or 0: said in words, drawn as a step.
       this.showValue(data.last ? 'target present' : 'no target', '', 'live');
-      this.push(time, data.last);
     } else {
       this.showValue(numberFormat.format(data.last), data.unit ?? '', 'live');
-      this.push(time, data.last);
     }
     if (!this.connected) this.setConnected(true);  // a reading proves the link
+    this.root.dataset.points = String(this.times.length);
+  }
+
+  get hasPending(): boolean {
+    return this.pending !== null;
+  }
+
+  // Items may be missing from `time` (seconds) on: the line is not joined across.
+  gap(time: number): void {
+    this.push(time, null);
   }
 
   link(event: LinkEvent): void {
@@ -130,6 +155,7 @@ export class Card {
     this.lastEvent.textContent = event.message ? `${event.event}: ${event.message}` : event.event;
     this.lastEvent.title = this.lastEvent.textContent;
     if (event.event === 'disconnected') {
+      this.flush();  // the last value first, then greyed as stale
       this.setConnected(false);
       this.push(time, null);
     } else if (event.event === 'connected' || event.event === 'reconnected') {
@@ -202,13 +228,18 @@ export class Card {
     }
     this.times.push(time);
     this.values.push(value);
-    this.root.dataset.points = String(this.times.length);
+    if (this.times[0] < time - KEEP_S) {
+      let old = 0;
+      while (this.times[old] < time - WINDOW_S) old++;
+      this.times.splice(0, old);
+      this.values.splice(0, old);
+    }
   }
 
   private showValue(text: string, unit: string, kind: 'live' | 'none' | 'stale'): void {
-    this.value.textContent = text;
-    this.unit.textContent = unit;
-    this.root.dataset.reading = kind;
+    setText(this.value, text);
+    setText(this.unit, unit);
+    if (this.root.dataset.reading !== kind) this.root.dataset.reading = kind;
     this.valueText = unit ? `${text} ${unit}` : text;
     this.updateLabel();
   }
@@ -222,6 +253,12 @@ export class Card {
   }
 
   private updateLabel(): void {
-    this.root.title = `${this.name} (${this.familyLabel}): ${this.connected ? 'connected' : 'disconnected'}, ${this.valueText}`;
+    const title = `${this.name} (${this.familyLabel}): ${this.connected ? 'connected' : 'disconnected'}, ${this.valueText}`;
+    if (this.root.title !== title) this.root.title = title;
   }
+}
+
+// Setting the same text again still replaces the node and costs a style pass: skipped.
+function setText(node: HTMLElement, text: string): void {
+  if (node.textContent !== text) node.textContent = text;
 }

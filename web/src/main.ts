@@ -10,11 +10,16 @@ import { Card } from './card';
 import { loadFamilies } from './descriptors';
 import { familyView } from './families';
 import type { SensorPage } from './family_view';
+import { OverviewFrames } from './overview_frames';
 import { SinksPanel, sinksDown } from './sinks_panel';
 
 const MAX_RATE = 4;
 const POLL_MS = 2000;
-const DRAW_MS = 500;
+// After an interruption, a new stream from now (see openStream): at once when the last one had
+// been live a while (the service cut it off), else after a pause, as the browser would retry.
+const REOPEN_SOON_MS = 100;
+const REOPEN_MS = 2000;
+const LIVE_A_WHILE_MS = 2000;
 
 const grid = document.getElementById('sensors') as HTMLElement;
 const summary = document.getElementById('summary') as HTMLElement;
@@ -38,6 +43,7 @@ let serverTimeAt = performance.now();
 function now(): number {
   return serverTime + (performance.now() - serverTimeAt) / 1000;
 }
+const frames = new OverviewFrames(now);
 
 function heard(time: string): void {
   const seconds = Date.parse(time) / 1000;
@@ -60,8 +66,10 @@ function showNotice(content: Node | string | null): void {
 function applyFilter(): void {
   const text = filter.value.trim().toLowerCase();
   for (const card of cards.values()) {
-    const shown = card.name.toLowerCase().includes(text) && (!problemsOnly.checked || card.hasProblem);
-    card.root.hidden = !shown;
+    const hidden = !(card.name.toLowerCase().includes(text) && (!problemsOnly.checked || card.hasProblem));
+    if (card.root.hidden === hidden) continue;
+    card.root.hidden = hidden;
+    if (!hidden) card.flush();  // its value as of now; the sparkline follows once it is on screen
   }
   updateSummary();
 }
@@ -79,8 +87,9 @@ function updateSummary(): void {
   if (shown !== cards.size) parts.push(`${shown} shown`);
   if (historiansDown > 0) parts.push(`${historiansDown} ${historiansDown === 1 ? 'historian' : 'historians'} down`);
   parts.push(streamState === 'live' ? 'live' : streamState === 'connecting' ? 'connecting…' : 'live stream interrupted');
-  summary.textContent = parts.join(' · ');
-  summary.dataset.stream = streamState;
+  const text = parts.join(' · ');
+  if (summary.textContent !== text) summary.textContent = text;
+  if (summary.dataset.stream !== streamState) summary.dataset.stream = streamState;
 }
 
 function cardFor(sensor: Pick<Sensor, 'name' | 'family'>): Card {
@@ -89,6 +98,7 @@ function cardFor(sensor: Pick<Sensor, 'name' | 'family'>): Card {
     card = new Card(sensor.name, sensor.family, familyView(sensor.family));
     cards.set(sensor.name, card);
     grid.append(card.root);
+    frames.watch(card);
   }
   return card;
 }
@@ -142,39 +152,57 @@ function tokenForm(): HTMLElement {
 }
 
 let source: EventSource | null = null;
+let reopening: number | undefined;
 
+// On an error the page opens a new stream from now itself, rather than letting the browser
+// resume with Last-Event-ID: at a site's size (100 sensors at 1 kHz) the service's replay of
+// its ring overflows the stream's queue, cuts it off again, and the page never recovers. The
+// items missed are a gap in every sparkline.
 function openStream(): void {
   source?.close();
+  window.clearTimeout(reopening);
   const url = eventsUrl(MAX_RATE);
-  source = new EventSource(url);
+  const opened = new EventSource(url);
+  source = opened;
   streamState = 'connecting';
-  source.addEventListener('open', () => {
+  let liveSince = Infinity;
+  opened.addEventListener('open', () => {
+    liveSince = performance.now();
     streamState = 'live';
     showNotice(null);
     updateSummary();
   });
-  source.addEventListener('aggregate', (message) => {
+  opened.addEventListener('aggregate', (message) => {
     const item = JSON.parse((message as MessageEvent<string>).data) as Item<Aggregate>;
     heard(item.data.time);
-    cards.get(item.sensor)?.aggregate(item.data);  // a sensor not listed yet comes with the next poll
+    const card = cards.get(item.sensor);  // a sensor not listed yet comes with the next poll
+    if (!card) return;
+    card.aggregate(item.data);
+    frames.changed(card);
   });
-  source.addEventListener('event', (message) => {
+  opened.addEventListener('event', (message) => {
     const item = JSON.parse((message as MessageEvent<string>).data) as Item<LinkEvent>;
     heard(item.data.time);
     cards.get(item.sensor)?.link(item.data);
     updateSummary();
   });
-  source.addEventListener('error', () => {
+  opened.addEventListener('error', () => {
+    opened.close();
+    if (source !== opened) return;
     streamState = 'interrupted';
     updateSummary();
-    // The browser retries by itself (resuming with Last-Event-ID); a refusal it cannot see.
+    const time = now();
+    for (const card of cards.values()) card.gap(time);
+    // A refusal the EventSource cannot see: asked once with fetch.
     void streamRefusal(url).then((status) => {
+      if (source !== opened) return;
       if (status === 401) {
-        source?.close();
         showNotice(tokenForm());
-      } else if (status === 0) {
-        showNotice('The service cannot be reached; the page reconnects when it answers again.');
+        return;
       }
+      if (status === 0) showNotice('The service cannot be reached; the page reconnects when it answers again.');
+      const wasLive = performance.now() - liveSince > LIVE_A_WHILE_MS;
+      reopening = window.setTimeout(openStream, status === null && wasLive ? REOPEN_SOON_MS : REOPEN_MS);
     });
   });
 }
@@ -233,9 +261,4 @@ void poll().then(() => {
   route();
   openStream();
   setInterval(() => void poll(), POLL_MS);
-  setInterval(() => {
-    if (document.hidden) return;
-    const time = now();
-    for (const card of cards.values()) if (!card.root.hidden) card.draw(time);
-  }, DRAW_MS);
 });
