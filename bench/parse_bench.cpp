@@ -337,6 +337,7 @@ struct GoalRow {
   double ratio = 0;
   std::string goal;
   bool met = false;
+  bool counted = true;  // false: a figure beside the goals (where a site breaks), neither met nor missed
 };
 
 class GoalTable {
@@ -360,11 +361,18 @@ class GoalTable {
     std::printf("\n| path | rangekit | baseline, same run | ratio | goal | |\n|---|---|---|---|---|---|\n");
     for (const GoalRow& row : rows_) {
       std::printf("| %s | %s | %s | %.2f | %s | %s |\n", row.path.c_str(), row.figure.c_str(), row.baseline.c_str(),
-                  row.ratio, row.goal.c_str(), row.met ? "met" : "**MISSED**");
+                  row.ratio, row.goal.c_str(),
+                  !row.counted ? "-"
+                  : row.met    ? "met"
+                               : "**MISSED**");
     }
     std::size_t met = 0;
-    for (const GoalRow& row : rows_) met += row.met ? 1 : 0;
-    std::printf("\n%zu of %zu goals met in this run.\n", met, rows_.size());
+    std::size_t counted = 0;
+    for (const GoalRow& row : rows_) {
+      met += row.counted && row.met ? 1 : 0;
+      counted += row.counted ? 1 : 0;
+    }
+    std::printf("\n%zu of %zu goals met in this run.\n", met, counted);
   }
 
  private:
@@ -576,8 +584,10 @@ void add_scale_rows(GoalTable& table) {
                text_of("%.1f %% of a core, ", *cpu) + text_of("%.0f samples/s, ", *rate) + text_of("%.0f MB, ", *rss) +
                    text_of("p99 %.1f ms, ", *p99) + text_of("%.0f lost", all_lost),
                text_of("rig %.1f %% + emulators ", *rig) + text_of("%.1f %%", *emulators), *cpu / 60.0,
-               n == 64 ? "<= 60 %, 0 lost, p99 <= 20 ms, <= 256 MB" : "0 lost",
-               all_lost == 0 && (n != 64 || (*cpu <= 60 && *p99 <= 20 && *rss <= 256))});
+               n == 64  ? "<= 60 %, 0 lost, p99 <= 20 ms, <= 256 MB"
+               : n < 64 ? "0 lost"
+                        : "none: where it breaks",
+               all_lost == 0 && (n != 64 || (*cpu <= 60 && *p99 <= 20 && *rss <= 256)), n <= 64});
   }
   const auto same = table.value(name(64, 1), "service_cpu_pct");
   const auto same_rate = table.value(name(64, 1), "samples_per_s");
