@@ -11,7 +11,7 @@ namespace rangekit::web {
 namespace {
 
 constexpr std::size_t take_batch = 1024;
-constexpr std::size_t flush_text_limit = 64 * 1024;
+constexpr std::size_t flush_text_limit = std::size_t{64} * 1024;
 
 }  // namespace
 

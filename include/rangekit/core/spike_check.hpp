@@ -70,7 +70,7 @@ class SpikeCheck {
     Level level;
     std::optional<double> last;  // the newest reading released unflagged
     std::optional<Sample> held;
-    Judged held_reading;  // what held is judged on, worked out once as it came
+    Judged held_reading;               // what held is judged on, worked out once as it came
     std::vector<StreamEvent> waiting;  // line events that came after the held reading
     std::chrono::steady_clock::time_point held_at;
     std::uint64_t held_order = 0;
