@@ -57,7 +57,7 @@ bool flagged(const UdpRecord& record) {
          (record.measured() && record.in_range() && record.code > udp_full_scale_code);
 }
 
-StreamEvent make_event(StreamEventKind kind, std::string message, std::uint64_t count = 0) {
+StreamEvent udp_event(StreamEventKind kind, std::string message, std::uint64_t count = 0) {
   return StreamEvent{std::chrono::system_clock::now(), kind, std::move(message), count};
 }
 
@@ -72,7 +72,7 @@ void UdpPacketReader::read(Bytes datagram, const SharedName& source, std::vector
       ++counters_.bad_packets;
     }
     out.emplace_back(
-        make_event(StreamEventKind::bad_frame, "UDP packet from " + source.str() + ": " + packet.error().message));
+        udp_event(StreamEventKind::bad_frame, "UDP packet from " + source.str() + ": " + packet.error().message));
     return;
   }
   if (last_counter_ && udp_packet_is_duplicate(*last_counter_, packet->counter)) {
@@ -81,7 +81,7 @@ void UdpPacketReader::read(Bytes datagram, const SharedName& source, std::vector
       std::lock_guard lock(counters_mutex_);
       ++counters_.duplicates;
     }
-    out.emplace_back(make_event(StreamEventKind::bad_frame, "UDP packet from " + source.str() + " repeats counter " +
+    out.emplace_back(udp_event(StreamEventKind::bad_frame, "UDP packet from " + source.str() + " repeats counter " +
                                                                 std::to_string(packet->counter) +
                                                                 ": duplicate dropped (" +
                                                                 std::to_string(udp_record_count) + " records)"));
@@ -97,7 +97,7 @@ void UdpPacketReader::read(Bytes datagram, const SharedName& source, std::vector
         counters_.lost_packets += missing;
         counters_.lost_records += records;
       }
-      out.emplace_back(make_event(StreamEventKind::lost_records,
+      out.emplace_back(udp_event(StreamEventKind::lost_records,
                                   std::to_string(missing) + " UDP packet(s) lost before counter " +
                                       std::to_string(packet->counter) + " (" + std::to_string(records) + " records)",
                                   records));
@@ -105,7 +105,7 @@ void UdpPacketReader::read(Bytes datagram, const SharedName& source, std::vector
   }
   if (!last_counter_) {
     // The first packet is the link coming up: a `connected` event as the serial streams give.
-    out.emplace_back(make_event(StreamEventKind::connected, "UDP packets from " + source.str()));
+    out.emplace_back(udp_event(StreamEventKind::connected, "UDP packets from " + source.str()));
   }
   last_counter_ = packet->counter;
   // Counted before its samples are handed on, so a consumer that has one sees the packet counted.
@@ -126,7 +126,7 @@ void UdpPacketReader::read_overlong(std::string message, std::vector<StreamItem>
     std::lock_guard lock(counters_mutex_);
     ++counters_.bad_packets;
   }
-  out.emplace_back(make_event(StreamEventKind::bad_frame, std::move(message)));
+  out.emplace_back(udp_event(StreamEventKind::bad_frame, std::move(message)));
 }
 
 UdpPacketCounters UdpPacketReader::counters() const {
