@@ -2,6 +2,7 @@
 #include "build_paths.hpp"
 #include "rangekit/core/fd_transport.hpp"
 #include "rangekit/core/serial_port.hpp"
+#include "rangekit/ls5/driver.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -61,6 +62,21 @@ ScratchDir::~ScratchDir() {
 Result<cli::SimProcess> start_emulator(const std::vector<std::string>& arguments, const std::string& log_path,
                                        std::chrono::milliseconds timeout) {
   return cli::SimProcess::start(arguments, log_path, timeout, rangekit::test::cli_path());
+}
+
+Result<cli::SimProcess> start_ls5_at_1khz(const std::string& port, int serial, const std::string& log_path) {
+  auto started =
+      start_emulator({"ls5", "--port", port, "--serial", std::to_string(serial)}, log_path, std::chrono::seconds(10));
+  if (!started) return std::move(started).error();
+  auto link = SerialPort::open(port, SerialSettings{115200});
+  if (!link) return std::move(link).error();
+  ls5::Driver driver(std::move(link).value(), ls5::DriverOptions{});
+  for (const auto& [name, value] : {std::pair{"period-ms", "1"}, std::pair{"thinning", "1"}}) {
+    if (auto done = driver.set(name, value); !done) {
+      return make_error(done.error().code, std::string(name) + ": " + done.error().describe());
+    }
+  }
+  return started;
 }
 
 Result<nlohmann::json> control(const std::string& socket_path, const nlohmann::json& request) {

@@ -114,5 +114,8 @@ void run_paired(benchmark::State& state, const HostRun& driver, const HostRun& c
 // `rangekit sim <arguments...>` from the CLI this bench was built with.
 Result<cli::SimProcess> start_emulator(const std::vector<std::string>& arguments, const std::string& log_path,
                                        std::chrono::milliseconds timeout);
+// An LS5 emulator on `port` (serial number `serial`) set to a result every 1 ms and every result
+// sent (§8.4: T = n x t, t = 1 ms, n = 1): 1000 records a second.
+Result<cli::SimProcess> start_ls5_at_1khz(const std::string& port, int serial, const std::string& log_path);
 
 }  // namespace rangekit::bench

@@ -12,6 +12,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <fstream>
 #include <memory>
 #include <mutex>
@@ -155,6 +156,17 @@ class Relay {
   int digits_ = 0;
   int code_ = 0;
 };
+
+// The port of `rangekit serve`'s API from its "API on http://127.0.0.1:PORT" line; 0 when its
+// output ended first. `Service` is a child process read line by line.
+template <class Service>
+std::uint16_t api_port_of(Service& service) {
+  for (std::string line = service.read_line(); !line.empty(); line = service.read_line()) {
+    const auto at = line.find("API on http://127.0.0.1:");
+    if (at != std::string::npos) return static_cast<std::uint16_t>(std::stoi(line.substr(at + 24)));
+  }
+  return 0;
+}
 
 inline double percentile(std::vector<double> values, double p) {
   if (values.empty()) return 0;

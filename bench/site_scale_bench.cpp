@@ -232,26 +232,12 @@ struct SerialSite {
 SerialSite::SerialSite() {
   for (int i = 0; i < serial_ls5; ++i) {
     const std::string port = (dir.path() / ("ls5-" + std::to_string(i))).string();
-    auto started = rangekit::bench::start_emulator({"ls5", "--port", port, "--serial", std::to_string(200 + i)},
-                                                   (dir.path() / "emulators.log").string(), 10s);
+    auto started = rangekit::bench::start_ls5_at_1khz(port, 200 + i, (dir.path() / "emulators.log").string());
     if (!started) {
       error = started.error().describe();
       return;
     }
     emulators.push_back(std::move(started).value());
-    auto link = rangekit::SerialPort::open(port, rangekit::SerialSettings{115200});
-    if (!link) {
-      error = link.error().describe();
-      return;
-    }
-    // §8.4: T = n x t; 1 ms and every result: 1000 records/s.
-    rangekit::ls5::Driver driver(std::move(link).value(), rangekit::ls5::DriverOptions{});
-    for (const auto& [name, value] : {std::pair{"period-ms", "1"}, std::pair{"thinning", "1"}}) {
-      if (auto done = driver.set(name, value); !done) {
-        error = std::string(name) + ": " + done.error().describe();
-        return;
-      }
-    }
     ls5_ports.push_back(port);
   }
   const auto addresses = rangekit::uls::typable_addresses();
@@ -382,11 +368,7 @@ void BM_SiteScale(benchmark::State& state) {
     const auto site_file = site.dir.path() / "site.toml";
     std::ofstream(site_file) << site_text(site, udp_sensors, same_work, (*broker)->port(), captures.string());
     Child service({"serve", "--config", site_file.string(), "--listen", "127.0.0.1:0"});
-    std::uint16_t port = 0;
-    for (std::string line = service.read_line(); !line.empty() && port == 0; line = service.read_line()) {
-      const auto at = line.find("API on http://127.0.0.1:");
-      if (at != std::string::npos) port = static_cast<std::uint16_t>(std::stoi(line.substr(at + 24)));
-    }
+    const std::uint16_t port = rangekit::bench::api_port_of(service);
     if (port == 0) return state.SkipWithError("the service did not print its API line");
     std::thread drain([&service] {
       while (!service.read_line().empty()) {

@@ -209,11 +209,7 @@ void BM_UlsBusService(benchmark::State& state) {
     }
     std::ofstream(dir.path() / "site.toml") << site;
     Child service({"serve", "--config", (dir.path() / "site.toml").string(), "--listen", "127.0.0.1:0"});
-    std::uint16_t port = 0;
-    for (std::string line = service.read_line(); !line.empty() && port == 0; line = service.read_line()) {
-      const auto at = line.find("API on http://127.0.0.1:");
-      if (at != std::string::npos) port = static_cast<std::uint16_t>(std::stoi(line.substr(at + 24)));
-    }
+    const std::uint16_t port = rangekit::bench::api_port_of(service);
     if (port == 0) return state.SkipWithError("the service did not print its API line");
     std::thread drain([&service] {
       while (!service.read_line().empty()) {

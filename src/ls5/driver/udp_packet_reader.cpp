@@ -82,9 +82,9 @@ void UdpPacketReader::read(Bytes datagram, const SharedName& source, std::vector
       ++counters_.duplicates;
     }
     out.emplace_back(udp_event(StreamEventKind::bad_frame, "UDP packet from " + source.str() + " repeats counter " +
-                                                                std::to_string(packet->counter) +
-                                                                ": duplicate dropped (" +
-                                                                std::to_string(udp_record_count) + " records)"));
+                                                               std::to_string(packet->counter) +
+                                                               ": duplicate dropped (" +
+                                                               std::to_string(udp_record_count) + " records)"));
     return;
   }
   if (last_counter_) {
@@ -98,9 +98,9 @@ void UdpPacketReader::read(Bytes datagram, const SharedName& source, std::vector
         counters_.lost_records += records;
       }
       out.emplace_back(udp_event(StreamEventKind::lost_records,
-                                  std::to_string(missing) + " UDP packet(s) lost before counter " +
-                                      std::to_string(packet->counter) + " (" + std::to_string(records) + " records)",
-                                  records));
+                                 std::to_string(missing) + " UDP packet(s) lost before counter " +
+                                     std::to_string(packet->counter) + " (" + std::to_string(records) + " records)",
+                                 records));
     }
   }
   if (!last_counter_) {
