@@ -15,7 +15,7 @@ using namespace rangekit::ls5;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   UdpPacketReader reader(7);
-  const SharedName source("192.0.2.1:6030");
+  const Endpoint from{"192.0.2.1", 6030};
   std::vector<StreamItem> items;
   std::uint64_t decoded = 0;
   std::uint64_t samples = 0;
@@ -27,7 +27,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     at += taken;
     const bool valid = decode_udp_packet(datagram).ok();
     items.clear();
-    reader.read(datagram, source, items);
+    reader.read(datagram, from, items);
     std::size_t here = 0;
     for (const StreamItem& item : items) {
       if (const auto* sample = std::get_if<Sample>(&item)) {

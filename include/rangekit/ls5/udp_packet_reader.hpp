@@ -14,6 +14,7 @@
 
 #include "rangekit/core/framer.hpp"
 #include "rangekit/core/sample.hpp"
+#include "rangekit/core/udp.hpp"
 
 namespace rangekit::ls5 {
 
@@ -31,10 +32,10 @@ class UdpPacketReader {
  public:
   explicit UdpPacketReader(int address = -1) : address_(address) {}
 
-  // Appends to `out`, in order, what the datagram from `source` says: its 168 samples, and
+  // Appends to `out`, in order, what the datagram from `from` says: its 168 samples, and
   // before them a connected event (the first packet), a lost_records event (a counter gap),
   // or instead of them a bad_frame event (a bad packet, a duplicate).
-  void read(Bytes datagram, const SharedName& source, std::vector<StreamItem>& out);
+  void read(Bytes datagram, const Endpoint& from, std::vector<StreamItem>& out);
   // A datagram larger than a packet (the socket's Errc::overlong): counted, reported.
   void read_overlong(std::string message, std::vector<StreamItem>& out);
   // Safe from any thread.
@@ -42,6 +43,9 @@ class UdpPacketReader {
 
  private:
   int address_;
+  // Sample::source of every record, made again only when the sender changes.
+  Endpoint last_from_;
+  SharedName source_;
   std::optional<std::uint8_t> last_counter_;
   mutable std::mutex counters_mutex_;
   UdpPacketCounters counters_;

@@ -63,7 +63,12 @@ StreamEvent udp_event(StreamEventKind kind, std::string message, std::uint64_t c
 
 }  // namespace
 
-void UdpPacketReader::read(Bytes datagram, const SharedName& source, std::vector<StreamItem>& out) {
+void UdpPacketReader::read(Bytes datagram, const Endpoint& from, std::vector<StreamItem>& out) {
+  if (source_.empty() || from.host != last_from_.host || from.port != last_from_.port) {
+    last_from_ = from;
+    source_ = from.to_string();
+  }
+  const SharedName& source = source_;
   const auto now = std::chrono::system_clock::now();
   auto packet = decode_udp_packet(datagram);
   if (!packet) {

@@ -32,9 +32,6 @@ struct UdpReceiver::State {
   void run() {
     std::array<std::uint8_t, 2048> buffer{};
     std::vector<StreamItem> items;  // one datagram's, handed over with one lock and one wake-up
-    // Sample::source of every record, made again only when the sender changes.
-    Endpoint last_from;
-    SharedName source;
     while (!stop_requested.load()) {
       auto got = socket.receive(buffer, receive_slice);
       if (!got) {
@@ -48,11 +45,7 @@ struct UdpReceiver::State {
                                "UDP socket: " + got.error().message, 0});
         break;
       }
-      if (source.empty() || got->from.host != last_from.host || got->from.port != last_from.port) {
-        last_from = got->from;
-        source = got->from.to_string();
-      }
-      reader.read(Bytes(buffer.data(), got->size), source, items);
+      reader.read(Bytes(buffer.data(), got->size), got->from, items);
       queue.push_all(items);
     }
     finished = true;

@@ -298,11 +298,7 @@ class Ls5UdpBackend final : public Backend {
       publisher_.publish_batch(session_, items_);
       return true;
     }
-    if (source_.empty() || got->from.host != last_from_.host || got->from.port != last_from_.port) {
-      last_from_ = got->from;
-      source_ = got->from.to_string();
-    }
-    reader_.read(Bytes(buffer_.data(), got->size), source_, items_);
+    reader_.read(Bytes(buffer_.data(), got->size), got->from, items_);
     publisher_.publish_batch(session_, items_);
     return true;
   }
@@ -339,8 +335,6 @@ class Ls5UdpBackend final : public Backend {
   std::optional<UdpSocket> socket_;
   std::array<std::uint8_t, 2048> buffer_{};
   std::vector<StreamItem> items_;  // one datagram's, storage reused
-  Endpoint last_from_;
-  SharedName source_;  // Sample::source of the records, made again only when the sender changes
 };
 
 }  // namespace
