@@ -79,6 +79,25 @@ Result<cli::SimProcess> start_ls5_at_1khz(const std::string& port, int serial, c
   return started;
 }
 
+Result<cli::SimProcess> start_uls_bus(const std::string& port, const std::vector<std::uint8_t>& addresses,
+                                      const std::string& log_path, const std::function<bool(uls::Driver&)>& configure) {
+  std::vector<std::string> arguments{"uls", "--bus", port};
+  for (const std::uint8_t address : addresses) {
+    arguments.insert(arguments.end(), {"--address", std::string(1, static_cast<char>(address))});
+  }
+  auto started = start_emulator(arguments, log_path, std::chrono::seconds(10));
+  if (!started) return std::move(started).error();
+  auto link = SerialPort::open(port, SerialSettings{115200});
+  if (!link) return std::move(link).error();
+  uls::Driver driver(std::move(link).value());
+  for (const std::uint8_t address : addresses) {
+    if (!driver.set_address(address) || !driver.set_continuous(false) || (configure && !configure(driver))) {
+      return make_error(Errc::io, "bus unit " + std::string(1, static_cast<char>(address)) + ": cannot be set up");
+    }
+  }
+  return started;
+}
+
 Result<nlohmann::json> control(const std::string& socket_path, const nlohmann::json& request) {
   auto client = ControlClient::connect(socket_path);
   if (!client) return std::move(client).error();

@@ -22,6 +22,7 @@
 #include "rangekit/core/result.hpp"
 #include "rangekit/core/transport.hpp"
 #include "rangekit/sim/control_socket.hpp"
+#include "rangekit/uls/driver.hpp"
 
 namespace rangekit::bench {
 
@@ -117,5 +118,11 @@ Result<cli::SimProcess> start_emulator(const std::vector<std::string>& arguments
 // An LS5 emulator on `port` (serial number `serial`) set to a result every 1 ms and every result
 // sent (§8.4: T = n x t, t = 1 ms, n = 1): 1000 records a second.
 Result<cli::SimProcess> start_ls5_at_1khz(const std::string& port, int serial, const std::string& log_path);
+// A `sim uls --bus` on `port` with a unit at each address, Continuous Output turned off at each
+// (§7: units talk on a bus only when addressed), then `configure` run with the driver addressed
+// to each unit (false: the unit could not be set up).
+Result<cli::SimProcess> start_uls_bus(const std::string& port, const std::vector<std::uint8_t>& addresses,
+                                      const std::string& log_path,
+                                      const std::function<bool(uls::Driver&)>& configure = {});
 
 }  // namespace rangekit::bench

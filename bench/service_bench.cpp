@@ -25,6 +25,7 @@
 #include "rangekit/ls5/driver.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "service_rig.hpp"
+#include "sse_reader.hpp"
 #include "web/http_client.hpp"
 
 namespace {
@@ -41,59 +42,17 @@ constexpr auto settle = 2s;  // from the start of the streams to the window's st
 constexpr auto window = 5s;
 constexpr int sse_clients = 10;
 
-// An SSE client of /api/events: counts events and notes when each sample of `sensor` arrived.
-class SseClient {
- public:
-  struct Arrival {
-    int code = 0;
-    Clock::time_point at;
-  };
-  SseClient(std::uint16_t port, std::string sensor) : sensor_(std::move(sensor)) {
-    fd_ = web_test::connect_to(port);
-    if (fd_ >= 0) web_test::send_all(fd_, web_test::request_text("GET", "/api/events", {}, {}, port));
-    thread_ = std::thread([this] { run(); });
-  }
-  ~SseClient() {
-    stop_ = true;
-    if (thread_.joinable()) thread_.join();
-    if (fd_ >= 0) ::close(fd_);
-  }
-  std::uint64_t events() const { return events_; }
-  std::vector<Arrival> arrivals() {
-    const std::lock_guard lock(mutex_);
-    return arrivals_;
-  }
+// A client of /api/events that notes the code of each sample of `sensor`.
+using SseClient = rangekit::bench::SseReader<int>;
 
- private:
-  void run() {
-    std::string buffer;
-    const std::string marker = "\"sensor\":\"" + sensor_ + "\"";
-    while (!stop_ && fd_ >= 0) {
-      if (!web_test::read_some(fd_, buffer, 50ms)) return;
-      const auto now = Clock::now();
-      std::size_t start = 0;
-      for (auto end = buffer.find("\n\n"); end != std::string::npos; end = buffer.find("\n\n", start)) {
-        const std::string_view block(buffer.data() + start, end - start);
-        start = end + 2;
-        if (block.find("event: sample") == std::string_view::npos) continue;
-        ++events_;
-        if (block.find(marker) == std::string_view::npos) continue;
-        const auto code_at = block.find("\"code\":");
-        if (code_at == std::string_view::npos) continue;
-        const std::lock_guard lock(mutex_);
-        arrivals_.push_back({std::atoi(std::string(block.substr(code_at + 7, 6)).c_str()), now});
-      }
-      buffer.erase(0, start);
-    }
-  }
-  std::string sensor_;
-  int fd_ = -1;
-  std::thread thread_;
-  std::atomic<bool> stop_{false};
-  std::atomic<std::uint64_t> events_{0};
-  std::mutex mutex_;
-  std::vector<Arrival> arrivals_;
-};
+std::unique_ptr<SseClient> sse_client(std::uint16_t port, const std::string& sensor) {
+  const std::string marker = "\"sensor\":\"" + sensor + "\"";
+  return std::make_unique<SseClient>(port, "/api/events", [marker](std::string_view block) -> std::optional<int> {
+    const auto code_at = block.find("\"code\":");
+    if (block.find(marker) == std::string_view::npos || code_at == std::string_view::npos) return std::nullopt;
+    return std::atoi(std::string(block.substr(code_at + 7, 6)).c_str());
+  });
+}
 
 // Latencies in ms: each arrival matched with the next record of the same code the
 // relay wrote (records the service never delivered are skipped over).
@@ -103,7 +62,7 @@ std::vector<double> latencies_ms(const std::vector<Relay::Record>& records, cons
   std::size_t next = 0;
   for (const auto& arrival : got) {
     std::size_t at = next;
-    while (at < records.size() && records[at].code != arrival.code) ++at;
+    while (at < records.size() && records[at].code != arrival.what) ++at;
     if (at == records.size()) continue;  // not one the relay saw (before it started)
     next = at + 1;
     if (records[at].written < from || records[at].written > to) continue;
@@ -134,30 +93,16 @@ Site::Site() {
     ls5_ports.push_back(port);
   }
   bus = (dir.path() / "bus").string();
-  auto started = rangekit::bench::start_emulator(
-      {"uls", "--bus", bus, "--address", "A", "--address", "B", "--address", "C", "--address", "D"},
-      (dir.path() / "bus.log").string(), 10s);
+  // AW below PPM (§3 "must be less then the PPM"): §9's 3000/300 Hz, 10 Hz.
+  auto started = rangekit::bench::start_uls_bus(
+      bus, {'A', 'B', 'C', 'D'}, (dir.path() / "bus.log").string(), [](rangekit::uls::Driver& driver) {
+        return driver.set_averaging_weight(256) && driver.set_pulses_per_measurement(300, 1024) && driver.set_prf(3000);
+      });
   if (!started) {
     error = started.error().describe();
     return;
   }
   emulators.push_back(std::move(started).value());
-  auto link = rangekit::SerialPort::open(bus, rangekit::SerialSettings{115200});
-  if (!link) {
-    error = link.error().describe();
-    return;
-  }
-  rangekit::uls::Driver driver(std::move(link).value());
-  for (const char unit : {'A', 'B', 'C', 'D'}) {
-    // §7: Continuous Output off on a bus. AW below PPM (§3 "must be less then the PPM").
-    const bool done = driver.set_address(static_cast<std::uint8_t>(unit)) && driver.set_continuous(false) &&
-                      driver.set_averaging_weight(256) && driver.set_pulses_per_measurement(300, 1024) &&
-                      driver.set_prf(3000);
-    if (!done) {
-      error = std::string("bus unit ") + unit + ": cannot set CO, AW, PO, PF";
-      return;
-    }
-  }
 }
 
 void BM_ServiceVersusLs5Stream(benchmark::State& state) {
@@ -207,7 +152,7 @@ void BM_ServiceVersusLs5Stream(benchmark::State& state) {
     std::this_thread::sleep_for(window);
     const double service_idle_cpu = cpu_seconds(service.pid()) - idle_before;
     std::vector<std::unique_ptr<SseClient>> clients;
-    for (int i = 0; i < sse_clients; ++i) clients.push_back(std::make_unique<SseClient>(port, "belt-1"));
+    for (int i = 0; i < sse_clients; ++i) clients.push_back(sse_client(port, "belt-1"));
     std::this_thread::sleep_for(settle);
     const auto from = Clock::now();
     const double cpu_before = cpu_seconds(service.pid());

@@ -7,7 +7,6 @@
 // --format jsonl --capture FILE` process per UDP sensor, fed by the same rig.
 #include <benchmark/benchmark.h>
 #include <fcntl.h>
-#include <signal.h>
 #include <sqlite3.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -26,6 +25,7 @@
 #include <vector>
 
 #include "build_paths.hpp"
+#include "child_process.hpp"
 #include "host_stream_rig.hpp"
 #include "ls5_driver/cli_process.hpp"
 #include "rangekit/core/serial_port.hpp"
@@ -34,6 +34,7 @@
 #include "rangekit/uls/bus.hpp"
 #include "rangekit/uls/driver.hpp"
 #include "service_rig.hpp"
+#include "sse_reader.hpp"
 #include "web/http_client.hpp"
 
 namespace {
@@ -61,7 +62,7 @@ constexpr int packet_labels = 97;  // the pacer's codes: (packet % 97) x 168 + r
 class Process {
  public:
   Process(const std::string& program, const std::vector<std::string>& arguments, const std::string& log) {
-    pid_ = ::fork();
+    pid_ = rangekit::test::fork_child();  // ends with the bench, even one that crashed
     if (pid_ == 0) {
       const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
       ::dup2(fd, STDERR_FILENO);
@@ -80,8 +81,8 @@ class Process {
   [[nodiscard]] pid_t pid() const { return pid_; }
   void stop() {
     if (pid_ <= 0 || waited_) return;
-    ::kill(pid_, SIGTERM);
-    wait();
+    rangekit::test::end_child(pid_);
+    waited_ = true;
   }
   void wait() {
     if (pid_ <= 0 || waited_) return;
@@ -134,67 +135,27 @@ struct PacerLog {
   }
 };
 
-// An SSE client: counts events and notes, for each event of a UDP sensor, its code (a sample's
-// `code`, an aggregate's `last`) and when it arrived.
-class SseClient {
- public:
-  struct Arrival {
-    int sensor = 0;
-    int code = 0;
-    Clock::time_point at;
-  };
-  SseClient(std::uint16_t port, const std::string& target) {
-    fd_ = web_test::connect_to(port);
-    if (fd_ >= 0) web_test::send_all(fd_, web_test::request_text("GET", target, {}, {}, port));
-    thread_ = std::thread([this] { run(); });
-  }
-  ~SseClient() {
-    stop_ = true;
-    if (thread_.joinable()) thread_.join();
-    if (fd_ >= 0) ::close(fd_);
-  }
-  SseClient(const SseClient&) = delete;
-  SseClient& operator=(const SseClient&) = delete;
-  [[nodiscard]] std::uint64_t events() const { return events_; }
-  std::vector<Arrival> arrivals() {
-    const std::lock_guard lock(mutex_);
-    return arrivals_;
-  }
-
- private:
-  static int number_after(std::string_view block, std::string_view key) {
-    const auto at = block.find(key);
-    if (at == std::string_view::npos) return -1;
-    return std::atoi(std::string(block.substr(at + key.size(), 8)).c_str());
-  }
-  void run() {
-    std::string buffer;
-    while (!stop_ && fd_ >= 0) {
-      if (!web_test::read_some(fd_, buffer, 50ms)) return;
-      const auto now = Clock::now();
-      std::size_t start = 0;
-      for (auto end = buffer.find("\n\n"); end != std::string::npos; end = buffer.find("\n\n", start)) {
-        const std::string_view block(buffer.data() + start, end - start);
-        start = end + 2;
-        const bool sample = block.find("event: sample") != std::string_view::npos;
-        if (!sample && block.find("event: aggregate") == std::string_view::npos) continue;
-        ++events_;
-        const int sensor = number_after(block, "\"sensor\":\"udp-");
-        if (sensor < 0) continue;
-        const int code = number_after(block, sample ? "\"code\":" : "\"last\":");
-        const std::lock_guard lock(mutex_);
-        arrivals_.push_back({sensor, code, now});
-      }
-      buffer.erase(0, start);
-    }
-  }
-  int fd_ = -1;
-  std::thread thread_;
-  std::atomic<bool> stop_{false};
-  std::atomic<std::uint64_t> events_{0};
-  std::mutex mutex_;
-  std::vector<Arrival> arrivals_;
+// For each event of a UDP sensor: which one, and its code (a sample's `code`, a merge's `last`).
+struct UdpCode {
+  int sensor = 0;
+  int code = 0;
 };
+using SseClient = rangekit::bench::SseReader<UdpCode>;
+
+int number_after(std::string_view block, std::string_view key) {
+  const auto at = block.find(key);
+  if (at == std::string_view::npos) return -1;
+  return std::atoi(std::string(block.substr(at + key.size(), 8)).c_str());
+}
+
+std::unique_ptr<SseClient> sse_client(std::uint16_t port, const std::string& target) {
+  return std::make_unique<SseClient>(port, target, [](std::string_view block) -> std::optional<UdpCode> {
+    const int sensor = number_after(block, "\"sensor\":\"udp-");
+    if (sensor < 0) return std::nullopt;
+    const bool sample = block.find("event: sample") != std::string_view::npos;
+    return UdpCode{sensor, number_after(block, sample ? "\"code\":" : "\"last\":")};
+  });
+}
 
 // Per client and packet, from the packet's send to the first event that shows it. A packet's
 // last reading comes later on its own: the spike check holds it until the next reading judges
@@ -205,9 +166,9 @@ std::vector<double> latencies_ms(const PacerLog& log, const std::vector<std::vec
   for (const auto& arrivals : clients) {
     std::set<std::pair<int, std::uint32_t>> seen;
     for (const auto& arrival : arrivals) {
-      const PacerLog::Packet* packet = log.packet_of(arrival.sensor, arrival.code, arrival.at);
+      const PacerLog::Packet* packet = log.packet_of(arrival.what.sensor, arrival.what.code, arrival.at);
       if (packet == nullptr || packet->sent < from || packet->sent > to) continue;
-      if (!seen.emplace(arrival.sensor, packet->number).second) continue;
+      if (!seen.emplace(arrival.what.sensor, packet->number).second) continue;
       out.push_back(std::chrono::duration<double, std::milli>(arrival.at - packet->sent).count());
     }
   }
@@ -240,32 +201,17 @@ SerialSite::SerialSite() {
     emulators.push_back(std::move(started).value());
     ls5_ports.push_back(port);
   }
-  const auto addresses = rangekit::uls::typable_addresses();
+  const auto typable = rangekit::uls::typable_addresses();
+  const std::vector<std::uint8_t> addresses(typable.begin(), typable.begin() + units_per_bus);
   for (int bus = 0; bus < buses; ++bus) {
     const std::string port = (dir.path() / ("bus-" + std::to_string(bus))).string();
-    std::vector<std::string> arguments{"uls", "--bus", port};
-    for (int unit = 0; unit < units_per_bus; ++unit) {
-      arguments.insert(arguments.end(), {"--address", std::string(1, static_cast<char>(addresses[unit]))});
-    }
-    auto started = rangekit::bench::start_emulator(arguments, (dir.path() / "emulators.log").string(), 10s);
+    // The units' default 10 Hz output.
+    auto started = rangekit::bench::start_uls_bus(port, addresses, (dir.path() / "emulators.log").string());
     if (!started) {
       error = started.error().describe();
       return;
     }
     emulators.push_back(std::move(started).value());
-    auto link = rangekit::SerialPort::open(port, rangekit::SerialSettings{115200});
-    if (!link) {
-      error = link.error().describe();
-      return;
-    }
-    rangekit::uls::Driver driver(std::move(link).value());
-    for (int unit = 0; unit < units_per_bus; ++unit) {
-      // §7: Continuous Output off on a bus; the default 10 Hz output.
-      if (!driver.set_address(addresses[unit]) || !driver.set_continuous(false)) {
-        error = "bus unit " + std::to_string(unit) + ": cannot turn Continuous Output off";
-        return;
-      }
-    }
     bus_ports.push_back(port);
   }
 }
@@ -385,10 +331,10 @@ void BM_SiteScale(benchmark::State& state) {
     const double rss_before_clients = status_mb(service.pid(), "VmRSS:");
     std::vector<std::unique_ptr<SseClient>> clients;
     for (int i = 0; i < clients_count; ++i) {
-      clients.push_back(std::make_unique<SseClient>(port, "/api/events?max_rate=30"));
+      clients.push_back(sse_client(port, "/api/events?max_rate=30"));
     }
     std::unique_ptr<SseClient> probe;
-    if (!same_work) probe = std::make_unique<SseClient>(port, "/api/sensors/udp-0/events");
+    if (!same_work) probe = sse_client(port, "/api/sensors/udp-0/events");
     std::this_thread::sleep_for(client_settle);
     const auto from = Clock::now();
     const double cpu_before = cpu_seconds(service.pid());
