@@ -1,6 +1,5 @@
 #include "web/event_stream.hpp"
 
-#include <cmath>
 #include <variant>
 
 #include "web/flush_ticker.hpp"
@@ -179,7 +178,7 @@ void EventStream<Stream>::arm_keepalive() {
 
 template <class Stream>
 void EventStream<Stream>::arm_merge_timer() {
-  merge_timer_.expires_after(std::chrono::microseconds(static_cast<std::int64_t>(1e6 / *options_.max_rate)));
+  merge_timer_.expires_after(period_);
   merge_timer_.async_wait([weak = this->weak_from_this()](beast::error_code error) {
     auto self = weak.lock();
     if (error || !self || self->finished_) return;
